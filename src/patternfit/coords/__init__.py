@@ -1,0 +1,1 @@
+"""patternfit.coords"""

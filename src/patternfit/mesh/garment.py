@@ -1,0 +1,142 @@
+"""The garment mesh: every panel's flat triangle mesh in one object (METHOD.md section 2).
+
+Triangle ``t`` of the flat pattern is triangle ``t`` of any 3D state of the garment: a 3D
+state is just an ``(n, 3)`` array of positions for the same vertices. Each panel keeps its own
+vertices (a seam's two sides are two sets of vertices, paired in ``seam_pairs``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+
+@dataclass(frozen=True, eq=False)
+class GarmentMesh:
+    """Flat meshes of all panels of a pattern, with boundary and seam bookkeeping.
+
+    Attributes
+    ----------
+    vertices : (n, 2) float
+        Rest positions [m], each panel in its own flat frame.
+    triangles : (m, 3) int
+        Vertex indices, counter-clockwise in the flat frame.
+    triangle_panel : (m,) int
+        Panel index of each triangle.
+    vertex_panel : (n,) int
+        Panel index of each vertex.
+    panel_names : tuple of str
+        Panel names, in the pattern's order.
+    grain : (p, 2) float
+        Unit warp direction of each panel in its flat frame.
+    edge_names : tuple of (str, str)
+        ``(panel, edge)`` of every pattern edge that carries boundary vertices.
+    boundary_vertices : (b,) int
+        Boundary vertices, loop by loop, in the order of the loop's edges.
+    boundary_edge : (b,) int
+        Index into ``edge_names`` of the edge each boundary vertex lies on (a corner belongs
+        to the edge that starts there).
+    boundary_param : (b,) float
+        Arc-length fraction in [0, 1) of each boundary vertex along its edge.
+    boundary_loop : (b,) int
+        Loop number of each boundary vertex (0 = outline of panel 0, numbered through all
+        panels' loops in order).
+    loop_panel : (L,) int
+        Panel index of each loop.
+    seam_pairs : (k, 2) int
+        Vertex pairs that sewing joins (side a, side b), one row per pair.
+    seam_index : (k,) int
+        Seam number (in the pattern's ``seams``) of each pair.
+    seam_names : tuple of str
+        The pattern's seam names.
+    """
+
+    vertices: np.ndarray
+    triangles: np.ndarray
+    triangle_panel: np.ndarray
+    vertex_panel: np.ndarray
+    panel_names: tuple
+    grain: np.ndarray
+    edge_names: tuple
+    boundary_vertices: np.ndarray
+    boundary_edge: np.ndarray
+    boundary_param: np.ndarray
+    boundary_loop: np.ndarray
+    loop_panel: np.ndarray
+    seam_pairs: np.ndarray
+    seam_index: np.ndarray
+    seam_names: tuple
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self.vertices)
+
+    @property
+    def n_triangles(self) -> int:
+        return len(self.triangles)
+
+    def triangle_areas(self) -> np.ndarray:
+        """(m,) float: flat (rest) area of every triangle [m^2]."""
+        from ..fit.metrics import triangle_areas
+        return triangle_areas(self.vertices, self.triangles)
+
+    def panel_vertices(self, panel: int) -> np.ndarray:
+        """(k,) int: indices of the vertices of panel number ``panel``."""
+        return np.flatnonzero(self.vertex_panel == panel)
+
+    def panel_triangles(self, panel: int) -> np.ndarray:
+        """(t,) int: indices of the triangles of panel number ``panel``."""
+        return np.flatnonzero(self.triangle_panel == panel)
+
+    def loops(self, panel: int) -> list[np.ndarray]:
+        """Boundary loops of ``panel`` (outline first) as arrays of vertex indices."""
+        ids = np.flatnonzero(self.loop_panel == panel)
+        return [self.boundary_vertices[self.boundary_loop == i] for i in ids]
+
+    def boundary_mask(self) -> np.ndarray:
+        """(n,) bool: True for vertices on a panel boundary."""
+        mask = np.zeros(self.n_vertices, dtype=bool)
+        mask[self.boundary_vertices] = True
+        return mask
+
+    def edge_vertices(self, panel: str, edge: str) -> np.ndarray:
+        """Vertices on one pattern edge, from its start, and their arc-length fractions."""
+        k = self.edge_names.index((panel, edge))
+        sel = np.flatnonzero(self.boundary_edge == k)
+        order = np.argsort(self.boundary_param[sel], kind="stable")
+        return self.boundary_vertices[sel[order]], self.boundary_param[sel[order]]
+
+    def with_vertices(self, vertices) -> "GarmentMesh":
+        """The same topology with new rest positions ``vertices`` (n, 2) [m]."""
+        v = np.asanyarray(vertices, dtype=np.float64)
+        if v.shape != self.vertices.shape:
+            raise ValueError(f"vertices: expected shape {self.vertices.shape}, got {v.shape}")
+        fields = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        fields["vertices"] = v
+        return GarmentMesh(**fields)
+
+    # -- files -----------------------------------------------------------------------------
+    def save(self, path) -> Path:
+        """Write the mesh to a compressed ``.npz`` file (atomically)."""
+        from ..files import atomic_write_bytes
+        import io
+        buf = io.BytesIO()
+        arrays = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        arrays["edge_names"] = np.array(["\x1f".join(e) for e in self.edge_names], dtype=str)
+        arrays["panel_names"] = np.array(self.panel_names, dtype=str)
+        arrays["seam_names"] = np.array(self.seam_names, dtype=str)
+        np.savez_compressed(buf, **arrays)
+        atomic_write_bytes(path, buf.getvalue())
+        return Path(path)
+
+    @classmethod
+    def load(cls, path) -> "GarmentMesh":
+        """Read a mesh written by :meth:`save`."""
+        with np.load(path, allow_pickle=False) as data:
+            fields = {k: data[k] for k in cls.__dataclass_fields__}
+        fields["edge_names"] = tuple(tuple(str(e).split("\x1f")) for e in fields["edge_names"])
+        fields["panel_names"] = tuple(str(s) for s in fields["panel_names"])
+        fields["seam_names"] = tuple(str(s) for s in fields["seam_names"])
+        return cls(**fields)

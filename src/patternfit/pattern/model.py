@@ -1,0 +1,175 @@
+"""The pattern model: a garment is panels plus seams.
+
+Everything is immutable; an edit returns a new object (``dataclasses.replace`` or the
+``with_*`` helpers). Coordinates are metres in each panel's own flat frame, the fabric's
+right side facing the viewer (x to the right, y up); outlines are stored as given and
+oriented counter-clockwise by the mesher.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from .edges import Edge
+
+
+@dataclass(frozen=True)
+class Loop:
+    """A closed chain of edges: the outline of a panel, or an inner loop (dart, cut-out).
+
+    Edge ``i`` ends where edge ``i + 1`` starts, and the last edge ends where the first starts.
+    """
+
+    name: str
+    edges: tuple[Edge, ...]
+
+    def __post_init__(self):
+        object.__setattr__(self, "edges", tuple(self.edges))
+
+    def polygon(self, per_curve: int = 32) -> np.ndarray:
+        """Closed polyline through the loop, last point not repeated: (k, 2) float [m]."""
+        pts = [e.polyline(None if e.kind == "line" else per_curve)[:-1] for e in self.edges]
+        return np.concatenate(pts, axis=0)
+
+    def signed_area(self) -> float:
+        """Area enclosed [m^2], positive when the loop runs counter-clockwise."""
+        p = self.polygon(64)
+        q = np.roll(p, -1, axis=0)
+        return 0.5 * float(np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]))
+
+    @property
+    def length(self) -> float:
+        """Perimeter [m]."""
+        return float(sum(e.length for e in self.edges))
+
+
+@dataclass(frozen=True)
+class Placement:
+    """Where a panel goes on the body before sewing.
+
+    ``part`` names the body part it dresses (``"torso"``, ``"arm_left"``, ``"arm_right"``,
+    ``"leg_left"``, ``"leg_right"``) and ``side`` the side it faces (``"front"``/``"back"``).
+    ``translation`` [m] and ``rotation`` (XYZ Euler angles, degrees) give an explicit 3D
+    placement, as imported files carry (body standing at the origin, y up).
+    """
+
+    part: str = "torso"
+    side: str = "front"
+    translation: tuple[float, float, float] | None = None
+    rotation: tuple[float, float, float] | None = None
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One piece of fabric: an outline, optional inner loops, a grainline and a name.
+
+    ``grainline`` is the warp direction in the panel frame, a unit 2-vector.
+    """
+
+    name: str
+    outline: Loop
+    inner: tuple[Loop, ...] = ()
+    grainline: tuple[float, float] = (0.0, 1.0)
+    placement: Placement = field(default_factory=Placement)
+
+    def __post_init__(self):
+        object.__setattr__(self, "inner", tuple(self.inner))
+        g = np.asarray(self.grainline, dtype=np.float64)
+        n = float(np.linalg.norm(g))
+        if n > 0 and np.isfinite(n):
+            g = g / n
+        object.__setattr__(self, "grainline", (float(g[0]), float(g[1])))
+
+    @property
+    def loops(self) -> tuple[Loop, ...]:
+        """Outline first, then the inner loops."""
+        return (self.outline, *self.inner)
+
+    def edges(self) -> dict[str, Edge]:
+        """Every edge of the panel by name, outline first."""
+        return {e.name: e for loop in self.loops for e in loop.edges}
+
+    def edge(self, name: str) -> Edge:
+        """The edge called ``name``; ``KeyError`` naming the panel when there is none."""
+        try:
+            return self.edges()[name]
+        except KeyError:
+            raise KeyError(f"panel '{self.name}' has no edge '{name}'") from None
+
+    def area(self) -> float:
+        """Fabric area [m^2]: the outline's minus the inner loops'."""
+        return abs(self.outline.signed_area()) - sum(abs(lp.signed_area()) for lp in self.inner)
+
+    def with_edge(self, edge: Edge) -> "Panel":
+        """A copy with the edge of the same name replaced."""
+        def swap(loop: Loop) -> Loop:
+            return replace(loop, edges=tuple(edge if e.name == edge.name else e
+                                             for e in loop.edges))
+        return replace(self, outline=swap(self.outline),
+                       inner=tuple(swap(lp) for lp in self.inner))
+
+
+@dataclass(frozen=True)
+class SeamSide:
+    """One side of a seam: ``edge`` of ``panel``, from arc-length fraction ``start`` to ``end``."""
+
+    panel: str
+    edge: str
+    start: float = 0.0
+    end: float = 1.0
+
+
+@dataclass(frozen=True)
+class Seam:
+    """Two edge ranges sewn together.
+
+    With ``reverse`` (the usual case for two panels both laid right side up) the start of side
+    ``a`` is sewn to the end of side ``b``; without it, start to start.
+    """
+
+    name: str
+    a: SeamSide
+    b: SeamSide
+    reverse: bool = True
+
+
+@dataclass(frozen=True)
+class Pattern:
+    """A garment: panels plus seams, with free-form metadata (size, measurements)."""
+
+    name: str
+    panels: tuple[Panel, ...]
+    seams: tuple[Seam, ...] = ()
+    meta: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "panels", tuple(self.panels))
+        object.__setattr__(self, "seams", tuple(self.seams))
+
+    def panel(self, name: str) -> Panel:
+        """The panel called ``name``; ``KeyError`` listing the panels when there is none."""
+        for p in self.panels:
+            if p.name == name:
+                return p
+        raise KeyError(f"pattern '{self.name}' has no panel '{name}' "
+                       f"(panels: {', '.join(p.name for p in self.panels)})")
+
+    def panel_index(self, name: str) -> int:
+        """Position of panel ``name`` in ``panels``."""
+        return [p.name for p in self.panels].index(self.panel(name).name)
+
+    def with_panel(self, panel: Panel) -> "Pattern":
+        """A copy with the panel of the same name replaced."""
+        return replace(self, panels=tuple(panel if p.name == panel.name else p
+                                          for p in self.panels))
+
+    def seam_side_length(self, side: SeamSide) -> float:
+        """Arc length of one seam side [m]."""
+        return self.panel(side.panel).edge(side.edge).sub_length(side.start, side.end)
+
+    def area(self) -> float:
+        """Total fabric area [m^2]."""
+        return float(sum(p.area() for p in self.panels))
