@@ -1,0 +1,11 @@
+"""Entry point of the ``patternfit`` command: imports every command module onto ``app``."""
+
+from __future__ import annotations
+
+from . import commands  # noqa: F401  (registers mesh, fit, patterns, demo)
+from .app import app
+
+__all__ = ["app"]
+
+if __name__ == "__main__":
+    app()

@@ -1,0 +1,110 @@
+"""Polygon helpers shared by the coordinate solvers: input checks, loop orientation, and
+the exact boundary values (a point on an edge interpolates the edge's two end nodes).
+
+Coordinates are in any consistent length unit (metres in patternfit).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..constants import tol
+
+
+def as_points(points, name: str) -> np.ndarray:
+    """``points`` coerced to a finite (q, 2) float64 array; ``ValueError`` naming ``name``."""
+    p = np.asanyarray(points, dtype=np.float64)
+    if p.ndim == 1 and p.shape == (2,):
+        p = p[None]
+    if p.ndim != 2 or p.shape[1] != 2:
+        raise ValueError(f"{name}: expected an (n, 2) array, got shape {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise ValueError(f"{name}: coordinates must be finite")
+    return p
+
+
+def signed_area(poly: np.ndarray) -> float:
+    """Signed area of a closed polygon (k, 2), positive counter-clockwise."""
+    q = np.roll(poly, -1, axis=0)
+    return 0.5 * float(np.sum(poly[:, 0] * q[:, 1] - q[:, 0] * poly[:, 1]))
+
+
+def as_loops(loops, name: str = "loops") -> list[np.ndarray]:
+    """Loops coerced to (k, 2) arrays of at least 3 distinct nodes enclosing some area."""
+    if isinstance(loops, np.ndarray) and loops.ndim == 2:
+        loops = [loops]
+    out = []
+    for k, loop in enumerate(loops):
+        p = as_points(loop, f"{name}[{k}]")
+        if len(p) < 3:
+            raise ValueError(f"{name}[{k}]: a loop needs at least 3 nodes, got {len(p)}")
+        if np.any(np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1) <= tol.merge * 1e-6):
+            raise ValueError(f"{name}[{k}]: two consecutive nodes coincide")
+        if abs(signed_area(p)) <= 0.0:
+            raise ValueError(f"{name}[{k}]: loop encloses no area")
+        out.append(p)
+    if not out:
+        raise ValueError(f"{name}: need at least one loop")
+    return out
+
+
+def oriented(loops: list[np.ndarray]):
+    """Nodes of all loops, outer loop counter-clockwise and inner loops clockwise.
+
+    Returns
+    -------
+    nodes : (n, 2) float
+        Loops concatenated in the solver's orientation.
+    nxt : (n,) int
+        Index of the next node along the same loop.
+    order : (n,) int
+        ``nodes[j]`` is the caller's node ``order[j]`` (caller order = loops concatenated).
+    """
+    nodes, nxt, order, start = [], [], [], 0
+    for k, p in enumerate(loops):
+        n = len(p)
+        idx = np.arange(n)
+        want_ccw = k == 0
+        if (signed_area(p) > 0) != want_ccw:
+            idx = idx[::-1]
+        nodes.append(p[idx])
+        order.append(start + idx)
+        nxt.append(start + (np.arange(n) + 1) % n)
+        start += n
+    return np.concatenate(nodes), np.concatenate(nxt), np.concatenate(order)
+
+
+def diameter(nodes: np.ndarray) -> float:
+    """Length of the bounding-box diagonal of ``nodes`` (k, 2)."""
+    return float(np.linalg.norm(nodes.max(axis=0) - nodes.min(axis=0)))
+
+
+def boundary_weights(nodes: np.ndarray, nxt: np.ndarray, points: np.ndarray, *, eps: float):
+    """Exact coordinates of points lying on the boundary (eq. 18 of the paper).
+
+    A point within ``eps`` of edge (i, nxt[i]) gets ``1 - t`` on node i and ``t`` on the next
+    node, ``t`` its projection parameter; a point on a node gets that node's unit vector.
+
+    Returns
+    -------
+    on : (q,) bool
+        Which points lie on the boundary.
+    weights : (on.sum(), n) float
+        Their coordinates, columns in the order of ``nodes``.
+    """
+    a, b = nodes, nodes[nxt]
+    ex, ey = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
+    ee = ex * ex + ey * ey
+    dx = points[:, 0:1] - a[:, 0]
+    dy = points[:, 1:2] - a[:, 1]
+    t = np.clip((dx * ex + dy * ey) / ee, 0.0, 1.0)
+    gx, gy = dx - t * ex, dy - t * ey
+    dist2 = gx * gx + gy * gy
+    j = np.argmin(dist2, axis=1)
+    on = dist2[np.arange(len(points)), j] <= eps * eps
+    rows = np.flatnonzero(on)
+    w = np.zeros((len(rows), len(nodes)))
+    tj = t[rows, j[rows]]
+    w[np.arange(len(rows)), j[rows]] += 1.0 - tj
+    w[np.arange(len(rows)), nxt[j[rows]]] += tj
+    return on, w

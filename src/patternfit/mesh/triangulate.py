@@ -1,0 +1,222 @@
+"""Constrained quality Delaunay triangulation of a whole pattern (the ``triangle`` package).
+
+Every edge is sampled uniformly in arc length; the two sides of a seam get the same number of
+samples, so sewing pairs their vertices one to one (METHOD.md section 2). Boundary samples are
+kept as they are (no Steiner points on the boundary), which keeps the pairing exact.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import triangle as tr
+
+from ..pattern.model import Loop, Pattern
+from ..pattern.validate import check_pattern
+from .garment import GarmentMesh
+
+# Fraction keys are rounded to this many digits to find shared breakpoints.
+_KEY = 12
+
+
+def _edge_breaks(pattern: Pattern) -> dict[tuple[str, str], list[tuple[float, float, str | None]]]:
+    """Split every edge at the ends of the seam ranges on it: (start, end, seam key) pieces."""
+    ranges: dict[tuple[str, str], list[tuple[float, float, str]]] = {}
+    for seam in pattern.seams:
+        for tag, side in (("a", seam.a), ("b", seam.b)):
+            ranges.setdefault((side.panel, side.edge), []).append(
+                (side.start, side.end, f"{seam.name}\x1f{tag}"))
+    pieces = {}
+    for panel in pattern.panels:
+        for edge in panel.edges().values():
+            key = (panel.name, edge.name)
+            cuts = {0.0, 1.0}
+            for s0, s1, _ in ranges.get(key, []):
+                cuts.update((s0, s1))
+            cuts = sorted(cuts)
+            out = []
+            for f0, f1 in zip(cuts[:-1], cuts[1:]):
+                tag = next((t for s0, s1, t in ranges.get(key, [])
+                            if abs(s0 - f0) < 1e-12 and abs(s1 - f1) < 1e-12), None)
+                out.append((f0, f1, tag))
+            pieces[key] = out
+    return pieces
+
+
+def _segment_counts(pattern: Pattern, pieces, h: float) -> dict:
+    """Number of boundary segments for every edge piece; both sides of a seam share one."""
+    counts = {}
+    for seam in pattern.seams:
+        la = pattern.seam_side_length(seam.a)
+        lb = pattern.seam_side_length(seam.b)
+        n = max(1, round(0.5 * (la + lb) / h))
+        counts[f"{seam.name}\x1fa"] = counts[f"{seam.name}\x1fb"] = n
+    result = {}
+    for panel in pattern.panels:
+        for edge in panel.edges().values():
+            key = (panel.name, edge.name)
+            ns = []
+            for f0, f1, tag in pieces[key]:
+                if tag is not None:
+                    ns.append(counts[tag])
+                else:
+                    n = max(1, round(edge.length * (f1 - f0) / h))
+                    if edge.kind != "line":
+                        n = max(n, 2)
+                    ns.append(n)
+            result[key] = ns
+    return result
+
+
+def _sample_loop(panel_name: str, loop: Loop, pieces, counts):
+    """Boundary samples of one loop: points (k, 2), edge keys, fractions."""
+    pts, keys, fracs = [], [], []
+    for edge in loop.edges:
+        key = (panel_name, edge.name)
+        for (f0, f1, _), n in zip(pieces[key], counts[key]):
+            f = f0 + (f1 - f0) * np.arange(n) / n
+            pts.append(edge.point_at(f))
+            keys += [key] * n
+            fracs.append(f)
+    return np.concatenate(pts), keys, np.concatenate(fracs)
+
+
+def _inside_point(poly: np.ndarray) -> np.ndarray:
+    """A point strictly inside a simple polygon (k, 2): centroid of its largest triangle."""
+    n = len(poly)
+    seg = np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1)
+    t = tr.triangulate({"vertices": poly, "segments": seg}, "pQ")
+    tri = t["vertices"][t["triangles"]]
+    a = np.abs(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]))
+    return tri[int(np.argmax(a))].mean(axis=0)
+
+
+def _mesh_panel(panel, pieces, counts, max_area: float, min_angle: float):
+    loops = []
+    for loop in panel.loops:
+        loops.append(_sample_loop(panel.name, loop, pieces, counts))
+    verts = np.concatenate([lp[0] for lp in loops])
+    segs, start = [], 0
+    for lp in loops:
+        k = len(lp[0])
+        idx = start + np.arange(k)
+        segs.append(np.stack([idx, np.roll(idx, -1)], axis=1))
+        start += k
+    data = {"vertices": verts, "segments": np.concatenate(segs)}
+    if panel.inner:
+        data["holes"] = np.array([_inside_point(lp[0]) for lp in loops[1:]])
+    out = tr.triangulate(data, f"pq{min_angle:g}a{max_area:.10g}YQ")
+    v, t = out["vertices"], out["triangles"].astype(np.int64)
+    if len(v) < len(verts) or not np.allclose(v[: len(verts)], verts, atol=1e-12, rtol=0):
+        raise RuntimeError(f"panel '{panel.name}': the triangulator moved boundary vertices")
+    e1, e2 = v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]
+    cw = (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) < 0
+    t[cw] = t[cw][:, [0, 2, 1]]
+    return v, t, loops
+
+
+def _mesh_all(pattern: Pattern, h: float, min_angle: float) -> GarmentMesh:
+    pieces = _edge_breaks(pattern)
+    counts = _segment_counts(pattern, pieces, h)
+    max_area = math.sqrt(3) / 4 * h * h
+    edge_names = [(p.name, e.name) for p in pattern.panels for e in p.edges().values()]
+    edge_id = {k: i for i, k in enumerate(edge_names)}
+    V, T, tpan, vpan = [], [], [], []
+    bv, be, bp, bl, lpan = [], [], [], [], []
+    where: dict[tuple[int, float], int] = {}  # (edge id, fraction) -> vertex
+    nv = 0
+    for pi, panel in enumerate(pattern.panels):
+        v, t, loops = _mesh_panel(panel, pieces, counts, max_area, min_angle)
+        V.append(v)
+        T.append(t + nv)
+        tpan.append(np.full(len(t), pi))
+        vpan.append(np.full(len(v), pi))
+        start = nv
+        for loop, (pts, keys, fracs) in zip(panel.loops, loops):
+            ids = start + np.arange(len(pts))
+            eids = np.array([edge_id[k] for k in keys])
+            bv.append(ids)
+            be.append(eids)
+            bp.append(fracs)
+            bl.append(np.full(len(pts), len(lpan)))
+            lpan.append(pi)
+            for i, e, f in zip(ids, eids, fracs):
+                where[(int(e), round(float(f), _KEY))] = int(i)
+            # the end of each edge is the start of the next one in the loop
+            for e_cur, e_next in zip(loop.edges, loop.edges[1:] + loop.edges[:1]):
+                where[(edge_id[(panel.name, e_cur.name)], 1.0)] = \
+                    where[(edge_id[(panel.name, e_next.name)], 0.0)]
+            start += len(pts)
+        nv += len(v)
+    pairs, sidx = [], []
+    for si, seam in enumerate(pattern.seams):
+        n = counts[(seam.a.panel, seam.a.edge)][
+            [p[2] for p in pieces[(seam.a.panel, seam.a.edge)]].index(f"{seam.name}\x1fa")]
+        k = np.arange(n + 1)
+        fa = seam.a.start + (seam.a.end - seam.a.start) * k / n
+        fb = seam.b.start + (seam.b.end - seam.b.start) * k / n
+        if seam.reverse:
+            fb = fb[::-1]
+        ea, eb = edge_id[(seam.a.panel, seam.a.edge)], edge_id[(seam.b.panel, seam.b.edge)]
+        for x, y in zip(fa, fb):
+            pairs.append((where[(ea, round(float(x), _KEY))], where[(eb, round(float(y), _KEY))]))
+            sidx.append(si)
+    pairs_arr = np.array(pairs, dtype=np.int64).reshape(-1, 2)
+    sidx_arr = np.array(sidx, dtype=np.int64)
+    # a corner shared by two seams would be listed twice
+    _, keep = np.unique(np.sort(pairs_arr, axis=1), axis=0, return_index=True)
+    keep = np.sort(keep)
+    return GarmentMesh(
+        vertices=np.concatenate(V), triangles=np.concatenate(T),
+        triangle_panel=np.concatenate(tpan), vertex_panel=np.concatenate(vpan),
+        panel_names=tuple(p.name for p in pattern.panels),
+        grain=np.array([p.grainline for p in pattern.panels], dtype=np.float64),
+        edge_names=tuple(edge_names),
+        boundary_vertices=np.concatenate(bv), boundary_edge=np.concatenate(be),
+        boundary_param=np.concatenate(bp), boundary_loop=np.concatenate(bl),
+        loop_panel=np.array(lpan, dtype=np.int64),
+        seam_pairs=pairs_arr[keep], seam_index=sidx_arr[keep],
+        seam_names=tuple(s.name for s in pattern.seams))
+
+
+def mesh_pattern(pattern: Pattern, *, triangles: int = 20000, min_angle: float = 25.0,
+                 edge_length: float | None = None) -> GarmentMesh:
+    """Triangulate every panel of ``pattern`` into one :class:`GarmentMesh`.
+
+    Parameters
+    ----------
+    pattern : Pattern
+        A valid pattern (checked first).
+    triangles : int
+        Target triangle count for the whole garment; met within a few percent.
+    min_angle : float
+        Minimum triangle angle [degrees] (Triangle's quality bound; at most about 33).
+    edge_length : float, optional
+        Target edge length [m]; when given, ``triangles`` is ignored.
+
+    Returns
+    -------
+    GarmentMesh
+        Flat meshes with seam sides sampled alike: ``seam_pairs`` pairs them one to one.
+    """
+    if not 0 < min_angle <= 34:
+        raise ValueError(f"min_angle: must be in (0, 34] degrees, got {min_angle}")
+    check_pattern(pattern)
+    if edge_length is not None:
+        if not edge_length > 0:
+            raise ValueError(f"edge_length: must be positive, got {edge_length}")
+        return _mesh_all(pattern, float(edge_length), min_angle)
+    if int(triangles) < 2 * len(pattern.panels):
+        raise ValueError(f"triangles: at least {2 * len(pattern.panels)} needed, got {triangles}")
+    # Triangle's refinement makes triangles smaller than the area bound: calibrate the edge
+    # length on a first mesh, then correct once more.
+    h = math.sqrt(4 * pattern.area() / (math.sqrt(3) * triangles)) * 1.3
+    mesh = _mesh_all(pattern, h, min_angle)
+    for _ in range(2):
+        ratio = mesh.n_triangles / triangles
+        if abs(ratio - 1) < 0.03:
+            break
+        h *= math.sqrt(ratio)
+        mesh = _mesh_all(pattern, h, min_angle)
+    return mesh

@@ -1,0 +1,424 @@
+"""GarmentCode / GarmentCodeData JSON sewing patterns: import and export.
+
+The file is ``{"pattern": {"panels": {name: panel}, "stitches": [...]}, "parameters": ...,
+"properties": {...}}``. Conventions, as GarmentCode's own code reads them
+(``pygarment/pattern/core.py``, ``utils.py``, ``garmentcode/edge.py``, ``meshgen/boxmeshgen.py``):
+
+- ``properties.units_in_meter``: file units per metre (100: centimetres). Missing means 100.
+- A panel has 2D ``vertices``, ``edges`` (``endpoints`` [i, j], optional ``curvature`` and
+  ``label``), a 3D ``translation`` (file units) and an XYZ Euler ``rotation`` in degrees. A panel
+  point (x, y) goes to ``R @ (x, y, 0) + translation`` with ``R = Rz @ Ry @ Rx`` (Maya's
+  intrinsic xyz order), for a body standing at the origin with y up.
+- Curvature with ``properties.curvature_coords == "relative"`` (the default): a control point
+  [t, n] is ``start + t * d + n * perp(d)`` with ``d = end - start`` and ``perp(d) = (-d_y,
+  d_x)``: positive n lies to the left of the edge. ``"absolute"`` gives control points in panel
+  coordinates. Forms: ``{"type": "quadratic", "params": [[t, n]]}``, ``{"type": "cubic",
+  "params": [[t1, n1], [t2, n2]]}``, ``{"type": "circle", "params": [radius, large_arc,
+  sweep]}`` (radius in file units, SVG flags in a y-up frame: sweep runs counter-clockwise,
+  the same convention as :class:`~patternfit.pattern.edges.Edge`), and the old bare ``[t, n]``
+  list for a quadratic curve.
+- A stitch ``[{"panel": A, "edge": i}, {"panel": B, "edge": j}]`` sews the end of edge i to
+  the start of edge j (our ``Seam.reverse=True``); a third entry ``"right_wrong"`` sews start
+  to start (``reverse=False``).
+
+Inside patternfit everything is metres. What has no place in the model (panel and edge labels,
+parameters, properties) is kept in ``pattern.meta["garmentcode"]`` so that export writes it
+back.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..constants import tol
+from ..files import atomic_write_text
+from .edges import Edge
+from .errors import PatternError
+from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
+from .validate import check_panel
+
+__all__ = ["euler_xyz_matrix", "garmentcode_from_dict", "garmentcode_to_dict", "is_garmentcode",
+           "load_garmentcode", "panel_points_3d", "save_garmentcode"]
+
+_RIGHT_WRONG = "right_wrong"
+_AUTO_NAME = re.compile(r"e\d+(_\d+)?$")
+
+
+def euler_xyz_matrix(angles) -> np.ndarray:
+    """Rotation matrix of XYZ Euler angles in degrees, GarmentCode's (Maya's) convention.
+
+    angles : (3,) float, degrees. Returns (3, 3) float ``Rz @ Ry @ Rx``.
+    """
+    ax, ay, az = np.deg2rad(np.asarray(angles, dtype=np.float64).reshape(3))
+    cx, sx, cy, sy, cz, sz = math.cos(ax), math.sin(ax), math.cos(ay), math.sin(ay), \
+        math.cos(az), math.sin(az)
+    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def panel_points_3d(placement: Placement, points) -> np.ndarray:
+    """Panel-frame points placed in 3D by an explicit placement.
+
+    points : (n, 2) float [m]. Returns (n, 3) float [m]: ``R @ (x, y, 0) + translation``.
+    Raises ``ValueError`` when the placement has no explicit translation or rotation.
+    """
+    if placement.translation is None and placement.rotation is None:
+        raise ValueError("placement: no explicit translation or rotation")
+    pts = np.asanyarray(points, dtype=np.float64).reshape(-1, 2)
+    rot = euler_xyz_matrix(placement.rotation or (0.0, 0.0, 0.0))
+    shift = np.asarray(placement.translation or (0.0, 0.0, 0.0), dtype=np.float64)
+    return np.column_stack([pts, np.zeros(len(pts))]) @ rot.T + shift
+
+
+def is_garmentcode(data: Any) -> bool:
+    """True when a parsed JSON document looks like a GarmentCode pattern specification."""
+    return (isinstance(data, dict) and isinstance(data.get("pattern"), dict)
+            and isinstance(data["pattern"].get("panels"), dict))
+
+
+# -- import ------------------------------------------------------------------------------------
+def _number(value, what: str, **where) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise PatternError(f"{what} must be a finite number, got {value!r}", **where)
+    return float(value)
+
+
+def _pair(value, what: str, **where) -> np.ndarray:
+    if not isinstance(value, (list, tuple)) or len(value) != 2:
+        raise PatternError(f"{what} must be a pair [a, b], got {value!r}", **where)
+    return np.array([_number(v, what, **where) for v in value])
+
+
+def _edge_names(edges: list) -> list[str]:
+    """Edge names from GarmentCode labels: the label where it is unique in the panel, else
+    ``label_i``, else ``e{i}``."""
+    labels = [e.get("label") if isinstance(e, dict) else None for e in edges]
+    labels = [lb if isinstance(lb, str) and lb.strip() else None for lb in labels]
+    names = []
+    for i, lb in enumerate(labels):
+        if lb is None:
+            names.append(f"e{i}")
+        elif labels.count(lb) == 1 and not _AUTO_NAME.match(lb):
+            names.append(lb)
+        else:
+            names.append(f"{lb}_{i}")
+    seen: set[str] = set()
+    for i, n in enumerate(names):  # a label may collide with a generated name
+        while n in seen:
+            n = f"{n}_{i}"
+        names[i] = n
+        seen.add(n)
+    return names
+
+
+def _control(start, end, point, relative: bool) -> np.ndarray:
+    if not relative:
+        return point
+    d = end - start
+    return start + point[0] * d + point[1] * np.array([-d[1], d[0]])
+
+
+def _edge_from_gc(e: Any, verts: np.ndarray, scale: float, relative: bool, name: str,
+                  index: int, where: dict) -> Edge:
+    if not isinstance(e, dict):
+        raise PatternError(f"edge #{index} must be an object", **where)
+    ends = e.get("endpoints")
+    if (not isinstance(ends, (list, tuple)) or len(ends) != 2
+            or not all(isinstance(k, int) and not isinstance(k, bool) for k in ends)):
+        raise PatternError(f"edge #{index}: 'endpoints' must be two vertex indices, "
+                           f"got {ends!r}", **where)
+    for k in ends:
+        if not 0 <= k < len(verts):
+            raise PatternError(f"edge #{index}: vertex index {k} out of range "
+                               f"(panel has {len(verts)} vertices)", **where)
+    start, end = verts[ends[0]], verts[ends[1]]
+    curv = e.get("curvature")
+    if curv is None:
+        return Edge.line(name, start * scale, end * scale)
+    if isinstance(curv, list):  # old files: a bare control point of a quadratic curve
+        ctrl = _control(start, end, _pair(curv, "curvature", **where), relative)
+        return Edge.quadratic(name, start * scale, ctrl * scale, end * scale)
+    if not isinstance(curv, dict):
+        raise PatternError(f"edge #{index}: curvature must be an object or [t, n]", **where)
+    kind, params = curv.get("type"), curv.get("params")
+    if kind in ("quadratic", "cubic"):
+        need = 1 if kind == "quadratic" else 2
+        if (isinstance(params, list) and len(params) == 2 and need == 1
+                and not isinstance(params[0], list)):
+            params = [params]  # a single pair written flat
+        if not isinstance(params, list) or len(params) != need:
+            raise PatternError(f"edge #{index}: a {kind} curve needs {need} control point(s), "
+                               f"got {params!r}", **where)
+        ctrl = [_control(start, end, _pair(p, "control point", **where), relative) * scale
+                for p in params]
+        return Edge(name, kind, [start * scale, *ctrl, end * scale])
+    if kind == "circle":
+        if not isinstance(params, list) or len(params) != 3:
+            raise PatternError(f"edge #{index}: a circle needs [radius, large_arc, sweep], "
+                               f"got {params!r}", **where)
+        radius = _number(params[0], "circle radius", **where)
+        if radius <= 0:
+            raise PatternError(f"edge #{index}: circle radius must be positive", **where)
+        flags = [bool(_number(f, "circle flag", **where)) for f in params[1:]]
+        return Edge.arc(name, start * scale, end * scale, radius * scale,
+                        large_arc=flags[0], sweep=flags[1])
+    raise PatternError(f"edge #{index}: unknown curvature type {kind!r} "
+                       "(expected 'quadratic', 'cubic' or 'circle')", **where)
+
+
+def _vec3(panel: dict, key: str, where: dict) -> tuple[float, float, float]:
+    v = panel.get(key, [0.0, 0.0, 0.0])
+    if not isinstance(v, (list, tuple)) or len(v) != 3:
+        raise PatternError(f"'{key}' must be [x, y, z], got {v!r}", **where)
+    return tuple(_number(c, key, **where) for c in v)
+
+
+def _panel_from_gc(name: str, p: Any, scale: float, relative: bool):
+    where = {"panel": name}
+    if not isinstance(p, dict):
+        raise PatternError("panel must be an object", **where)
+    raw = p.get("vertices")
+    if not isinstance(raw, list) or len(raw) < 2:
+        raise PatternError("panel needs a list of at least two 'vertices'", **where)
+    verts = np.array([_pair(v, "vertex", **where) for v in raw])
+    edges_raw = p.get("edges")
+    if not isinstance(edges_raw, list) or not edges_raw:
+        raise PatternError("panel needs a non-empty list of 'edges'", **where)
+    names = _edge_names(edges_raw)
+    edges = [_edge_from_gc(e, verts, scale, relative, n, i, {**where, "edge": n})
+             for i, (e, n) in enumerate(zip(edges_raw, names))]
+    t = _vec3(p, "translation", where)
+    r = _vec3(p, "rotation", where)
+    placement = Placement(part="torso", side="back" if t[2] < 0 else "front",
+                          translation=tuple(c * scale for c in t), rotation=r)
+    panel = Panel(name, Loop("outline", tuple(edges)), placement=placement)
+    labels = [e.get("label") if isinstance(e.get("label"), str) else None for e in edges_raw]
+    return panel, names, labels
+
+
+def _stitch_side(side: Any, i: int, k: int, names: dict[str, list[str]]) -> SeamSide:
+    if not isinstance(side, dict):
+        raise PatternError(f"stitch #{i}: side {k} must be {{'panel': ..., 'edge': ...}}")
+    panel, edge = side.get("panel"), side.get("edge")
+    if panel not in names:
+        raise PatternError(f"stitch #{i} names missing panel {panel!r}", panel=str(panel),
+                           edge=None if edge is None else str(edge))
+    if isinstance(edge, bool) or not isinstance(edge, int) or not 0 <= edge < len(names[panel]):
+        raise PatternError(f"stitch #{i}: edge index {edge!r} out of range (panel has "
+                           f"{len(names[panel])} edges)", panel=panel, edge=str(edge))
+    return SeamSide(panel, names[panel][edge])
+
+
+def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
+    """Build a :class:`Pattern` [m] from a parsed GarmentCode specification.
+
+    Panels are checked as :func:`~patternfit.pattern.check_pattern` does; stitches whose two
+    edges differ in length beyond tolerance (gathers, ruffles) are kept and listed in
+    ``meta["warnings"]``. Raises :class:`PatternError` naming panel and edge.
+    """
+    if not is_garmentcode(data):
+        raise PatternError("not a GarmentCode pattern (expected {'pattern': {'panels': {...}}})")
+    props = data.get("properties") or {}
+    if not isinstance(props, dict):
+        raise PatternError("'properties' must be an object")
+    units = props.get("units_in_meter", 100)
+    if (isinstance(units, bool) or not isinstance(units, (int, float))
+            or not math.isfinite(units) or units <= 0):
+        raise PatternError(f"bad units: 'units_in_meter' must be a positive number, "
+                           f"got {units!r}")
+    coords = props.get("curvature_coords", "relative")
+    if coords not in ("relative", "absolute"):
+        raise PatternError(f"bad 'curvature_coords' {coords!r} (expected 'relative' or "
+                           "'absolute')")
+    scale = 1.0 / float(units)
+    spec = data["pattern"]
+    if not spec["panels"]:
+        raise PatternError("the pattern has no panels")
+    panels, names, labels = [], {}, {}
+    for pname, p in spec["panels"].items():
+        panel, names[pname], labels[pname] = _panel_from_gc(str(pname), p, scale,
+                                                            coords == "relative")
+        check_panel(panel)
+        panels.append(panel)
+    stitches = spec.get("stitches", [])
+    if not isinstance(stitches, list):
+        raise PatternError("'stitches' must be a list")
+    seams, tags, used = [], {}, {}
+    for i, s in enumerate(stitches):
+        if not isinstance(s, (list, tuple)) or len(s) < 2:
+            raise PatternError(f"stitch #{i} must be a list of two sides")
+        a, b = _stitch_side(s[0], i, 0, names), _stitch_side(s[1], i, 1, names)
+        extra = [str(x) for x in s[2:]]
+        for side in (a, b):
+            key = (side.panel, side.edge)
+            if key in used:
+                raise PatternError(f"stitch #{i} sews an edge already sewn by stitch "
+                                   f"#{used[key]}", panel=side.panel, edge=side.edge)
+            used[key] = i
+        seam_name = f"stitch{i}"
+        seams.append(Seam(seam_name, a, b, reverse=_RIGHT_WRONG not in extra))
+        if extra:
+            tags[seam_name] = extra
+    pattern = Pattern(name, tuple(panels), tuple(seams))
+    warnings = []
+    for seam in seams:
+        la, lb = pattern.seam_side_length(seam.a), pattern.seam_side_length(seam.b)
+        if abs(la - lb) > max(tol.seam_length, tol.seam_length_rel * 0.5 * (la + lb)):
+            warnings.append(f"seam '{seam.name}' joins sides of different length: "
+                            f"{la * 100:.2f} cm ({seam.a.panel}/{seam.a.edge}) vs "
+                            f"{lb * 100:.2f} cm ({seam.b.panel}/{seam.b.edge})")
+    keep = {k: data[k] for k in ("parameters", "parameter_order") if k in data}
+    meta: dict[str, Any] = {"source_format": "garmentcode", "garmentcode": {
+        **keep, "properties": props,
+        "panel_labels": {k: p["label"] for k, p in spec["panels"].items()
+                         if isinstance(p, dict) and isinstance(p.get("label"), str)},
+        "edge_labels": {k: dict(zip(names[k], labels[k])) for k in names},
+        "stitch_tags": tags}}
+    if "panel_order" in spec:
+        meta["garmentcode"]["panel_order"] = spec["panel_order"]
+    if warnings:
+        meta["warnings"] = warnings
+    pattern.meta.update(meta)
+    return pattern
+
+
+def load_garmentcode(path) -> Pattern:
+    """Read a GarmentCode JSON file; errors name the file, panel and edge. Lengths in metres.
+
+    The pattern is named after the file (``x_specification.json`` gives ``x``).
+    """
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise PatternError(f"cannot read file: {exc.strerror}", file=path) from None
+    except json.JSONDecodeError as exc:
+        raise PatternError(f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})",
+                           file=path) from None
+    name = path.stem.removesuffix("_specification") or "pattern"
+    try:
+        return garmentcode_from_dict(data, name=name)
+    except PatternError as exc:
+        raise exc.located(path) from None
+
+
+# -- export ------------------------------------------------------------------------------------
+def _split(edge: Edge, f0: float, f1: float) -> Edge:
+    """The part of ``edge`` between arc-length fractions ``f0`` and ``f1``."""
+    if f0 <= 0.0 and f1 >= 1.0:
+        return edge
+    t0, t1 = (float(x) for x in edge.parameter_at([f0, f1]))
+    if edge.kind == "arc":
+        _, _, _, delta = edge._arc
+        p = edge.evaluate([t0, t1])
+        return Edge.arc(edge.name, p[0], p[1], edge.radius,
+                        large_arc=abs(delta) * (t1 - t0) > math.pi, sweep=edge.sweep)
+    pts = np.asarray(edge.points)
+
+    def cut(points, t, keep_right):  # de Casteljau: left or right part at parameter t
+        rows, left, right = points, [points[0]], [points[-1]]
+        while len(rows) > 1:
+            rows = (1 - t) * rows[:-1] + t * rows[1:]
+            left.append(rows[0])
+            right.append(rows[-1])
+        return np.array(right[::-1]) if keep_right else np.array(left)
+
+    right = cut(pts, t0, True)
+    part = cut(right, (t1 - t0) / (1.0 - t0), False) if t1 < 1.0 else right
+    return edge.with_points(part)
+
+
+def _relative(start, end, point) -> list[float]:
+    d = end - start
+    v = np.asarray(point) - start
+    n2 = float(d @ d)
+    return [float(v @ d) / n2, float(d[0] * v[1] - d[1] * v[0]) / n2]
+
+
+def _curvature(e: Edge, scale: float):
+    if e.kind == "line":
+        return None
+    if e.kind == "arc":
+        return {"type": "circle", "params": [e.radius / scale, int(e.large_arc), int(e.sweep)]}
+    p = np.asarray(e.points)
+    return {"type": e.kind, "params": [_relative(p[0], p[-1], c) for c in p[1:-1]]}
+
+
+def garmentcode_to_dict(pattern: Pattern, *, units_in_meter: float = 100.0) -> dict:
+    """The GarmentCode specification of ``pattern``, lengths in ``1 / units_in_meter`` metres.
+
+    Edges are split where a seam covers only part of them (GarmentCode stitches join whole
+    edges). Raises :class:`PatternError` for a panel with inner loops, which GarmentCode cannot
+    express, and ``ValueError`` for a non-positive ``units_in_meter``.
+    """
+    if not (isinstance(units_in_meter, (int, float)) and units_in_meter > 0):
+        raise ValueError(f"units_in_meter: expected a positive number, got {units_in_meter!r}")
+    scale = 1.0 / units_in_meter
+    gc = pattern.meta.get("garmentcode", {}) if isinstance(pattern.meta, dict) else {}
+    breaks: dict[tuple[str, str], set[float]] = {}
+    for seam in pattern.seams:
+        for side in (seam.a, seam.b):
+            breaks.setdefault((side.panel, side.edge), set()).update((side.start, side.end))
+    panels, index = {}, {}
+    for p in pattern.panels:
+        if p.inner:
+            raise PatternError("GarmentCode panels have no inner loops (darts, cut-outs); "
+                               f"loop '{p.inner[0].name}' cannot be written", panel=p.name,
+                               edge=p.inner[0].edges[0].name)
+        labels = gc.get("edge_labels", {}).get(p.name, {})
+        verts, edges = [], []
+        for e in p.outline.edges:
+            cuts = sorted({0.0, 1.0} | {f for f in breaks.get((p.name, e.name), ())
+                                        if 0.0 < f < 1.0})
+            for f0, f1 in zip(cuts[:-1], cuts[1:]):
+                index[(p.name, e.name, f0)] = len(edges)
+                part = _split(e, f0, f1)
+                d: dict[str, Any] = {"endpoints": [len(edges), len(edges) + 1]}
+                curv = _curvature(part, scale)
+                if curv is not None:
+                    d["curvature"] = curv
+                label = labels.get(e.name, None if _AUTO_NAME.match(e.name) else e.name)
+                if label:
+                    d["label"] = label
+                verts.append([float(c) / scale for c in part.points[0]])
+                edges.append(d)
+        edges[-1]["endpoints"][1] = 0
+        pl = p.placement
+        entry = {"translation": [c / scale for c in (pl.translation or (0.0, 0.0, 0.0))],
+                 "rotation": list(pl.rotation or (0.0, 0.0, 0.0)),
+                 "vertices": verts, "edges": edges}
+        if p.name in gc.get("panel_labels", {}):
+            entry["label"] = gc["panel_labels"][p.name]
+        panels[p.name] = entry
+    tags = gc.get("stitch_tags", {})
+    stitches = []
+    for seam in pattern.seams:
+        s: list[Any] = [{"panel": side.panel, "edge": index[(side.panel, side.edge, side.start)]}
+                        for side in (seam.a, seam.b)]
+        extra = [t for t in tags.get(seam.name, []) if t != _RIGHT_WRONG]
+        if not seam.reverse:
+            extra.insert(0, _RIGHT_WRONG)
+        stitches.append(s + extra)
+    props = {**gc.get("properties", {}), "curvature_coords": "relative",
+             "normalize_panel_translation": False, "normalized_edge_loops": True,
+             "units_in_meter": units_in_meter}
+    spec: dict[str, Any] = {"panels": panels, "stitches": stitches}
+    if gc.get("panel_order") and set(gc["panel_order"]) == set(panels):
+        spec["panel_order"] = gc["panel_order"]
+    return {"pattern": spec, "parameters": gc.get("parameters", {}),
+            "parameter_order": gc.get("parameter_order", []), "properties": props}
+
+
+def save_garmentcode(pattern: Pattern, path, *, units_in_meter: float = 100.0) -> Path:
+    """Write ``pattern`` atomically as a GarmentCode JSON file (default centimetres)."""
+    doc = garmentcode_to_dict(pattern, units_in_meter=units_in_meter)
+    atomic_write_text(path, json.dumps(doc, indent=2) + "\n")
+    return Path(path)

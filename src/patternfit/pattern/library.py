@@ -1,0 +1,267 @@
+"""Built-in parametric patterns, drafted from body measurements (metres).
+
+The paper's three garments — a coat with kimono sleeves in two panels (front, back), a skirt in
+two panels, trousers in four — and a one-piece dress (front, back). Every panel is drafted
+right side up as seen from outside the body; seams pair edges of equal length (the front and
+back of a side seam are drafted congruent), so every garment can be sewn as it is.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import Callable
+
+import numpy as np
+
+from .edges import Edge
+from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
+from .sizes import SIZE_NAMES, Measurements, size_chart
+from .validate import check_pattern
+
+_MIRROR = np.diag([-1.0, 1.0])
+
+
+def _swap_side(name: str) -> str:
+    if name.endswith("_r"):
+        return name[:-2] + "_l"
+    if name.endswith("_l"):
+        return name[:-2] + "_r"
+    return name
+
+
+def _mirror_loop(loop: Loop, rename: Callable[[str], str]) -> Loop:
+    """Mirror a loop in x and reverse it, so that it stays counter-clockwise."""
+    edges = [replace(e.transformed(_MIRROR).reversed(), name=rename(e.name))
+             for e in reversed(loop.edges)]
+    return Loop(loop.name, tuple(edges))
+
+
+def _symmetric_loop(half: list[Edge], middle_top: Edge, middle_bottom: Edge | None) -> Loop:
+    """Outline of a panel symmetric about x = 0 from its right half (edges named ``*_r``).
+
+    ``half`` runs counter-clockwise from the bottom centre's right end to the top centre's
+    right end; ``middle_top`` crosses x = 0 at the top (right to left), ``middle_bottom`` at
+    the bottom (left to right).
+    """
+    left = _mirror_loop(Loop("x", tuple(half)), _swap_side).edges
+    edges = ([middle_bottom] if middle_bottom else []) + half + [middle_top] + list(left)
+    return Loop("outline", tuple(edges))
+
+
+def _mirror_panel(panel: Panel, name: str, placement: Placement) -> Panel:
+    """The panel mirrored in x with its side names swapped (e.g. back from front-drafted)."""
+    return Panel(name, _mirror_loop(panel.outline, _swap_side),
+                 tuple(_mirror_loop(lp, _swap_side) for lp in panel.inner),
+                 panel.grainline, placement)
+
+
+def _seams(a: str, b: str, edges: list[str]) -> tuple[Seam, ...]:
+    """Seams joining the same-named edges of panels ``a`` and ``b``, each named for its edge."""
+    return tuple(Seam(e, SeamSide(a, e), SeamSide(b, e), reverse=True) for e in edges)
+
+
+def _neckline(nw: float, top: float, depth: float) -> Edge:
+    """Round neckline from the right neck point to the left one, ``depth`` [m] deep."""
+    return Edge.cubic("neckline", (nw, top), (0.6 * nw, top - depth / 0.75),
+                      (-0.6 * nw, top - depth / 0.75), (-nw, top))
+
+
+# -- coat ----------------------------------------------------------------------------------
+def coat(m: Measurements, *, ease: float = 0.12, sleeve_angle: float = 45.0) -> Pattern:
+    """A hip-length coat with kimono sleeves, in two panels (front, back).
+
+    Parameters
+    ----------
+    m : Measurements
+        Body measurements [m].
+    ease : float
+        Girth added at the chest and hip [m].
+    sleeve_angle : float
+        Angle of the sleeve from the vertical [degrees] (the body's A-pose).
+    """
+    a = math.radians(sleeve_angle)
+    d = np.array([math.sin(a), -math.cos(a)])           # down the arm
+    n = np.array([-math.cos(a), -math.sin(a)])          # across the arm, under it
+    length = m.back_length + 0.32
+    wc = (m.bust + ease) / 4
+    wh = max((m.hip + ease) / 4, wc)
+    nw = m.neck / 6 + 0.01
+    tip = np.array([m.shoulder / 2, length - 0.045])
+    cuff_top = tip + (m.arm_length + 0.02) * d
+    cuff_bottom = cuff_top + (m.wrist + 0.14) / 2 * n
+    pit = np.array([wc, length - (m.bust / 8 + 0.10)])
+
+    def panel(name: str, neck_depth: float, side: str) -> Panel:
+        half = [Edge.line("side_r", (wh, 0.0), pit),
+                Edge.line("underarm_r", pit, cuff_bottom),
+                Edge.line("cuff_r", cuff_bottom, cuff_top),
+                Edge.line("overarm_r", cuff_top, tip),
+                Edge.line("shoulder_r", tip, (nw, length))]
+        loop = _symmetric_loop(half, _neckline(nw, length, neck_depth),
+                               Edge.line("hem", (-wh, 0.0), (wh, 0.0)))
+        return Panel(name, loop, placement=Placement("torso", side))
+
+    front = panel("front", m.neck / 6 + 0.03, "front")
+    back = _mirror_panel(panel("back", 0.02, "back"), "back", Placement("torso", "back"))
+    edges = [f"{e}_{s}" for s in "rl" for e in ("side", "underarm", "overarm", "shoulder")]
+    return Pattern("coat", (front, back), _seams("front", "back", edges))
+
+
+# -- skirt ---------------------------------------------------------------------------------
+def skirt(m: Measurements, *, ease: float = 0.04, length: float = 0.60,
+          flare: float = 0.06) -> Pattern:
+    """A flared skirt from the waist, in two panels (front, back).
+
+    ``length`` is the centre length [m]; ``flare`` widens each side at the hem [m].
+    """
+    ww = (m.waist + ease / 2) / 4
+    hw = (m.hip + ease) / 4
+    hd = 0.20
+    hem_w = hw + flare
+
+    def panel(name: str, dip: float, side: str) -> Panel:
+        hip = (hw, length - hd)
+        half = [Edge.line("side_r", (hem_w, 0.0), hip),
+                Edge.cubic("hip_r", hip, (hw, length - 0.45 * hd),
+                           (ww + 0.3 * (hw - ww), length - 0.08 * hd), (ww, length))]
+        waist = Edge.quadratic("waist", (ww, length), (0.0, length - dip), (-ww, length))
+        hem = Edge.quadratic("hem", (-hem_w, 0.0), (0.0, -0.02), (hem_w, 0.0))
+        return Panel(name, _symmetric_loop(half, waist, hem), placement=Placement("torso", side))
+
+    front = panel("front", 0.015, "front")
+    back = _mirror_panel(panel("back", 0.025, "back"), "back", Placement("torso", "back"))
+    edges = [f"{e}_{s}" for s in "rl" for e in ("side", "hip")]
+    return Pattern("skirt", (front, back), _seams("front", "back", edges))
+
+
+# -- trousers ------------------------------------------------------------------------------
+def _leg(m: Measurements, *, quarter: float, extension: float, hem_outer: float,
+         side_in: float, inseam_length: float | None, waist_rise: float,
+         name: str) -> tuple[Panel, float]:
+    """Right leg panel drafted as seen from the front (outer side at x < 0).
+
+    ``side_in`` is the waist's inset from the side line [m], the same on front and back so
+    that their hip seams match. Returns the panel and its inseam length [m]; with
+    ``inseam_length`` given, the hem's inner corner is placed so that the inseam has exactly
+    that length.
+    """
+    top = m.inseam + m.rise
+    hd = 0.20
+    wq = (m.waist + 0.02) / 4
+    x_side, x_cf = -0.5 * quarter, 0.5 * quarter
+    crotch = np.array([x_cf + extension, m.inseam])
+    h_out = np.array([x_side + hem_outer, 0.0])
+    if inseam_length is None:
+        h_in = np.array([h_out[0] + 0.20, 0.0])
+    else:
+        h_in = np.array([crotch[0] - math.sqrt(inseam_length**2 - m.inseam**2), 0.0])
+    w_side = np.array([x_side + side_in, top])
+    w_centre = np.array([x_side + wq + side_in, top + waist_rise])
+    hip = np.array([x_side, top - hd])
+    edges = (
+        Edge.line("hem", h_out, h_in),
+        Edge.line("inseam", h_in, crotch),
+        Edge.cubic("crotch", crotch, (x_cf + 0.15 * extension, m.inseam),
+                   (x_cf, m.inseam + 0.55 * m.rise), w_centre),
+        Edge.line("waist", w_centre, w_side),
+        Edge.cubic("hip", w_side, (w_side[0] - 0.6 * (w_side[0] - x_side), top - 0.06),
+                   (x_side, top - 0.6 * hd), hip),
+        Edge.line("outseam", hip, h_out),
+    )
+    inseam = float(np.linalg.norm(crotch - h_in))
+    return Panel(name, Loop("outline", edges)), inseam
+
+
+def trousers(m: Measurements, *, ease: float = 0.04) -> Pattern:
+    """Full-length trousers in four panels: front and back of each leg."""
+    q = (m.hip + ease) / 4
+    side_in = 0.6 * (q - (m.waist + 0.02) / 4)
+    front_r, inseam = _leg(m, quarter=q - 0.02, extension=m.hip / 16, hem_outer=0.03,
+                           side_in=side_in, inseam_length=None, waist_rise=0.0,
+                           name="front_r")
+    back_r_drafted, _ = _leg(m, quarter=q + 0.02, extension=m.hip / 8 + 0.01, hem_outer=0.03,
+                             side_in=side_in, inseam_length=inseam, waist_rise=0.03,
+                             name="back_r")
+    front_r = replace(front_r, placement=Placement("leg_right", "front"))
+    back_r = Panel("back_r", _mirror_loop(back_r_drafted.outline, lambda s: s),
+                   placement=Placement("leg_right", "back"))
+    front_l = Panel("front_l", _mirror_loop(front_r.outline, lambda s: s),
+                    placement=Placement("leg_left", "front"))
+    back_l = Panel("back_l", _mirror_loop(back_r.outline, lambda s: s),
+                   placement=Placement("leg_left", "back"))
+    seams = []
+    for s in "rl":
+        for e in ("hip", "outseam", "inseam"):
+            seams.append(Seam(f"{e}_{s}", SeamSide(f"front_{s}", e), SeamSide(f"back_{s}", e)))
+    seams.append(Seam("centre_front", SeamSide("front_r", "crotch"), SeamSide("front_l", "crotch")))
+    seams.append(Seam("centre_back", SeamSide("back_r", "crotch"), SeamSide("back_l", "crotch")))
+    return Pattern("trousers", (front_r, front_l, back_r, back_l), tuple(seams))
+
+
+# -- dress ---------------------------------------------------------------------------------
+def dress(m: Measurements, *, ease: float = 0.06, length: float | None = None) -> Pattern:
+    """A sleeveless one-piece dress (bodice and skirt cut in one), front and back panels.
+
+    ``length`` is from the neck point to the hem [m] (default: to the knee).
+    """
+    total = length or (m.back_length + 0.58)
+    bw = (m.bust + ease) / 4
+    ww = (m.waist + ease) / 4
+    hw = (m.hip + ease) / 4
+    hem_w = hw + 0.05
+    y_waist = total - m.back_length
+    y_hip = y_waist - 0.20
+    y_bust = total - (m.bust / 8 + 0.09)
+    nw = m.neck / 6 + 0.015
+    tip = np.array([m.shoulder / 2 - 0.01, total - 0.045])
+
+    def panel(name: str, neck_depth: float, side: str) -> Panel:
+        under = np.array([bw, y_bust])
+        half = [Edge.line("skirt_side_r", (hem_w, 0.0), (hw, y_hip)),
+                Edge.cubic("bodice_side_r", (hw, y_hip), (ww - 0.01, y_waist - 0.08),
+                           (ww - 0.01, y_waist + 0.06), under),
+                Edge.cubic("armhole_r", under, (bw - 0.05, y_bust + 0.01),
+                           (tip[0] - 0.03, tip[1] - 0.09), tip),
+                Edge.line("shoulder_r", tip, (nw, total))]
+        loop = _symmetric_loop(half, _neckline(nw, total, neck_depth),
+                               Edge.quadratic("hem", (-hem_w, 0.0), (0.0, -0.02), (hem_w, 0.0)))
+        return Panel(name, loop, placement=Placement("torso", side))
+
+    front = panel("front", m.neck / 6 + 0.04, "front")
+    back = _mirror_panel(panel("back", 0.025, "back"), "back", Placement("torso", "back"))
+    edges = [f"{e}_{s}" for s in "rl" for e in ("skirt_side", "bodice_side", "shoulder")]
+    return Pattern("dress", (front, back), _seams("front", "back", edges))
+
+
+#: name -> (drafting function, size chart used by default, description)
+GARMENTS: dict[str, tuple[Callable[..., Pattern], str, str]] = {
+    "coat": (coat, "male", "hip-length coat, kimono sleeves, 2 panels (front, back)"),
+    "skirt": (skirt, "female", "flared skirt, 2 panels (front, back)"),
+    "trousers": (trousers, "male", "full-length trousers, 4 panels (front/back of each leg)"),
+    "dress": (dress, "female", "sleeveless one-piece dress, 2 panels (front, back)"),
+}
+
+
+def build(name: str, size: str = "M", *, measurements: Measurements | None = None,
+          **options) -> Pattern:
+    """A built-in garment drafted for ``size`` (S–XL) or for explicit ``measurements``.
+
+    ``options`` go to the drafting function (ease, lengths). The result is validated and
+    carries ``meta`` with the garment, size and measurements.
+    """
+    if name not in GARMENTS:
+        raise ValueError(f"name: unknown garment {name!r} (built-in: {', '.join(GARMENTS)})")
+    fn, gender, _ = GARMENTS[name]
+    if measurements is None:
+        if size.upper() not in SIZE_NAMES:
+            raise ValueError(f"size: expected one of {', '.join(SIZE_NAMES)}, got {size!r}")
+        measurements = size_chart(gender, size)
+        size = size.upper()
+    else:
+        size = "custom"
+    pattern = fn(measurements, **options)
+    pattern = replace(pattern, meta={"garment": name, "size": size, "chart": gender,
+                                     "measurements_m": measurements.as_dict()})
+    check_pattern(pattern)
+    return pattern
