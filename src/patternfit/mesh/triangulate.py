@@ -106,7 +106,7 @@ def _mesh_panel(panel, pieces, counts, max_area: float, min_angle: float):
     data = {"vertices": verts, "segments": np.concatenate(segs)}
     if panel.inner:
         data["holes"] = np.array([_inside_point(lp[0]) for lp in loops[1:]])
-    out = tr.triangulate(data, f"pq{min_angle:g}a{max_area:.10g}YQ")
+    out = tr.triangulate(data, f"pq{min_angle:.6f}a{max_area:.12f}YQ")
     v, t = out["vertices"], out["triangles"].astype(np.int64)
     if len(v) < len(verts) or not np.allclose(v[: len(verts)], verts, atol=1e-12, rtol=0):
         raise RuntimeError(f"panel '{panel.name}': the triangulator moved boundary vertices")
