@@ -22,5 +22,5 @@ def print_json(data) -> None:
 
 def fail(message: str, code: int = 2) -> None:
     """Print an error in red on standard error and exit with ``code``."""
-    console.print(f"[bold red]error:[/] {message}", highlight=False)
+    console.print(f"[bold red]error:[/] {message}", highlight=False, soft_wrap=True)
     raise typer.Exit(code)

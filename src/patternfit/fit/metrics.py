@@ -38,8 +38,10 @@ def triangle_areas(vertices, triangles) -> np.ndarray:
     e2 = v[t[:, 2]] - v[t[:, 0]]
     if v.shape[1] == 2:
         return 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-    c = np.cross(e1, e2)
-    return 0.5 * np.sqrt(np.einsum("ij,ij->i", c, c))
+    cx = e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1]
+    cy = e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2]
+    cz = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    return 0.5 * np.sqrt(cx * cx + cy * cy + cz * cz)
 
 
 @dataclass(frozen=True, eq=False)

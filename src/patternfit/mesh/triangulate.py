@@ -88,7 +88,8 @@ def _inside_point(poly: np.ndarray) -> np.ndarray:
     seg = np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1)
     t = tr.triangulate({"vertices": poly, "segments": seg}, "pQ")
     tri = t["vertices"][t["triangles"]]
-    a = np.abs(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]))
+    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    a = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
     return tri[int(np.argmax(a))].mean(axis=0)
 
 

@@ -17,14 +17,9 @@ class PatternError(ValueError):
         self.panel = panel
         self.edge = edge
         self.reason = message
-        where = []
-        if self.file:
-            where.append(self.file)
-        if panel is not None:
-            where.append(f"panel '{panel}'")
-        if edge is not None:
-            where.append(f"edge '{edge}'")
-        super().__init__((": ".join([", ".join(where), message])) if where else message)
+        place = ", ".join(([f"panel '{panel}'"] if panel is not None else [])
+                          + ([f"edge '{edge}'"] if edge is not None else []))
+        super().__init__(": ".join(s for s in (self.file, place, message) if s))
 
     def located(self, file) -> "PatternError":
         """Return the same error with the file name filled in."""

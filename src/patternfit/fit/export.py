@@ -1,0 +1,39 @@
+"""The garment's 3D state as GLB and OBJ with per-vertex fit colours (trimesh)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+from ..files import atomic_write_bytes
+
+
+def colored_mesh(positions, triangles, vertex_rgb) -> trimesh.Trimesh:
+    """A trimesh of the garment with vertex colours.
+
+    Parameters
+    ----------
+    positions : (n, 3) float
+        Vertex positions [m].
+    triangles : (m, 3) int
+    vertex_rgb : (n, 3) float
+        Colours in [0, 1].
+    """
+    rgba = np.concatenate([np.clip(np.asanyarray(vertex_rgb) * 255, 0, 255),
+                           np.full((len(positions), 1), 255)], axis=1).astype(np.uint8)
+    return trimesh.Trimesh(vertices=np.asanyarray(positions, dtype=np.float64),
+                           faces=np.asanyarray(triangles), vertex_colors=rgba, process=False)
+
+
+def export_garment(positions, triangles, vertex_rgb, path) -> Path:
+    """Write the coloured garment to ``path``; the format follows the ending (.glb, .obj, .ply)."""
+    path = Path(path)
+    kind = path.suffix.lower().lstrip(".")
+    if kind not in ("glb", "obj", "ply"):
+        raise ValueError(f"path: expected a .glb, .obj or .ply file, got {path.name}")
+    mesh = colored_mesh(positions, triangles, vertex_rgb)
+    data = mesh.export(file_type=kind, **({"include_color": True} if kind == "obj" else {}))
+    atomic_write_bytes(path, data if isinstance(data, bytes) else data.encode("utf-8"))
+    return path

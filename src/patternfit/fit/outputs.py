@@ -1,0 +1,56 @@
+"""Everything a fit evaluation writes: coloured garment (GLB, OBJ), 2D map (SVG, PNG), 3D
+picture (PNG), ``report.json`` and the garment state that ``patternfit fit`` reads back."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from ..mesh.garment import GarmentMesh
+from ..mesh.store import save_garment
+from ..pattern.model import Pattern
+from .colormap import FitScale, vertex_values
+from .export import export_garment
+from .metrics import FitResult
+from .pictures import plot_3d_map, plot_flat_map
+from .report import fit_report, write_report
+
+
+def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult, *,
+                      state: str = "placed", body=None, pictures: bool = True,
+                      extra: dict[str, Any] | None = None, progress=None) -> dict[str, Any]:
+    """Write all outputs of one fit evaluation into ``folder`` and return the report.
+
+    ``positions`` (n, 3) [m] is the garment's 3D state; ``body`` an optional
+    (vertices (k, 3), faces (f, 3)) pair drawn in the 3D picture; ``progress`` an optional
+    callable taking a short message per file.
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    say = progress or (lambda msg: None)
+    scale = FitScale(band=fit.thresholds[0])
+    say("garment state")
+    save_garment(folder / "garment", pattern, mesh, positions)
+    rgb = scale.colors(vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices,
+                                     fit.area_2d))
+    files = {"garment": "garment/"}
+    for kind in ("glb", "obj"):
+        say(f"garment.{kind}")
+        export_garment(positions, mesh.triangles, rgb, folder / f"garment.{kind}")
+        files[f"garment_{kind}"] = f"garment.{kind}"
+    if pictures:
+        say("2D colour map")
+        plot_flat_map(mesh, fit, [folder / "fit_2d.png", folder / "fit_2d.svg"], scale=scale,
+                      title=pattern.name)
+        files.update(fit_2d_png="fit_2d.png", fit_2d_svg="fit_2d.svg")
+        say("3D picture")
+        plot_3d_map(positions, mesh, fit, folder / "fit_3d.png", scale=scale, body=body,
+                    title=pattern.name)
+        files["fit_3d_png"] = "fit_3d.png"
+    report = fit_report(mesh, fit, state=state, extra={
+        "garment": pattern.name, "size": pattern.meta.get("size"),
+        "colour_scale": {"limit": scale.limit, "band": scale.band,
+                         "description": scale.describe()},
+        "files": files, **(extra or {})})
+    write_report(report, folder / "report.json")
+    return report

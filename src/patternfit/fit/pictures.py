@@ -1,0 +1,150 @@
+"""Pictures of the fit: the flat 2D colour map (SVG, PNG) and the 3D garment (PNG, front and
+back, rendered off-screen on the CPU with pyvista/VTK so that hidden parts stay hidden)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..mesh.garment import GarmentMesh
+from .colormap import FitScale, vertex_values
+from .metrics import FitResult
+
+_GAP = 0.08  # space between panels in the flat layout [m]
+
+
+def flat_layout(mesh: GarmentMesh) -> np.ndarray:
+    """Panels side by side, left to right, bottoms aligned: (n, 2) float [m]."""
+    out = np.empty_like(mesh.vertices)
+    x0 = 0.0
+    for i in range(len(mesh.panel_names)):
+        ids = mesh.panel_vertices(i)
+        v = mesh.vertices[ids]
+        out[ids] = v - [v[:, 0].min() - x0, v[:, 1].min()]
+        x0 += np.ptp(v[:, 0]) + _GAP
+    return out
+
+
+def _legend(ax, scale: FitScale) -> None:
+    from matplotlib.patches import Patch
+    handles = [Patch(facecolor=rgb, edgecolor="0.3", label=label)
+               for _, rgb, label in reversed(scale.legend())]
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+              title="S3/S2 − 1", title_fontsize=8, frameon=False)
+
+
+def _title(fit: FitResult, title: str | None) -> str:
+    head = f"{title} — " if title else ""
+    return (f"{head}fitting ratio ϖ = {fit.fitting_ratio * 100:.2f}%  "
+            f"(symmetric {fit.fitting_ratio_symmetric * 100:.2f}%)")
+
+
+def plot_flat_map(mesh: GarmentMesh, fit: FitResult, paths, *, scale: FitScale | None = None,
+                  title: str | None = None, show_mesh: bool = False) -> list[Path]:
+    """Draw the flat pattern coloured by area change, with outlines, names and a legend.
+
+    ``paths`` is one path or a list; each is written in the format of its ending (.png, .svg,
+    .pdf). Returns the paths written.
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+
+    scale = scale or FitScale(band=fit.thresholds[0])
+    xy = flat_layout(mesh)
+    width, height = np.ptp(xy[:, 0]), np.ptp(xy[:, 1])
+    fig_w = min(16.0, 3.0 + 10.0 * width / max(width, height))
+    fig, ax = plt.subplots(figsize=(fig_w, 8.0 * height / max(width, height) + 1.5))
+    colors = scale.colors(fit.area_change)
+    ax.add_collection(PolyCollection(xy[mesh.triangles], facecolors=colors,
+                                     edgecolors="0.35" if show_mesh else colors,
+                                     linewidths=0.15 if show_mesh else 0.3))
+    for loop in range(len(mesh.loop_panel)):
+        ids = mesh.boundary_vertices[mesh.boundary_loop == loop]
+        ring = xy[np.append(ids, ids[0])]
+        ax.plot(ring[:, 0], ring[:, 1], color="k", lw=0.8)
+    for i, name in enumerate(mesh.panel_names):
+        ids = mesh.panel_vertices(i)
+        c = xy[ids].mean(axis=0)
+        ax.text(c[0], c[1], f"{name}\nϖ {fit.panel_ratio[i] * 100:.1f}%", ha="center",
+                va="center", fontsize=9, color="k")
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.set_xlabel("m")
+    ax.set_title(_title(fit, title), fontsize=10)
+    _legend(ax, scale)
+    fig.tight_layout()
+    written = []
+    for p in ([paths] if isinstance(paths, (str, Path)) else paths):
+        fig.savefig(p, dpi=150)
+        written.append(Path(p))
+    plt.close(fig)
+    return written
+
+
+def render_views(positions, triangles, vertex_rgb, *, body=None, size=(700, 900)) -> list:
+    """Front and back renderings of a coloured garment (and the body, grey), as RGB arrays.
+
+    Parameters
+    ----------
+    positions : (n, 3) float
+        Garment vertices [m], y up, the body facing +z.
+    triangles : (m, 3) int
+    vertex_rgb : (n, 3) float in [0, 1]
+    body : tuple of ((k, 3) float, (f, 3) int), optional
+        Body vertices [m] and faces.
+    """
+    import pyvista as pv
+    from vtkmodules.vtkCommonCore import vtkLogger
+
+    # with no X display VTK falls back to off-screen rendering, after a warning worth nothing
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    pv.OFF_SCREEN = True
+    x = np.asanyarray(positions, dtype=np.float64)
+    faces = np.hstack([np.full((len(triangles), 1), 3), triangles]).ravel()
+    garment = pv.PolyData(x, faces)
+    garment.point_data["rgb"] = (np.clip(vertex_rgb, 0, 1) * 255).astype(np.uint8)
+    pts = x if body is None else np.vstack([x, body[0]])
+    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+    extent = float(np.ptp(pts, axis=0).max())
+    images = []
+    for direction in (+1.0, -1.0):
+        pl = pv.Plotter(off_screen=True, window_size=size)
+        pl.set_background("white")
+        if body is not None:
+            bfaces = np.hstack([np.full((len(body[1]), 1), 3), body[1]]).ravel()
+            pl.add_mesh(pv.PolyData(np.asanyarray(body[0], dtype=np.float64), bfaces),
+                        color=(0.82, 0.80, 0.78), smooth_shading=True)
+        pl.add_mesh(garment, scalars="rgb", rgb=True, smooth_shading=True)
+        pl.camera.focal_point = centre
+        pl.camera.position = centre + np.array([0.0, 0.0, direction * 3.2 * extent])
+        pl.camera.up = (0.0, 1.0, 0.0)
+        pl.camera.view_angle = 22.0
+        images.append(pl.screenshot(return_img=True))
+        pl.close()
+    return images
+
+
+def plot_3d_map(positions, mesh: GarmentMesh, fit: FitResult, path, *,
+                scale: FitScale | None = None, body=None, title: str | None = None) -> Path:
+    """PNG of the 3D garment coloured by area change, front and back, with the legend."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    scale = scale or FitScale(band=fit.thresholds[0])
+    values = vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices, fit.area_2d)
+    front, back = render_views(positions, mesh.triangles, scale.colors(values), body=body)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 7.2))
+    for ax, img, label in zip(axes, (front, back), ("front", "back")):
+        ax.imshow(img)
+        ax.set_title(label, fontsize=10)
+        ax.axis("off")
+    fig.suptitle(_title(fit, title), fontsize=11)
+    _legend(axes[1], scale)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return Path(path)

@@ -1,0 +1,79 @@
+import json
+
+import numpy as np
+import pytest
+import trimesh
+from typer.testing import CliRunner
+
+from patternfit.cli.main import app
+from patternfit.fit.colormap import NEUTRAL
+from patternfit.mesh.store import load_garment
+
+runner = CliRunner()
+
+
+def test_help_on_every_command():
+    result = runner.invoke(app, ["--help"])
+    assert result.exit_code == 0
+    commands = [c.name or c.callback.__name__ for c in app.registered_commands]
+    assert {"patterns", "mesh", "fit", "demo"} <= set(commands)
+    for name in commands:
+        r = runner.invoke(app, [name, "--help"])
+        assert r.exit_code == 0, name
+        assert "Usage" in r.output
+
+
+def test_patterns_json_and_write(tmp_path):
+    r = runner.invoke(app, ["patterns", "--json"])
+    rows = json.loads(r.stdout)
+    assert {row["name"]: (row["panels"], row["seams"]) for row in rows}["trousers"] == (4, 8)
+    out = tmp_path / "skirt.json"
+    r = runner.invoke(app, ["patterns", "skirt", "--size", "XL", "--out", str(out)])
+    assert r.exit_code == 0 and json.loads(out.read_text())["meta"]["size"] == "XL"
+    r = runner.invoke(app, ["patterns", "cape", "--out", str(out)])
+    assert r.exit_code == 2 and "unknown garment" in r.output
+
+
+def test_demo_writes_outputs_at_perfect_fit(tmp_path):
+    out = tmp_path / "demo"
+    r = runner.invoke(app, ["demo", "--out", str(out), "--triangles", "12000", "--json"])
+    assert r.exit_code == 0, r.output
+    report = json.loads(r.stdout)
+    # the paper's Fig. 8(b); only the chords of the curved placement differ, O(h^2)
+    assert f"{report['fitting_ratio'] * 100:.2f}" == "100.00"
+    assert report["fit_classes"]["fit"] == pytest.approx(1.0)
+    assert report == json.loads((out / "report.json").read_text())
+    for f in ("garment.glb", "garment.obj", "fit_2d.png", "fit_2d.svg", "fit_3d.png"):
+        assert (out / f).stat().st_size > 1000, f
+    assert (out / "fit_2d.png").read_bytes()[:4] == b"\x89PNG"
+    assert "<svg" in (out / "fit_2d.svg").read_text()[:2000]
+    glb = trimesh.load(out / "garment.glb", force="mesh", process=False)
+    assert len(glb.faces) == report["mesh"]["triangles"]
+    # uniform neutral colour after an isometric placement
+    assert np.allclose(glb.visual.vertex_colors[:, :3] / 255, NEUTRAL, atol=1 / 255)
+
+
+def test_mesh_then_fit_of_saved_state(tmp_path):
+    r = runner.invoke(app, ["mesh", "dress", "-n", "1200", "--out", str(tmp_path / "g"),
+                            "--json"])
+    info = json.loads(r.stdout)
+    assert info["min_angle_deg"] >= 25
+    r = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out", str(tmp_path)])
+    assert r.exit_code == 2 and "no 3D state" in r.output
+    # give it a state: the flat pattern stretched by 10 % in y
+    from patternfit.mesh.store import save_garment
+    pattern, mesh, _ = load_garment(tmp_path / "g")
+    x = np.column_stack([mesh.vertices[:, 0], 1.1 * mesh.vertices[:, 1],
+                         np.zeros(mesh.n_vertices)])
+    save_garment(tmp_path / "g", pattern, mesh, x)
+    r = runner.invoke(app, ["fit", "-g", str(tmp_path / "g"), "-o", str(tmp_path / "f"),
+                            "--no-pictures", "--json"])
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.stdout)["fitting_ratio"] == pytest.approx(1 / 1.1)
+
+
+def test_mesh_reports_bad_file(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text("{")
+    r = runner.invoke(app, ["mesh", str(bad), "--out", str(tmp_path / "o")])
+    assert r.exit_code == 2 and "bad.json" in r.output and "not valid JSON" in r.output
