@@ -1,0 +1,110 @@
+"""Editing tools (pure Pattern -> Pattern) and their refusals."""
+
+import numpy as np
+import pytest
+
+from patternfit.edit import (edit_curve, grade, insert_dart, lengthen, move_dart, move_edge,
+                             move_point, resize_dart)
+from patternfit.pattern import Edge, Loop, Panel, Pattern, PatternError, Seam, SeamSide
+from patternfit.pattern.validate import check_pattern
+
+
+def rect_panel(name, w=0.4, h=0.6, arc=False):
+    top = (Edge.arc("top", (w, h), (0, h), radius=w, sweep=True) if arc
+           else Edge.line("top", (w, h), (0, h)))
+    return Panel(name, Loop("outline", (Edge.line("bottom", (0, 0), (w, 0)),
+                                        Edge.line("right", (w, 0), (w, h)), top,
+                                        Edge.line("left", (0, h), (0, 0)))))
+
+
+def two_panels(arc=False):
+    """Panels A and B side by side: A's right edge sewn to B's left edge (bottom to bottom)."""
+    return Pattern("test", (rect_panel("A", arc=arc), rect_panel("B")),
+                   (Seam("side", SeamSide("A", "right"), SeamSide("B", "left"), reverse=True),))
+
+
+def corner(p, panel, edge):
+    return p.panel(panel).edge(edge).start
+
+
+def test_move_point_free_corner_is_pure():
+    p = two_panels()
+    q = move_point(p, "A", "left", (-0.02, 0.03))
+    np.testing.assert_allclose(corner(q, "A", "left"), [-0.02, 0.63])
+    np.testing.assert_allclose(q.panel("A").edge("top").end, [-0.02, 0.63])
+    np.testing.assert_allclose(corner(p, "A", "left"), [0, 0.6])     # input untouched
+    check_pattern(q)
+
+
+def test_seamed_corner_refused_or_partner_matched():
+    p = two_panels()
+    with pytest.raises(PatternError, match="partner=True"):
+        move_point(p, "A", "top", (0.0, 0.05))   # A's top-right corner: lengthens A.right
+    q = move_point(p, "A", "top", (0.0, 0.05), partner=True)
+    assert abs(q.seam_side_length(q.seams[0].a) - q.seam_side_length(q.seams[0].b)) < 1e-6
+    # the top of A's right side meets the top of B's left side: that corner moved up
+    np.testing.assert_allclose(corner(q, "B", "left"), [0, 0.65], atol=1e-6)
+    np.testing.assert_allclose(corner(q, "B", "bottom"), [0, 0], atol=1e-12)
+
+
+def test_move_edge_neighbours_follow():
+    p = two_panels()
+    q = move_edge(p, "A", "left", (-0.03, 0.0))
+    np.testing.assert_allclose(q.panel("A").edge("top").end, [-0.03, 0.6])
+    np.testing.assert_allclose(q.panel("A").edge("bottom").start, [-0.03, 0.0])
+    assert q.panel("A").area() == pytest.approx(p.panel("A").area() + 0.03 * 0.6)
+
+
+def test_edit_curve_turns_line_into_curve_and_refuses_crossing():
+    p = two_panels()
+    q = edit_curve(p, "A", "top", (0.0, 0.05))
+    e = q.panel("A").edge("top")
+    assert e.kind == "quadratic"
+    np.testing.assert_allclose(e.points[1], [0.2, 0.65])
+    assert q.panel("A").area() > p.panel("A").area()
+    with pytest.raises(PatternError, match="self-intersecting"):
+        edit_curve(p, "A", "top", (0.0, -2.0))
+    with pytest.raises(ValueError, match="offset"):
+        edit_curve(p, "A", "top", (0.0, np.nan))
+
+
+def test_lengthen_between_two_points_with_partner():
+    p = two_panels()
+    q = lengthen(p, "A", (0.2, 0.0), (0.2, 0.6), 0.05, partner=True)
+    assert q.panel("A").edge("right").length == pytest.approx(0.65)
+    assert q.seam_side_length(q.seams[0].b) == pytest.approx(0.65, abs=1e-6)
+    s = lengthen(p, "A", (0.0, 0.3), (0.4, 0.3), -0.1)          # narrower: no seam changes
+    assert s.panel("A").edge("bottom").length == pytest.approx(0.3)
+
+
+def test_grade_whole_pattern_and_arc_refusal():
+    p = two_panels()
+    q = grade(p, None, 1.1, 1.1)
+    assert q.area() == pytest.approx(p.area() * 1.21)
+    with pytest.raises(PatternError, match="partner"):
+        grade(p, "A", 1.0, 1.2)
+    with pytest.raises(PatternError, match="grading refused"):
+        grade(two_panels(arc=True), "A", 1.0, 1.2, partner=True)
+    with pytest.raises(ValueError, match="sx"):
+        grade(p, "A", -1.0, 1.0)
+
+
+@pytest.mark.parametrize("shape, n_seams", [("diamond", 2), ("triangle", 1)])
+def test_dart_insert_move_resize(shape, n_seams):
+    p = two_panels()
+    q = insert_dart(p, "A", "d1", (0.2, 0.3), length=0.2, width=0.04, shape=shape)
+    assert len(q.panel("A").inner) == 1 and len(q.seams) == 1 + n_seams
+    for s in q.seams[1:]:   # the legs are sewn and equally long
+        assert q.seam_side_length(s.a) == pytest.approx(q.seam_side_length(s.b))
+    area = q.panel("A").area()
+    r = move_dart(q, "A", "d1", (0.05, 0.1))
+    assert r.panel("A").area() == pytest.approx(area)
+    np.testing.assert_allclose(r.panel("A").inner[0].edges[0].start, [0.25, 0.5])
+    w = resize_dart(q, "A", "d1", width=0.08, length=0.25)
+    assert w.panel("A").area() < area
+    with pytest.raises(PatternError, match="inside"):
+        move_dart(q, "A", "d1", (0.3, 0.0))
+    with pytest.raises(PatternError, match="exists"):
+        insert_dart(q, "A", "d1", (0.2, 0.3), length=0.1, width=0.02)
+    with pytest.raises(PatternError, match="no dart"):
+        move_dart(q, "A", "zz", (0.0, 0.0))
