@@ -41,7 +41,7 @@ from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
 from .validate import check_pattern
 
-__all__ = ["LAYERS", "load_dxf", "save_dxf", "suggest_seams"]
+__all__ = ["LAYERS", "load_dxf", "notch_marks", "save_dxf", "sidecar_path", "suggest_seams"]
 
 #: ASTM D6673 layer numbers by meaning.
 LAYERS = {"boundary": 1, "turn_points": 2, "curve_points": 3, "notches": 4,
@@ -98,17 +98,27 @@ def _loop_points(loop: Loop) -> tuple[np.ndarray, list[int]]:
     return np.concatenate(pts), starts
 
 
-def _notch(panel: Panel, side: SeamSide) -> tuple[np.ndarray, np.ndarray]:
-    """A slit notch at the middle of a seam side, pointing into the panel: two points [m]."""
-    edge = panel.edge(side.edge)
-    f = 0.5 * (side.start + side.end)
-    p, q = edge.point_at([max(f - 1e-4, 0.0), min(f + 1e-4, 1.0)])
-    t = q - p
-    inward = np.array([-t[1], t[0]]) / max(np.linalg.norm(t), 1e-300)
-    if panel.outline.signed_area() < 0:  # the interior is on the right of a clockwise loop
-        inward = -inward
-    at = edge.point_at([f])[0]
-    return at, at + _NOTCH * inward
+def notch_marks(pattern: Pattern, *, length: float = 0.006) -> list[tuple[str, str, np.ndarray,
+                                                                           np.ndarray]]:
+    """Slit notches at the middle of every seam side, pointing into the panel.
+
+    Returns ``(panel, seam, point, inner_end)`` per notch, points (2,) [m] in the panel frame;
+    the two sides of a seam get one notch each, at matching places.
+    """
+    out = []
+    for seam in pattern.seams:
+        for side in (seam.a, seam.b):
+            panel = pattern.panel(side.panel)
+            edge = panel.edge(side.edge)
+            f = 0.5 * (side.start + side.end)
+            p, q = edge.point_at([max(f - 1e-4, 0.0), min(f + 1e-4, 1.0)])
+            t = q - p
+            inward = np.array([-t[1], t[0]]) / max(np.linalg.norm(t), 1e-300)
+            if panel.outline.signed_area() < 0:  # a clockwise loop has its inside on the right
+                inward = -inward
+            at = edge.point_at([f])[0]
+            out.append((panel.name, seam.name, at, at + length * inward))
+    return out
 
 
 def _dxf_document(pattern: Pattern):
@@ -119,6 +129,7 @@ def _dxf_document(pattern: Pattern):
     mm = 1000.0
     used: set[str] = set()
     x = 0.0
+    notches = notch_marks(pattern, length=_NOTCH)
     size = str(pattern.meta.get("size", "")) if isinstance(pattern.meta, dict) else ""
     for panel in pattern.panels:
         block = doc.blocks.new(_block_name(panel.name, used))
@@ -133,12 +144,10 @@ def _dxf_document(pattern: Pattern):
                 kind = "turn_points" if i in turns else "curve_points"
                 block.add_point((float(p[0]), float(p[1])),
                                 dxfattribs={"layer": str(LAYERS[kind])})
-        for seam in pattern.seams:
-            for side in (seam.a, seam.b):
-                if side.panel == panel.name:
-                    a, b = _notch(panel, side)
-                    block.add_line(tuple(a * mm), tuple(b * mm),
-                                   dxfattribs={"layer": str(LAYERS["notches"])})
+        for pname, _, a, b in notches:
+            if pname == panel.name:
+                block.add_line(tuple(a * mm), tuple(b * mm),
+                               dxfattribs={"layer": str(LAYERS["notches"])})
         poly = panel.outline.polygon(16)
         lo, hi = poly.min(axis=0), poly.max(axis=0)
         centre = 0.5 * (lo + hi)
