@@ -1,0 +1,154 @@
+"""Fabric constants in SI units, the built-in presets and user fabrics from JSON.
+
+Every preset value and its published source is listed in ``docs/fabrics.md``. A user fabric
+is a JSON object with the same fields and units, e.g.::
+
+    {"name": "my poplin", "density": 0.115, "stretch_warp": 6000, "stretch_weft": 4000,
+     "shear": 40, "bending": 6e-6, "friction": 0.4, "thickness": 0.00025}
+
+``bending`` may be one value or ``bending_warp`` and ``bending_weft`` separately.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+
+class FabricError(ValueError):
+    """An invalid fabric; the message names the file (if any) and the field."""
+
+
+@dataclass(frozen=True)
+class Fabric:
+    """Mechanical constants of a fabric, SI units.
+
+    Attributes
+    ----------
+    name : str
+    density : float
+        Mass per area [kg/m^2].
+    stretch_warp, stretch_weft : float
+        Tensile stiffness along the warp (grain) / weft [N/m]: tension per unit width per unit
+        strain.
+    shear : float
+        In-plane shear stiffness [N/m] (per radian of shear angle).
+    bending_warp, bending_weft : float
+        Bending rigidity for curvature along the warp / the weft [N m] (moment per unit width
+        per unit curvature; 1 uN m = 1e-6 N m).
+    friction : float
+        Coulomb friction coefficient against the body [-].
+    thickness : float
+        Fabric thickness [m]; also the contact distance kept from the body.
+    """
+
+    name: str
+    density: float
+    stretch_warp: float
+    stretch_weft: float
+    shear: float
+    bending_warp: float
+    bending_weft: float
+    friction: float
+    thickness: float
+
+    def __post_init__(self):
+        _check_values(asdict(self), source=None)
+
+    @property
+    def bending_length(self) -> float:
+        """Peirce's bending length along the warp, ``(B / (density g))^(1/3)`` [m]."""
+        from ..constants import GRAVITY
+
+        return (self.bending_warp / (self.density * GRAVITY)) ** (1.0 / 3.0)
+
+    def to_dict(self) -> dict:
+        """The fabric as a JSON-ready dictionary in SI units."""
+        return asdict(self)
+
+
+_POSITIVE = ("density", "stretch_warp", "stretch_weft", "shear", "bending_warp",
+             "bending_weft", "thickness")
+
+
+def _check_values(values: dict, source) -> None:
+    where = f"{source}: " if source else ""
+    for key in _POSITIVE + ("friction",):
+        v = values.get(key)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise FabricError(f"{where}field '{key}': expected a finite number, got {v!r}")
+        if key in _POSITIVE and not v > 0:
+            raise FabricError(f"{where}field '{key}': must be positive, got {v!r}")
+        if key == "friction" and v < 0:
+            raise FabricError(f"{where}field 'friction': must be >= 0, got {v!r}")
+    if not isinstance(values.get("name"), str) or not values["name"]:
+        raise FabricError(f"{where}field 'name': expected a non-empty string")
+
+
+#: Built-in fabrics (sources in docs/fabrics.md).
+FABRICS: dict[str, Fabric] = {
+    f.name: f for f in (
+        Fabric("cotton_shirting", density=0.115, stretch_warp=6.0e3, stretch_weft=4.0e3,
+               shear=40.0, bending_warp=6.9e-6, bending_weft=4.9e-6, friction=0.4,
+               thickness=0.25e-3),
+        Fabric("denim", density=0.41, stretch_warp=8.9e3, stretch_weft=8.9e3, shear=122.0,
+               bending_warp=16.9e-6, bending_weft=16.9e-6, friction=0.4, thickness=1.07e-3),
+        Fabric("wool_coating", density=0.45, stretch_warp=2.1e3, stretch_weft=1.7e3,
+               shear=26.0, bending_warp=30.0e-6, bending_weft=25.0e-6, friction=0.4,
+               thickness=2.0e-3),
+        Fabric("jersey_knit", density=0.16, stretch_warp=6.0e2, stretch_weft=2.5e2,
+               shear=15.0, bending_warp=2.5e-6, bending_weft=1.5e-6, friction=0.4,
+               thickness=0.55e-3),
+        Fabric("stretch_knit", density=0.22, stretch_warp=3.0e2, stretch_weft=1.5e2,
+               shear=10.0, bending_warp=3.0e-6, bending_weft=2.0e-6, friction=0.5,
+               thickness=0.6e-3),
+    )
+}
+
+_ALIASES = {"cotton": "cotton_shirting", "shirting": "cotton_shirting", "wool": "wool_coating",
+            "jersey": "jersey_knit", "elastane": "stretch_knit", "stretch": "stretch_knit"}
+
+
+def load_fabric(path) -> Fabric:
+    """Read a user fabric from a JSON file (SI units, fields as in :class:`Fabric`)."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as exc:
+        raise FabricError(f"{path}: cannot read a JSON fabric ({exc})") from exc
+    if not isinstance(data, dict):
+        raise FabricError(f"{path}: expected a JSON object")
+    data = dict(data)
+    data.setdefault("name", path.stem)
+    if "bending" in data:
+        if "bending_warp" in data or "bending_weft" in data:
+            raise FabricError(f"{path}: field 'bending': give it or bending_warp/bending_weft, "
+                              "not both")
+        data["bending_warp"] = data["bending_weft"] = data.pop("bending")
+    known = set(Fabric.__dataclass_fields__)
+    for key in data:
+        if key not in known:
+            raise FabricError(f"{path}: field '{key}': unknown (expected {sorted(known)})")
+    for key in known:
+        if key not in data:
+            raise FabricError(f"{path}: field '{key}': missing")
+    _check_values(data, source=path)
+    return Fabric(**data)
+
+
+def get_fabric(name_or_path) -> Fabric:
+    """A preset by name (``cotton_shirting``, ``denim``, ...; ``cotton``, ``wool``, ``jersey``,
+    ``stretch`` also work), a :class:`Fabric` as is, or a user fabric from a JSON file."""
+    if isinstance(name_or_path, Fabric):
+        return name_or_path
+    key = str(name_or_path).strip().lower().replace("-", "_").replace(" ", "_")
+    key = _ALIASES.get(key, key)
+    if key in FABRICS:
+        return FABRICS[key]
+    path = Path(str(name_or_path))
+    if path.suffix.lower() == ".json" or path.exists():
+        return load_fabric(path)
+    raise FabricError(f"fabric: unknown preset {name_or_path!r} (presets: "
+                      f"{', '.join(FABRICS)}; or a .json file)")

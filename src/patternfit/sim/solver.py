@@ -1,0 +1,555 @@
+"""Quasi-static garment solver: the static equilibrium of a sewn garment on a body.
+
+Minimises the total potential energy over the 3D vertex positions (METHOD.md section 5):
+membrane + bending + gravity + body contact + lagged friction + lagged self-repulsion +
+seam springs, with L-BFGS whose initial Hessian is a prefactored sparse Cholesky (cholespy)
+of the constant quadratic part plus a contact-stiffness diagonal (METHOD.md 5.1). Units:
+metres, kilograms, seconds, newtons, joules. See ``docs/simulation.md``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import scipy.sparse as sp
+from cholespy import CholeskySolverD, MatrixType
+
+from ..constants import GRAVITY
+from . import kernels
+from .energies import MeshTerms, build_terms, spring_matrix
+from .fabrics import Fabric, get_fabric
+
+
+@dataclass(frozen=True)
+class SolverSettings:
+    """Knobs of the solver; defaults are the measured design of METHOD.md 5.1.
+
+    Stopping: converged when, for ``patience`` consecutive iterations, the largest vertex
+    step is below ``step_tol`` [m] and the energy drop of the iteration is below
+    ``energy_tol`` times the total drop so far; or stopped at ``max_iterations`` /
+    ``time_limit`` [s] (not converged).
+    """
+
+    max_iterations: int = 5000
+    time_limit: float = 300.0
+    step_tol: float = 1e-5
+    energy_tol: float = 1e-5
+    patience: int = 3
+    history: int = 10
+    #: largest vertex displacement of one iteration [m]
+    max_step: float = 5e-3
+    #: contact pressure per metre of penetration into the thickness layer [N/m^3]
+    contact_stiffness: float = 1e7
+    #: share of the contact stiffness put on the preconditioner's diagonal [-]
+    contact_precond: float = 0.3
+    #: vertices closer than thickness + this get the contact diagonal [m]
+    contact_band: float = 5e-3
+    #: pseudo time step of the mass regulariser m / dt^2 in the preconditioner [s]
+    precond_dt: float = 0.1
+    #: refactor when the contact diagonal changed on more than this share of vertices
+    refactor_share: float = 0.02
+    #: iterations between outer updates (friction anchors, self pairs, sewing ramp)
+    refresh: int = 25
+    #: friction is switched on this many iterations after the seams are welded
+    friction_delay: int = 100
+    #: tangential slip at which friction reaches the Coulomb limit [m]
+    friction_slip: float = 1e-3
+    self_collision: bool = True
+    #: stretch stiffness kept in compression, as a share [-]
+    compression: float = 0.05
+    seam_stiffness: float = 1e3
+    seam_growth: float = 4.0
+    seam_stiffness_max: float = 1e7
+    #: seam pairs are welded once every gap is below this [m]
+    weld_gap: float = 5e-4
+    gravity: tuple = (0.0, -GRAVITY, 0.0)
+
+
+@dataclass(frozen=True)
+class DrapeChecks:
+    """Checks of a solved state (every result carries them)."""
+
+    #: vertices with negative distance to the body, and the deepest of them [mm]
+    inside_vertices: int
+    max_depth_mm: float
+    #: smallest vertex distance to the body [mm] (None without a body)
+    min_clearance_mm: float | None
+    #: largest distance between the two sides of a seam pair [mm]
+    seam_gap_max_mm: float
+    #: triangle pairs (sharing no vertex) that cross each other
+    self_intersections: int
+    #: whether the stopping criterion was met
+    equilibrium: bool
+
+    @property
+    def passed(self) -> bool:
+        """No vertex inside, seams closed (< 0.5 mm), no crossing, equilibrium reached."""
+        return (self.inside_vertices == 0 and self.seam_gap_max_mm < 0.5
+                and self.self_intersections == 0 and self.equilibrium)
+
+    def to_dict(self) -> dict:
+        return {"inside_vertices": self.inside_vertices, "max_depth_mm": self.max_depth_mm,
+                "min_clearance_mm": self.min_clearance_mm,
+                "seam_gap_max_mm": self.seam_gap_max_mm,
+                "self_intersections": self.self_intersections, "equilibrium": self.equilibrium}
+
+
+@dataclass(frozen=True, eq=False)
+class DrapeResult:
+    """Outcome of :meth:`GarmentSolver.solve`.
+
+    Attributes
+    ----------
+    x : (n3, 3) float
+        Simulated vertex positions [m] (welded pairs coincide).
+    vertex_map : (n,) int
+        Flat vertex -> simulated vertex after welding (both sides of a welded pair map to
+        the same index).
+    welded : bool
+        Whether the seam springs were closed and welded during this or an earlier solve.
+    iterations : int
+    seconds : float
+    converged : bool
+    interrupted : bool
+        Stopped by KeyboardInterrupt; ``x`` is the last accepted state.
+    stop_reason : str
+        "converged", "iterations", "time", "interrupted" or "stalled".
+    energy : float
+        Total energy at ``x`` [J].
+    checks : DrapeChecks
+    """
+
+    x: np.ndarray
+    vertex_map: np.ndarray
+    welded: bool
+    iterations: int
+    seconds: float
+    converged: bool
+    interrupted: bool
+    stop_reason: str
+    energy: float
+    checks: DrapeChecks
+    factorizations: int = 0
+    timing: dict = field(default_factory=dict)
+
+
+class _LBFGS:
+    """Two-loop recursion with a given initial inverse Hessian (vectors flattened)."""
+
+    def __init__(self, size: int):
+        self.size = size
+        self.s: list[np.ndarray] = []
+        self.y: list[np.ndarray] = []
+        self.rho: list[float] = []
+
+    def reset(self):
+        self.s.clear()
+        self.y.clear()
+        self.rho.clear()
+
+    def push(self, s, y):
+        sy = float(s @ y)
+        if sy <= 1e-12 * float(np.sqrt((s @ s) * (y @ y))) or sy <= 0.0:
+            return
+        if len(self.s) == self.size:
+            self.s.pop(0)
+            self.y.pop(0)
+            self.rho.pop(0)
+        self.s.append(s)
+        self.y.append(y)
+        self.rho.append(1.0 / sy)
+
+    def direction(self, g, h0):
+        q = g.copy()
+        alphas = []
+        for s, y, rho in zip(reversed(self.s), reversed(self.y), reversed(self.rho)):
+            a = rho * float(s @ q)
+            alphas.append(a)
+            q -= a * y
+        r = h0(q)
+        for (s, y, rho), a in zip(zip(self.s, self.y, self.rho), reversed(alphas)):
+            b = rho * float(y @ r)
+            r += (a - b) * s
+        return -r
+
+
+def _as_array(value, name, dtype, shape_tail):
+    try:
+        arr = np.asanyarray(value, dtype=dtype)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name}: cannot read as {np.dtype(dtype).name} array ({exc})") from exc
+    if arr.ndim != 1 + len(shape_tail) or tuple(arr.shape[1:]) != shape_tail:
+        raise ValueError(f"{name}: expected shape (k, {', '.join(map(str, shape_tail))}) "
+                         f"got {arr.shape}" if shape_tail else
+                         f"{name}: expected a 1-D array, got shape {arr.shape}")
+    return np.ascontiguousarray(arr)
+
+
+class GarmentSolver:
+    """Static equilibrium of a garment from its flat pattern mesh.
+
+    Parameters
+    ----------
+    rest : (n, 2) float
+        Flat rest positions of the pattern mesh [m], each panel in its own frame.
+    triangles : (m, 3) int
+        Flat triangles (counter-clockwise).
+    grain : (m, 2) float
+        Warp direction of each triangle in its panel frame (need not be unit).
+    fabric : Fabric or str
+        The fabric (or a preset name / JSON path for :func:`get_fabric`).
+    vertex_map : (n,) int, optional
+        Simulated 3D vertex of each flat vertex (welded seam pairs share one). Default: the
+        identity. ``n3 = vertex_map.max() + 1``.
+    seam_pairs : (k, 2) int, optional
+        Simulated-vertex pairs to sew: zero-length springs that stiffen by ``seam_growth``
+        every ``refresh`` iterations until every gap is under ``weld_gap``; then the pairs
+        are welded (one vertex each) and friction is switched on ``friction_delay``
+        iterations later.
+    body : DistanceField, optional
+        Signed distance field of the body [m]; contact keeps vertices ``fabric.thickness``
+        away from it.
+    pinned : (p,) int, optional
+        Simulated vertices held at their start position.
+    settings : SolverSettings, optional
+    """
+
+    def __init__(self, rest, triangles, grain, fabric, *, vertex_map=None, seam_pairs=None,
+                 body=None, pinned=None, settings: SolverSettings | None = None):
+        self.fabric: Fabric = get_fabric(fabric)
+        self.settings = settings or SolverSettings()
+        self.rest = _as_array(rest, "rest", np.float64, (2,))
+        self.triangles = _as_array(triangles, "triangles", np.int64, (3,))
+        self.grain = _as_array(grain, "grain", np.float64, (2,))
+        n, m = len(self.rest), len(self.triangles)
+        if len(self.grain) != m:
+            raise ValueError(f"grain: expected {m} rows (one per triangle), got {len(self.grain)}")
+        if m == 0 or self.triangles.min() < 0 or self.triangles.max() >= n:
+            raise ValueError(f"triangles: indices must lie in [0, {n})")
+        if vertex_map is None:
+            vertex_map = np.arange(n)
+        vmap = _as_array(vertex_map, "vertex_map", np.int64, ())
+        if len(vmap) != n or vmap.min() < 0:
+            raise ValueError(f"vertex_map: expected {n} non-negative indices")
+        self.vertex_map = vmap
+        self.n3 = int(vmap.max()) + 1
+        self.seam_pairs = (np.zeros((0, 2), np.int64) if seam_pairs is None
+                           else _as_array(seam_pairs, "seam_pairs", np.int64, (2,)))
+        if len(self.seam_pairs) and (self.seam_pairs.min() < 0
+                                     or self.seam_pairs.max() >= self.n3):
+            raise ValueError(f"seam_pairs: indices must lie in [0, {self.n3})")
+        self.body = body
+        self.pinned = (np.zeros(0, np.int64) if pinned is None
+                       else _as_array(pinned, "pinned", np.int64, ()))
+        # simulated vertex -> solved ("reduced") vertex; welding merges entries
+        self._group = np.arange(self.n3)
+        self._welded = len(self.seam_pairs) == 0
+        self._factor = None
+        self._factor_matrix = None
+        self._factor_diag = None
+        self.factorizations = 0
+        self._build()
+
+    # ------------------------------------------------------------------------ set-up
+    def _build(self):
+        """(Re)compute the rest-shape terms for the current grouping."""
+        f = self.fabric
+        self._n = int(self._group.max()) + 1
+        self.terms: MeshTerms = build_terms(
+            self.rest, self.triangles, self.grain, self._group[self.vertex_map], self._n,
+            bend_warp=f.bending_warp, bend_weft=f.bending_weft, k_warp=f.stretch_warp,
+            k_weft=f.stretch_weft, k_shear=f.shear)
+        self._mass = f.density * self.terms.vertex_area
+        self._pinned = np.unique(self._group[self.pinned])
+        self._free = np.ones(self._n, bool)
+        self._free[self._pinned] = False
+
+    def set_rest(self, rest) -> None:
+        """New rest shapes (same topology), e.g. after a pattern edit; then ``solve`` from
+        the previous state. The factorisation is kept while the matrix is unchanged."""
+        rest = _as_array(rest, "rest", np.float64, (2,))
+        if rest.shape != self.rest.shape:
+            raise ValueError(f"rest: expected shape {self.rest.shape}, got {rest.shape}")
+        self.rest = rest
+        self._build()
+
+    def _weld(self):
+        """Merge every seam pair into one solved vertex."""
+        parent = np.arange(self._n)
+
+        def find(i):
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        for a, b in self._group[self.seam_pairs]:
+            ra, rb = find(a), find(b)
+            if ra != rb:
+                parent[max(ra, rb)] = min(ra, rb)
+        roots = np.array([find(i) for i in range(self._n)])
+        _, new = np.unique(roots, return_inverse=True)
+        self._group = new[self._group]
+        self._welded = True
+        self._build()
+
+    def _reduce(self, x_full):
+        """Mean position of each group of simulated vertices."""
+        out = np.zeros((self._n, 3))
+        np.add.at(out, self._group, x_full)
+        return out / np.bincount(self._group, minlength=self._n)[:, None]
+
+    # ------------------------------------------------------------------------ energy
+    def _contact_k(self):
+        return self.settings.contact_stiffness * self.terms.vertex_area * self._contact_scale
+
+    def _energy(self, x, want_grad=True):
+        t = self.terms
+        grad = np.zeros_like(x)
+        e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, self.fabric.stretch_warp,
+                             self.fabric.stretch_weft, self.fabric.shear,
+                             self.settings.compression, grad)
+        qx = self._Q @ x
+        e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", self._f, x))
+        grad += qx - self._f
+        if self.body is not None:
+            e += kernels.contact(x, self.body.values, self.body.origin, self.body.spacing,
+                                 self.fabric.thickness, self._kc, grad)
+        if len(self._fr_idx):
+            e += kernels.friction(x, self._fr_idx, self._fr_anchor, self._fr_normal,
+                                  self._fr_limit, self.settings.friction_slip, grad)
+        if len(self._pairs):
+            e += kernels.self_repulsion(x, t.tris, self._pairs, self._bary, self._pnormal,
+                                        self.fabric.thickness, self._kc, grad)
+        grad[~self._free] = 0.0
+        return e, grad
+
+    # ------------------------------------------------------------------------ outer updates
+    def _set_springs(self, stiffness):
+        Q = self.terms.bending
+        if not self._welded and len(self.seam_pairs):
+            Q = Q + spring_matrix(self._group[self.seam_pairs], stiffness, self._n)
+        self._Q = Q.tocsr()
+
+    def _refresh(self, x, friction_on):
+        """Contact stiffness, friction anchors, self-collision pairs, preconditioner."""
+        s = self.settings
+        n = self._n
+        diag = np.zeros(n)
+        self._fr_idx = np.zeros(0, np.int64)
+        if self.body is not None:
+            d, g = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
+            # a vertex found inside the body gets a stiffer contact (x4) until it is out
+            self._contact_scale[d < 0.0] *= 4.0
+            self._kc = self._contact_k()
+            near = d < self.fabric.thickness + s.contact_band
+            diag[near] = s.contact_precond * self._kc[near]
+            if friction_on and self.fabric.friction > 0:
+                pen = self.fabric.thickness - d
+                idx = np.flatnonzero((pen > 0) & self._free)
+                nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
+                self._fr_idx = idx
+                self._fr_anchor = x[idx].copy()
+                self._fr_normal = np.ascontiguousarray(nrm)
+                self._fr_limit = self.fabric.friction * self._kc[idx] * pen[idx]
+        else:
+            self._kc = self._contact_k()
+        if s.self_collision:
+            self._pairs, self._bary, self._pnormal = kernels.near_pairs(
+                x, self.terms.tris, 2.0 * self.fabric.thickness, self.terms.edge_length)
+        self._ensure_factor(diag)
+
+    def _ensure_factor(self, diag):
+        s = self.settings
+        base = (self.terms.membrane_pd + self._Q).tocsr()
+        base = base + sp.diags(self._mass / s.precond_dt ** 2)
+        same_base = (self._factor_matrix is not None and base.shape == self._factor_matrix.shape
+                     and base.nnz == self._factor_matrix.nnz
+                     and np.array_equal(base.indices, self._factor_matrix.indices)
+                     and np.array_equal(base.data, self._factor_matrix.data))
+        if same_base and self._factor_diag is not None:
+            changed = np.count_nonzero(diag != self._factor_diag)
+            if changed <= s.refactor_share * len(diag):
+                return
+        M = base + sp.diags(diag)
+        free = self._free.astype(float)
+        M = (sp.diags(free) @ M @ sp.diags(free) + sp.diags(1.0 - free)).tocoo()
+        self._factor = CholeskySolverD(self._n, M.row.astype(np.int32), M.col.astype(np.int32),
+                                       M.data.astype(np.float64), MatrixType.COO)
+        self._factor_matrix = base
+        self._factor_diag = diag
+        self.factorizations += 1
+
+    def _precondition(self, q):
+        b = np.ascontiguousarray(q.reshape(-1, 3))
+        out = np.zeros_like(b)
+        self._factor.solve(b, out)
+        return out.ravel()
+
+    # ------------------------------------------------------------------------ solve
+    def solve(self, x0, *, forces=None,
+              progress: Callable[[int, float, float, float], None] | None = None) -> DrapeResult:
+        """Minimise the energy from the start positions ``x0``.
+
+        Parameters
+        ----------
+        x0 : (n3, 3) float
+            Start positions of the simulated vertices [m] (a previous result's ``x`` for a
+            warm start after :meth:`set_rest`).
+        forces : (n3, 3) float, optional
+            Constant external forces on the simulated vertices [N].
+        progress : callable, optional
+            Called after every iteration as ``progress(iteration, energy [J], step [m],
+            elapsed [s])``. Raising KeyboardInterrupt in it stops the solve cleanly.
+
+        Returns
+        -------
+        DrapeResult
+        """
+        t_start = time.perf_counter()
+        s = self.settings
+        x_full = _as_array(x0, "x0", np.float64, (3,))
+        if len(x_full) != self.n3:
+            raise ValueError(f"x0: expected {self.n3} rows, got {len(x_full)}")
+        f_ext = np.zeros((self.n3, 3)) if forces is None else _as_array(forces, "forces",
+                                                                         np.float64, (3,))
+        if len(f_ext) != self.n3:
+            raise ValueError(f"forces: expected {self.n3} rows, got {len(f_ext)}")
+        sewing = not self._welded
+        k_seam = s.seam_stiffness
+        friction_from = None if sewing else s.friction_delay
+
+        def setup(x_red):
+            self._f = self._mass[:, None] * np.asarray(s.gravity)[None, :]
+            np.add.at(self._f, self._group, f_ext)
+            self._f[~self._free] = 0.0
+            self._contact_scale = np.ones(self._n)
+            self._fr_idx = np.zeros(0, np.int64)
+            self._pairs = np.zeros((0, 2), np.int64)
+            self._set_springs(k_seam)
+            return x_red
+
+        x = setup(self._reduce(x_full))
+        self._refresh(x, friction_on=False)
+        energy, grad = self._energy(x)
+        lbfgs = _LBFGS(s.history)
+        it = 0
+        last_refresh = 0
+        calm = 0
+        total_drop = 0.0
+        converged = interrupted = False
+        reason = "iterations"
+        try:
+            while True:
+                if it >= s.max_iterations:
+                    reason = "iterations"
+                    break
+                if time.perf_counter() - t_start > s.time_limit:
+                    reason = "time"
+                    break
+                if it - last_refresh >= s.refresh or (sewing and calm >= s.patience):
+                    last_refresh = it
+                    if sewing:
+                        gap = self._seam_gap(x)
+                        if gap < s.weld_gap:
+                            x_full = x[self._group]
+                            self._weld()
+                            x = setup(self._reduce(x_full))
+                            sewing = False
+                            friction_from = it + s.friction_delay
+                            lbfgs.reset()
+                        else:
+                            k_seam = min(k_seam * s.seam_growth, s.seam_stiffness_max)
+                            self._set_springs(k_seam)
+                    self._refresh(x, friction_on=friction_from is not None and it >= friction_from)
+                    energy, grad = self._energy(x)
+                    calm = 0
+                g = grad.ravel()
+                d = lbfgs.direction(g, self._precondition)
+                gd = float(g @ d)
+                if not gd < 0.0:
+                    lbfgs.reset()
+                    d = -self._precondition(g)
+                    gd = float(g @ d)
+                if not gd < 0.0:
+                    converged, reason = not sewing, "converged" if not sewing else "stalled"
+                    break
+                # a capped step cannot tunnel through the body, nor follow the unbounded
+                # descent of a garment that would fall past it
+                longest = float(np.sqrt((d.reshape(-1, 3) ** 2).sum(axis=1).max()))
+                alpha = min(1.0, s.max_step / max(longest, 1e-300))
+                accepted = False
+                for _ in range(30):
+                    x_new = x + alpha * d.reshape(-1, 3)
+                    e_new, g_new = self._energy(x_new)
+                    if e_new <= energy + 1e-4 * alpha * gd:
+                        accepted = True
+                        break
+                    alpha *= 0.5
+                if not accepted:
+                    if lbfgs.s:
+                        lbfgs.reset()
+                        continue
+                    converged, reason = not sewing, "converged" if not sewing else "stalled"
+                    break
+                step_vec = x_new - x
+                lbfgs.push(step_vec.ravel(), (g_new - grad).ravel())
+                drop = energy - e_new
+                total_drop += max(drop, 0.0)
+                step = float(np.sqrt((step_vec ** 2).sum(axis=1).max()))
+                x, energy, grad = x_new, e_new, g_new
+                it += 1
+                if progress is not None:
+                    progress(it, energy, step, time.perf_counter() - t_start)
+                small = step < s.step_tol and drop <= s.energy_tol * total_drop
+                calm = calm + 1 if small else 0
+                if calm >= s.patience and not sewing:
+                    if self.body is not None and self._any_inside(x) \
+                            and self._contact_scale.max() < 4.0 ** 6:
+                        last_refresh = it - s.refresh  # stiffen the contact and go on
+                        continue
+                    converged, reason = True, "converged"
+                    break
+        except KeyboardInterrupt:
+            interrupted, reason = True, "interrupted"
+        x_out = x[self._group]
+        seconds = time.perf_counter() - t_start
+        return DrapeResult(
+            x=x_out, vertex_map=self._group[self.vertex_map], welded=self._welded,
+            iterations=it, seconds=seconds, converged=converged, interrupted=interrupted,
+            stop_reason=reason, energy=float(energy),
+            checks=self.checks(x_out, converged=converged),
+            factorizations=self.factorizations)
+
+    # ------------------------------------------------------------------------ checks
+    def _seam_gap(self, x_red):
+        if not len(self.seam_pairs):
+            return 0.0
+        a, b = self._group[self.seam_pairs[:, 0]], self._group[self.seam_pairs[:, 1]]
+        return float(np.linalg.norm(x_red[a] - x_red[b], axis=1).max())
+
+    def _any_inside(self, x_red):
+        d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x_red)
+        return bool((d < 0).any())
+
+    def checks(self, x, *, converged: bool = False) -> DrapeChecks:
+        """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`."""
+        x = _as_array(x, "x", np.float64, (3,))
+        if self.body is not None:
+            d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
+            inside = int((d < 0).sum())
+            depth = float(max(0.0, -d.min()) * 1e3)
+            clearance = float(d.min() * 1e3)
+        else:
+            inside, depth, clearance = 0, 0.0, None
+        gap = (float(np.linalg.norm(x[self.seam_pairs[:, 0]] - x[self.seam_pairs[:, 1]],
+                                    axis=1).max() * 1e3) if len(self.seam_pairs) else 0.0)
+        # welded pairs are one vertex here, so triangles meeting across a seam are neighbours
+        crossing = int(kernels.intersecting_pairs(self._reduce(x), self.terms.tris,
+                                                  self.terms.edge_length))
+        return DrapeChecks(inside_vertices=inside, max_depth_mm=depth, min_clearance_mm=clearance,
+                           seam_gap_max_mm=gap, self_intersections=crossing,
+                           equilibrium=bool(converged))

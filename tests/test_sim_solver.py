@@ -1,0 +1,174 @@
+"""Calibration and behaviour of the quasi-static garment solver (patternfit.sim.solver)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import triangle
+
+from patternfit.body.sdf import DistanceField
+from patternfit.sim.fabrics import get_fabric
+from patternfit.sim.solver import GarmentSolver, SolverSettings
+
+
+def rect_mesh(length, width, max_area):
+    """Constrained-Delaunay mesh of the rectangle [0, length] x [0, width] [m]."""
+    pts = np.array([[0, 0], [length, 0], [length, width], [0, width]], float)
+    seg = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+    out = triangle.triangulate({"vertices": pts, "segments": seg}, f"pq30a{max_area:.12f}Q")
+    return out["vertices"].astype(float), out["triangles"].astype(np.int64)
+
+
+def grain_at(angle_deg, m):
+    a = np.radians(angle_deg)
+    return np.tile([np.cos(a), np.sin(a)], (m, 1))
+
+
+def sphere_field(radius, half=0.3, h=0.005):
+    ax = np.arange(-half, half + 1e-9, h)
+    X, Y, Z = np.meshgrid(ax, ax, ax, indexing="ij")
+    return DistanceField((-half, -half, -half), h, np.sqrt(X**2 + Y**2 + Z**2) - radius)
+
+
+@pytest.mark.parametrize("fabric", ["cotton_shirting", "denim", "stretch_knit"])
+@pytest.mark.parametrize("angle", [0, 90])
+def test_strip_stretches_as_its_stiffness_says(fabric, angle):
+    fab = get_fabric(fabric)
+    stiffness = fab.stretch_warp if angle == 0 else fab.stretch_weft
+    length, width = 0.2, 0.05
+    v, t = rect_mesh(length, width, 4e-5)
+    left = np.flatnonzero(v[:, 0] < 1e-9)
+    right = np.flatnonzero(v[:, 0] > length - 1e-9)
+    # a uniform line load on the free end: each end vertex takes half its two segments
+    order = np.argsort(v[right, 1])
+    seg = np.diff(v[right[order], 1])
+    share = np.zeros(len(right))
+    share[order[:-1]] += seg / 2
+    share[order[1:]] += seg / 2
+    tension = 0.01 * stiffness  # 1 % strain expected [N/m]
+    forces = np.zeros((len(v), 3))
+    forces[right, 0] = tension * share
+    settings = SolverSettings(gravity=(0.0, 0.0, 0.0), self_collision=False,
+                              step_tol=1e-10, energy_tol=1e-12)
+    solver = GarmentSolver(v, t, grain_at(angle, len(t)), fab, pinned=left, settings=settings)
+    res = solver.solve(np.c_[v, np.zeros(len(v))], forces=forces)
+    assert res.converged
+    mid = (v[:, 0] > 0.05) & (v[:, 0] < 0.15)
+    slope = np.polyfit(v[mid, 0], res.x[mid, 0], 1)[0]
+    assert slope - 1.0 == pytest.approx(tension / stiffness, rel=0.02)
+
+
+@pytest.mark.parametrize("fabric", ["cotton_shirting", "denim"])
+def test_cantilever_bends_to_its_bending_length(fabric):
+    """Peirce's cantilever (ASTM D1388): an overhang of twice the bending length droops to
+    about 41.5 deg; the bending length read back with Peirce's formula matches the fabric's."""
+    fab = get_fabric(fabric)
+    c = fab.bending_length
+    overhang, clamp = 2.0 * c, 0.2 * c
+    v, t = rect_mesh(overhang + clamp, 0.5 * c, (c / 12) ** 2)
+    v[:, 0] -= clamp
+    pinned = np.flatnonzero(v[:, 0] <= 1e-12)
+    solver = GarmentSolver(v, t, grain_at(0, len(t)), fab, pinned=pinned,
+                           settings=SolverSettings(self_collision=False))
+    res = solver.solve(np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]])
+    assert res.converged
+    tip = np.flatnonzero(v[:, 0] > overhang - 1e-9)
+    theta = np.arctan2(-res.x[tip, 1].mean(), res.x[tip, 0].mean())
+    measured = overhang * (np.cos(theta / 2) / (8 * np.tan(theta))) ** (1 / 3)
+    assert measured == pytest.approx(c, rel=0.10)
+
+
+@pytest.fixture(scope="module")
+def dropped():
+    """A 0.5 m square of shirting dropped on a 0.12 m sphere, solved twice."""
+    radius = 0.12
+    body = sphere_field(radius)
+    v, t = rect_mesh(0.5, 0.5, 2.5e-4)
+    v -= 0.25
+    x0 = np.c_[v[:, 0], np.full(len(v), radius + 0.01), v[:, 1]]
+    solver = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", body=body)
+    return v, t, x0, solver, solver.solve(x0), solver.solve(x0)
+
+
+def test_cloth_on_sphere_rests_outside_with_folds(dropped):
+    v, t, x0, solver, res, _ = dropped
+    assert res.converged and res.checks.equilibrium
+    assert res.checks.inside_vertices == 0
+    assert res.checks.self_intersections == 0
+    assert res.checks.min_clearance_mm > 0.0
+    x = res.x
+    assert x[:, 1].min() < -0.05  # the corners hang down past the equator
+    # folds: the hem's distance from the vertical axis swings, the cloth is not shrunk
+    edge = np.flatnonzero((np.abs(v) > 0.25 - 1e-9).any(axis=1))
+    r = np.hypot(x[edge, 0], x[edge, 2])
+    assert (r.max() - r.min()) / r.mean() > 0.2
+    area3 = 0.5 * np.linalg.norm(np.cross(x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]),
+                                 axis=1).sum()
+    assert area3 == pytest.approx(0.25, rel=0.03)
+
+
+def test_same_run_twice_is_identical(dropped):
+    *_, first, second = dropped
+    assert np.array_equal(first.x, second.x)
+    assert first.iterations == second.iterations
+
+
+def test_interrupt_returns_the_last_state(dropped):
+    v, t, x0, solver, *_ = dropped
+    seen = []
+
+    def progress(iteration, energy, step, elapsed):
+        seen.append((iteration, energy))
+        if iteration == 12:
+            raise KeyboardInterrupt
+
+    res = solver.solve(x0, progress=progress)
+    assert res.interrupted and not res.converged and res.stop_reason == "interrupted"
+    assert res.iterations == 12 and seen[-1][0] == 12
+    assert res.energy == seen[-1][1]
+    short = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", body=solver.body,
+                          settings=SolverSettings(max_iterations=12)).solve(x0)
+    assert np.array_equal(res.x, short.x)
+
+
+def test_warm_start_after_a_rest_edit_reuses_the_state(dropped):
+    v, t, x0, solver, res, _ = dropped
+    solver2 = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", body=solver.body)
+    solver2.set_rest(v * 1.01)
+    warm = solver2.solve(res.x)
+    assert warm.converged and warm.checks.inside_vertices == 0
+    assert warm.iterations < res.iterations
+
+
+def test_sewing_closes_the_gap_and_welds():
+    """Two flat strips 4 cm apart, sewn along their long edges, end as one welded sheet."""
+    xs = np.linspace(0.0, 0.2, 21)
+    pts = np.r_[np.c_[xs, np.zeros(21)], np.c_[xs[::-1], np.full(21, 0.05)]]
+    seg = np.c_[np.arange(42), (np.arange(42) + 1) % 42]
+    out = triangle.triangulate({"vertices": pts, "segments": seg}, "pq30a2e-4YQ")
+    v1, t1 = out["vertices"].astype(float), out["triangles"].astype(np.int64)
+    n1 = len(v1)
+    v = np.r_[v1, v1]
+    t = np.r_[t1, t1 + n1]
+    x0 = np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]]
+    x0[n1:, 2] += 0.09  # second strip beyond the first with a 4 cm gap
+    a = np.flatnonzero(v1[:, 1] > 0.05 - 1e-9)
+    b = np.flatnonzero(v1[:, 1] < 1e-9)
+    a, b = a[np.argsort(v1[a, 0])], b[np.argsort(v1[b, 0])] + n1
+    settings = SolverSettings(gravity=(0.0, 0.0, 0.0))
+    solver = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting",
+                           seam_pairs=np.c_[a, b], settings=settings)
+    res = solver.solve(x0)
+    assert res.welded and res.converged
+    assert res.checks.seam_gap_max_mm < 0.5
+    assert np.array_equal(res.vertex_map[a], res.vertex_map[b])
+    assert res.checks.self_intersections == 0
+
+
+def test_bad_inputs_are_refused_with_the_argument_named():
+    v, t = rect_mesh(0.1, 0.1, 1e-3)
+    with pytest.raises(ValueError, match="grain"):
+        GarmentSolver(v, t, np.ones((3, 2)), "denim")
+    solver = GarmentSolver(v, t, grain_at(0, len(t)), "denim")
+    with pytest.raises(ValueError, match="x0"):
+        solver.solve(np.zeros((3, 3)))
