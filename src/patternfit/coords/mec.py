@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from ..constants import tol
@@ -19,9 +20,7 @@ from .priors import PRIORS, log_prior
 RESIDUAL = 1e-12
 MAX_ITERATIONS = 100
 _ARMIJO = 1e-4
-# Trust radius on the multipliers (dimensionless: offsets are scaled by the diameter). Where
-# the weights collapse onto collinear nodes the Hessian is nearly singular and a full Newton
-# step would leap to a flat region of the dual.
+# Trust radius on the multipliers (dimensionless: offsets are scaled by the diameter)
 _MAX_STEP = 4.0
 _DAMP = 1e-12
 
@@ -48,69 +47,87 @@ class MECInfo:
         return float(self.iterations.mean()) if len(self.iterations) else 0.0
 
 
-def _softmax(logm, dx, dy, lam):
-    """Weights and dual value F at multipliers ``lam`` (q, 2)."""
-    z = logm - (lam[:, 0:1] * dx + lam[:, 1:2] * dy)
-    zmax = z.max(axis=1, keepdims=True)
-    e = np.exp(z - zmax)
-    s = e.sum(axis=1, keepdims=True)
-    return e / s, np.log(s[:, 0]) + zmax[:, 0]
+@numba.njit(cache=True, nogil=True)
+def _dual_value(logm, dx, dy, lx, ly, w):  # pragma: no cover - compiled
+    """F(lambda) = log sum_i m_i exp(-lambda . d_i); fills ``w`` with the weights."""
+    n = logm.shape[0]
+    zmax = -np.inf
+    for i in range(n):
+        w[i] = logm[i] - (lx * dx[i] + ly * dy[i])
+        zmax = max(zmax, w[i])
+    s = 0.0
+    for i in range(n):
+        w[i] = np.exp(w[i] - zmax)
+        s += w[i]
+    for i in range(n):
+        w[i] /= s
+    return np.log(s) + zmax
 
 
-def solve_dual(logm: np.ndarray, dx: np.ndarray, dy: np.ndarray):
-    """Damped Newton on the dual for every row; ``dx, dy`` (q, n) are (p_i - v)/diameter.
+@numba.njit(cache=True, nogil=True)
+def solve_dual(logm, dx, dy, residual, max_iter):  # pragma: no cover - compiled
+    """Damped Newton on the dual, one point (row) at a time.
 
-    Returns the weights (q, n), iterations (q,) and residuals (q,).
+    ``logm`` (q, n) log prior, ``dx, dy`` (q, n) node offsets p_i - v divided by the
+    diameter. Armijo backtracking inside a trust radius on lambda (dimensionless): where the
+    weights collapse onto collinear nodes the Hessian is nearly singular and a full Newton
+    step would leap to a flat region of the dual. Returns weights (q, n), iterations (q,)
+    and residuals |sum a_i d_i| (q,).
     """
-    q = len(logm)
-    lam = np.zeros((q, 2))
-    a, F = _softmax(logm, dx, dy, lam)
+    q, n = logm.shape
+    out = np.empty((q, n))
     iters = np.zeros(q, dtype=np.int64)
-    res = np.full(q, np.inf)
-    radius = np.full(q, _MAX_STEP)
-    active = np.arange(q)
-    for _ in range(MAX_ITERATIONS + 1):
-        aa, ddx, ddy = a[active], dx[active], dy[active]
-        mx, my = (aa * ddx).sum(axis=1), (aa * ddy).sum(axis=1)
-        res[active] = np.hypot(mx, my)
-        keep = res[active] >= RESIDUAL
-        active = active[keep]
-        if not len(active) or _ == MAX_ITERATIONS:
-            break
-        aa, ddx, ddy, mx, my = aa[keep], ddx[keep], ddy[keep], mx[keep], my[keep]
-        hxx = (aa * ddx * ddx).sum(axis=1) - mx * mx + _DAMP
-        hxy = (aa * ddx * ddy).sum(axis=1) - mx * my
-        hyy = (aa * ddy * ddy).sum(axis=1) - my * my + _DAMP
-        det = hxx * hyy - hxy * hxy
-        step = np.stack([hyy * mx - hxy * my, hxx * my - hxy * mx], axis=1) / det[:, None]
-        norm = np.hypot(step[:, 0], step[:, 1])
-        capped = norm > radius[active]
-        step[capped] *= (radius[active][capped] / norm[capped])[:, None]
-        slope = -(step[:, 0] * mx + step[:, 1] * my)  # directional derivative of F, < 0
-        s = np.ones(len(active))
-        todo = np.arange(len(active))
-        for _ls in range(40):
-            rows = active[todo]
-            trial = lam[rows] + s[todo, None] * step[todo]
-            an, Fn = _softmax(logm[rows], dx[rows], dy[rows], trial)
-            # near the solution F changes below its rounding error: allow for it
-            slack = 8 * np.finfo(float).eps * (1.0 + np.abs(F[rows]))
-            ok = Fn <= F[rows] + _ARMIJO * s[todo] * slope[todo] + slack
-            lam[rows[ok]] = trial[ok]
-            a[rows[ok]] = an[ok]
-            F[rows[ok]] = Fn[ok]
-            todo = todo[~ok]
-            if not len(todo):
+    res = np.empty(q)
+    trial = np.empty(n)
+    eps = 8.0 * np.finfo(np.float64).eps
+    for k in range(q):
+        w = out[k]
+        lx = ly = 0.0
+        radius = _MAX_STEP
+        F = _dual_value(logm[k], dx[k], dy[k], lx, ly, w)
+        for it in range(max_iter + 1):
+            mx = my = hxx = hxy = hyy = 0.0
+            for i in range(n):
+                ax, ay = w[i] * dx[k, i], w[i] * dy[k, i]
+                mx += ax
+                my += ay
+                hxx += ax * dx[k, i]
+                hxy += ax * dy[k, i]
+                hyy += ay * dy[k, i]
+            res[k] = np.hypot(mx, my)
+            if res[k] < residual or it == max_iter:
                 break
-            s[todo] *= 0.5
-        # trust radius: grow while capped steps succeed outright, shrink to what was taken
-        full = s == 1.0
-        radius[active] = np.where(full & capped, 4.0 * radius[active],
-                                  np.where(full, radius[active],
-                                           np.maximum(s * np.minimum(norm, radius[active]),
-                                                      _MAX_STEP)))
-        iters[active] += 1
-    return a, iters, res
+            hxx += _DAMP - mx * mx
+            hxy -= mx * my
+            hyy += _DAMP - my * my
+            det = hxx * hyy - hxy * hxy
+            sx = (hyy * mx - hxy * my) / det
+            sy = (hxx * my - hxy * mx) / det
+            norm = np.hypot(sx, sy)
+            capped = norm > radius
+            if capped:
+                sx *= radius / norm
+                sy *= radius / norm
+            slope = -(sx * mx + sy * my)  # directional derivative of F, < 0
+            t = 1.0
+            for _ls in range(60):
+                Fn = _dual_value(logm[k], dx[k], dy[k], lx + t * sx, ly + t * sy, trial)
+                # near the solution F changes below its rounding error: allow for it
+                if Fn <= F + _ARMIJO * t * slope + eps * (1.0 + abs(F)):
+                    break
+                t *= 0.5
+            lx += t * sx
+            ly += t * sy
+            F = Fn
+            w[:] = trial
+            # trust radius: grow while capped steps succeed outright, else shrink to the step
+            if t == 1.0:
+                if capped:
+                    radius *= 4.0
+            else:
+                radius = max(t * min(norm, radius), _MAX_STEP)
+            iters[k] += 1
+    return out, iters, res
 
 
 def max_entropy_coordinates(outline, points, *, prior="bisector", beta=None,
@@ -167,7 +184,7 @@ def max_entropy_coordinates(outline, points, *, prior="bisector", beta=None,
         logm = log_prior(prior, nodes, nxt, pf, beta)
         dx = (nodes[:, 0] - pf[:, 0:1]) / diam
         dy = (nodes[:, 1] - pf[:, 1:2]) / diam
-        w[free], iters[free], res[free] = solve_dual(logm, dx, dy)
+        w[free], iters[free], res[free] = solve_dual(logm, dx, dy, RESIDUAL, MAX_ITERATIONS)
     converged = res < RESIDUAL
     if not converged.all():
         bad = np.flatnonzero(~converged)

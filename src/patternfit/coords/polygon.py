@@ -6,6 +6,7 @@ Coordinates are in any consistent length unit (metres in patternfit).
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from ..constants import tol
@@ -79,6 +80,27 @@ def diameter(nodes: np.ndarray) -> float:
     return float(np.linalg.norm(nodes.max(axis=0) - nodes.min(axis=0)))
 
 
+@numba.njit(cache=True, nogil=True)
+def _nearest_edge(nodes, nxt, points, eps):  # pragma: no cover - compiled
+    """Per point: index of an edge within ``eps`` (-1 if none) and the projection parameter."""
+    q, n = points.shape[0], nodes.shape[0]
+    hit = np.full(q, -1, dtype=np.int64)
+    par = np.zeros(q)
+    for k in range(q):
+        px, py = points[k, 0], points[k, 1]
+        for i in range(n):
+            j = nxt[i]
+            ax, ay = nodes[i, 0] - px, nodes[i, 1] - py
+            ex, ey = nodes[j, 0] - nodes[i, 0], nodes[j, 1] - nodes[i, 1]
+            t = min(max(-(ax * ex + ay * ey) / (ex * ex + ey * ey), 0.0), 1.0)
+            gx, gy = ax + t * ex, ay + t * ey
+            if gx * gx + gy * gy <= eps * eps:
+                hit[k] = i
+                par[k] = t
+                break
+    return hit, par
+
+
 def boundary_weights(nodes: np.ndarray, nxt: np.ndarray, points: np.ndarray, *, eps: float):
     """Exact coordinates of points lying on the boundary (eq. 18 of the paper).
 
@@ -92,19 +114,12 @@ def boundary_weights(nodes: np.ndarray, nxt: np.ndarray, points: np.ndarray, *, 
     weights : (on.sum(), n) float
         Their coordinates, columns in the order of ``nodes``.
     """
-    a, b = nodes, nodes[nxt]
-    ex, ey = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
-    ee = ex * ex + ey * ey
-    dx = points[:, 0:1] - a[:, 0]
-    dy = points[:, 1:2] - a[:, 1]
-    t = np.clip((dx * ex + dy * ey) / ee, 0.0, 1.0)
-    gx, gy = dx - t * ex, dy - t * ey
-    dist2 = gx * gx + gy * gy
-    j = np.argmin(dist2, axis=1)
-    on = dist2[np.arange(len(points)), j] <= eps * eps
+    hit, par = _nearest_edge(nodes, nxt.astype(np.int64), np.ascontiguousarray(points),
+                             float(eps))
+    on = hit >= 0
     rows = np.flatnonzero(on)
     w = np.zeros((len(rows), len(nodes)))
-    tj = t[rows, j[rows]]
-    w[np.arange(len(rows)), j[rows]] += 1.0 - tj
-    w[np.arange(len(rows)), nxt[j[rows]]] += tj
+    j, t = hit[rows], par[rows]
+    w[np.arange(len(rows)), j] += 1.0 - t
+    w[np.arange(len(rows)), nxt[j]] += t
     return on, w

@@ -210,12 +210,16 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
         if not ok:
             bad.append(pi)
     out = mesh.with_vertices(vertices)
+    angles = {}
     for pi in [mesh.panel_names.index(n) for n in moved]:
-        if pi not in bad and _min_angle(out.vertices, _panel_triangles(out, pi)) < min_angle:
+        angles[pi] = _min_angle(out.vertices, _panel_triangles(out, pi))
+        if pi not in bad and angles[pi] < min_angle:
             bad.append(pi)
     if bad:
         from .remesh import remesh_panels
         out = remesh_panels(out, sorted(bad))
+        for pi in bad:
+            angles[pi] = _min_angle(out.vertices, _panel_triangles(out, pi))
     moved_tris = np.isin(out.triangle_panel, [mesh.panel_names.index(n) for n in moved])
     tris = out.triangles[moved_tris]
     inverted = int((signed_areas(out.vertices, tris) <= tol.area).sum())
@@ -224,6 +228,6 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
                            "pattern")
     if not return_report:
         return out
-    angle = _min_angle(out.vertices, tris) if len(tris) else float("nan")
+    angle = min(angles.values(), default=float("nan"))
     return out, UpdateReport(tuple(moved), steps, tuple(mesh.panel_names[i] for i in sorted(bad)),
                              inverted, angle)
