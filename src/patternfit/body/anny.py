@@ -1,0 +1,130 @@
+"""Custom bodies from the ``anny`` parametric body model (optional extra ``patternfit[anny]``).
+
+anny (Apache-2.0, NAVER Corp.) is built on MakeHuman's CC0 assets. Its default pose has the
+elbows bent with the forearms forward, which no sleeve can be placed on, so the elbows are
+straightened here; the shoulders keep anny's A-pose (upper arms about 40° from the torso).
+torch is imported only when a body is generated.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .measure import measure
+from .model import Body
+
+#: anny phenotypes and statures [m] of the shipped bodies; anny's gender is 0 = male, 1 = female and its
+#: age 2/3 is the "young adult" anchor (25 years)
+BUILTIN_PHENOTYPES = {
+    "female_thin": dict(gender=1.0, weight=0.15, muscle=0.4, stature=1.65),
+    "female_average": dict(gender=1.0, weight=0.5, muscle=0.5, stature=1.65),
+    "female_heavy": dict(gender=1.0, weight=0.9, muscle=0.5, stature=1.65),
+    "male_thin": dict(gender=0.0, weight=0.15, muscle=0.4, stature=1.78),
+    "male_average": dict(gender=0.0, weight=0.5, muscle=0.5, stature=1.78),
+    "male_heavy": dict(gender=0.0, weight=0.95, muscle=0.5, stature=1.78),
+}
+
+_ADULT_AGE = 2.0 / 3.0
+
+_MISSING = ("the anny body model is not installed: install it with "
+            "`pip install torch==2.13.0` (CPU build) then `pip install 'patternfit[anny]'`")
+
+
+def _model():
+    try:
+        import anny
+        import torch
+    except ImportError as exc:
+        raise ImportError(_MISSING) from exc
+    return anny.Anny(topology="anny-noeyes-notongue"), torch
+
+
+def _rotation_between(a, b) -> np.ndarray:
+    """(3, 3) rotation turning direction ``a`` onto direction ``b``."""
+    a = a / np.linalg.norm(a)
+    b = b / np.linalg.norm(b)
+    axis = np.cross(a, b)
+    s, c = np.linalg.norm(axis), float(a @ b)
+    if s < 1e-12:
+        return np.eye(3)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + k + k @ k * ((1 - c) / s**2)
+
+
+def _posed(model, torch, phenotype: dict):
+    """Vertices (n, 3) [m, anny's Z-up frame] and bone heads of the straight-armed pose."""
+    labels = model.bone_labels
+    out = model(phenotype_kwargs=phenotype)
+    heads = out["bone_poses"][0][:, :3, 3].detach().numpy().astype(np.float64)
+    pose = torch.eye(4, dtype=model.dtype).repeat(1, len(labels), 1, 1)
+    for side in "LR":
+        shoulder, elbow, wrist = (heads[labels.index(f"{b}.{side}")]
+                                  for b in ("upperarm01", "lowerarm01", "wrist"))
+        # local-ref pose parameters rotate about world-aligned axes at the bone's head
+        rot = _rotation_between(wrist - elbow, elbow - shoulder)
+        pose[0, labels.index(f"lowerarm01.{side}"), :3, :3] = torch.tensor(rot)
+    out = model(pose_parameters=pose, phenotype_kwargs=phenotype)
+    verts = out["vertices"][0].detach().numpy().astype(np.float64)
+    heads = out["bone_poses"][0][:, :3, 3].detach().numpy().astype(np.float64)
+    return verts, dict(zip(labels, heads))
+
+
+def _to_patternfit_frame(verts, heads) -> np.ndarray:
+    """anny's Z-up frame to Y up, facing +Z, left side +X, feet on y = 0, centred."""
+    forward = heads["toe1-1.L"] - heads["foot.L"]
+    s = 1.0 if forward[1] > 0 else -1.0
+    rot = np.array([[-s, 0, 0], [0, 0, 1], [0, s, 0]], dtype=np.float64)  # det = +1
+    v = verts @ rot.T
+    root = heads["root"] @ rot.T
+    v -= [root[0], v[:, 1].min(), root[2]]
+    if (heads["upperarm01.L"] @ rot.T)[0] < root[0]:
+        raise RuntimeError("anny's left arm did not end up on +X")
+    return v
+
+
+def anny_body(*, gender: float = 0.5, weight: float = 0.5, muscle: float = 0.5,
+              height: float = 0.5, proportions: float = 0.5, age: float = _ADULT_AGE,
+              stature: float | None = None, name: str = "custom") -> Body:
+    """A body from anny's phenotype parameters, in the straight-armed A-pose.
+
+    Parameters
+    ----------
+    gender, weight, muscle, height, proportions, age : float
+        anny phenotype values in [0, 1] (gender 0 = male, 1 = female).
+    stature : float, optional
+        Wanted standing height [m]; the phenotype ``height`` is searched to reach it, and a
+        small uniform scale makes it exact.
+    name : str
+        Name of the body.
+    """
+    values = dict(gender=gender, weight=weight, muscle=muscle, height=height,
+                  proportions=proportions, age=age)
+    for key, x in values.items():
+        if not 0.0 <= x <= 1.0:
+            raise ValueError(f"{key}: must be in [0, 1], got {x}")
+    if stature is not None and not 0.5 < stature < 2.6:
+        raise ValueError(f"stature: expected a height in metres, got {stature}")
+    model, torch = _model()
+    model.eval()
+    with torch.no_grad():
+        def build(ph):
+            return _to_patternfit_frame(*_posed(model, torch, ph))
+
+        v = build(values)
+        if stature is not None:
+            lo, hi = 0.0, 1.0
+            for _ in range(12):
+                values["height"] = 0.5 * (lo + hi)
+                v = build(values)
+                lo, hi = (values["height"], hi) if np.ptp(v[:, 1]) < stature else (lo, values["height"])
+            v *= stature / np.ptp(v[:, 1])
+    # Stored as float32: measure what will be stored.
+    v = v.astype(np.float32).astype(np.float64)
+    faces = model.faces.numpy().astype(np.int64)
+    meas, lm = measure(v, faces)
+    import anny
+
+    meta = dict(source=f"anny {anny.__version__} (NAVER Corp., Apache-2.0) on MakeHuman "
+                       "assets (CC0)", phenotype=values, pose="A-pose, straight elbows",
+                frame="metres, Y up, facing +Z, left +X, feet on y = 0")
+    return Body(v, faces, name=name, measurements=meas, landmarks=lm, meta=meta)

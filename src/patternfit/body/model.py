@@ -1,0 +1,70 @@
+"""The body a garment is draped on: a closed triangle mesh with its measurements."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .sdf import DistanceField
+
+
+@dataclass(eq=False)
+class Body:
+    """A standing human body.
+
+    Attributes
+    ----------
+    vertices : (n, 3) float
+        Surface vertices [m], Y up, feet on y = 0; built-in bodies face +Z (left side +X).
+    faces : (m, 3) int
+        Triangles, counter-clockwise seen from outside (outward normals).
+    name : str
+        Short name (``"male_heavy"``, a file's stem, ...).
+    measurements : dict of str to float
+        Girths, lengths and heights [m] (see :func:`patternfit.body.measure.measure`).
+    landmarks : dict of str to array
+        Points (3,) and axes (2, 3) [m] used to place panels.
+    meta : dict
+        Provenance: source, licence, generator parameters.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    name: str = "body"
+    measurements: dict = field(default_factory=dict)
+    landmarks: dict = field(default_factory=dict)
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        self.vertices = np.asanyarray(self.vertices, dtype=np.float64)
+        self.faces = np.asanyarray(self.faces).astype(np.int64, copy=False)
+        if self.vertices.ndim != 2 or self.vertices.shape[1] != 3:
+            raise ValueError(f"vertices: expected shape (n, 3), got {self.vertices.shape}")
+        if self.faces.ndim != 2 or self.faces.shape[1] != 3:
+            raise ValueError(f"faces: expected shape (m, 3), got {self.faces.shape}")
+        self.landmarks = {k: np.asanyarray(p, dtype=np.float64)
+                          for k, p in self.landmarks.items()}
+        self.measurements = {k: float(x) for k, x in self.measurements.items()}
+        self._fields: dict[tuple, DistanceField] = {}
+
+    @property
+    def height(self) -> float:
+        """Standing height [m]."""
+        return float(np.ptp(self.vertices[:, 1]))
+
+    def distance_field(self, spacing: float = 0.005, *, padding: float = 0.1) -> DistanceField:
+        """Signed distance field of the body, grid step ``spacing`` [m], ``padding`` [m]
+        around the body. Kept on the body and cached on disk (see
+        :func:`patternfit.body.sdf.cache_dir`)."""
+        key = (float(spacing), float(padding))
+        if key not in self._fields:
+            self._fields[key] = DistanceField.from_mesh(self.vertices, self.faces,
+                                                        spacing=spacing, padding=padding)
+        return self._fields[key]
+
+    def to_trimesh(self):
+        """The body as a :class:`trimesh.Trimesh` (no processing)."""
+        import trimesh
+
+        return trimesh.Trimesh(self.vertices, self.faces, process=False)
