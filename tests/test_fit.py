@@ -7,7 +7,7 @@ from patternfit.fit import FIT, LOOSE, TIGHT, FitEvaluator, FitScale, fit_report
 from patternfit.fit.colormap import NEUTRAL
 from patternfit.mesh import mesh_pattern
 from patternfit.pattern.library import build
-from patternfit.sim.placement import place_on_cylinders, roll_panel
+from patternfit.sim.placement import Ellipse, place_on_cylinders, roll_panel
 
 
 @pytest.fixture(scope="module")
@@ -69,13 +69,14 @@ def test_cylinder_roll_is_isometric(coat):
 
 
 def test_roll_panel_keeps_lengths():
-    u = np.linspace(-0.3, 0.3, 61)
-    p = roll_panel(np.column_stack([u, np.zeros_like(u)]), radius=0.2)
-    arc = 0.2 * np.abs(np.diff(np.arctan2(p[:, 0], p[:, 2])))
-    assert arc.sum() == pytest.approx(0.6)
-    assert np.allclose(np.linalg.norm(p[:, [0, 2]], axis=1), 0.2)
-    back = roll_panel(np.array([[0.05, 0.0]]), radius=0.2, side="back")
-    assert back[0, 0] < 0 and back[0, 2] < 0
+    u = np.linspace(-0.3, 0.3, 3001)
+    ring = Ellipse(0.25, 0.15)
+    p = roll_panel(np.column_stack([u, np.zeros_like(u)]), ring, s0=0.1)
+    assert np.linalg.norm(np.diff(p, axis=0), axis=1).sum() == pytest.approx(0.6, rel=1e-4)
+    assert np.allclose((p[:, 0] / 0.25) ** 2 + (p[:, 2] / 0.15) ** 2, 1.0)
+    back = roll_panel(np.array([[0.05, 0.0]]), ring, s0=0.5 * ring.perimeter)
+    assert back[0, 0] < 0 and back[0, 2] < 0  # the back's +u runs towards -x
+    assert ring.perimeter == pytest.approx(np.pi * (3 * 0.4 - np.sqrt((3 * .25 + .15) * (.25 + 3 * .15))), rel=1e-4)
 
 
 def test_panel_ratios_and_classes(coat):

@@ -72,7 +72,7 @@ def patterns(
 
     if name is None:
         rows = []
-        for key, (_, chart, text) in GARMENTS.items():
+        for key, (_, chart, text, _) in GARMENTS.items():
             p = build(key, size)
             rows.append({"name": key, "description": text, "size_chart": chart,
                          "panels": len(p.panels), "seams": len(p.seams),

@@ -234,12 +234,13 @@ def dress(m: Measurements, *, ease: float = 0.06, length: float | None = None) -
     return Pattern("dress", (front, back), _seams("front", "back", edges))
 
 
-#: name -> (drafting function, size chart used by default, description)
-GARMENTS: dict[str, tuple[Callable[..., Pattern], str, str]] = {
-    "coat": (coat, "male", "hip-length coat, kimono sleeves, 2 panels (front, back)"),
-    "skirt": (skirt, "female", "flared skirt, 2 panels (front, back)"),
-    "trousers": (trousers, "male", "full-length trousers, 4 panels (front/back of each leg)"),
-    "dress": (dress, "female", "sleeveless one-piece dress, 2 panels (front, back)"),
+#: name -> (drafting function, size chart used by default, description, where it hangs from)
+GARMENTS: dict[str, tuple[Callable[..., Pattern], str, str, str]] = {
+    "coat": (coat, "male", "hip-length coat, kimono sleeves, 2 panels (front, back)", "neck"),
+    "skirt": (skirt, "female", "flared skirt, 2 panels (front, back)", "waist"),
+    "trousers": (trousers, "male", "full-length trousers, 4 panels (front/back of each leg)",
+                 "waist"),
+    "dress": (dress, "female", "sleeveless one-piece dress, 2 panels (front, back)", "neck"),
 }
 
 
@@ -248,11 +249,12 @@ def build(name: str, size: str = "M", *, measurements: Measurements | None = Non
     """A built-in garment drafted for ``size`` (S–XL) or for explicit ``measurements``.
 
     ``options`` go to the drafting function (ease, lengths). The result is validated and
-    carries ``meta`` with the garment, size and measurements.
+    carries ``meta`` with the garment, size, measurements and ``anchor`` (``"neck"`` or
+    ``"waist"``: the height on the body its top is placed at).
     """
     if name not in GARMENTS:
         raise ValueError(f"name: unknown garment {name!r} (built-in: {', '.join(GARMENTS)})")
-    fn, gender, _ = GARMENTS[name]
+    fn, gender, _, anchor = GARMENTS[name]
     if measurements is None:
         if size.upper() not in SIZE_NAMES:
             raise ValueError(f"size: expected one of {', '.join(SIZE_NAMES)}, got {size!r}")
@@ -262,6 +264,7 @@ def build(name: str, size: str = "M", *, measurements: Measurements | None = Non
         size = "custom"
     pattern = fn(measurements, **options)
     pattern = replace(pattern, meta={"garment": name, "size": size, "chart": gender,
+                                     "anchor": anchor,
                                      "measurements_m": measurements.as_dict()})
     check_pattern(pattern)
     return pattern

@@ -1,7 +1,13 @@
-"""Isometric placement: every panel rolled onto a vertical cylinder around the body part it
-dresses (METHOD.md section 3: placement keeps areas, so ϖ = 1 before sewing).
+"""Isometric placement of the panels around the body before sewing (paper Sec. 6.1).
 
-World frame: metres, y up, the body facing +z, its left at +x.
+Each panel is rolled onto a vertical elliptic cylinder around the body part it dresses (a
+cylinder is developable: rolling keeps every length, so ϖ = 1 before sewing), or laid in a
+plane in front of / behind the body when it is too wide to wrap (kimono sleeves). Seams that
+do not coincide after placement are closed by the sewing phase of the solver.
+
+World frame: metres, y up, the body facing +z, its left side at +x. A panel is drafted right
+side up as seen from outside, so its +u runs towards +x on the front and towards −x on the
+back; rolled panels keep their outward normal.
 """
 
 from __future__ import annotations
@@ -11,9 +17,9 @@ import math
 import numpy as np
 
 from ..mesh.garment import GarmentMesh
-from ..pattern.model import Pattern
+from ..pattern.model import Panel, Pattern
 
-#: default axis position (x, z) [m] and radius [m] of the cylinder for each body part
+#: default axis position (x, z) [m] and radius [m] of each body part, for a body-free placement
 PART_AXES = {
     "torso": ((0.0, 0.0), 0.17),
     "leg_left": ((0.10, 0.0), 0.09),
@@ -22,24 +28,52 @@ PART_AXES = {
     "arm_right": ((-0.30, 0.0), 0.06),
 }
 
+_SAMPLES = 4096  # points of the arc-length table of an ellipse
 
-def roll_panel(uv, *, radius: float, side: str = "front", axis=(0.0, 0.0),
-               height: float = 0.0) -> np.ndarray:
-    """Roll flat points onto a vertical cylinder, isometrically (arc length = u).
+
+class Ellipse:
+    """A horizontal ellipse ``(x0 + a sin θ, z0 + b cos θ)`` parametrised by arc length.
+
+    θ = 0 is the front meridian (+z), θ = π/2 the body's left (+x), θ = π the back.
+    """
+
+    def __init__(self, a: float, b: float, centre=(0.0, 0.0)):
+        if not (a > 0 and b > 0):
+            raise ValueError(f"a, b: semi-axes must be positive, got {a}, {b}")
+        self.a, self.b = float(a), float(b)
+        self.centre = np.asarray(centre, dtype=np.float64)
+        theta = np.linspace(0.0, 2 * math.pi, _SAMPLES + 1)
+        p = np.stack([self.a * np.sin(theta), self.b * np.cos(theta)], axis=1)
+        self._theta = theta
+        self._s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+
+    @property
+    def perimeter(self) -> float:
+        """Circumference [m]."""
+        return float(self._s[-1])
+
+    def arc_length(self, theta: float) -> float:
+        """Arc length from the front meridian to angle ``theta`` [m]."""
+        return float(np.interp(theta % (2 * math.pi), self._theta, self._s))
+
+    def point(self, s) -> np.ndarray:
+        """Points (k, 2) as (x, z) [m] at arc lengths ``s`` (k,) [m], wrapping around."""
+        th = np.interp(np.mod(s, self.perimeter), self._s, self._theta)
+        return self.centre + np.stack([self.a * np.sin(th), self.b * np.cos(th)], axis=1)
+
+
+def roll_panel(uv, ellipse: Ellipse, *, s0: float = 0.0, height: float = 0.0) -> np.ndarray:
+    """Roll flat points onto the vertical cylinder over ``ellipse``, isometrically.
 
     Parameters
     ----------
     uv : (k, 2) float
-        Flat positions [m]; ``u = 0`` lands on the cylinder's front (or back) meridian.
-    radius : float
-        Cylinder radius [m].
-    side : str
-        ``"front"`` faces +z (the panel's +u goes to +x), ``"back"`` faces −z (its +u goes
-        to −x, as seen from behind).
-    axis : (2,) float
-        Cylinder axis position (x, z) [m].
+        Flat positions [m]; ``u`` runs along the ellipse (increasing arc length), ``v`` up.
+    ellipse : Ellipse
+    s0 : float
+        Arc length [m] where ``u = 0`` lands.
     height : float
-        Added to the flat v coordinate to give y [m].
+        Added to ``v`` to give y [m].
 
     Returns
     -------
@@ -49,32 +83,151 @@ def roll_panel(uv, *, radius: float, side: str = "front", axis=(0.0, 0.0),
     p = np.asanyarray(uv, dtype=np.float64)
     if p.ndim != 2 or p.shape[1] != 2:
         raise ValueError(f"uv: expected shape (k, 2), got {p.shape}")
-    if not radius > 0:
-        raise ValueError(f"radius: must be positive, got {radius}")
-    if side not in ("front", "back"):
-        raise ValueError(f"side: expected 'front' or 'back', got {side!r}")
-    s = 1.0 if side == "front" else -1.0
-    ang = p[:, 0] / radius
-    x = axis[0] + s * radius * np.sin(ang)
-    z = axis[1] + s * radius * np.cos(ang)
-    return np.stack([x, p[:, 1] + height, z], axis=1)
+    xz = ellipse.point(s0 + p[:, 0])
+    return np.stack([xz[:, 0], p[:, 1] + height, xz[:, 1]], axis=1)
+
+
+def _centred(uv: np.ndarray) -> np.ndarray:
+    out = uv.copy()
+    out[:, 0] -= 0.5 * (uv[:, 0].min() + uv[:, 0].max())
+    return out
 
 
 def place_on_cylinders(pattern: Pattern, mesh: GarmentMesh, *,
                        clearance: float = 0.03) -> np.ndarray:
-    """Place every panel of ``mesh`` on a cylinder around its body part (``Panel.placement``).
-
-    A panel is centred on the front or back meridian of its part's cylinder; the cylinder
-    grows when a panel would wrap more than half way round. ``clearance`` [m] is added to
-    the part's radius. Returns positions (n, 3) [m], one per flat vertex.
-    """
+    """Body-free placement: every panel on a circular cylinder around its part's default axis
+    (``PART_AXES``), centred on the front or back meridian; the cylinder grows when a panel
+    would wrap more than half way round. Returns positions (n, 3) [m]."""
     x = np.zeros((mesh.n_vertices, 3))
     for pi, panel in enumerate(pattern.panels):
         ids = mesh.panel_vertices(pi)
-        uv = mesh.vertices[ids].copy()
-        uv[:, 0] -= 0.5 * (uv[:, 0].min() + uv[:, 0].max())
+        uv = _centred(mesh.vertices[ids])
         axis, r = PART_AXES.get(panel.placement.part, PART_AXES["torso"])
-        width = np.ptp(uv[:, 0])
-        r = max(r + clearance, width / (0.95 * math.pi))
-        x[ids] = roll_panel(uv, radius=r, side=panel.placement.side, axis=axis)
+        r = max(r + clearance, np.ptp(uv[:, 0]) / (0.95 * math.pi))
+        ring = Ellipse(r, r, axis)
+        s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
+        x[ids] = roll_panel(uv, ring, s0=s0)
+    return x
+
+
+# -- on a body ---------------------------------------------------------------------------------
+def _vertical_offset(pattern: Pattern, mesh: GarmentMesh, body) -> float:
+    """Shift [m] that brings the drafted garment to its height on the body: its top at the
+    neck base when ``pattern.meta["anchor"]`` is ``"neck"``, else at the waist."""
+    top = float(mesh.vertices[:, 1].max())
+    m = body.measurements
+    if pattern.meta.get("anchor", "waist") == "neck":
+        return m["neck_base_height"] + 0.01 - top
+    return m["waist_height"] + 0.01 - top
+
+
+def _rotation_to(direction) -> np.ndarray:
+    """Rotation (3, 3) that turns straight down (0, -1, 0) into unit ``direction``."""
+    a = np.array([0.0, -1.0, 0.0])
+    b = np.asarray(direction, dtype=np.float64) / np.linalg.norm(direction)
+    v, c = np.cross(a, b), float(a @ b)
+    k = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    return np.eye(3) + k + k @ k / (1.0 + c)
+
+
+def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, float]:
+    """Half-width and front/back depths [m] of the torso (and legs) between heights y0, y1."""
+    v = body.vertices
+    half = 0.5 * body.measurements.get("shoulder_width", 0.4) + 0.06
+    sel = (v[:, 1] >= y0) & (v[:, 1] <= y1) & (np.abs(v[:, 0] - centre[0]) < max(half, 0.22))
+    if not sel.any():
+        return 0.15, 0.12, 0.12
+    d = v[sel][:, [0, 2]] - centre
+    return float(np.abs(d[:, 0]).max()), float(d[:, 1].max()), float(-d[:, 1].min())
+
+
+def _place_torso(panel: Panel, uv, body, centre, dy, clearance, width_limit) -> np.ndarray:
+    """Front/back torso panel: rolled on an ellipse clear of the body, or flat when too wide."""
+    y0, y1 = uv[:, 1].min() + dy, uv[:, 1].max() + dy
+    hw, front, back = _torso_extent(body, y0, y1, centre)
+    depth = max(front, back)
+    ring = Ellipse(hw + clearance, depth + clearance, centre)
+    width = float(np.ptp(uv[:, 0]))
+    grow = width / (0.5 * ring.perimeter * 0.97)
+    uv = _centred(uv)
+    if grow <= width_limit:
+        if grow > 1:
+            ring = Ellipse(ring.a * grow, ring.b * grow, centre)
+        s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
+        return roll_panel(uv, ring, s0=s0, height=dy)
+    # too wide to wrap (kimono sleeves): a plane in front of / behind the body
+    if panel.placement.side == "front":
+        return np.stack([centre[0] + uv[:, 0], uv[:, 1] + dy,
+                         np.full(len(uv), centre[1] + front + clearance)], axis=1)
+    return np.stack([centre[0] - uv[:, 0], uv[:, 1] + dy,
+                     np.full(len(uv), centre[1] - back - clearance)], axis=1)
+
+
+def _leg_radius(d: float, width: float) -> float:
+    """Radius of a circle around a leg whose axis is ``d`` [m] from the midline, such that
+    the arc from the front midline crossing round the outside to the back crossing holds
+    ``width`` [m]."""
+    r = max(d * 1.05, width / (2 * math.pi))
+    while r * (2 * math.pi - 2 * math.acos(min(d / r, 1.0))) < width:
+        r *= 1.02
+    return r
+
+
+def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float = 0.03,
+                  width_limit: float = 1.6) -> np.ndarray:
+    """Place every panel of ``mesh`` around ``body`` (a :class:`patternfit.body.Body`).
+
+    Torso panels are rolled onto an elliptic cylinder around the torso axis that clears the
+    body by ``clearance`` [m] and holds the front and back panels side by side (enlarged up
+    to ``width_limit`` times; wider panels are laid flat in front / behind). Leg panels are
+    rolled onto a circular cylinder around their leg, the front panel from the front midline
+    and the back one from the back midline round the outside, so that the crotch seams start
+    at the midline. Returns positions (n, 3) [m], one per flat vertex.
+    """
+    lm = body.landmarks
+    dy = _vertical_offset(pattern, mesh, body)
+    x = np.zeros((mesh.n_vertices, 3))
+    torso = np.asarray(lm["torso_axis"])[:, [0, 2]].mean(axis=0)
+    legs: dict[str, list[int]] = {}
+    for pi, panel in enumerate(pattern.panels):
+        part = panel.placement.part
+        ids = mesh.panel_vertices(pi)
+        uv = mesh.vertices[ids]
+        if part.startswith("leg"):
+            legs.setdefault(part, []).append(pi)
+        elif part.startswith("arm"):
+            axis = np.asarray(lm[f"arm_axis_{part.split('_')[1]}"])[:, [0, 2]].mean(axis=0)
+            r = max(0.07 + clearance, np.ptp(uv[:, 0]) / (0.97 * math.pi))
+            ring = Ellipse(r, r, axis)
+            s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
+            x[ids] = roll_panel(_centred(uv), ring, s0=s0, height=dy)
+        else:
+            x[ids] = _place_torso(panel, uv, body, torso, dy, clearance, width_limit)
+    for part, panels in legs.items():
+        side = part.split("_")[1]
+        top, bottom = np.asarray(lm[f"leg_axis_{side}"])
+        axis = top[[0, 2]]
+        # the cylinder follows the leg's slant (legs apart): a rotation, so still isometric
+        turn = _rotation_to(bottom - top)
+        pivot = np.array([top[0], top[1], top[2]])
+        d = abs(axis[0] - torso[0])
+        width = sum(np.ptp(mesh.vertices[mesh.panel_vertices(p)][:, 0]) for p in panels)
+        r = _leg_radius(d, 1.05 * width + 2 * clearance)
+        ring = Ellipse(r, r, axis)
+        cross = math.asin(min(d / r, 1.0))  # angle where the circle meets the midline
+        towards_mid = 1.0 if axis[0] < torso[0] else -1.0  # +x is towards the midline
+        for pi in panels:
+            panel = pattern.panels[pi]
+            ids = mesh.panel_vertices(pi)
+            uv = mesh.vertices[ids].copy()
+            front = panel.placement.side == "front"
+            theta = (cross if front else math.pi - cross) if towards_mid > 0 \
+                else (-cross if front else math.pi + cross)
+            # +u runs towards +x on the front and -x on the back
+            inner_is_max = (towards_mid > 0) == front
+            anchor = uv[:, 0].max() if inner_is_max else uv[:, 0].min()
+            gap = (clearance if inner_is_max else -clearance)
+            uv[:, 0] -= anchor + gap
+            rolled = roll_panel(uv, ring, s0=ring.arc_length(theta), height=dy)
+            x[ids] = (rolled - pivot) @ turn.T + pivot
     return x
