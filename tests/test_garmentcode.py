@@ -253,3 +253,16 @@ def test_inner_loops_cannot_be_exported():
     with pytest.raises(PatternError, match="inner loops") as info:
         garmentcode_to_dict(p)
     assert info.value.panel == "a"
+
+
+def test_builtin_patterns_round_trip_unchanged():
+    library = pytest.importorskip("patternfit.pattern.library")
+    for name in library.GARMENTS:
+        p = library.build(name, "M")
+        back = garmentcode_from_dict(json.loads(json.dumps(garmentcode_to_dict(p))))
+        assert back.seams == p.seams
+        for a, b in zip(p.panels, back.panels):
+            assert (a.placement, a.grainline) == (b.placement, b.grainline)
+            for ea, eb in zip(a.outline.edges, b.outline.edges, strict=True):
+                assert (ea.name, ea.kind) == (eb.name, eb.kind)
+                assert np.allclose(ea.points, eb.points, atol=1e-12)

@@ -122,9 +122,9 @@ def notch_marks(pattern: Pattern, *, length: float = 0.006) -> list[tuple[str, s
 
 
 def _dxf_document(pattern: Pattern):
-    import ezdxf
+    from ezdxf.document import Drawing
 
-    doc = ezdxf.new("R12")
+    doc = Drawing.new("R12")  # not ezdxf.new(): R12 has no $INSUNITS, the text says the units
     msp = doc.modelspace()
     mm = 1000.0
     used: set[str] = set()

@@ -23,7 +23,11 @@ The file is ``{"pattern": {"panels": {name: panel}, "stitches": [...]}, "paramet
 
 Inside patternfit everything is metres. What has no place in the model (panel and edge labels,
 parameters, properties) is kept in ``pattern.meta["garmentcode"]`` so that export writes it
-back.
+back. Export adds keys GarmentCode ignores, ``patternfit_placement`` per panel (body part,
+side, grain line, and whether the 3D placement is explicit) and ``patternfit_seam_names`` at
+the top, so that our own patterns come back unchanged.
+A file without it gets part ``"torso"`` and its side from the sign of the translation's z
+(front: z >= 0), with the file's explicit 3D placement.
 """
 
 from __future__ import annotations
@@ -47,6 +51,9 @@ __all__ = ["euler_xyz_matrix", "garmentcode_from_dict", "garmentcode_to_dict", "
            "load_garmentcode", "panel_points_3d", "save_garmentcode"]
 
 _RIGHT_WRONG = "right_wrong"
+# an extra panel key (ignored by GarmentCode) keeping our body part and side for a round trip
+_HINT = "patternfit_placement"
+_SEAM_NAMES = "patternfit_seam_names"  # likewise at the top level, one per stitch
 _AUTO_NAME = re.compile(r"e\d+(_\d+)?$")
 
 
@@ -197,9 +204,17 @@ def _panel_from_gc(name: str, p: Any, scale: float, relative: bool):
              for i, (e, n) in enumerate(zip(edges_raw, names))]
     t = _vec3(p, "translation", where)
     r = _vec3(p, "rotation", where)
-    placement = Placement(part="torso", side="back" if t[2] < 0 else "front",
-                          translation=tuple(c * scale for c in t), rotation=r)
-    panel = Panel(name, Loop("outline", tuple(edges)), placement=placement)
+    hint = p.get(_HINT) if isinstance(p.get(_HINT), dict) else {}
+    part = str(hint.get("part", "torso"))
+    side = str(hint.get("side", "back" if t[2] < 0 else "front"))
+    if hint.get("explicit") is False and not any(t) and not any(r):
+        placement = Placement(part=part, side=side)  # written by us without a 3D placement
+    else:
+        placement = Placement(part=part, side=side, translation=tuple(c * scale for c in t),
+                              rotation=r)
+    grain = hint.get("grainline", [0.0, 1.0])
+    panel = Panel(name, Loop("outline", tuple(edges)),
+                  grainline=tuple(_pair(grain, "grainline", **where)), placement=placement)
     labels = [e.get("label") if isinstance(e.get("label"), str) else None for e in edges_raw]
     return panel, names, labels
 
@@ -252,6 +267,11 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
     if not isinstance(stitches, list):
         raise PatternError("'stitches' must be a list")
     seams, tags, used = [], {}, {}
+    seam_names = data.get(_SEAM_NAMES)
+    if not (isinstance(seam_names, list) and len(seam_names) == len(stitches)
+            and all(isinstance(n, str) and n for n in seam_names)
+            and len(set(seam_names)) == len(seam_names)):
+        seam_names = [f"stitch{i}" for i in range(len(stitches))]
     for i, s in enumerate(stitches):
         if not isinstance(s, (list, tuple)) or len(s) < 2:
             raise PatternError(f"stitch #{i} must be a list of two sides")
@@ -263,7 +283,7 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
                 raise PatternError(f"stitch #{i} sews an edge already sewn by stitch "
                                    f"#{used[key]}", panel=side.panel, edge=side.edge)
             used[key] = i
-        seam_name = f"stitch{i}"
+        seam_name = seam_names[i]
         seams.append(Seam(seam_name, a, b, reverse=_RIGHT_WRONG not in extra))
         if extra:
             tags[seam_name] = extra
@@ -397,6 +417,8 @@ def garmentcode_to_dict(pattern: Pattern, *, units_in_meter: float = 100.0) -> d
                  "vertices": verts, "edges": edges}
         if p.name in gc.get("panel_labels", {}):
             entry["label"] = gc["panel_labels"][p.name]
+        entry[_HINT] = {"part": pl.part, "side": pl.side, "grainline": list(p.grainline),
+                        "explicit": pl.translation is not None or pl.rotation is not None}
         panels[p.name] = entry
     tags = gc.get("stitch_tags", {})
     stitches = []
@@ -414,7 +436,8 @@ def garmentcode_to_dict(pattern: Pattern, *, units_in_meter: float = 100.0) -> d
     if gc.get("panel_order") and set(gc["panel_order"]) == set(panels):
         spec["panel_order"] = gc["panel_order"]
     return {"pattern": spec, "parameters": gc.get("parameters", {}),
-            "parameter_order": gc.get("parameter_order", []), "properties": props}
+            "parameter_order": gc.get("parameter_order", []), "properties": props,
+            _SEAM_NAMES: [seam.name for seam in pattern.seams]}
 
 
 def save_garmentcode(pattern: Pattern, path, *, units_in_meter: float = 100.0) -> Path:

@@ -1,0 +1,58 @@
+"""``patternfit convert IN OUT``: pattern interchange between patternfit JSON, GarmentCode
+JSON, DXF-AAMA, and SVG / PDF plots, chosen from the file endings."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from .app import app, console, fail, print_json
+
+
+@app.command()
+def convert(
+    source: Path = typer.Argument(..., help="Pattern to read: .json (patternfit or GarmentCode, "
+                                  "told apart by content) or .dxf (DXF-AAMA; a side file "
+                                  "<name>.seams.json beside it supplies seams)."),
+    target: Path = typer.Argument(..., help="File to write: .json, .dxf, .svg or .pdf "
+                                  "(a name ending in _specification.json writes GarmentCode)."),
+    to: Optional[str] = typer.Option(None, "--to", help="Writer, overriding the ending: "
+                                     "patternfit, garmentcode, dxf, svg or pdf."),
+    units: str = typer.Option("m", "--units", help="Length unit of a patternfit JSON output "
+                              "(m, cm, mm, in)."),
+    paper: str = typer.Option("a4", "--paper", help="PDF tile paper: a4 or letter."),
+    json_out: bool = typer.Option(False, "--json", help="Print machine-readable results."),
+) -> None:
+    """Convert a sewing pattern between formats (lengths keep their true size)."""
+    from ..pattern.errors import PatternError
+    from ..pattern.formats import load_any_pattern, save_any_pattern
+
+    try:
+        pattern = load_any_pattern(source)
+        written = save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
+    except PatternError as exc:
+        fail(str(exc))
+    except ValueError as exc:
+        fail(str(exc))
+    suggested = pattern.meta.get("suggested_seams", [])
+    warnings = pattern.meta.get("warnings", [])
+    result = {"source": str(source), "source_format": pattern.meta.get("source_format"),
+              "pattern": pattern.name, "panels": [p.name for p in pattern.panels],
+              "seams": len(pattern.seams), "suggested_seams": suggested,
+              "warnings": warnings, "written": [str(p) for p in written]}
+    if json_out:
+        print_json(result)
+        return
+    console.print(f"read {source} ({result['source_format']}): {len(pattern.panels)} pieces, "
+                  f"{len(pattern.seams)} seams")
+    for w in warnings:
+        console.print(f"[yellow]warning:[/] {w}", highlight=False)
+    if suggested:
+        console.print(f"{len(suggested)} seams suggested from notches and edge lengths (not "
+                      "applied; name them in a side file <name>.seams.json):")
+        for s in suggested:
+            console.print(f"  {s['a']['panel']}/{s['a']['edge']} -- "
+                          f"{s['b']['panel']}/{s['b']['edge']}", highlight=False)
+    console.print("wrote " + ", ".join(str(p) for p in written))

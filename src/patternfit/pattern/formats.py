@@ -1,0 +1,120 @@
+"""One entry point for every pattern file patternfit reads or writes, chosen by file ending
+and, for JSON, by content.
+
+Readers: ``.json`` (patternfit's own format or a GarmentCode specification, told apart by
+content), ``.dxf`` (DXF-AAMA). Writers: ``.json`` (ours, or GarmentCode when asked or when the
+name ends in ``_specification.json``), ``.dxf`` (DXF-AAMA plus its seam side file), ``.svg``
+and ``.pdf`` (plots). Lengths are metres inside.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from .errors import PatternError
+from .model import Pattern
+
+__all__ = ["READ_SUFFIXES", "WRITE_FORMATS", "load_any_pattern", "save_any_pattern",
+           "sniff_format"]
+
+READ_SUFFIXES = (".json", ".dxf")
+#: writer names and the file ending they go with
+WRITE_FORMATS = {"patternfit": ".json", "garmentcode": ".json", "dxf": ".dxf", "svg": ".svg",
+                 "pdf": ".pdf"}
+
+
+def sniff_format(path) -> str:
+    """``"patternfit"``, ``"garmentcode"`` or ``"dxf"`` for a readable pattern file.
+
+    Raises :class:`PatternError` naming the file for an unknown ending or JSON content.
+    """
+    from .garmentcode import is_garmentcode
+    from .io import FORMAT
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".dxf":
+        return "dxf"
+    if suffix != ".json":
+        raise PatternError(f"cannot read '{suffix or path.name}' files (readable: "
+                           f"{', '.join(READ_SUFFIXES)})", file=path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise PatternError(f"cannot read file: {exc.strerror}", file=path) from None
+    except json.JSONDecodeError as exc:
+        raise PatternError(f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})",
+                           file=path) from None
+    if isinstance(data, dict) and data.get("format") == FORMAT:
+        return "patternfit"
+    if is_garmentcode(data):
+        return "garmentcode"
+    raise PatternError("JSON is neither a patternfit pattern (\"format\": "
+                       f"\"{FORMAT}\") nor a GarmentCode specification (\"pattern\": "
+                       "{\"panels\": ...})", file=path)
+
+
+def load_any_pattern(path) -> Pattern:
+    """Read a pattern from any supported file (see module doc); errors name file, panel, edge.
+
+    ``pattern.meta["source_format"]`` says which reader was used.
+    """
+    kind = sniff_format(path)
+    if kind == "dxf":
+        from .dxf import load_dxf
+
+        return load_dxf(path)
+    if kind == "garmentcode":
+        from .garmentcode import load_garmentcode
+
+        return load_garmentcode(path)
+    from .io import load_pattern
+
+    pattern = load_pattern(path)
+    pattern.meta.setdefault("source_format", "patternfit")
+    return pattern
+
+
+def save_any_pattern(pattern: Pattern, path, *, fmt: str | None = None, units: str = "m",
+                     paper: str = "a4", fit=None) -> list[Path]:
+    """Write ``pattern`` in the format named by ``fmt`` or by the file ending; returns the
+    files written (a DXF brings its seam side file).
+
+    fmt : one of :data:`WRITE_FORMATS`; by default from the ending, ``.json`` meaning ours
+        unless the name ends in ``_specification.json`` (GarmentCode's file name).
+    units : length unit of a patternfit JSON file (``m``, ``cm``, ``mm``, ``in``); GarmentCode
+        files are written in centimetres, DXF in millimetres.
+    paper, fit : for PDF (``"a4"`` or ``"letter"``) and SVG/PDF fit colours, see
+        :func:`patternfit.pattern.plot.layout`.
+    """
+    path = Path(path)
+    if fmt is None:
+        suffix = path.suffix.lower()
+        if path.name.lower().endswith("_specification.json"):
+            fmt = "garmentcode"
+        else:
+            fmt = {v: k for k, v in WRITE_FORMATS.items() if k != "garmentcode"}.get(suffix)
+        if fmt is None:
+            raise ValueError(f"path: cannot tell the format of '{path.name}' (endings: "
+                             f"{', '.join(sorted(set(WRITE_FORMATS.values())))})")
+    if fmt not in WRITE_FORMATS:
+        raise ValueError(f"fmt: expected one of {sorted(WRITE_FORMATS)}, got {fmt!r}")
+    if fmt == "patternfit":
+        from .io import save_pattern
+
+        return [save_pattern(pattern, path, units=units)]
+    if fmt == "garmentcode":
+        from .garmentcode import save_garmentcode
+
+        return [save_garmentcode(pattern, path)]
+    if fmt == "dxf":
+        from .dxf import save_dxf, sidecar_path
+
+        return [save_dxf(pattern, path), sidecar_path(path)]
+    from . import plot
+
+    if fmt == "svg":
+        return [plot.write_svg(pattern, path, fit=fit)]
+    plot.write_pdf(pattern, path, paper=paper, fit=fit)
+    return [path]

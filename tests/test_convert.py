@@ -1,0 +1,72 @@
+"""``load_any_pattern`` / ``save_any_pattern`` dispatch and the ``patternfit convert`` command."""
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+from patternfit.cli.main import app
+from patternfit.pattern import (Edge, Loop, Panel, Pattern, PatternError, Seam, SeamSide,
+                                save_pattern)
+from patternfit.pattern.formats import load_any_pattern, save_any_pattern, sniff_format
+
+
+def _pattern():
+    def panel(name):
+        return Panel(name, Loop("outline", (
+            Edge.line("hem", (0, 0), (0.3, 0)), Edge.line("side", (0.3, 0), (0.3, 0.4)),
+            Edge.quadratic("top", (0.3, 0.4), (0.15, 0.45), (0, 0.4)),
+            Edge.line("centre", (0, 0.4), (0, 0)))))
+    return Pattern("p", (panel("front"), panel("back")),
+                   (Seam("side", SeamSide("front", "side"), SeamSide("back", "centre")),))
+
+
+def test_dispatch_by_ending_and_content(tmp_path):
+    p = _pattern()
+    ours = save_pattern(p, tmp_path / "ours.json")
+    (gc,) = save_any_pattern(p, tmp_path / "x_specification.json")
+    (gc2,) = save_any_pattern(p, tmp_path / "plain.json", fmt="garmentcode")
+    dxf, side = save_any_pattern(p, tmp_path / "p.dxf")
+    assert side.name == "p.seams.json"
+    assert [sniff_format(f) for f in (ours, gc, gc2, dxf)] == \
+        ["patternfit", "garmentcode", "garmentcode", "dxf"]
+    for f in (ours, gc, gc2, dxf):
+        q = load_any_pattern(f)
+        assert [x.name for x in q.panels] == ["front", "back"]
+        assert q.seams == p.seams
+        assert q.panel("front").outline.length == pytest.approx(p.panel("front").outline.length,
+                                                                rel=1e-6)
+    assert load_any_pattern(gc).meta["source_format"] == "garmentcode"
+
+
+def test_unknown_inputs_are_refused(tmp_path):
+    (tmp_path / "a.json").write_text(json.dumps({"hello": 1}))
+    with pytest.raises(PatternError, match="neither") as info:
+        load_any_pattern(tmp_path / "a.json")
+    assert info.value.file == str(tmp_path / "a.json")
+    (tmp_path / "a.obj").write_text("v 0 0 0")
+    with pytest.raises(PatternError, match="cannot read '.obj'"):
+        load_any_pattern(tmp_path / "a.obj")
+    with pytest.raises(ValueError, match="cannot tell"):
+        save_any_pattern(_pattern(), tmp_path / "x.txt")
+    with pytest.raises(ValueError, match="fmt"):
+        save_any_pattern(_pattern(), tmp_path / "x.json", fmt="obj")
+
+
+def test_cli_convert_chain(tmp_path):
+    runner = CliRunner()
+    src = save_pattern(_pattern(), tmp_path / "p.json")
+    r = runner.invoke(app, ["convert", str(src), str(tmp_path / "p.dxf"), "--json"])
+    assert r.exit_code == 0, r.output
+    out = json.loads(r.stdout)
+    assert out["source_format"] == "patternfit" and out["seams"] == 1
+    r = runner.invoke(app, ["convert", str(tmp_path / "p.dxf"), str(tmp_path / "g.json"),
+                            "--to", "garmentcode", "--json"])
+    assert r.exit_code == 0, r.output
+    assert "pattern" in json.loads((tmp_path / "g.json").read_text())
+    for target in ("p.svg", "p.pdf", "back.json"):
+        r = runner.invoke(app, ["convert", str(tmp_path / "g.json"), str(tmp_path / target)])
+        assert r.exit_code == 0, r.output
+        assert (tmp_path / target).stat().st_size > 0
+    r = runner.invoke(app, ["convert", str(tmp_path / "missing.json"), str(tmp_path / "x.dxf")])
+    assert r.exit_code == 2 and "cannot read file" in r.output
