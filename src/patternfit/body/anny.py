@@ -27,7 +27,7 @@ BUILTIN_PHENOTYPES = {
 _ADULT_AGE = 2.0 / 3.0
 
 _MISSING = ("the anny body model is not installed: install it with "
-            "`pip install torch==2.13.0` (CPU build) then `pip install 'patternfit[anny]'`")
+            "`pip install torch==2.13.0` (CPU build), then `pip install anny` (the anny extra)")
 
 
 def _model():
