@@ -140,3 +140,14 @@ def test_fig13_unit_move_no_flip_inside_hull():
     np.testing.assert_allclose(m2.vertices[outer], m.vertices[outer])
     inner = m.boundary_vertices[m.boundary_loop == 1]
     np.testing.assert_allclose(m2.vertices[inner] - m.vertices[inner], 1.0)
+
+
+def test_fused_quality_matches_mesh_quality(base):
+    from patternfit.edit.update import _quality
+    from patternfit.mesh import min_angle
+    p, m = base
+    v = m.vertices.copy()
+    v[m.triangles[0, 0]] = v[m.triangles[0, 1]] + [1e-3, 1e-3]  # probably flips some
+    flips, angle = _quality(v, m.triangles, 1e-12)
+    assert flips == int((signed_areas(v, m.triangles) <= 1e-12).sum())
+    assert angle == pytest.approx(min_angle(v, m.triangles), abs=1e-6)
