@@ -342,7 +342,7 @@ def _corners(p: np.ndarray, angle: float = 25.0) -> list[int]:
 def _loop_from_points(p: np.ndarray, turns: np.ndarray, name: str, prefix: str) -> Loop:
     """Split a closed polygon (k, 2) at its turn points and fit every run."""
     d = np.linalg.norm(p[:, None] - turns[None], axis=2) if len(turns) else np.zeros((len(p), 0))
-    breaks = sorted(np.flatnonzero(d.min(axis=1) < 1e-5).tolist()) if len(turns) else []
+    breaks = sorted(np.flatnonzero(d.min(axis=1) < 5e-5).tolist()) if len(turns) else []
     if not breaks:
         breaks = _corners(p) or [0]
     p = np.roll(p, -breaks[0], axis=0)
@@ -496,7 +496,7 @@ def suggest_seams(pattern: Pattern, notches: dict[str, dict[str, list[float]]] |
 
     notches : {panel: {edge: [arc-length fractions]}}. Pairs whose notches match (mirrored,
     as on two pieces sewn right side to right side) are offered; when the pattern has notches
-    at all, unnotched pairs are not. Each edge is used once. ``reverse`` is True for every suggestion.
+    at all, unnotched pairs are not. Each edge is used once; ``reverse`` is always True.
     """
     notches = notches or {}
     notched = any(f for per_panel in notches.values() for f in per_panel.values())
