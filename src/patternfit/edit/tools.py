@@ -124,7 +124,8 @@ def _finish(old: Pattern, new: Pattern, edited: set, partner: bool) -> Pattern:
         check_pattern(new)
     except PatternError as err:
         hint = ("" if partner or "different length" not in err.reason else
-                " (pass partner=True to edit the partner edge to match)")
+                " (edit the partner edge to match: partner=True, --partner on the "
+                "command line)")
         raise PatternError(f"edit refused: {err.reason}{hint}", panel=err.panel,
                            edge=err.edge) from None
     return new

@@ -234,6 +234,11 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
     if [p.name for p in old_pattern.panels] != list(mesh.panel_names) or \
             [p.name for p in new_pattern.panels] != list(mesh.panel_names):
         raise PatternError("the mesh's panels differ from the pattern's; re-mesh the pattern")
+    edges = {(p.name, e.name) for p in new_pattern.panels for lp in p.loops for e in lp.edges}
+    if edges != set(mesh.edge_names):
+        extra = sorted(edges ^ set(mesh.edge_names))[0]
+        raise PatternError("the edit added or removed edges (a dart?); the mesh cannot follow, "
+                           "re-mesh the pattern", panel=extra[0], edge=extra[1])
     if cache is None:
         cache = CoordinateCache(mesh)
     elif cache.mesh is not mesh:
