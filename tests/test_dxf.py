@@ -185,3 +185,12 @@ def test_builtin_patterns_round_trip(tmp_path):
         for a, b in zip(p.panels, back.panels):
             assert [e.kind for e in a.outline.edges] == [e.kind for e in b.outline.edges]
             assert _outline_distance(a.outline, b.outline) < 1e-4
+
+
+def test_seams_of_unequal_length_travel_as_warnings(tmp_path):
+    p = _pattern()
+    gathered = Seam("gather", SeamSide("front", "hem"), SeamSide("back", "top"))
+    p = Pattern(p.name, p.panels, p.seams + (gathered,), p.meta)
+    back = load_dxf(save_dxf(p, tmp_path / "g.dxf"))
+    assert back.seams == p.seams
+    assert any("gather" in w and "different length" in w for w in back.meta["warnings"])

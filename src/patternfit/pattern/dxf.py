@@ -39,6 +39,7 @@ from ..files import atomic_write_text
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
+from .formats import check_imported
 from .validate import check_pattern
 
 __all__ = ["LAYERS", "load_dxf", "notch_marks", "save_dxf", "sidecar_path", "suggest_seams"]
@@ -193,10 +194,12 @@ def _sidecar(pattern: Pattern) -> dict:
 
 def save_dxf(pattern: Pattern, path, *, sidecar: bool = True) -> Path:
     """Write ``pattern`` as DXF-AAMA (R12, millimetres) atomically; with ``sidecar`` also
-    write ``<name>.seams.json`` with seams, edge names and placement. Returns the DXF path."""
+    write ``<name>.seams.json`` with seams, edge names and placement. Returns the DXF path.
+
+    Seams whose sides differ in length are allowed (:func:`formats.check_imported`)."""
     from ezdxf.addons import gerber_D6673
 
-    check_pattern(pattern)
+    check_imported(pattern)  # seams of unequal length may come from elsewhere and go back
     stream = io.StringIO()
     gerber_D6673.export_stream(_dxf_document(pattern), stream)
     text = stream.getvalue().encode("ascii", errors="replace").decode("ascii")
@@ -581,9 +584,11 @@ def _apply_sidecar(pattern: Pattern, side: Any, file) -> Pattern:
                           bool(s.get("reverse", True))))
     out = Pattern(out.name, out.panels, tuple(seams), out.meta)
     try:
-        check_pattern(out)
+        warnings = check_imported(out)
     except PatternError as exc:
         raise exc.located(file) from None
+    if warnings:
+        out.meta["warnings"] = warnings
     return out
 
 

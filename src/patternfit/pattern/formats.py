@@ -15,13 +15,45 @@ from pathlib import Path
 from .errors import PatternError
 from .model import Pattern
 
-__all__ = ["READ_SUFFIXES", "WRITE_FORMATS", "load_any_pattern", "save_any_pattern",
-           "sniff_format"]
+__all__ = ["READ_SUFFIXES", "WRITE_FORMATS", "check_imported", "load_any_pattern",
+           "save_any_pattern", "sniff_format"]
 
 READ_SUFFIXES = (".json", ".dxf")
 #: writer names and the file ending they go with
 WRITE_FORMATS = {"patternfit": ".json", "garmentcode": ".json", "dxf": ".dxf", "svg": ".svg",
                  "pdf": ".pdf"}
+
+
+def check_imported(pattern: Pattern) -> list[str]:
+    """:func:`~patternfit.pattern.check_pattern` for a pattern read from another tool, except
+    that seams joining sides of different length (gathers, ease, ruffles) are allowed: they
+    come back as warnings. Raises :class:`PatternError` for everything else."""
+    from dataclasses import replace
+
+    from .validate import check_pattern, check_seams
+
+    check_pattern(replace(pattern, seams=()))
+    warnings = []
+    for seam in pattern.seams:
+        try:
+            check_seams(replace(pattern, seams=(seam,)))
+        except PatternError as exc:
+            if "different length" not in exc.reason:
+                raise
+            warnings.append(exc.reason)
+    used: dict[tuple[str, str], list[tuple[float, float, str]]] = {}
+    for seam in pattern.seams:
+        for side in (seam.a, seam.b):
+            for s0, s1, other in used.get((side.panel, side.edge), []):
+                if side.start < s1 - 1e-9 and s0 < side.end - 1e-9:
+                    raise PatternError(f"seams '{other}' and '{seam.name}' overlap on the "
+                                       "same edge", panel=side.panel, edge=side.edge)
+            used.setdefault((side.panel, side.edge), []).append(
+                (side.start, side.end, seam.name))
+    names = [s.name for s in pattern.seams]
+    if len(set(names)) != len(names):
+        raise PatternError(f"seam name used twice: {sorted({n for n in names if names.count(n) > 1})}")
+    return warnings
 
 
 def sniff_format(path) -> str:

@@ -40,12 +40,11 @@ from typing import Any
 
 import numpy as np
 
-from ..constants import tol
 from ..files import atomic_write_text
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
-from .validate import check_panel
+from .formats import check_imported
 
 __all__ = ["euler_xyz_matrix", "garmentcode_from_dict", "garmentcode_to_dict", "is_garmentcode",
            "load_garmentcode", "panel_points_3d", "save_garmentcode"]
@@ -235,8 +234,8 @@ def _stitch_side(side: Any, i: int, k: int, names: dict[str, list[str]]) -> Seam
 def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
     """Build a :class:`Pattern` [m] from a parsed GarmentCode specification.
 
-    Panels are checked as :func:`~patternfit.pattern.check_pattern` does; stitches whose two
-    edges differ in length beyond tolerance (gathers, ruffles) are kept and listed in
+    Checked by :func:`~patternfit.pattern.formats.check_imported`: stitches whose two edges
+    differ in length beyond tolerance (gathers, ruffles) are kept and listed in
     ``meta["warnings"]``. Raises :class:`PatternError` naming panel and edge.
     """
     if not is_garmentcode(data):
@@ -261,12 +260,11 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
     for pname, p in spec["panels"].items():
         panel, names[pname], labels[pname] = _panel_from_gc(str(pname), p, scale,
                                                             coords == "relative")
-        check_panel(panel)
         panels.append(panel)
     stitches = spec.get("stitches", [])
     if not isinstance(stitches, list):
         raise PatternError("'stitches' must be a list")
-    seams, tags, used = [], {}, {}
+    seams, tags = [], {}
     seam_names = data.get(_SEAM_NAMES)
     if not (isinstance(seam_names, list) and len(seam_names) == len(stitches)
             and all(isinstance(n, str) and n for n in seam_names)
@@ -277,24 +275,12 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
             raise PatternError(f"stitch #{i} must be a list of two sides")
         a, b = _stitch_side(s[0], i, 0, names), _stitch_side(s[1], i, 1, names)
         extra = [str(x) for x in s[2:]]
-        for side in (a, b):
-            key = (side.panel, side.edge)
-            if key in used:
-                raise PatternError(f"stitch #{i} sews an edge already sewn by stitch "
-                                   f"#{used[key]}", panel=side.panel, edge=side.edge)
-            used[key] = i
         seam_name = seam_names[i]
         seams.append(Seam(seam_name, a, b, reverse=_RIGHT_WRONG not in extra))
         if extra:
             tags[seam_name] = extra
     pattern = Pattern(name, tuple(panels), tuple(seams))
-    warnings = []
-    for seam in seams:
-        la, lb = pattern.seam_side_length(seam.a), pattern.seam_side_length(seam.b)
-        if abs(la - lb) > max(tol.seam_length, tol.seam_length_rel * 0.5 * (la + lb)):
-            warnings.append(f"seam '{seam.name}' joins sides of different length: "
-                            f"{la * 100:.2f} cm ({seam.a.panel}/{seam.a.edge}) vs "
-                            f"{lb * 100:.2f} cm ({seam.b.panel}/{seam.b.edge})")
+    warnings = check_imported(pattern)
     keep = {k: data[k] for k in ("parameters", "parameter_order") if k in data}
     meta: dict[str, Any] = {"source_format": "garmentcode", "garmentcode": {
         **keep, "properties": props,
