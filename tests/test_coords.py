@@ -183,3 +183,21 @@ def test_bad_input_refused():
         mean_value_coordinates([L_SHAPE], [[0.5, 0.5]], line_mode="nope")
     with pytest.raises(ValueError, match="points"):   # outside the hull: no coordinates
         max_entropy_coordinates(L_SHAPE, [[5.0, 5.0]])
+
+
+@SETTINGS
+@given(st.integers(0, 10_000), st.floats(-1, 1), st.floats(-1, 1), st.floats(0, 6.3),
+       st.integers(3, 6))
+def test_mvc_with_random_hole(seed, cx, cy, turn, k):
+    outer = convex(seed, n=14)
+    t = turn + np.linspace(0, 2 * np.pi, k, endpoint=False)
+    hole = np.array([0.3 * cx, 0.15 * cy]) + 0.12 * np.stack([np.cos(t), np.sin(t)], axis=1)
+    if not Path(outer).contains_points(hole).all():
+        return
+    pts = inside(outer, 40, seed, holes=[hole])
+    nodes = np.concatenate([outer, hole])
+    w = mean_value_coordinates([outer, hole], pts)
+    np.testing.assert_allclose(w.sum(axis=1), 1, atol=1e-11)
+    np.testing.assert_allclose(w @ nodes, pts, atol=1e-11)
+    np.testing.assert_allclose(mean_value_coordinates([outer, hole], nodes),
+                               np.eye(len(nodes)), atol=1e-12)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
-from patternfit.edit import (CoordinateCache, edit_curve, insert_dart, move_dart, move_point,
+from patternfit.edit import (CoordinateCache, edit_curve, insert_dart, move_point,
                              panel_coordinates, update_mesh)
 from patternfit.edit.remesh import remesh_panels
 from patternfit.mesh import mesh_pattern, signed_areas

@@ -15,8 +15,8 @@ from dataclasses import replace
 import numpy as np
 
 from ..constants import tol
-from ..pattern import Edge, Loop, Panel, Pattern, PatternError, Seam, SeamSide
-from ..pattern.validate import check_pattern, check_seams
+from ..pattern import Edge, Loop, Panel, Pattern, PatternError
+from ..pattern.validate import check_pattern
 
 
 def _vec(x, name: str) -> np.ndarray:
