@@ -194,3 +194,18 @@ def test_seams_of_unequal_length_travel_as_warnings(tmp_path):
     back = load_dxf(save_dxf(p, tmp_path / "g.dxf"))
     assert back.seams == p.seams
     assert any("gather" in w and "different length" in w for w in back.meta["warnings"])
+
+
+def test_notches_point_into_the_fabric():
+    from patternfit.pattern.dxf import notch_marks
+
+    p = _pattern()
+    dart = p.panel("front").inner[0]
+    p = Pattern(p.name, p.panels, p.seams + (
+        Seam("dart", SeamSide("front", "d0"), SeamSide("front", "d1")),), p.meta)
+    from matplotlib.path import Path as MplPath
+    for pname, _, at, inner in notch_marks(p, length=0.004):
+        panel = p.panel(pname)
+        tip = at + 0.5 * (inner - at)
+        assert MplPath(panel.outline.polygon(64)).contains_point(tip)
+        assert not MplPath(dart.polygon(8)).contains_point(tip)

@@ -101,7 +101,7 @@ def _loop_points(loop: Loop) -> tuple[np.ndarray, list[int]]:
 
 def notch_marks(pattern: Pattern, *, length: float = 0.006) -> list[tuple[str, str, np.ndarray,
                                                                            np.ndarray]]:
-    """Slit notches at the middle of every seam side, pointing into the panel.
+    """Slit notches at the middle of every seam side, pointing into the fabric.
 
     Returns ``(panel, seam, point, inner_end)`` per notch, points (2,) [m] in the panel frame;
     the two sides of a seam get one notch each, at matching places.
@@ -115,7 +115,9 @@ def notch_marks(pattern: Pattern, *, length: float = 0.006) -> list[tuple[str, s
             p, q = edge.point_at([max(f - 1e-4, 0.0), min(f + 1e-4, 1.0)])
             t = q - p
             inward = np.array([-t[1], t[0]]) / max(np.linalg.norm(t), 1e-300)
-            if panel.outline.signed_area() < 0:  # a clockwise loop has its inside on the right
+            loop = next(lp for lp in panel.loops if any(e.name == side.edge for e in lp.edges))
+            # the left of a counter-clockwise loop is its inside; fabric lies outside inner loops
+            if (loop.signed_area() < 0) != (loop is not panel.outline):
                 inward = -inward
             at = edge.point_at([f])[0]
             out.append((panel.name, seam.name, at, at + length * inward))
