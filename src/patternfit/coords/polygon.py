@@ -9,7 +9,6 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ..constants import tol
 
 
 def as_points(points, name: str) -> np.ndarray:
@@ -39,7 +38,9 @@ def as_loops(loops, name: str = "loops") -> list[np.ndarray]:
         p = as_points(loop, f"{name}[{k}]")
         if len(p) < 3:
             raise ValueError(f"{name}[{k}]: a loop needs at least 3 nodes, got {len(p)}")
-        if np.any(np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1) <= tol.merge * 1e-6):
+        # coincident consecutive nodes make an edge of no direction (0/0 in every formula)
+        gap = np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1)
+        if np.any(gap <= 1e-12 * diameter(p)):
             raise ValueError(f"{name}[{k}]: two consecutive nodes coincide")
         if abs(signed_area(p)) <= 0.0:
             raise ValueError(f"{name}[{k}]: loop encloses no area")
