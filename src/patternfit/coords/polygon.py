@@ -10,7 +10,6 @@ import numba
 import numpy as np
 
 
-
 def as_points(points, name: str) -> np.ndarray:
     """``points`` coerced to a finite (q, 2) float64 array; ``ValueError`` naming ``name``."""
     p = np.asanyarray(points, dtype=np.float64)
