@@ -90,3 +90,16 @@ def test_bad_arguments(two_rectangles):
         mesh_pattern(two_rectangles, min_angle=40)
     with pytest.raises(ValueError, match="triangles"):
         mesh_pattern(two_rectangles, triangles=1)
+
+
+@pytest.mark.parametrize("name", list(GARMENTS))
+def test_builtin_seams_pair_matching_heights(name):
+    # every built-in garment is drafted with its hem at y = 0 in all panels, so the two
+    # vertices of a seam pair sit at the same height unless the seam runs across (crotch)
+    pattern = build(name, "M")
+    mesh = mesh_pattern(pattern, triangles=1500)
+    y = mesh.vertices[:, 1]
+    for si, seam in enumerate(pattern.seams):
+        pairs = mesh.seam_pairs[mesh.seam_index == si]
+        dy = np.abs(y[pairs[:, 0]] - y[pairs[:, 1]])
+        assert dy.max() < 0.035, (seam.name, dy.max())

@@ -57,8 +57,9 @@ def _mirror_panel(panel: Panel, name: str, placement: Placement) -> Panel:
 
 
 def _seams(a: str, b: str, edges: list[str]) -> tuple[Seam, ...]:
-    """Seams joining the same-named edges of panels ``a`` and ``b``, each named for its edge."""
-    return tuple(Seam(e, SeamSide(a, e), SeamSide(b, e), reverse=True) for e in edges)
+    """Seams joining the same-named edges of a front ``a`` and the back ``b`` made from it by
+    :func:`_mirror_panel`; mirroring and renaming make both sides run the same way."""
+    return tuple(Seam(e, SeamSide(a, e), SeamSide(b, e), reverse=False) for e in edges)
 
 
 def _neckline(nw: float, top: float, depth: float) -> Edge:
