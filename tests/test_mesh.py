@@ -103,3 +103,22 @@ def test_builtin_seams_pair_matching_heights(name):
         pairs = mesh.seam_pairs[mesh.seam_index == si]
         dy = np.abs(y[pairs[:, 0]] - y[pairs[:, 1]])
         assert dy.max() < 0.035, (seam.name, dy.max())
+
+
+@pytest.mark.parametrize("name", list(GARMENTS))
+def test_builtin_seams_join_the_same_side_of_the_body(name):
+    # placed around the body, both vertices of a seam pair are on the same side (x), and
+    # a seam named *_l lies on the body's left (+x)
+    from patternfit.sim.placement import place_on_cylinders
+    pattern = build(name, "M")
+    mesh = mesh_pattern(pattern, triangles=1500)
+    x = place_on_cylinders(pattern, mesh)
+    for si, seam in enumerate(pattern.seams):
+        if seam.name.startswith("centre"):
+            continue  # joins the left and right halves
+        pairs = mesh.seam_pairs[mesh.seam_index == si]
+        xa, xb = x[pairs[:, 0], 0], x[pairs[:, 1], 0]
+        far = (np.abs(xa) > 0.05) & (np.abs(xb) > 0.05)
+        assert np.all(np.sign(xa[far]) == np.sign(xb[far])), seam.name
+        if seam.name.endswith("_l"):
+            assert np.median(xa) > 0, seam.name

@@ -23,8 +23,6 @@ _MIRROR = np.diag([-1.0, 1.0])
 
 
 def _swap_side(name: str) -> str:
-    if name.endswith("_r"):
-        return name[:-2] + "_l"
     if name.endswith("_l"):
         return name[:-2] + "_r"
     return name
@@ -38,11 +36,12 @@ def _mirror_loop(loop: Loop, rename: Callable[[str], str]) -> Loop:
 
 
 def _symmetric_loop(half: list[Edge], middle_top: Edge, middle_bottom: Edge | None) -> Loop:
-    """Outline of a panel symmetric about x = 0 from its right half (edges named ``*_r``).
+    """Outline of a front panel symmetric about x = 0 from its half at x > 0.
 
-    ``half`` runs counter-clockwise from the bottom centre's right end to the top centre's
-    right end; ``middle_top`` crosses x = 0 at the top (right to left), ``middle_bottom`` at
-    the bottom (left to right).
+    Seen from the front, the panel's +x is the body's left: ``half``'s edges are named
+    ``*_l`` and their mirror images ``*_r``. ``half`` runs counter-clockwise from the bottom
+    centre's right end to the top centre's right end; ``middle_top`` crosses x = 0 at the top
+    (right to left), ``middle_bottom`` at the bottom (left to right).
     """
     left = _mirror_loop(Loop("x", tuple(half)), _swap_side).edges
     edges = ([middle_bottom] if middle_bottom else []) + half + [middle_top] + list(left)
@@ -50,16 +49,17 @@ def _symmetric_loop(half: list[Edge], middle_top: Edge, middle_bottom: Edge | No
 
 
 def _mirror_panel(panel: Panel, name: str, placement: Placement) -> Panel:
-    """The panel mirrored in x with its side names swapped (e.g. back from front-drafted)."""
-    return Panel(name, _mirror_loop(panel.outline, _swap_side),
-                 tuple(_mirror_loop(lp, _swap_side) for lp in panel.inner),
+    """The panel mirrored in x (a back from a front-drafted panel): seen from behind, its
+    edges stay on the same side of the body, so they keep their names."""
+    return Panel(name, _mirror_loop(panel.outline, lambda s: s),
+                 tuple(_mirror_loop(lp, lambda s: s) for lp in panel.inner),
                  panel.grainline, placement)
 
 
 def _seams(a: str, b: str, edges: list[str]) -> tuple[Seam, ...]:
     """Seams joining the same-named edges of a front ``a`` and the back ``b`` made from it by
-    :func:`_mirror_panel`; mirroring and renaming make both sides run the same way."""
-    return tuple(Seam(e, SeamSide(a, e), SeamSide(b, e), reverse=False) for e in edges)
+    :func:`_mirror_panel`: the two run opposite ways, as for any two panels right side up."""
+    return tuple(Seam(e, SeamSide(a, e), SeamSide(b, e), reverse=True) for e in edges)
 
 
 def _neckline(nw: float, top: float, depth: float) -> Edge:
@@ -94,11 +94,11 @@ def coat(m: Measurements, *, ease: float = 0.12, sleeve_angle: float = 45.0) -> 
     pit = np.array([wc, length - (m.bust / 8 + 0.10)])
 
     def panel(name: str, neck_depth: float, side: str) -> Panel:
-        half = [Edge.line("side_r", (wh, 0.0), pit),
-                Edge.line("underarm_r", pit, cuff_bottom),
-                Edge.line("cuff_r", cuff_bottom, cuff_top),
-                Edge.line("overarm_r", cuff_top, tip),
-                Edge.line("shoulder_r", tip, (nw, length))]
+        half = [Edge.line("side_l", (wh, 0.0), pit),
+                Edge.line("underarm_l", pit, cuff_bottom),
+                Edge.line("cuff_l", cuff_bottom, cuff_top),
+                Edge.line("overarm_l", cuff_top, tip),
+                Edge.line("shoulder_l", tip, (nw, length))]
         loop = _symmetric_loop(half, _neckline(nw, length, neck_depth),
                                Edge.line("hem", (-wh, 0.0), (wh, 0.0)))
         return Panel(name, loop, placement=Placement("torso", side))
@@ -123,8 +123,8 @@ def skirt(m: Measurements, *, ease: float = 0.04, length: float = 0.60,
 
     def panel(name: str, dip: float, side: str) -> Panel:
         hip = (hw, length - hd)
-        half = [Edge.line("side_r", (hem_w, 0.0), hip),
-                Edge.cubic("hip_r", hip, (hw, length - 0.45 * hd),
+        half = [Edge.line("side_l", (hem_w, 0.0), hip),
+                Edge.cubic("hip_l", hip, (hw, length - 0.45 * hd),
                            (ww + 0.3 * (hw - ww), length - 0.08 * hd), (ww, length))]
         waist = Edge.quadratic("waist", (ww, length), (0.0, length - dip), (-ww, length))
         hem = Edge.quadratic("hem", (-hem_w, 0.0), (0.0, -0.02), (hem_w, 0.0))
@@ -219,12 +219,12 @@ def dress(m: Measurements, *, ease: float = 0.06, length: float | None = None) -
 
     def panel(name: str, neck_depth: float, side: str) -> Panel:
         under = np.array([bw, y_bust])
-        half = [Edge.line("skirt_side_r", (hem_w, 0.0), (hw, y_hip)),
-                Edge.cubic("bodice_side_r", (hw, y_hip), (ww - 0.01, y_waist - 0.08),
+        half = [Edge.line("skirt_side_l", (hem_w, 0.0), (hw, y_hip)),
+                Edge.cubic("bodice_side_l", (hw, y_hip), (ww - 0.01, y_waist - 0.08),
                            (ww - 0.01, y_waist + 0.06), under),
-                Edge.cubic("armhole_r", under, (bw - 0.05, y_bust + 0.01),
+                Edge.cubic("armhole_l", under, (bw - 0.05, y_bust + 0.01),
                            (tip[0] - 0.03, tip[1] - 0.09), tip),
-                Edge.line("shoulder_r", tip, (nw, total))]
+                Edge.line("shoulder_l", tip, (nw, total))]
         loop = _symmetric_loop(half, _neckline(nw, total, neck_depth),
                                Edge.quadratic("hem", (-hem_w, 0.0), (0.0, -0.02), (hem_w, 0.0)))
         return Panel(name, loop, placement=Placement("torso", side))
