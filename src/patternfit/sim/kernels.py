@@ -26,18 +26,20 @@ def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, grad):
     """
     energy = 0.0
     for t in range(tris.shape[0]):
-        wu = np.zeros(3)
-        wv = np.zeros(3)
-        for j in range(3):
-            v = tris[t, j]
-            for c in range(3):
-                wu[c] += cu[t, j] * x[v, c]
-                wv[c] += cv[t, j] * x[v, c]
-        lu = np.sqrt(wu[0] ** 2 + wu[1] ** 2 + wu[2] ** 2)
-        lv = np.sqrt(wv[0] ** 2 + wv[1] ** 2 + wv[2] ** 2)
+        a0, a1, a2 = tris[t, 0], tris[t, 1], tris[t, 2]
+        u0, u1, u2 = cu[t, 0], cu[t, 1], cu[t, 2]
+        v0, v1, v2 = cv[t, 0], cv[t, 1], cv[t, 2]
+        wux = u0 * x[a0, 0] + u1 * x[a1, 0] + u2 * x[a2, 0]
+        wuy = u0 * x[a0, 1] + u1 * x[a1, 1] + u2 * x[a2, 1]
+        wuz = u0 * x[a0, 2] + u1 * x[a1, 2] + u2 * x[a2, 2]
+        wvx = v0 * x[a0, 0] + v1 * x[a1, 0] + v2 * x[a2, 0]
+        wvy = v0 * x[a0, 1] + v1 * x[a1, 1] + v2 * x[a2, 1]
+        wvz = v0 * x[a0, 2] + v1 * x[a1, 2] + v2 * x[a2, 2]
+        lu = np.sqrt(wux * wux + wuy * wuy + wuz * wuz)
+        lv = np.sqrt(wvx * wvx + wvy * wvy + wvz * wvz)
         eu = lu - 1.0
         ev = lv - 1.0
-        s = wu[0] * wv[0] + wu[1] * wv[1] + wu[2] * wv[2]
+        s = wux * wvx + wuy * wvy + wuz * wvz
         ku = k_warp if eu > 0.0 else k_warp * compression
         kv = k_weft if ev > 0.0 else k_weft * compression
         a = area[t]
@@ -45,11 +47,19 @@ def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, grad):
         fu = a * ku * eu / max(lu, 1e-12)
         fv = a * kv * ev / max(lv, 1e-12)
         fs = a * k_shear * s
-        for c in range(3):
-            gu = fu * wu[c] + fs * wv[c]
-            gv = fv * wv[c] + fs * wu[c]
-            for j in range(3):
-                grad[tris[t, j], c] += cu[t, j] * gu + cv[t, j] * gv
+        gux = fu * wux + fs * wvx
+        guy = fu * wuy + fs * wvy
+        guz = fu * wuz + fs * wvz
+        gvx = fv * wvx + fs * wux
+        gvy = fv * wvy + fs * wuy
+        gvz = fv * wvz + fs * wuz
+        for j in range(3):
+            i = tris[t, j]
+            cj = cu[t, j]
+            dj = cv[t, j]
+            grad[i, 0] += cj * gux + dj * gvx
+            grad[i, 1] += cj * guy + dj * gvy
+            grad[i, 2] += cj * guz + dj * gvz
     return energy
 
 
@@ -57,21 +67,22 @@ def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, grad):
 # body contact and friction
 
 
+@njit(cache=True, inline="always")
+def _cell(p, origin, spacing, n):
+    """Cell index and fraction along one axis, clamped to the grid."""
+    q = (p - origin) / spacing
+    q = min(max(q, 0.0), n - 1 - 1e-9)
+    k = min(int(np.floor(q)), n - 2)
+    return k, q - k
+
+
 @njit(cache=True)
 def _trilinear(values, origin, spacing, p):
     """Distance and gradient of the trilinear interpolant at point ``p`` (clamped to the grid)."""
     nx, ny, nz = values.shape
-    g = np.empty(3)
-    i0 = np.empty(3, dtype=np.int64)
-    hi = (nx - 1, ny - 1, nz - 1)
-    for c in range(3):
-        q = (p[c] - origin[c]) / spacing
-        q = min(max(q, 0.0), hi[c] - 1e-9)
-        k = min(int(np.floor(q)), hi[c] - 1)
-        i0[c] = k
-        g[c] = q - k
-    x0, y0, z0 = i0[0], i0[1], i0[2]
-    fx, fy, fz = g[0], g[1], g[2]
+    x0, fx = _cell(p[0], origin[0], spacing, nx)
+    y0, fy = _cell(p[1], origin[1], spacing, ny)
+    z0, fz = _cell(p[2], origin[2], spacing, nz)
     c000 = values[x0, y0, z0]
     c100 = values[x0 + 1, y0, z0]
     c010 = values[x0, y0 + 1, z0]
@@ -153,6 +164,26 @@ def friction(x, idx, anchor, normal, limit, slip, grad):
         for c in range(3):
             grad[i, c] += s * u[c]
     return energy
+
+
+# ---------------------------------------------------------------------------------------
+# vector helpers for L-BFGS: serial loops, so that results do not depend on BLAS threads
+
+
+@njit(cache=True)
+def dot(a, b):
+    """Dot product of two flat arrays, summed in index order."""
+    acc = 0.0
+    for i in range(a.shape[0]):
+        acc += a[i] * b[i]
+    return acc
+
+
+@njit(cache=True)
+def axpy(alpha, x, y):
+    """``y += alpha * x`` in place."""
+    for i in range(x.shape[0]):
+        y[i] += alpha * x[i]
 
 
 # ---------------------------------------------------------------------------------------

@@ -58,6 +58,10 @@ class SolverSettings:
     #: tangential slip at which friction reaches the Coulomb limit [m]
     friction_slip: float = 1e-3
     self_collision: bool = True
+    #: self-collision pairs are sought within this share of the mean edge length [-]
+    self_detect: float = 0.5
+    #: cloth-cloth distance kept, as a share of the mean edge length (at least the thickness)
+    self_gap: float = 0.1
     #: stretch stiffness kept in compression, as a share [-]
     compression: float = 0.05
     seam_stiffness: float = 1e3
@@ -151,8 +155,8 @@ class _LBFGS:
         self.rho.clear()
 
     def push(self, s, y):
-        sy = float(s @ y)
-        if sy <= 1e-12 * float(np.sqrt((s @ s) * (y @ y))) or sy <= 0.0:
+        sy = kernels.dot(s, y)
+        if not sy > 1e-12 * np.sqrt(kernels.dot(s, s) * kernels.dot(y, y)):
             return
         if len(self.s) == self.size:
             self.s.pop(0)
@@ -166,13 +170,12 @@ class _LBFGS:
         q = g.copy()
         alphas = []
         for s, y, rho in zip(reversed(self.s), reversed(self.y), reversed(self.rho)):
-            a = rho * float(s @ q)
+            a = rho * kernels.dot(s, q)
             alphas.append(a)
-            q -= a * y
+            kernels.axpy(-a, y, q)
         r = h0(q)
         for (s, y, rho), a in zip(zip(self.s, self.y, self.rho), reversed(alphas)):
-            b = rho * float(y @ r)
-            r += (a - b) * s
+            kernels.axpy(a - rho * kernels.dot(y, r), s, r)
         return -r
 
 
@@ -323,7 +326,7 @@ class GarmentSolver:
                                   self._fr_limit, self.settings.friction_slip, grad)
         if len(self._pairs):
             e += kernels.self_repulsion(x, t.tris, self._pairs, self._bary, self._pnormal,
-                                        self.fabric.thickness, self._kc, grad)
+                                        self._self_gap, self._kc, grad)
         grad[~self._free] = 0.0
         return e, grad
 
@@ -357,10 +360,28 @@ class GarmentSolver:
                 self._fr_limit = self.fabric.friction * self._kc[idx] * pen[idx]
         else:
             self._kc = self._contact_k()
-        if s.self_collision:
-            self._pairs, self._bary, self._pnormal = kernels.near_pairs(
-                x, self.terms.tris, 2.0 * self.fabric.thickness, self.terms.edge_length)
+        self._find_pairs(x)
         self._ensure_factor(diag)
+
+    def _find_pairs(self, x):
+        """Vertex-triangle pairs within the detection radius (lagged self-collision)."""
+        if not self.settings.self_collision:
+            return
+        self._pairs, self._bary, self._pnormal = kernels.near_pairs(
+            x, self.terms.tris, self._detect, max(self.terms.edge_length, 2 * self._detect))
+        self._x_pairs = x.copy()
+
+    @property
+    def _detect(self):
+        # pairs are sought this far apart; they are searched again before any vertex could
+        # have closed the margin beyond the thickness (see solve)
+        return max(2.0 * self._self_gap, self.settings.self_detect * self.terms.edge_length)
+
+    @property
+    def _self_gap(self):
+        # the fabric thickness, but at least a share of the edge length: with vertex-triangle
+        # pairs only, edges of coarse meshes could otherwise slip through each other
+        return max(self.fabric.thickness, self.settings.self_gap * self.terms.edge_length)
 
     def _ensure_factor(self, diag):
         s = self.settings
@@ -382,6 +403,13 @@ class GarmentSolver:
         self._factor_matrix = base
         self._factor_diag = diag
         self.factorizations += 1
+
+    def _moved_since_pairs(self, x):
+        """Whether two vertices may have closed half the detection margin since the search."""
+        moved = x - self._x_pairs
+        moved -= moved.mean(axis=0)
+        margin = self._detect - self._self_gap
+        return float((moved ** 2).sum(axis=1).max()) > (0.25 * margin) ** 2
 
     def _precondition(self, q):
         b = np.ascontiguousarray(q.reshape(-1, 3))
@@ -469,11 +497,11 @@ class GarmentSolver:
                     calm = 0
                 g = grad.ravel()
                 d = lbfgs.direction(g, self._precondition)
-                gd = float(g @ d)
+                gd = kernels.dot(g, d)
                 if not gd < 0.0:
                     lbfgs.reset()
                     d = -self._precondition(g)
-                    gd = float(g @ d)
+                    gd = kernels.dot(g, d)
                 if not gd < 0.0:
                     converged, reason = not sewing, "converged" if not sewing else "stalled"
                     break
@@ -502,6 +530,9 @@ class GarmentSolver:
                 step = float(np.sqrt((step_vec ** 2).sum(axis=1).max()))
                 x, energy, grad = x_new, e_new, g_new
                 it += 1
+                if s.self_collision and self._moved_since_pairs(x):
+                    self._find_pairs(x)
+                    energy, grad = self._energy(x)
                 if progress is not None:
                     progress(it, energy, step, time.perf_counter() - t_start)
                 small = step < s.step_tol and drop <= s.energy_tol * total_drop
