@@ -254,41 +254,38 @@ def _hash_triangles(x, tris, cell, pad):
 
 
 @njit(cache=True)
-def _closest_on_triangle(p, a, b, c):
-    """Barycentric coordinates of the point of triangle abc closest to p (Ericson's method)."""
-    ab = b - a
-    ac = c - a
-    ap = p - a
-    d1 = ab @ ap
-    d2 = ac @ ap
-    if d1 <= 0.0 and d2 <= 0.0:
-        return 1.0, 0.0, 0.0
-    bp = p - b
-    d3 = ab @ bp
-    d4 = ac @ bp
-    if d3 >= 0.0 and d4 <= d3:
-        return 0.0, 1.0, 0.0
-    vc = d1 * d4 - d3 * d2
-    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
-        w = d1 / (d1 - d3)
-        return 1.0 - w, w, 0.0
-    cp = p - c
-    d5 = ab @ cp
-    d6 = ac @ cp
-    if d6 >= 0.0 and d5 <= d6:
-        return 0.0, 0.0, 1.0
-    vb = d5 * d2 - d1 * d6
-    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
-        w = d2 / (d2 - d6)
-        return 1.0 - w, 0.0, w
-    va = d3 * d6 - d5 * d4
-    if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:
-        w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        return 0.0, 1.0 - w, w
-    den = 1.0 / (va + vb + vc)
-    v = vb * den
-    w = vc * den
-    return 1.0 - v - w, v, w
+def _above_triangle(x, v, t0, t1, t2, radius):
+    """Distance from vertex v to the plane of triangle (t0, t1, t2) when its projection falls
+    inside the triangle and lies within ``radius``; else -1. Also the barycentric
+    coordinates and the unit normal oriented towards v."""
+    ax, ay, az = x[t0, 0], x[t0, 1], x[t0, 2]
+    e1x, e1y, e1z = x[t1, 0] - ax, x[t1, 1] - ay, x[t1, 2] - az
+    e2x, e2y, e2z = x[t2, 0] - ax, x[t2, 1] - ay, x[t2, 2] - az
+    px, py, pz = x[v, 0] - ax, x[v, 1] - ay, x[v, 2] - az
+    nx = e1y * e2z - e1z * e2y
+    ny = e1z * e2x - e1x * e2z
+    nz = e1x * e2y - e1y * e2x
+    nn = nx * nx + ny * ny + nz * nz
+    if nn <= 0.0:
+        return -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    ln = np.sqrt(nn)
+    d = (px * nx + py * ny + pz * nz) / ln
+    if abs(d) >= radius:
+        return -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    # barycentric coordinates of the projection
+    cx = py * e2z - pz * e2y
+    cy = pz * e2x - px * e2z
+    cz = px * e2y - py * e2x
+    b1 = (cx * nx + cy * ny + cz * nz) / nn
+    cx = e1y * pz - e1z * py
+    cy = e1z * px - e1x * pz
+    cz = e1x * py - e1y * px
+    b2 = (cx * nx + cy * ny + cz * nz) / nn
+    b0 = 1.0 - b1 - b2
+    if b0 <= 1e-9 or b1 <= 1e-9 or b2 <= 1e-9:
+        return -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    sgn = 1.0 if d >= 0.0 else -1.0
+    return abs(d), b0, b1, b2, sgn * nx / ln, sgn * ny / ln, sgn * nz / ln
 
 
 @njit(cache=True)
@@ -299,51 +296,84 @@ def _range(keys, key):
 
 
 @njit(cache=True)
+def _vertex_table(x, cell):
+    """Open-addressing hash table from grid cell to the vertices in it.
+
+    Returns (table keys, table start, table end, vertex order): the vertices of the cell with
+    key ``k`` are ``order[start[s]:end[s]]`` where ``keys[s] == k``.
+    """
+    n = x.shape[0]
+    vkey = np.empty(n, dtype=np.int64)
+    for v in range(n):
+        vkey[v] = _cell_key(int(np.floor(x[v, 0] / cell)), int(np.floor(x[v, 1] / cell)),
+                            int(np.floor(x[v, 2] / cell)))
+    order = np.argsort(vkey, kind="mergesort")
+    size = 1
+    while size < 2 * n + 2:
+        size *= 2
+    keys = np.zeros(size, dtype=np.int64)
+    used = np.zeros(size, dtype=np.bool_)
+    start = np.zeros(size, dtype=np.int64)
+    end = np.zeros(size, dtype=np.int64)
+    i = 0
+    while i < n:
+        k = vkey[order[i]]
+        j = i
+        while j < n and vkey[order[j]] == k:
+            j += 1
+        slot = k & (size - 1)
+        while used[slot]:
+            slot = (slot + 1) & (size - 1)
+        used[slot] = True
+        keys[slot] = k
+        start[slot] = i
+        end[slot] = j
+        i = j
+    return keys, used, start, end, order
+
+
+@njit(cache=True)
 def near_pairs(x, tris, radius, cell):
-    """Vertex-triangle pairs closer than ``radius`` whose closest point is inside the triangle.
+    """Vertex-triangle pairs closer than ``radius`` whose projection falls inside the triangle.
 
     Returns pairs (p, 2) int (vertex, triangle), barycentric (p, 3) and the unit normal
     (p, 3) oriented towards the vertex. Triangles incident to the vertex are skipped.
     """
-    keys, ids, _, _ = _hash_triangles(x, tris, cell, radius)
-    n = x.shape[0]
-    mark = np.full(tris.shape[0], -1, dtype=np.int64)
+    keys, used, start, end, order = _vertex_table(x, cell)
+    size = keys.shape[0]
+    mark = np.full(x.shape[0], -1, dtype=np.int64)
     out_p = []
     out_b = []
     out_n = []
-    for v in range(n):
-        p = x[v]
-        key = _cell_key(int(np.floor(p[0] / cell)), int(np.floor(p[1] / cell)),
-                        int(np.floor(p[2] / cell)))
-        a, b = _range(keys, key)
-        for e in range(a, b):
-            t = ids[e]
-            if mark[t] == v:
-                continue
-            mark[t] = v
-            if tris[t, 0] == v or tris[t, 1] == v or tris[t, 2] == v:
-                continue
-            A = x[tris[t, 0]]
-            B = x[tris[t, 1]]
-            C = x[tris[t, 2]]
-            b0, b1, b2 = _closest_on_triangle(p, A, B, C)
-            if b0 <= 1e-9 or b1 <= 1e-9 or b2 <= 1e-9:
-                continue
-            q = b0 * A + b1 * B + b2 * C
-            dv = p - q
-            dist = np.sqrt(dv @ dv)
-            if dist >= radius:
-                continue
-            nr = np.cross(B - A, C - A)
-            ln = np.sqrt(nr @ nr)
-            if ln <= 0.0:
-                continue
-            nr = nr / ln
-            if nr @ dv < 0.0:
-                nr = -nr
-            out_p.append((v, t))
-            out_b.append((b0, b1, b2))
-            out_n.append((nr[0], nr[1], nr[2]))
+    for t in range(tris.shape[0]):
+        t0, t1, t2 = tris[t, 0], tris[t, 1], tris[t, 2]
+        lo = np.empty(3, dtype=np.int64)
+        hi = np.empty(3, dtype=np.int64)
+        for c in range(3):
+            a = min(x[t0, c], x[t1, c], x[t2, c]) - radius
+            b = max(x[t0, c], x[t1, c], x[t2, c]) + radius
+            lo[c] = int(np.floor(a / cell))
+            hi[c] = int(np.floor(b / cell))
+        for ix in range(lo[0], hi[0] + 1):
+            for iy in range(lo[1], hi[1] + 1):
+                for iz in range(lo[2], hi[2] + 1):
+                    k = _cell_key(ix, iy, iz)
+                    slot = k & (size - 1)
+                    while used[slot] and keys[slot] != k:
+                        slot = (slot + 1) & (size - 1)
+                    if not used[slot]:
+                        continue
+                    for e in range(start[slot], end[slot]):
+                        v = order[e]
+                        if mark[v] == t or v == t0 or v == t1 or v == t2:
+                            continue
+                        mark[v] = t
+                        dist, b0, b1, b2, nx, ny, nz = _above_triangle(x, v, t0, t1, t2, radius)
+                        if dist < 0.0:
+                            continue
+                        out_p.append((v, t))
+                        out_b.append((b0, b1, b2))
+                        out_n.append((nx, ny, nz))
     k = len(out_p)
     pairs = np.empty((k, 2), dtype=np.int64)
     bary = np.empty((k, 3))

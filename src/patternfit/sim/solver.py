@@ -59,7 +59,7 @@ class SolverSettings:
     friction_slip: float = 1e-3
     self_collision: bool = True
     #: self-collision pairs are sought within this share of the mean edge length [-]
-    self_detect: float = 0.5
+    self_detect: float = 1.0
     #: cloth-cloth distance kept, as a share of the mean edge length (at least the thickness)
     self_gap: float = 0.1
     #: stretch stiffness kept in compression, as a share [-]
