@@ -14,7 +14,7 @@ Out = typer.Option(..., "--out", "-o", help="Output folder (created if missing).
 Json = typer.Option(False, "--json", help="Print machine-readable results on stdout.")
 
 
-def _summary(report: dict, out: Path, seconds: float) -> None:
+def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
     from rich.table import Table
 
     table = Table(title=f"fit of '{report.get('garment')}' ({report['state']})", show_lines=False)
@@ -35,25 +35,22 @@ def _summary(report: dict, out: Path, seconds: float) -> None:
                   + ", ".join(sorted(v for v in report["files"].values())))
 
 
-def _load_pattern_arg(pattern: str, size: str):
-    """A built-in garment name or a pattern file."""
+def load_pattern_arg(pattern: str, size: str):
+    """A built-in garment name or a pattern file in any format patternfit reads."""
     from ..pattern.errors import PatternError
+    from ..pattern.formats import load_any_pattern
     from ..pattern.library import GARMENTS, build
 
     if pattern in GARMENTS:
-        return build(pattern, size)
+        try:
+            return build(pattern, size)
+        except ValueError as exc:
+            fail(str(exc))
     path = Path(pattern)
     if not path.exists():
         fail(f"'{pattern}' is neither a built-in garment ({', '.join(GARMENTS)}) nor a file")
     try:
-        from ..pattern import formats
-        return formats.load_any_pattern(path)
-    except ImportError:
-        from ..pattern.io import load_pattern
-        try:
-            return load_pattern(path)
-        except PatternError as exc:
-            fail(str(exc))
+        return load_any_pattern(path)
     except PatternError as exc:
         fail(str(exc))
 
@@ -120,7 +117,7 @@ def mesh(
     from ..mesh.store import save_garment
     from ..mesh.triangulate import mesh_pattern
 
-    pat = _load_pattern_arg(pattern, size)
+    pat = load_pattern_arg(pattern, size)
     t0 = time.perf_counter()
     try:
         m = mesh_pattern(pat, triangles=triangles, min_angle=min_angle)
@@ -171,7 +168,7 @@ def fit(
     if json_out:
         print_json(report)
     else:
-        _summary(report, out, time.perf_counter() - t0)
+        print_fit_summary(report, out, time.perf_counter() - t0)
 
 
 @app.command()
@@ -205,4 +202,4 @@ def demo(
     if json_out:
         print_json(report)
     else:
-        _summary(report, out, time.perf_counter() - t0)
+        print_fit_summary(report, out, time.perf_counter() - t0)

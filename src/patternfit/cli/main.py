@@ -6,6 +6,7 @@ from . import commands  # noqa: F401  (registers mesh, fit, patterns, demo)
 from . import convert  # noqa: F401
 from . import bodies  # noqa: F401
 from . import edit  # noqa: F401
+from . import drape  # noqa: F401
 from .app import app
 
 __all__ = ["app"]
