@@ -172,3 +172,14 @@ def test_bad_inputs_are_refused_with_the_argument_named():
     solver = GarmentSolver(v, t, grain_at(0, len(t)), "denim")
     with pytest.raises(ValueError, match="x0"):
         solver.solve(np.zeros((3, 3)))
+
+
+def test_kernel_lookup_matches_the_distance_field():
+    from patternfit.sim import kernels
+
+    field = sphere_field(0.1, half=0.2, h=0.01)
+    pts = np.random.default_rng(0).uniform(-0.35, 0.35, (500, 3))
+    d_ref, g_ref = field.query(pts)
+    d, g = kernels.sdf_query(field.values, field.origin, field.spacing, pts)
+    np.testing.assert_allclose(d, d_ref, atol=1e-12)
+    np.testing.assert_allclose(g, g_ref, atol=1e-9)
