@@ -48,20 +48,27 @@ def load_body(name: str) -> Body:
     if not res.is_file():
         raise ValueError(f"name: no built-in body {name!r}; known: {', '.join(list_bodies())} "
                          f"(aliases: {', '.join(sorted(ALIASES))})")
-    with res.open("rb") as fh, np.load(io.BytesIO(fh.read())) as z:
+    return read_body(res, name=canon)
+
+
+def read_body(path, *, name: str | None = None) -> Body:
+    """A body from a file written by :func:`save_body` (a path or package resource)."""
+    with path.open("rb") as fh, np.load(io.BytesIO(fh.read())) as z:
         meas = dict(zip(z["measurement_names"].tolist(), z["measurement_values"].tolist()))
         lm = {k[len("landmark_"):]: z[k] for k in z.files if k.startswith("landmark_")}
-        return Body(z["vertices"], z["faces"], name=canon, measurements=meas, landmarks=lm,
-                    meta=json.loads(str(z["meta"])))
+        meta = json.loads(str(z["meta"]))
+        return Body(z["vertices"], z["faces"], name=name or meta.get("name", path.stem),
+                    measurements=meas, landmarks=lm, meta=meta)
 
 
 def save_body(body: Body, path) -> Path:
     """Write ``body`` in the built-in format (compressed ``.npz``, float32 vertices)."""
     buf = io.BytesIO()
+    meta = {"name": body.name, **body.meta}
     names = sorted(body.measurements)
     np.savez_compressed(
         buf, vertices=body.vertices.astype(np.float32), faces=body.faces.astype(np.int32),
-        measurement_names=np.array(names), meta=np.array(json.dumps(body.meta)),
+        measurement_names=np.array(names), meta=np.array(json.dumps(meta)),
         measurement_values=np.array([body.measurements[k] for k in names]),
         **{f"landmark_{k}": np.asarray(p, dtype=np.float32) for k, p in body.landmarks.items()})
     return atomic_write_bytes(path, buf.getvalue())

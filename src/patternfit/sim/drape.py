@@ -115,12 +115,14 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cot
                          "sewing_iterations": sewn.iterations})
 
 
-def redrape(previous: Drape, mesh: GarmentMesh, *, progress=None) -> Drape:
+def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, progress=None) -> Drape:
     """Drape again after an edit that kept the mesh topology (new rest shapes only),
-    starting from the previous equilibrium; the factorisation is reused when it can be."""
+    starting from the previous equilibrium (or ``start``, (n, 3) [m] per flat vertex); the
+    factorisation is reused when it can be."""
     t0 = time.perf_counter()
     solver = previous.solver
     solver.set_rest(mesh.vertices)
-    result = solver.solve(previous.result.x, progress=progress)
+    x0 = previous.result.x if start is None else np.asanyarray(start, dtype=np.float64)
+    result = solver.solve(x0, progress=progress)
     return Drape(positions=result.x[solver.vertex_map], placed=previous.placed, result=result,
                  solver=solver, seconds=time.perf_counter() - t0)

@@ -1,0 +1,101 @@
+"""The design session: edits with mesh update, undo/redo, atomic save and load."""
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from patternfit.loop import DesignSession
+from patternfit.pattern.io import pattern_to_dict
+
+
+@pytest.fixture(scope="module")
+def session():
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=900)
+    s.redrape()
+    return s
+
+
+def _same_mesh(a, b):
+    return np.array_equal(a.vertices, b.vertices) and np.array_equal(a.triangles, b.triangles)
+
+
+def test_first_drape_records_fit(session):
+    st = session.history[0]
+    assert st.positions is not None and st.positions.shape == (session.mesh.n_vertices, 3)
+    assert 0.5 < st.fitting_ratio < 1.1
+    assert st.checks["inside_vertices"] == 0
+    assert session.evaluate().fitting_ratio == pytest.approx(st.fitting_ratio)
+
+
+def test_edit_undo_redo_restores_exactly(session):
+    before = session.state
+    session.apply("move_edge", panel="front", edge="hem", offset=(0.0, -0.02), partner=True)
+    after = session.state
+    assert session.position == 1 and after.label.startswith("move_edge")
+    assert np.array_equal(after.mesh.triangles, before.mesh.triangles)  # mesh followed
+    assert not _same_mesh(after.mesh, before.mesh)
+    assert after.positions is not None  # kept as the warm start of the next drape
+    undone = session.undo()
+    assert undone is before and session.pattern == before.pattern
+    assert _same_mesh(session.mesh, before.mesh)
+    assert np.array_equal(session.positions, before.positions)
+    session.redo()
+    assert session.state is after
+    with pytest.raises(IndexError):
+        session.redo()
+
+
+def test_unknown_edit_is_refused(session):
+    with pytest.raises(ValueError, match="unknown edit"):
+        session.apply("explode")
+
+
+def test_save_load_round_trip(session, tmp_path):
+    session.save(tmp_path / "s")
+    back = DesignSession.load(tmp_path / "s")
+    assert back.position == session.position and len(back.history) == len(session.history)
+    for a, b in zip(session.history, back.history):
+        assert a.label == b.label and a.pattern == b.pattern and _same_mesh(a.mesh, b.mesh)
+        assert (a.positions is None) == (b.positions is None)
+        if a.positions is not None:
+            assert np.array_equal(a.positions, b.positions)
+        assert a.fitting_ratio == b.fitting_ratio
+    assert back.body.name == session.body.name and back.fabric == session.fabric
+
+
+def test_save_killed_halfway_leaves_previous_loadable(session, tmp_path):
+    folder = tmp_path / "s"
+    session.save(folder)
+    first = (folder / "current").read_text()
+    # a second save killed while writing: run it in a child process stopped by SIGKILL
+    # right after its snapshot folder was started
+    code = f"""
+import os, signal, pathlib
+from patternfit.loop import session as sm
+from patternfit.loop import DesignSession
+s = DesignSession.load({str(folder)!r})
+real = sm.save_pattern
+def dying(*a, **k):
+    real(*a, **k)
+    os.kill(os.getpid(), signal.SIGKILL)
+sm.save_pattern = dying
+s.save({str(folder)!r})
+"""
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True)
+    assert proc.returncode != 0  # killed
+    assert (folder / "current").read_text() == first
+    assert len(list(folder.glob("snapshot-*"))) == 2  # the half-written one is ignored
+    back = DesignSession.load(folder)
+    assert back.position == session.position
+    session.save(folder)  # the next save cleans up
+    assert len(list(folder.glob("snapshot-*"))) == 1
+
+
+def test_load_refuses_other_folders(tmp_path):
+    from patternfit.pattern.errors import PatternError
+    with pytest.raises(PatternError, match="not a saved design session"):
+        DesignSession.load(tmp_path)
