@@ -35,17 +35,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--triangles", type=int, nargs="+", default=[2000, 15000])
     ap.add_argument("--fabric", default="cotton_shirting")
+    ap.add_argument("--side", type=float, default=0.8, help="cloth side [m]")
     args = ap.parse_args()
     body = sphere(0.2)
     # compile the kernels once, outside the timings
     v, t = square(0.3, 200)
     GarmentSolver(v, t, np.tile([1.0, 0.0], (len(t), 1)), args.fabric, body=body).solve(
         np.c_[v[:, 0], np.full(len(v), 0.21), v[:, 1]])
-    print(f"cloth 1.2 m square on a 0.2 m sphere, 5 mm distance field, {args.fabric}; 2-core CPU")
+    print(f"cloth {args.side} m square on a 0.2 m sphere, 5 mm distance field, {args.fabric}; 2-core CPU")
     print(f"{'triangles':>9} {'run':>8} {'iters':>6} {'seconds':>8} {'factor':>6} "
           f"{'inside':>6} {'clear mm':>8} {'crossing':>8} {'conv':>5} {'peak MB':>8}")
     for m in args.triangles:
-        v, t = square(1.2, m)
+        v, t = square(args.side, m)
         grain = np.tile([1.0, 0.0], (len(t), 1))
         x0 = np.c_[v[:, 0], np.full(len(v), 0.21), v[:, 1]]
         solver = GarmentSolver(v, t, grain, args.fabric, body=body)

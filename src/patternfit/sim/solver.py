@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -49,8 +49,11 @@ class SolverSettings:
     contact_band: float = 5e-3
     #: pseudo time step of the mass regulariser m / dt^2 in the preconditioner [s]
     precond_dt: float = 0.1
-    #: refactor when the contact diagonal changed on more than this share of vertices
+    #: refactor when the contact diagonal changed on more than this share of vertices ...
     refactor_share: float = 0.02
+    #: ... or the rest of the matrix by more than this relative (Frobenius) change; below it
+    #: the old factor stays a good initial Hessian (e.g. after a small pattern edit)
+    refactor_change: float = 0.02
     #: iterations between outer updates (friction anchors, self pairs, sewing ramp)
     refresh: int = 25
     #: friction is switched on this many iterations after the seams are welded
@@ -124,6 +127,8 @@ class DrapeResult:
     energy : float
         Total energy at ``x`` [J].
     checks : DrapeChecks
+    factorizations : int
+        Cholesky factorisations done by this solver object so far.
     """
 
     x: np.ndarray
@@ -137,7 +142,6 @@ class DrapeResult:
     energy: float
     checks: DrapeChecks
     factorizations: int = 0
-    timing: dict = field(default_factory=dict)
 
 
 class _LBFGS:
@@ -355,13 +359,36 @@ class GarmentSolver:
                 idx = np.flatnonzero((pen > 0) & self._free)
                 nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
                 self._fr_idx = idx
-                self._fr_anchor = x[idx].copy()
+                self._fr_anchor = self._anchors(x, idx, nrm)
                 self._fr_normal = np.ascontiguousarray(nrm)
                 self._fr_limit = self.fabric.friction * self._kc[idx] * pen[idx]
         else:
             self._kc = self._contact_k()
         self._find_pairs(x)
         self._ensure_factor(diag)
+
+    def _anchors(self, x, idx, normal):
+        """Friction anchors of the contact vertices ``idx``.
+
+        A vertex that sticks (tangential offset from its anchor below the slip distance)
+        keeps its anchor, so static friction holds instead of creeping one slip distance per
+        update; one that slides is re-anchored a slip distance behind, at the Coulomb limit;
+        a new contact is anchored where it is.
+        """
+        slip = self.settings.friction_slip
+        held = self._anchor_of[idx]
+        new = x[idx].copy()
+        has = ~np.isnan(held[:, 0])
+        u = x[idx] - held
+        u -= np.einsum("ij,ij->i", u, normal)[:, None] * normal
+        m = np.linalg.norm(u, axis=1)
+        stick = has & (m <= slip)
+        new[stick] = held[stick]
+        slide = has & (m > slip)
+        new[slide] = x[idx][slide] - slip * u[slide] / m[slide, None]
+        self._anchor_of[:] = np.nan
+        self._anchor_of[idx] = new
+        return np.ascontiguousarray(new)
 
     def _find_pairs(self, x):
         """Vertex-triangle pairs within the detection radius (lagged self-collision)."""
@@ -387,10 +414,12 @@ class GarmentSolver:
         s = self.settings
         base = (self.terms.membrane_pd + self._Q).tocsr()
         base = base + sp.diags(self._mass / s.precond_dt ** 2)
-        same_base = (self._factor_matrix is not None and base.shape == self._factor_matrix.shape
-                     and base.nnz == self._factor_matrix.nnz
-                     and np.array_equal(base.indices, self._factor_matrix.indices)
-                     and np.array_equal(base.data, self._factor_matrix.data))
+        old = self._factor_matrix
+        same_base = (old is not None and base.shape == old.shape and base.nnz == old.nnz
+                     and np.array_equal(base.indptr, old.indptr)
+                     and np.array_equal(base.indices, old.indices)
+                     and np.linalg.norm(base.data - old.data)
+                     <= s.refactor_change * np.linalg.norm(old.data))
         if same_base and self._factor_diag is not None:
             changed = np.count_nonzero(diag != self._factor_diag)
             if changed <= s.refactor_share * len(diag):
@@ -456,6 +485,7 @@ class GarmentSolver:
             self._f[~self._free] = 0.0
             self._contact_scale = np.ones(self._n)
             self._fr_idx = np.zeros(0, np.int64)
+            self._anchor_of = np.full((self._n, 3), np.nan)
             self._pairs = np.zeros((0, 2), np.int64)
             self._set_springs(k_seam)
             return x_red
