@@ -29,7 +29,8 @@ class SolverSettings:
 
     Stopping: converged when, for ``patience`` consecutive iterations, the largest vertex
     step is below ``step_tol`` [m] and the energy drop of the iteration is below
-    ``energy_tol`` times the total drop so far; or stopped at ``max_iterations`` /
+    ``energy_tol`` times the larger of the total drop so far and the work of lifting the
+    garment (gravity and external forces) by 0.1 m; or stopped at ``max_iterations`` /
     ``time_limit`` [s] (not converged).
     """
 
@@ -258,6 +259,7 @@ class GarmentSolver:
         self._factor_matrix = None
         self._factor_diag = None
         self.factorizations = 0
+        self._held = None
         self._build()
 
     # ------------------------------------------------------------------------ set-up
@@ -477,23 +479,31 @@ class GarmentSolver:
             raise ValueError(f"forces: expected {self.n3} rows, got {len(f_ext)}")
         sewing = not self._welded
         k_seam = s.seam_stiffness
-        friction_from = None if sewing else s.friction_delay
+        # a solve that follows one which ended with friction on (a warm start) keeps its
+        # friction anchors and contact stiffness, and friction acts from the first iteration
+        warm = (not sewing and self._held is not None
+                and np.array_equal(x_full, self._held))
+        friction_from = None if sewing else (0 if warm else s.friction_delay)
 
-        def setup(x_red):
+        def setup(x_red, keep):
             self._f = self._mass[:, None] * np.asarray(s.gravity)[None, :]
             np.add.at(self._f, self._group, f_ext)
             self._f[~self._free] = 0.0
-            self._contact_scale = np.ones(self._n)
             self._fr_idx = np.zeros(0, np.int64)
-            self._anchor_of = np.full((self._n, 3), np.nan)
+            if not keep:
+                self._contact_scale = np.ones(self._n)
+                self._anchor_of = np.full((self._n, 3), np.nan)
             self._pairs = np.zeros((0, 2), np.int64)
             self._set_springs(k_seam)
             return x_red
 
-        x = setup(self._reduce(x_full))
-        self._refresh(x, friction_on=False)
+        x = setup(self._reduce(x_full), keep=warm)
+        self._refresh(x, friction_on=bool(warm))
         energy, grad = self._energy(x)
         lbfgs = _LBFGS(s.history)
+        # the work of lifting the garment by 10 cm: the energy scale of a warm start, whose
+        # own total drop is tiny
+        e_scale = 0.1 * float(np.linalg.norm(self._f.sum(axis=0)))
         it = 0
         last_refresh = 0
         calm = 0
@@ -515,7 +525,7 @@ class GarmentSolver:
                         if gap < s.weld_gap:
                             x_full = x[self._group]
                             self._weld()
-                            x = setup(self._reduce(x_full))
+                            x = setup(self._reduce(x_full), keep=False)
                             sewing = False
                             friction_from = it + s.friction_delay
                             lbfgs.reset()
@@ -565,7 +575,7 @@ class GarmentSolver:
                     energy, grad = self._energy(x)
                 if progress is not None:
                     progress(it, energy, step, time.perf_counter() - t_start)
-                small = step < s.step_tol and drop <= s.energy_tol * total_drop
+                small = step < s.step_tol and drop <= s.energy_tol * max(total_drop, e_scale)
                 calm = calm + 1 if small else 0
                 if calm >= s.patience and not sewing:
                     if self.body is not None and self._any_inside(x) \
@@ -577,6 +587,9 @@ class GarmentSolver:
         except KeyboardInterrupt:
             interrupted, reason = True, "interrupted"
         x_out = x[self._group]
+        # remember the end state when friction was on: a solve from exactly here is warm
+        self._held = (x_out.copy() if friction_from is not None and it >= friction_from
+                      and not interrupted else None)
         seconds = time.perf_counter() - t_start
         return DrapeResult(
             x=x_out, vertex_map=self._group[self.vertex_map], welded=self._welded,
