@@ -42,7 +42,8 @@ def main():
     v, t = square(0.3, 200)
     GarmentSolver(v, t, np.tile([1.0, 0.0], (len(t), 1)), args.fabric, body=body).solve(
         np.c_[v[:, 0], np.full(len(v), 0.21), v[:, 1]])
-    print(f"cloth {args.side} m square on a 0.2 m sphere, 5 mm distance field, {args.fabric}; 2-core CPU")
+    print(f"cloth {args.side} m square on a 0.2 m sphere, 5 mm distance field, "
+          f"{args.fabric}; 2-core CPU")
     print(f"{'triangles':>9} {'run':>8} {'iters':>6} {'seconds':>8} {'factor':>6} "
           f"{'inside':>6} {'clear mm':>8} {'crossing':>8} {'conv':>5} {'peak MB':>8}")
     for m in args.triangles:
