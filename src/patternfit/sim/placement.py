@@ -62,14 +62,70 @@ class Ellipse:
         return self.centre + np.stack([self.a * np.sin(th), self.b * np.cos(th)], axis=1)
 
 
-def roll_panel(uv, ellipse: Ellipse, *, s0: float = 0.0, height: float = 0.0) -> np.ndarray:
-    """Roll flat points onto the vertical cylinder over ``ellipse``, isometrically.
+class WingedProfile:
+    """A front (or back) profile for panels too wide to wrap: an elliptic arc round the body
+    that turns back outwards into two straight wings at a distance ``depth`` from the axis
+    (``(x, z)`` [m], symmetric in arc length about the meridian). Panels with kimono sleeves
+    get their torso round the body and their sleeves in front of / behind the arms.
+
+    Parameters
+    ----------
+    a, b : float
+        Semi-axes of the arc [m] (x and z).
+    depth : float
+        Distance of the wings from the axis [m], below ``b``.
+    centre : (2,) float
+        Axis position (x, z) [m].
+    side : float
+        +1 for the front (wings at +depth), -1 for the back (rotated half a turn).
+    bend : float
+        Radius of the turn from the arc into the wings [m].
+    """
+
+    def __init__(self, a: float, b: float, depth: float, centre=(0.0, 0.0), *, side: float = 1.0,
+                 bend: float = 0.05):
+        if not (a > 0 and b > depth > 0):
+            raise ValueError(f"a, b, depth: need a > 0 and b > depth > 0, got {a}, {b}, {depth}")
+        self.centre = np.asarray(centre, dtype=np.float64)
+        self.side = float(side)
+
+        def tilt(th):  # angle of the arc's tangent below the +x direction
+            return math.atan2(b * math.sin(th), a * math.cos(th))
+
+        lo, hi = 0.0, 0.5 * math.pi
+        for _ in range(60):  # the wings' height falls as the arc goes on: bisect
+            th = 0.5 * (lo + hi)
+            z_end = b * math.cos(th) - bend * (1 - math.cos(tilt(th)))
+            lo, hi = (th, hi) if z_end > depth else (lo, th)
+        th1, phi = lo, tilt(lo)
+        t = np.linspace(0.0, th1, 1500)
+        arc = np.stack([a * np.sin(t), b * np.cos(t)], axis=1)
+        centre_turn = arc[-1] + bend * np.array([math.sin(phi), math.cos(phi)])
+        psi = np.linspace(-phi, 0.0, 300)[1:]
+        turn = centre_turn + bend * np.stack([np.sin(psi), -np.cos(psi)], axis=1)
+        wing = turn[-1] + np.outer(np.linspace(0.0, 3.0, 301)[1:], [1.0, 0.0])
+        pts = np.concatenate([arc, turn, wing])
+        self._pts = pts
+        self._s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+
+    def point(self, s) -> np.ndarray:
+        """Points (k, 2) as (x, z) [m] at signed arc lengths ``s`` (k,) [m] from the meridian."""
+        s = np.asanyarray(s, dtype=np.float64)
+        r = np.abs(s)
+        x = np.interp(r, self._s, self._pts[:, 0]) * np.sign(s)
+        z = np.interp(r, self._s, self._pts[:, 1])
+        return self.centre + self.side * np.stack([x, z], axis=1)
+
+
+def roll_panel(uv, ellipse, *, s0: float = 0.0, height: float = 0.0) -> np.ndarray:
+    """Roll flat points onto the vertical cylinder over a profile, isometrically.
 
     Parameters
     ----------
     uv : (k, 2) float
-        Flat positions [m]; ``u`` runs along the ellipse (increasing arc length), ``v`` up.
-    ellipse : Ellipse
+        Flat positions [m]; ``u`` runs along the profile (increasing arc length), ``v`` up.
+    ellipse : Ellipse or WingedProfile
+        The profile: anything with ``point(s) -> (k, 2)`` (x, z) [m] by arc length.
     s0 : float
         Arc length [m] where ``u = 0`` lands.
     height : float
@@ -141,8 +197,10 @@ def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, flo
     return float(np.abs(d[:, 0]).max()), float(d[:, 1].max()), float(-d[:, 1].min())
 
 
-def _place_torso(panel: Panel, uv, body, centre, dy, clearance, width_limit) -> np.ndarray:
-    """Front/back torso panel: rolled on an ellipse clear of the body, or flat when too wide."""
+def _place_torso(panel: Panel, uv, body, centre, dy, clearance, width_limit,
+                 arm_gap) -> np.ndarray:
+    """Front/back torso panel: rolled on an ellipse clear of the body, or on a winged profile
+    when too wide to wrap."""
     y0, y1 = uv[:, 1].min() + dy, uv[:, 1].max() + dy
     hw, front, back = _torso_extent(body, y0, y1, centre)
     depth = max(front, back)
@@ -155,12 +213,11 @@ def _place_torso(panel: Panel, uv, body, centre, dy, clearance, width_limit) -> 
             ring = Ellipse(ring.a * grow, ring.b * grow, centre)
         s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
         return roll_panel(uv, ring, s0=s0, height=dy)
-    # too wide to wrap (kimono sleeves): a plane in front of / behind the body
-    if panel.placement.side == "front":
-        return np.stack([centre[0] + uv[:, 0], uv[:, 1] + dy,
-                         np.full(len(uv), centre[1] + front + clearance)], axis=1)
-    return np.stack([centre[0] - uv[:, 0], uv[:, 1] + dy,
-                     np.full(len(uv), centre[1] - back - clearance)], axis=1)
+    # too wide to wrap (kimono sleeves): torso round the body, sleeves on wings either side
+    # of the arms
+    side = 1.0 if panel.placement.side == "front" else -1.0
+    wings = WingedProfile(ring.a, ring.b, min(arm_gap, 0.8 * ring.b), centre, side=side)
+    return roll_panel(uv, wings, height=dy)
 
 
 def _leg_radius(d: float, width: float) -> float:
@@ -179,13 +236,15 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
 
     Torso panels are rolled onto an elliptic cylinder around the torso axis that clears the
     body by ``clearance`` [m] and holds the front and back panels side by side (enlarged up
-    to ``width_limit`` times; wider panels are laid flat in front / behind). Leg panels are
+    to ``width_limit`` times; wider panels keep their middle round the body and continue
+    outwards in front of / behind the arms, :class:`WingedProfile`). Leg panels are
     rolled onto a circular cylinder around their leg, the front panel from the front midline
     and the back one from the back midline round the outside, so that the crotch seams start
     at the midline. Returns positions (n, 3) [m], one per flat vertex.
     """
     lm = body.landmarks
     dy = _vertical_offset(pattern, mesh, body)
+    arm_gap = 0.5 * body.measurements.get("bicep", 0.32) / math.pi + clearance + 0.02
     x = np.zeros((mesh.n_vertices, 3))
     torso = np.asarray(lm["torso_axis"])[:, [0, 2]].mean(axis=0)
     legs: dict[str, list[int]] = {}
@@ -202,7 +261,8 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
             x[ids] = roll_panel(_centred(uv), ring, s0=s0, height=dy)
         else:
-            x[ids] = _place_torso(panel, uv, body, torso, dy, clearance, width_limit)
+            x[ids] = _place_torso(panel, uv, body, torso, dy, clearance, width_limit,
+                                  arm_gap)
     for part, panels in legs.items():
         side = part.split("_")[1]
         top, bottom = np.asarray(lm[f"leg_axis_{side}"])
@@ -230,4 +290,27 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             uv[:, 0] -= anchor + gap
             rolled = roll_panel(uv, ring, s0=ring.arc_length(theta), height=dy)
             x[ids] = (rolled - pivot) @ turn.T + pivot
-    return x
+    return x + [0.0, _sewing_lift(mesh, x, body, clearance), 0.0]
+
+
+def _sewing_lift(mesh: GarmentMesh, x, body, clearance: float, *, most: float = 0.06) -> float:
+    """Upward shift [m] that takes the most seams' straight sewing paths off the body.
+
+    Sewing pulls the two sides of a seam straight towards each other; where the midpoint of
+    a pair lies inside the body (a shoulder seam under a "roof" over the shoulder), the
+    garment is lifted until the path clears it, if lifting helps at all. Gravity brings it
+    back down once sewn.
+    """
+    if not len(mesh.seam_pairs):
+        return 0.0
+    mid = 0.5 * (x[mesh.seam_pairs[:, 0]] + x[mesh.seam_pairs[:, 1]])
+    field = body.distance_field(0.005)
+    best, best_lift = None, 0.0
+    for lift in np.arange(0.0, most + 1e-9, 0.01):
+        d, _ = field.query(mid + [0.0, lift, 0.0])
+        blocked = int(np.sum(d < 0.5 * clearance))
+        if best is None or blocked < best:
+            best, best_lift = blocked, float(lift)
+        if blocked == 0:
+            break
+    return best_lift
