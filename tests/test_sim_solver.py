@@ -170,6 +170,12 @@ def test_sewing_closes_the_gap_and_welds():
     assert res.checks.seam_gap_max_mm < 0.5
     assert np.array_equal(res.vertex_map[a], res.vertex_map[b])
     assert res.checks.self_intersections == 0
+    early = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", seam_pairs=np.c_[a, b],
+                          settings=SolverSettings(gravity=(0.0, 0.0, 0.0), stop_at_weld=True))
+    sewn = early.solve(x0)
+    assert sewn.welded and sewn.stop_reason == "welded" and not sewn.converged
+    assert sewn.iterations < res.iterations and sewn.checks.seam_gap_max_mm == 0.0
+    assert early.solve(sewn.x).converged
 
 
 def test_bad_inputs_are_refused_with_the_argument_named():

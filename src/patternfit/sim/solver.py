@@ -73,6 +73,9 @@ class SolverSettings:
     seam_stiffness_max: float = 1e7
     #: seam pairs are welded once every gap is below this [m]
     weld_gap: float = 5e-4
+    #: return right after the weld (stop_reason "welded"), e.g. to sew without gravity and
+    #: drape in a second solve
+    stop_at_weld: bool = False
     gravity: tuple = (0.0, -GRAVITY, 0.0)
 
 
@@ -124,7 +127,8 @@ class DrapeResult:
     interrupted : bool
         Stopped by KeyboardInterrupt; ``x`` is the last accepted state.
     stop_reason : str
-        "converged", "iterations", "time", "interrupted" or "stalled".
+        "converged", "iterations", "time", "interrupted", "stalled" or "welded" (with
+        ``SolverSettings.stop_at_weld``).
     energy : float
         Total energy at ``x`` [J].
     checks : DrapeChecks
@@ -529,6 +533,10 @@ class GarmentSolver:
                             sewing = False
                             friction_from = it + s.friction_delay
                             lbfgs.reset()
+                            if s.stop_at_weld:
+                                energy, grad = self._energy(x)
+                                reason = "welded"
+                                break
                         else:
                             k_seam = min(k_seam * s.seam_growth, s.seam_stiffness_max)
                             self._set_springs(k_seam)
