@@ -1,0 +1,29 @@
+"""``patternfit studio``: the design loop in the browser."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from .app import app, console, fail
+
+
+@app.command()
+def studio(
+    port: int = typer.Option(None, "--port", help="TCP port on 127.0.0.1 (default: a free one)."),
+    no_browser: bool = typer.Option(False, "--no-browser", help="Do not open a browser."),
+    session: Path = typer.Option(Path("patternfit-session"), "--session",
+                                 help="Session folder: created, or continued if it holds one."),
+):
+    """Start the studio web app on 127.0.0.1 over a design session folder and print its
+    address; stop it with Ctrl+C (the session is saved after every change)."""
+    if port is not None and not 1 <= port <= 65535:
+        fail("--port: expected 1..65535")
+    try:
+        from ..studio import serve
+    except ImportError as err:  # pragma: no cover - fastapi/uvicorn are dependencies
+        fail(f"the studio needs fastapi and uvicorn ({err})")
+    serve(session, port=port, browser=not no_browser,
+          announce=lambda url: console.print(f"patternfit studio on [bold]{url}[/] "
+                                             f"(session: {session})", highlight=False))

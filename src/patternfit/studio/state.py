@@ -1,0 +1,235 @@
+"""The studio's server-side state: one design session, its save folder, the drape running in
+the background and the live-drag coordinate cache.
+
+Every change goes through :class:`Studio` under one lock, so two browser tabs on the same
+session cannot interleave half-done edits; the session's ``revision`` counts changes and
+lets a tab notice that another one wrote in between (last write wins, with a warning).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..edit import CoordinateCache, update_mesh
+from ..fit.colormap import FitScale
+from ..loop import DesignSession
+from ..pattern.errors import PatternError
+
+#: triangle count of a new session's garment mesh unless asked otherwise
+DEFAULT_TRIANGLES = 1500
+#: the editing tools the live drag preview accepts (they keep the mesh topology)
+DRAG_OPS = ("move_point", "move_edge", "edit_curve", "move_dart")
+#: relative stretch at which the warp/weft colours saturate [-]
+STRETCH_SCALE = FitScale(limit=0.10, band=0.01)
+
+
+@dataclass
+class DrapeJob:
+    """The drape running in the background thread, as the progress endpoint reports it."""
+
+    running: bool = False
+    stop: bool = False
+    iteration: int = 0
+    energy: float = float("nan")
+    step: float = float("nan")
+    elapsed: float = 0.0
+    fraction: float = 0.0
+    error: str | None = None
+    finished: float | None = None
+    _step0: float | None = field(default=None, repr=False)
+
+    def as_dict(self) -> dict:
+        return {"running": self.running, "iteration": self.iteration,
+                "energy": _finite(self.energy), "step": _finite(self.step),
+                "elapsed": self.elapsed, "fraction": self.fraction, "error": self.error,
+                "stopping": self.stop and self.running}
+
+
+def _finite(x):
+    return float(x) if x is not None and math.isfinite(x) else None
+
+
+class Studio:
+    """One design session kept in ``folder`` (created, or continued when it holds one).
+
+    Parameters
+    ----------
+    folder : path
+        The session folder; everything the studio writes goes inside it.
+    """
+
+    def __init__(self, folder):
+        self.folder = Path(folder).resolve()
+        self.folder.mkdir(parents=True, exist_ok=True)
+        self.lock = threading.RLock()
+        self.revision = 0
+        self.job = DrapeJob()
+        self._thread: threading.Thread | None = None
+        self._drag: tuple | None = None  # (state object, CoordinateCache)
+        self.info: dict = {}
+        self.session: DesignSession | None = None
+        if (self.folder / "session" / "current").exists():
+            self.session = DesignSession.load(self.folder / "session")
+            self.info = self._read_info()
+
+    # -- session life --------------------------------------------------------------------
+    def _read_info(self) -> dict:
+        import json
+
+        p = self.folder / "studio.json"
+        return json.loads(p.read_text()) if p.exists() else {}
+
+    def _save(self) -> None:
+        """Write the session (atomic snapshot) and count the change."""
+        import json
+
+        from ..files import atomic_write_text
+
+        self.session.save(self.folder / "session")
+        atomic_write_text(self.folder / "studio.json", json.dumps(self.info))
+        self.revision += 1
+
+    def ensure(self) -> DesignSession:
+        """The session, starting the default one (built-in skirt) when there is none."""
+        with self.lock:
+            if self.session is None:
+                self.new()
+            return self.session
+
+    def new(self, *, garment: str = "skirt", size: str = "M", body: str = "female_average",
+            fabric: str = "cotton", triangles: int = DEFAULT_TRIANGLES) -> None:
+        """Start a new session on a built-in garment (replaces the current one)."""
+        triangles = int(triangles)
+        if not 100 <= triangles <= 60000:
+            raise ValueError("triangles: expected 100..60000")
+        with self.lock:
+            self._refuse_while_draping()
+            self.session = DesignSession.new(garment=garment, size=size, body=body,
+                                             fabric=fabric, triangles=triangles)
+            self.info = {"garment": garment, "size": size, "body": body, "fabric": fabric,
+                         "source": f"built-in {garment} {size}"}
+            self._save()
+
+    def start_from(self, pattern, *, source: str) -> None:
+        """Start a new session on an uploaded pattern, keeping body, fabric and mesh size."""
+        from ..body.builtin import load_body
+
+        with self.lock:
+            self._refuse_while_draping()
+            old = self.ensure()
+            self.session = DesignSession(pattern, load_body(self.info.get("body",
+                                                                          "female_average")),
+                                         old.fabric, old.triangles, old.threshold)
+            self.info = {**self.info, "garment": pattern.name, "source": source}
+            self._save()
+
+    def _refuse_while_draping(self) -> None:
+        if self.job.running:
+            raise RuntimeError("a drape is running: stop it first")
+
+    # -- edits ---------------------------------------------------------------------------
+    def apply(self, op: str, args: dict) -> dict:
+        """Apply an editing tool (lengths [m]); returns the mesh update's report in words."""
+        with self.lock:
+            self._refuse_while_draping()
+            report = self.ensure().apply(op, **args)
+            self._save()
+            return {"remeshed": report is None or bool(report.remeshed),
+                    "min_angle": None if report is None else _finite(report.min_angle)}
+
+    def undo(self) -> None:
+        with self.lock:
+            self._refuse_while_draping()
+            self.ensure().undo()
+            self._save()
+
+    def redo(self) -> None:
+        with self.lock:
+            self._refuse_while_draping()
+            self.ensure().redo()
+            self._save()
+
+    def drag(self, op: str, args: dict) -> tuple[np.ndarray, list[str]]:
+        """Live preview of a drag: the mesh's flat vertices (n, 2) [m] for the edited pattern,
+        through the cached coordinates of the current mesh (nothing is recorded)."""
+        from .. import edit as tools
+
+        if op not in DRAG_OPS:
+            raise ValueError(f"op: the drag preview takes {', '.join(DRAG_OPS)}")
+        with self.lock:
+            s = self.ensure()
+            st = s.state
+            if self._drag is None or self._drag[0] is not st:
+                self._drag = (st, CoordinateCache(st.mesh))
+            cache = self._drag[1]
+        new = getattr(tools, op)(st.pattern, **args)
+        # a preview never re-meshes: a panel that would need it shows its stretched mesh
+        mesh, report = update_mesh(st.pattern, new, st.mesh, cache=cache, min_angle=0.0,
+                                   return_report=True)
+        return mesh.vertices, list(report.moved)
+
+    # -- drape ---------------------------------------------------------------------------
+    def start_drape(self) -> None:
+        """Drape the current state in a background thread (progress in :attr:`job`)."""
+        with self.lock:
+            self._refuse_while_draping()
+            self.ensure()
+            self.job = DrapeJob(running=True)
+            self._thread = threading.Thread(target=self._run_drape, args=(self.job,),
+                                            daemon=True, name="patternfit-drape")
+            self._thread.start()
+
+    def stop_drape(self) -> None:
+        self.job.stop = True
+
+    def wait(self, timeout: float | None = None) -> None:
+        """Wait for the background drape (tests, shutdown)."""
+        if self._thread is not None:
+            self._thread.join(timeout)
+
+    def _run_drape(self, job: DrapeJob) -> None:
+        t0 = time.perf_counter()
+
+        def progress(it, energy, step, elapsed):
+            job.iteration, job.energy, job.step = int(it), float(energy), float(step)
+            job.elapsed = time.perf_counter() - t0
+            if math.isfinite(step) and step > 0:
+                # progress: the largest vertex step falling towards the stopping tolerance,
+                # on a log scale (the iteration count is not known in advance)
+                job._step0 = max(job._step0 or step, step)
+                span = math.log(job._step0 / 1e-5)
+                done = math.log(job._step0 / max(step, 1e-5)) / span if span > 0 else 1.0
+                job.fraction = max(job.fraction, min(0.99, done))
+            if job.stop:
+                raise KeyboardInterrupt
+
+        try:
+            with self.lock:
+                session = self.session
+                state = session.state
+            session.redrape(progress=progress)
+            with self.lock:
+                if self.session is session and session.state is state:
+                    self._save()
+        except Exception as exc:  # shown in the page; the server keeps serving
+            job.error = f"{type(exc).__name__}: {exc}"
+        finally:
+            job.elapsed = time.perf_counter() - t0
+            job.fraction = 1.0 if job.error is None else job.fraction
+            job.running = False
+            job.finished = time.time()
+
+
+def describe_error(exc: Exception) -> str:
+    """The message shown in the page for a refused request."""
+    if isinstance(exc, PatternError):
+        return str(exc)
+    if isinstance(exc, (ValueError, KeyError, IndexError, RuntimeError, TypeError)):
+        return str(exc).strip("'\"") or type(exc).__name__
+    return f"{type(exc).__name__}: {exc}"

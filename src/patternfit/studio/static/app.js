@@ -1,0 +1,236 @@
+// The studio page: loop controls, the 2D editor and the 3D view over the server's session.
+// Lengths sent to the server are metres; the page shows centimetres.
+import { Editor } from "/static/editor.js";
+import { View3D } from "/static/view3d.js";
+
+const $ = (id) => document.getElementById(id);
+const studio = { state: null, geometry: null, revision: null, dragStats: { frames: 0, ms: 0 } };
+window.studio = studio;
+
+function message(text, kind = "error") {
+  const m = $("message");
+  m.textContent = text || ""; m.className = text ? kind : "hidden";
+}
+
+async function api(path, { method = "GET", json, form } = {}) {
+  const opts = { method };
+  if (json !== undefined) { opts.body = JSON.stringify(json); opts.headers = { "Content-Type": "application/json" }; }
+  if (form) opts.body = form;
+  const r = await fetch(path, opts);
+  const body = r.headers.get("content-type")?.includes("json") ? await r.json() : null;
+  if (!r.ok) throw new Error((body && body.error) || `${r.status} ${r.statusText}`);
+  if (body && body.warning) message(body.warning, "warning");
+  if (body && body.revision !== undefined) studio.revision = body.revision;
+  return body;
+}
+
+const editor = new Editor($("mesh2d"), $("overlay"), {
+  onDrag: dragPreview, onDrop: (h, offset) => applyEdit(h, offset),
+  onSelect: (h) => { $("selected").textContent = `selected: ${h.key} (${h.op})`; },
+  onClickPanel: insertDart,
+});
+const view = new View3D($("view3d"), {
+  onHover: (t, value) => {
+    editor.highlight(t);
+    $("hover-value").textContent = value === null ? "" :
+      (view.map === "area_change" ? `area change ${(100 * value).toFixed(1)} %` : `${view.map} stretch ${(100 * value).toFixed(1)} %`);
+  },
+});
+
+// -- loading ----------------------------------------------------------------------------
+async function refresh({ geometry = true } = {}) {
+  const s = await api("/api/state");
+  studio.revision = s.revision;
+  const r = s.fitting_ratio;
+  $("ratio").textContent = r === null ? "—" : `${(100 * r).toFixed(2)} %`;
+  $("ratio").dataset.value = r === null ? "" : r;
+  $("ratio").className = r === null ? "" : (r >= s.threshold ? "fits" : "off");
+  $("source").textContent = `${s.info.source || ""} · ${s.info.body || ""} · ${s.fabric} · ${s.triangles} triangles`;
+  $("history").innerHTML = "";
+  for (const h of s.history) {
+    const li = document.createElement("li");
+    li.textContent = `${h.label}  ${h.fitting_ratio === null ? "" : "ϖ " + (100 * h.fitting_ratio).toFixed(1) + " %"}`;
+    if (h.current) li.className = "current";
+    $("history").appendChild(li);
+  }
+  drawRatioHistory(s.history);
+  $("undo-btn").disabled = !s.can_undo; $("redo-btn").disabled = !s.can_redo;
+  $("drape-btn").textContent = s.draped || s.history.some((h) => h.fitting_ratio !== null) ? "Re-drape" : "Drape";
+  if (geometry) {
+    studio.geometry = await api("/api/geometry");
+    editor.setGeometry(studio.geometry);
+    $("grade-panel").innerHTML = studio.geometry.panel_names.map((n) => `<option>${n}</option>`).join("");
+    view.setGarment(s.draped ? await api("/api/garment3d") : null);
+    showLegend();
+  }
+  studio.state = s;  // set last: the page is consistent with it from here on
+  if (s.drape.running) pollDrape();
+}
+
+function drawRatioHistory(history) {
+  const svg = $("ratio-history"), W = 160, H = 36;
+  const pts = history.map((h, i) => [i, h.fitting_ratio]).filter((p) => p[1] !== null);
+  if (!pts.length) { svg.innerHTML = ""; return; }
+  const lo = Math.min(...pts.map((p) => p[1]), 0.9), hi = Math.max(...pts.map((p) => p[1]), 1.0);
+  const n = Math.max(history.length - 1, 1);
+  const xy = pts.map(([i, r]) => [4 + (i / n) * (W - 8), H - 4 - ((r - lo) / (hi - lo || 1)) * (H - 8)]);
+  svg.innerHTML = `<polyline points="${xy.map((p) => p.join(",")).join(" ")}" fill="none" stroke="#9fdc8f" stroke-width="2"/>` +
+    xy.map((p) => `<circle cx="${p[0]}" cy="${p[1]}" r="2.5" fill="#fff"/>`).join("");
+}
+
+function showLegend() {
+  const data = view.data, ul = $("legend");
+  ul.innerHTML = "";
+  if (!data) return;
+  for (const row of data.maps[view.map].legend) {
+    const li = document.createElement("li");
+    li.innerHTML = `<span class="swatch" style="background:rgb(${row.rgb.join(",")})"></span>${row.label}`;
+    ul.appendChild(li);
+  }
+}
+
+// -- editing ----------------------------------------------------------------------------
+let inflight = false, pending = null;
+
+function dragArgs(h, offset) {
+  const args = { ...h.args, offset };
+  if (h.partner) args.partner = $("partner").checked;
+  return args;
+}
+
+function dragPreview(h, offset) {
+  pending = { op: h.op, args: dragArgs(h, offset) };
+  if (!inflight) sendDrag();
+}
+
+async function sendDrag() {
+  const req = pending; pending = null; inflight = true;
+  const t0 = performance.now();
+  try {
+    const r = await fetch("/api/drag", { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(req) });
+    if (r.ok) {
+      editor.setPreview(new Float32Array(await r.arrayBuffer()));
+      const st = studio.dragStats; st.frames += 1; st.ms += performance.now() - t0;
+      $("drag-rate").textContent = `live mesh: ${(1000 * st.frames / st.ms).toFixed(0)} updates/s`;
+    } else {
+      message((await r.json()).error);
+    }
+  } finally {
+    inflight = false;
+    if (pending) sendDrag();
+  }
+}
+
+async function waitDrag() { while (inflight) await new Promise((r) => setTimeout(r, 5)); pending = null; }
+
+async function applyEdit(h, offset) {
+  await waitDrag();
+  await edit(h.op, dragArgs(h, offset));
+}
+
+async function edit(op, args) {
+  try {
+    await api("/api/edit", { method: "POST", json: { op, args, revision: studio.revision } });
+    if ($("message").className === "error") message("");
+  } catch (err) { message(err.message); }
+  await refresh();
+}
+
+async function insertDart(panel, centre) {
+  const names = new Set(studio.geometry.panels.find((p) => p.name === panel).loops.map((l) => l.name));
+  let i = 1; while (names.has(`dart${i}`)) i++;
+  await edit("insert_dart", { panel, name: `dart${i}`, centre,
+                              length: +$("dart-length").value / 100, width: +$("dart-width").value / 100 });
+}
+
+$("apply-offset").onclick = () => {
+  const h = editor.selected;
+  if (!h) { message("select a handle first (click it)"); return; }
+  edit(h.op, dragArgs(h, [+$("dx").value / 100, +$("dy").value / 100]));
+};
+$("resize-dart").onclick = () => {
+  const h = editor.selected;
+  if (!h || h.op !== "move_dart") { message("select a dart first (dart tool, click its handle)"); return; }
+  edit("resize_dart", { ...h.args, length: +$("dart-length").value / 100, width: +$("dart-width").value / 100 });
+};
+$("grade-btn").onclick = () => edit("grade", { panel: $("grade-panel").value, sx: +$("grade-sx").value / 100,
+                                               sy: +$("grade-sy").value / 100, partner: $("partner").checked });
+$("undo-btn").onclick = async () => { try { await api("/api/undo", { method: "POST", json: { revision: studio.revision } }); } catch (e) { message(e.message); } refresh(); };
+$("redo-btn").onclick = async () => { try { await api("/api/redo", { method: "POST", json: { revision: studio.revision } }); } catch (e) { message(e.message); } refresh(); };
+for (const r of document.querySelectorAll("input[name=tool]")) r.onchange = () => editor.setTool(r.value);
+$("show-mesh").onchange = () => { editor.showMesh = $("show-mesh").checked; editor.drawMesh(); };
+$("snap").onchange = () => { editor.snap = $("snap").checked; };
+$("map").onchange = () => { view.setMap($("map").value); showLegend(); };
+
+// -- drape ------------------------------------------------------------------------------
+let polling = false;
+$("drape-btn").onclick = async () => {
+  try { await api("/api/drape", { method: "POST" }); message(""); pollDrape(); } catch (e) { message(e.message); }
+};
+$("stop-btn").onclick = () => api("/api/drape/stop", { method: "POST" });
+
+async function pollDrape() {
+  if (polling) return;
+  polling = true; $("stop-btn").disabled = false; $("drape-btn").disabled = true;
+  try {
+    for (;;) {
+      const j = await api("/api/drape");
+      $("progress").value = j.fraction;
+      $("drape-status").textContent = `iteration ${j.iteration}, ${j.elapsed.toFixed(1)} s` +
+        (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "");
+      if (!j.running) { if (j.error) message(j.error); break; }
+      await new Promise((r) => setTimeout(r, 250));
+    }
+    polling = false;
+    await refresh();
+  } finally {
+    polling = false; $("stop-btn").disabled = true; $("drape-btn").disabled = false;
+  }
+}
+
+// -- session, files ---------------------------------------------------------------------
+$("new-btn").onclick = async () => {
+  try {
+    await api("/api/new", { method: "POST", json: { garment: $("garment").value, size: $("size").value,
+      body: $("body").value, fabric: $("fabric").value, triangles: +$("triangles").value } });
+    message("");
+  } catch (e) { message(e.message); }
+  await refresh(); view.setBody(await api("/api/body"));
+};
+$("upload").onchange = async () => {
+  const f = $("upload").files[0];
+  if (!f) return;
+  const form = new FormData(); form.append("file", f);
+  try { await api("/api/upload", { method: "POST", form }); message(`opened ${f.name}`, "warning"); await refresh(); }
+  catch (e) { message(`could not open ${f.name}: ${e.message}`); }
+  $("upload").value = "";
+};
+
+// another tab may write the same session: notice it and reload (last write wins)
+setInterval(async () => {
+  if (polling || inflight || editor.drag) return;
+  try {
+    const s = await (await fetch("/api/state")).json();
+    if (studio.revision !== null && s.revision !== studio.revision) {
+      message("the session was changed in another tab; reloaded", "warning");
+      await refresh();
+    }
+  } catch (e) { /* server gone: the next action shows it */ }
+}, 3000);
+
+async function start() {
+  const o = await api("/api/options");
+  const fill = (id, items, labels) => { $(id).innerHTML = items.map((v) => `<option value="${v}" title="${labels ? labels[v] : ""}">${v}</option>`).join(""); };
+  fill("garment", Object.keys(o.garments), o.garments); fill("size", o.sizes); fill("body", o.bodies);
+  fill("fabric", o.fabrics); fill("engine", o.engines);
+  $("size").value = "M";
+  $("exports").innerHTML = o.exports.map((n) => `<a href="/api/export/${n}" download="${n}">${n}</a>`).join("");
+  $("correct-btn").disabled = !o.correct_available;
+  $("correct-btn").title = o.correct_available ? "" : "automatic correction is not available in this version";
+  await refresh();
+  const s = studio.state;
+  for (const k of ["garment", "size", "body"]) if (s.info[k]) $(k).value = s.info[k];
+  view.setBody(await api("/api/body"));
+  document.body.dataset.ready = "1";
+}
+start().catch((e) => message(e.message));

@@ -1,0 +1,249 @@
+// The 2D pattern editor: panels side by side at true proportions, the mesh with its fit
+// colours on a canvas, outlines and drag handles in an SVG on top. Lengths in metres.
+const SVGNS = "http://www.w3.org/2000/svg";
+const GAP = 0.08;  // space between panels [m]
+const PAD = 24;    // margin [px]
+const SEAM_COLOURS = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
+                      "#8c564b", "#e377c2", "#bcbd22", "#7f7f7f"];
+
+export class Editor {
+  constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel }) {
+    this.canvas = canvas; this.svg = svg;
+    this.onDrag = onDrag; this.onDrop = onDrop; this.onSelect = onSelect;
+    this.onClickPanel = onClickPanel;
+    this.geo = null; this.vertices = null; this.tool = "point"; this.showMesh = true;
+    this.snap = false; this.selected = null; this.highlighted = -1;
+    new ResizeObserver(() => this.layout()).observe(canvas.parentElement);
+    svg.addEventListener("pointerdown", (e) => this.pointerDown(e));
+    svg.addEventListener("pointermove", (e) => this.pointerMove(e));
+    svg.addEventListener("pointerup", (e) => this.pointerUp(e));
+  }
+
+  // geometry from /api/geometry
+  setGeometry(geo) {
+    this.geo = geo;
+    this.vertices = Float64Array.from(geo.vertices);
+    const tp = geo.triangle_panel, tri = geo.triangles, v = this.vertices;
+    const np = geo.panel_names.length;
+    const lo = Array.from({ length: np }, () => [Infinity, Infinity]);
+    const hi = Array.from({ length: np }, () => [-Infinity, -Infinity]);
+    for (let t = 0; t < tp.length; t++) {
+      const p = tp[t];
+      for (let c = 0; c < 3; c++) {
+        const i = tri[3 * t + c];
+        lo[p][0] = Math.min(lo[p][0], v[2 * i]); lo[p][1] = Math.min(lo[p][1], v[2 * i + 1]);
+        hi[p][0] = Math.max(hi[p][0], v[2 * i]); hi[p][1] = Math.max(hi[p][1], v[2 * i + 1]);
+      }
+    }
+    // panel offsets: left to right, bottoms aligned (as fit.pictures.flat_layout)
+    this.offsets = []; let x0 = 0;
+    for (let p = 0; p < np; p++) {
+      this.offsets.push([x0 - lo[p][0], -lo[p][1]]);
+      x0 += hi[p][0] - lo[p][0] + GAP;
+    }
+    this.extent = [x0 - GAP, Math.max(...hi.map((h, p) => h[1] - lo[p][1]))];
+    this.vertexPanel = new Int32Array(v.length / 2);
+    for (let t = 0; t < tp.length; t++) for (let c = 0; c < 3; c++) this.vertexPanel[tri[3 * t + c]] = tp[t];
+    // triangles grouped by colour: one fill per colour keeps a 20K-triangle redraw cheap
+    this.groups = new Map();
+    for (let t = 0; t < tp.length; t++) {
+      const key = geo.colors ? `rgb(${geo.colors[3 * t]},${geo.colors[3 * t + 1]},${geo.colors[3 * t + 2]})` : "#e9ece4";
+      if (!this.groups.has(key)) this.groups.set(key, []);
+      this.groups.get(key).push(t);
+    }
+    this.layout();
+  }
+
+  layout() {
+    const r = this.canvas.parentElement.getBoundingClientRect();
+    const dpr = window.devicePixelRatio || 1;
+    this.W = r.width; this.H = r.height;
+    this.canvas.width = r.width * dpr; this.canvas.height = r.height * dpr;
+    this.canvas.getContext("2d").setTransform(dpr, 0, 0, dpr, 0, 0);
+    if (!this.geo) return;
+    this.k = Math.min((this.W - 2 * PAD) / this.extent[0], (this.H - 2 * PAD - 16) / this.extent[1]);
+    this.drawMesh(); this.drawOverlay();
+  }
+
+  // pattern point of panel p [m] -> screen [px]
+  sx(p, x) { return PAD + (x + this.offsets[p][0]) * this.k; }
+  sy(p, y) { return this.H - PAD - (y + this.offsets[p][1]) * this.k; }
+
+  setPreview(vertices) { this.vertices = vertices; this.drawMesh(); }
+
+  highlight(t) { this.highlighted = t; this.drawMesh(); }
+
+  drawMesh() {
+    if (!this.geo) return;
+    const ctx = this.canvas.getContext("2d"), v = this.vertices, tri = this.geo.triangles;
+    const tp = this.geo.triangle_panel, k = this.k;
+    ctx.clearRect(0, 0, this.W, this.H);
+    // 10 cm grid
+    ctx.strokeStyle = "#eee"; ctx.lineWidth = 1; ctx.beginPath();
+    for (let x = PAD; x < this.W; x += 0.1 * k) { ctx.moveTo(x, 0); ctx.lineTo(x, this.H); }
+    for (let y = this.H - PAD; y > 0; y -= 0.1 * k) { ctx.moveTo(0, y); ctx.lineTo(this.W, y); }
+    ctx.stroke();
+    const X = new Float32Array(v.length / 2), Y = new Float32Array(v.length / 2);
+    for (let i = 0; i < X.length; i++) {
+      const p = this.vertexPanel[i];
+      X[i] = PAD + (v[2 * i] + this.offsets[p][0]) * k;
+      Y[i] = this.H - PAD - (v[2 * i + 1] + this.offsets[p][1]) * k;
+    }
+    const path = (ts) => {
+      ctx.beginPath();
+      for (const t of ts) {
+        const a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+        ctx.moveTo(X[a], Y[a]); ctx.lineTo(X[b], Y[b]); ctx.lineTo(X[c], Y[c]); ctx.closePath();
+      }
+    };
+    for (const [colour, ts] of this.groups) { path(ts); ctx.fillStyle = colour; ctx.fill(); }
+    if (this.showMesh) {
+      ctx.strokeStyle = "rgba(40,40,40,0.35)"; ctx.lineWidth = 0.5;
+      path(Array.from({ length: tp.length }, (_, t) => t)); ctx.stroke();
+    }
+    if (this.highlighted >= 0 && this.highlighted < tp.length) {
+      path([this.highlighted]); ctx.strokeStyle = "#000"; ctx.lineWidth = 2.5; ctx.stroke();
+    }
+  }
+
+  el(name, attrs, parent) {
+    const e = document.createElementNS(SVGNS, name);
+    for (const [a, val] of Object.entries(attrs)) e.setAttribute(a, val);
+    (parent || this.svg).appendChild(e);
+    return e;
+  }
+
+  // handles of the current tool: {x, y (pattern m), panel, op, args}
+  handles() {
+    const out = [];
+    this.geo.panels.forEach((panel, p) => {
+      panel.loops.forEach((loop, li) => {
+        if (li > 0) {
+          if (this.tool === "dart") {
+            const pts = loop.edges.map((e) => e.points[0]);
+            const c = pts.reduce((s, q) => [s[0] + q[0] / pts.length, s[1] + q[1] / pts.length], [0, 0]);
+            out.push({ p, x: c[0], y: c[1], key: `${panel.name}/${loop.name}`, op: "move_dart",
+                       args: { panel: panel.name, name: loop.name } });
+          }
+          return;
+        }
+        for (const e of loop.edges) {
+          const base = { panel: panel.name };
+          if (this.tool === "point") {
+            out.push({ p, x: e.points[0][0], y: e.points[0][1], key: `${panel.name}/${e.name}`,
+                       op: "move_point", args: { ...base, corner: e.name }, partner: true });
+          } else if (this.tool === "edge") {
+            const m = e.polyline[12];
+            out.push({ p, x: m[0], y: m[1], key: `${panel.name}/${e.name}`, op: "move_edge",
+                       args: { ...base, edge: e.name }, partner: true });
+          } else if (this.tool === "curve" && e.kind !== "arc") {
+            if (e.kind === "line") {
+              const m = e.polyline[12];
+              out.push({ p, x: m[0], y: m[1], key: `${panel.name}/${e.name}/1`, op: "edit_curve",
+                         args: { ...base, edge: e.name, control: 1 }, partner: true });
+            } else {
+              for (let c = 1; c < e.points.length - 1; c++) {
+                out.push({ p, x: e.points[c][0], y: e.points[c][1], key: `${panel.name}/${e.name}/${c}`,
+                           op: "edit_curve", args: { ...base, edge: e.name, control: c }, partner: true });
+              }
+            }
+          }
+        }
+      });
+    });
+    return out;
+  }
+
+  drawOverlay() {
+    const svg = this.svg;
+    while (svg.firstChild) svg.removeChild(svg.firstChild);
+    if (!this.geo) return;
+    const seamColour = new Map();
+    this.geo.seams.forEach((s, i) => {
+      const c = SEAM_COLOURS[i % SEAM_COLOURS.length];
+      seamColour.set(s.a.join("/"), c); seamColour.set(s.b.join("/"), c);
+    });
+    this.geo.panels.forEach((panel, p) => {
+      for (const loop of panel.loops) {
+        for (const e of loop.edges) {
+          const d = e.polyline.map((q, i) => `${i ? "L" : "M"}${this.sx(p, q[0]).toFixed(1)},${this.sy(p, q[1]).toFixed(1)}`).join("");
+          const c = seamColour.get(`${panel.name}/${e.name}`);
+          if (c) this.el("path", { d, class: "seam", stroke: c });
+          this.el("path", { d, class: "outline" });
+          if (e.kind !== "line" && this.tool === "curve") {
+            const cp = e.points.map((q, i) => `${i ? "L" : "M"}${this.sx(p, q[0])},${this.sy(p, q[1])}`).join("");
+            this.el("path", { d: cp, stroke: "#88a", "stroke-dasharray": "3 3", fill: "none" });
+          }
+        }
+      }
+      const xs = panel.loops[0].edges.flatMap((e) => e.polyline.map((q) => q[0]));
+      const ys = panel.loops[0].edges.flatMap((e) => e.polyline.map((q) => q[1]));
+      const t = this.el("text", { x: this.sx(p, (Math.min(...xs) + Math.max(...xs)) / 2),
+                                  y: this.sy(p, Math.max(...ys)) - 6, class: "panel-name", "text-anchor": "middle" });
+      t.textContent = panel.name;
+    });
+    this.handleList = this.handles();
+    this.handleList.forEach((h, i) => {
+      const el = this.el("circle", { cx: this.sx(h.p, h.x), cy: this.sy(h.p, h.y), r: 6,
+                                     class: "handle" + (this.selected && this.selected.key === h.key ? " selected" : ""),
+                                     "data-index": i, "data-key": h.key, "data-panel": h.args.panel });
+      h.el = el;
+    });
+  }
+
+  setTool(tool) { this.tool = tool; this.selected = null; this.drawOverlay(); }
+
+  snapOffset(o) { return this.snap ? o.map((c) => Math.round(c / 0.005) * 0.005) : o; }
+
+  pointerDown(e) {
+    const i = e.target.getAttribute && e.target.getAttribute("data-index");
+    if (i === null || i === undefined) {
+      if (this.tool === "dart" && this.geo) this.clickPanel(e);
+      return;
+    }
+    const h = this.handleList[+i];
+    this.drag = { h, x0: e.clientX, y0: e.clientY, offset: [0, 0], moved: false };
+    this.svg.setPointerCapture(e.pointerId);
+    e.preventDefault();
+  }
+
+  pointerMove(e) {
+    if (!this.drag) return;
+    const d = this.drag;
+    const raw = [(e.clientX - d.x0) / this.k, -(e.clientY - d.y0) / this.k];
+    d.offset = this.snapOffset(raw);
+    if (Math.hypot(e.clientX - d.x0, e.clientY - d.y0) > 2) d.moved = true;
+    if (!d.moved) return;
+    d.h.el.setAttribute("cx", this.sx(d.h.p, d.h.x + d.offset[0]));
+    d.h.el.setAttribute("cy", this.sy(d.h.p, d.h.y + d.offset[1]));
+    this.onDrag(d.h, d.offset);
+  }
+
+  pointerUp(e) {
+    if (!this.drag) return;
+    const d = this.drag; this.drag = null;
+    if (d.moved) this.onDrop(d.h, d.offset);
+    else { this.selected = d.h; this.drawOverlay(); this.onSelect(d.h); }
+  }
+
+  // pattern coordinates [m] of a click, and the panel under it (by bounding box)
+  clickPanel(e) {
+    const r = this.svg.getBoundingClientRect();
+    const X = e.clientX - r.left, Y = e.clientY - r.top;
+    this.geo.panels.forEach((panel, p) => {
+      const x = (X - PAD) / this.k - this.offsets[p][0];
+      const y = (this.H - PAD - Y) / this.k - this.offsets[p][1];
+      const pts = panel.loops[0].edges.flatMap((ed) => ed.polyline);
+      if (inside(pts, x, y)) this.onClickPanel(panel.name, [x, y]);
+    });
+  }
+}
+
+function inside(poly, x, y) {
+  let c = false;
+  for (let i = 0, j = poly.length - 1; i < poly.length; j = i++) {
+    const [xi, yi] = poly[i], [xj, yj] = poly[j];
+    if ((yi > y) !== (yj > y) && x < ((xj - xi) * (y - yi)) / (yj - yi) + xi) c = !c;
+  }
+  return c;
+}

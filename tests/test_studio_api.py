@@ -1,0 +1,120 @@
+"""API tests of the studio with FastAPI's TestClient (no browser)."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+from fastapi.testclient import TestClient
+
+from patternfit.studio import create_app
+
+EDIT = {"op": "move_point", "args": {"panel": "front", "corner": "waist", "offset": [0.01, 0.0],
+                                     "partner": True}}
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    return tmp_path_factory.mktemp("studio")
+
+
+@pytest.fixture(scope="module")
+def client(folder):
+    app = create_app(folder, max_upload=64 * 1024)
+    c = TestClient(app)
+    assert c.post("/api/new", json={"garment": "skirt", "triangles": 400}).status_code == 200
+    return c
+
+
+def test_page_and_vendored_three_are_served(client):
+    assert "patternfit studio" in client.get("/").text
+    for f in ("app.js", "editor.js", "view3d.js", "vendor/three.module.js",
+              "vendor/three.core.js", "vendor/OrbitControls.js", "vendor/LICENSE"):
+        assert client.get(f"/static/{f}").status_code == 200, f
+
+
+def test_options_and_state(client):
+    o = client.get("/api/options").json()
+    assert "skirt" in o["garments"] and o["sizes"] and o["bodies"] and o["fabrics"]
+    assert isinstance(o["correct_available"], bool)
+    s = client.get("/api/state").json()
+    assert s["history"][0]["label"] == "start" and not s["draped"] and s["fitting_ratio"] is None
+
+
+def test_drag_preview_moves_vertices_without_recording(client):
+    g = client.get("/api/geometry").json()
+    v0 = np.array(g["vertices"]).reshape(-1, 2)
+    r = client.post("/api/drag", json=EDIT)
+    assert r.status_code == 200 and set(r.headers["x-moved"].split(",")) == {"front", "back"}
+    v1 = np.frombuffer(r.content, dtype="<f4").reshape(-1, 2)
+    assert v1.shape == v0.shape
+    moved = np.linalg.norm(v1 - v0, axis=1)
+    assert 0.005 < moved.max() < 0.011
+    assert len(client.get("/api/state").json()["history"]) == 1
+    bad = client.post("/api/drag", json={"op": "insert_dart", "args": {}})
+    assert bad.status_code == 400 and "drag" in bad.json()["error"]
+
+
+def test_edit_undo_redo_and_refusals(client, folder):
+    rev = client.get("/api/state").json()["revision"]
+    r = client.post("/api/edit", json={**EDIT, "revision": rev}).json()
+    assert r["ok"] and r["warning"] is None
+    s = client.get("/api/state").json()
+    assert len(s["history"]) == 2 and s["can_undo"] and not s["can_redo"]
+    # a tab that missed the change still writes, with a warning (last write wins)
+    stale = client.post("/api/undo", json={"revision": rev}).json()
+    assert stale["ok"] and "another tab" in stale["warning"]
+    assert client.get("/api/state").json()["position"] == 0
+    assert client.post("/api/redo", json={}).status_code == 200
+    assert client.post("/api/redo", json={}).status_code == 400
+    unmatched = client.post("/api/edit", json={**EDIT, "args": {**EDIT["args"], "partner": False}})
+    assert unmatched.status_code == 400 and "seam" in unmatched.json()["error"]
+    assert client.post("/api/edit", json={"op": "rm_rf", "args": {}}).status_code == 400
+    # a restarted studio continues the saved session
+    again = TestClient(create_app(folder))
+    assert len(again.get("/api/state").json()["history"]) == 2
+
+
+def test_drape_progress_stop_and_exports(client):
+    assert client.get("/api/export/garment.glb").status_code == 409  # nothing draped
+    assert client.post("/api/drape").status_code == 200
+    assert client.post("/api/drape").status_code == 409  # one at a time
+    assert client.post("/api/undo", json={}).status_code == 400  # no edits while draping
+    time.sleep(0.5)
+    client.post("/api/drape/stop")
+    studio = client.app.state.studio
+    studio.wait(60)
+    job = client.get("/api/drape").json()
+    assert not job["running"] and job["error"] is None and job["iteration"] > 0
+    s = client.get("/api/state").json()
+    assert s["draped"] and 0.5 < s["fitting_ratio"] < 1.5
+    g3 = client.get("/api/garment3d").json()
+    m = len(g3["triangles"]) // 3
+    for name in ("area_change", "warp", "weft"):
+        assert len(g3["maps"][name]["values"]) == m and len(g3["maps"][name]["colors"]) == 3 * m
+    assert client.get("/api/geometry").json()["colors"] is not None
+    for name in ("pattern.json", "pattern.dxf", "pattern.svg", "garment.glb", "garment.obj",
+                 "report.json"):
+        r = client.get(f"/api/export/{name}")
+        assert r.status_code == 200 and len(r.content) > 100, name
+    assert client.get("/api/export/report.json").json()["fitting_ratio"] == \
+        pytest.approx(s["fitting_ratio"])
+
+
+def test_safety(client, folder):
+    assert client.get("/api/export/..%2F..%2Fetc%2Fpasswd").status_code == 404
+    assert client.get("/api/state", headers={"host": "attacker.example"}).status_code == 403
+    big = client.post("/api/upload", files={"file": ("p.json", b" " * (65 * 1024))})
+    assert big.status_code == 413
+    wrong = client.post("/api/upload", files={"file": ("../../x.py", b"print(1)")})
+    assert wrong.status_code == 400
+    bad = client.post("/api/upload", files={"file": ("../../evil.json", b'{"panels": [')})
+    assert bad.status_code == 400 and "evil.json" in bad.json()["error"]
+    assert str(folder) not in bad.json()["error"]
+    assert not (folder.parent.parent / "evil.json").exists()
+    assert client.get("/api/state").status_code == 200  # still serving
+    good = client.get("/api/export/pattern.json").content
+    ok = client.post("/api/upload", files={"file": ("mine.json", good)})
+    assert ok.status_code == 200 and ok.json()["panels"] == 2
+    assert client.get("/api/state").json()["info"]["source"] == "uploaded mine.json"

@@ -1,0 +1,145 @@
+"""End-to-end tests of the studio in headless Chromium (Debian's ``chromium`` package driven
+by Playwright; nothing is installed at run time). Screenshots go to docs/figures/."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no chromium installed (apt-get install -y chromium)")
+playwright = pytest.importorskip("playwright.sync_api", reason="playwright not installed (pip install playwright)")
+
+FIGURES = Path(__file__).resolve().parents[1] / "docs" / "figures"
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+        "--disable-component-update", "--disable-sync", "--no-first-run",
+        "--enable-unsafe-swiftshader"]
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    import uvicorn
+
+    from patternfit.studio import create_app
+    from patternfit.studio.server import HOST, free_port
+
+    app = create_app(tmp_path_factory.mktemp("studio"))
+    port = free_port()
+    srv = uvicorn.Server(uvicorn.Config(app, host=HOST, port=port, log_level="warning"))
+    th = threading.Thread(target=srv.run, daemon=True)
+    th.start()
+    while not srv.started:
+        time.sleep(0.05)
+    yield f"http://{HOST}:{port}", app
+    app.state.studio.stop_drape()
+    srv.should_exit = True
+    th.join(10)
+
+
+@pytest.fixture(scope="module")
+def page(server):
+    with playwright.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        pg = browser.new_page(viewport={"width": 1500, "height": 850})
+        errors = []
+        pg.on("pageerror", lambda e: errors.append(str(e)))
+        pg.goto(server[0] + "/")
+        pg.wait_for_selector("body[data-ready='1']", timeout=30000)
+        pg.errors = errors
+        yield pg
+        browser.close()
+
+
+def ratio(page) -> float:
+    """ϖ as the page shows it (percent), checked against its full-precision data value."""
+    shown = float(re.sub(r"[^0-9.]", "", page.inner_text("#ratio")))
+    value = 100 * float(page.get_attribute("#ratio", "data-value"))
+    assert shown == pytest.approx(value, abs=0.006)
+    return value
+
+
+def wait_drape(page):
+    page.click("#drape-btn")
+    page.wait_for_function("document.getElementById('drape-btn').disabled === true", timeout=10000)
+    page.wait_for_function("document.getElementById('drape-btn').disabled === false", timeout=120000)
+    page.wait_for_function("document.getElementById('ratio').textContent.includes('%')", timeout=20000)
+
+
+def drag(page, selector, dx, dy, steps=20):
+    box = page.locator(selector).bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for i in range(1, steps + 1):
+        page.mouse.move(x + dx * i / steps, y + dy * i / steps)
+        page.wait_for_timeout(15)
+    page.mouse.up()
+
+
+def test_drape_edit_redrape_undo(page, server):
+    assert page.inner_text("#ratio") == "—"
+    n_tri = len(page.evaluate("studio.geometry.triangles")) // 3
+    assert 800 <= n_tri <= 1600
+    wait_drape(page)
+    r0 = ratio(page)
+    assert 50 < r0 < 150
+    assert page.evaluate("studio.geometry.colors !== null")
+    page.wait_for_timeout(300)
+    page.screenshot(path=str(FIGURES / "studio_draped.png"))
+    page.locator("#view3d").screenshot(path=str(FIGURES / "studio_3d.png"))
+    # hover the 3D view: a value is read under the cursor
+    box = page.locator("#view3d canvas").bounding_box()
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] * 0.55)
+    page.wait_for_function("document.getElementById('hover-value').textContent.includes('%')",
+                           timeout=5000)
+
+    v0 = page.evaluate("Array.from(studio.geometry.vertices)")
+    page.evaluate("studio.dragStats = {frames: 0, ms: 0}")
+    # the waist corner of the front panel pulled inwards: a tighter skirt (partner follows)
+    drag(page, "#overlay circle[data-key='front/waist']", 25, 0)
+    page.wait_for_function("studio.state.history.length === 2", timeout=20000)
+    assert page.evaluate("studio.dragStats.frames") >= 3  # the mesh followed live
+    v1 = page.evaluate("Array.from(studio.geometry.vertices)")
+    assert len(v1) == len(v0) and max(abs(a - b) for a, b in zip(v0, v1)) > 0.01
+    page.screenshot(path=str(FIGURES / "studio_editor.png"))
+    wait_drape(page)
+    r1 = ratio(page)
+    assert abs(r1 - r0) > 1e-4  # the edit changed ϖ (percent)
+    assert "front" in page.inner_text("#history")
+    page.click("#undo-btn")
+    page.wait_for_function("studio.state.position === 0", timeout=20000)
+    assert ratio(page) == pytest.approx(r0)
+    assert page.evaluate("Array.from(studio.geometry.vertices)") == pytest.approx(v0)
+    assert not page.errors
+
+
+def test_export_and_load_back(page, server, tmp_path):
+    with page.expect_download() as dl:
+        page.click("#exports a[href$='pattern.json']")
+    path = tmp_path / "pattern.json"
+    dl.value.save_as(path)
+    from patternfit.pattern.formats import load_any_pattern
+
+    assert {p.name for p in load_any_pattern(path).panels} == {"front", "back"}
+    page.set_input_files("#upload", str(path))
+    page.wait_for_function("document.getElementById('message').textContent.includes('opened')",
+                           timeout=20000)
+    assert page.evaluate("studio.state.history.length") == 1
+    assert page.evaluate("studio.geometry.panel_names") == ["front", "back"]
+
+
+def test_malformed_upload_shows_error(page, server, tmp_path):
+    bad = tmp_path / "broken.json"
+    bad.write_text('{"format": "patternfit-pattern", "panels": [')
+    page.set_input_files("#upload", str(bad))
+    page.wait_for_function("document.getElementById('message').className === 'error'",
+                           timeout=20000)
+    text = page.inner_text("#message")
+    assert "broken.json" in text and str(server[1].state.studio.folder) not in text
+    # the server keeps serving
+    assert page.evaluate("fetch('/api/state').then(r => r.status)") == 200
