@@ -196,3 +196,22 @@ def test_kernel_lookup_matches_the_distance_field():
     d, g = kernels.sdf_query(field.values, field.origin, field.spacing, pts)
     np.testing.assert_allclose(d, d_ref, atol=1e-12)
     np.testing.assert_allclose(g, g_ref, atol=1e-9)
+
+
+def test_contact_stiffens_until_nothing_is_inside():
+    """A patch pressed on a floor at 5 kPa would sink 0.5 mm into it at the base contact
+    stiffness (1e7 N/m^3), twice the fabric thickness: the solver stiffens those contacts."""
+    ax = np.arange(-0.1, 0.1 + 1e-9, 0.01)
+    X, Y, Z = np.meshgrid(ax, ax, ax, indexing="ij")
+    floor = DistanceField((-0.1, -0.1, -0.1), 0.01, Y)  # the body is y < 0
+    v, t = rect_mesh(0.1, 0.1, 2e-5)
+    v -= 0.05
+    x0 = np.c_[v[:, 0], np.full(len(v), 0.001), v[:, 1]]
+    solver = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", body=floor,
+                           settings=SolverSettings(gravity=(0.0, 0.0, 0.0)))
+    forces = np.zeros((len(v), 3))
+    forces[:, 1] = -5000.0 * solver.terms.vertex_area
+    res = solver.solve(x0, forces=forces)
+    assert res.converged
+    assert res.checks.inside_vertices == 0
+    assert -0.25 < res.checks.min_clearance_mm < 0.25

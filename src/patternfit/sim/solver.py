@@ -23,6 +23,10 @@ from .energies import MeshTerms, build_terms, spring_matrix
 from .fabrics import Fabric, get_fabric
 
 
+#: the contact stiffness of a vertex found inside the body grows x4 per update up to this
+_MAX_CONTACT_SCALE = 4.0 ** 6
+
+
 @dataclass(frozen=True)
 class SolverSettings:
     """Knobs of the solver; defaults are the measured design of METHOD.md 5.1.
@@ -355,8 +359,10 @@ class GarmentSolver:
         self._fr_idx = np.zeros(0, np.int64)
         if self.body is not None:
             d, g = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
-            # a vertex found inside the body gets a stiffer contact (x4) until it is out
-            self._contact_scale[d < 0.0] *= 4.0
+            # a vertex found inside the body gets a stiffer contact (x4, up to 4^6)
+            inside = d < 0.0
+            self._contact_scale[inside] = np.minimum(self._contact_scale[inside] * 4.0,
+                                                     _MAX_CONTACT_SCALE)
             self._kc = self._contact_k()
             near = d < self.fabric.thickness + s.contact_band
             diag[near] = s.contact_precond * self._kc[near]
@@ -586,8 +592,7 @@ class GarmentSolver:
                 small = step < s.step_tol and drop <= s.energy_tol * max(total_drop, e_scale)
                 calm = calm + 1 if small else 0
                 if calm >= s.patience and not sewing:
-                    if self.body is not None and self._any_inside(x) \
-                            and self._contact_scale.max() < 4.0 ** 6:
+                    if self._can_stiffen(x):
                         last_refresh = it - s.refresh  # stiffen the contact and go on
                         continue
                     converged, reason = True, "converged"
@@ -613,9 +618,12 @@ class GarmentSolver:
         a, b = self._group[self.seam_pairs[:, 0]], self._group[self.seam_pairs[:, 1]]
         return float(np.linalg.norm(x_red[a] - x_red[b], axis=1).max())
 
-    def _any_inside(self, x_red):
+    def _can_stiffen(self, x_red):
+        """Whether a vertex is inside the body with its contact stiffness not yet at the cap."""
+        if self.body is None:
+            return False
         d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x_red)
-        return bool((d < 0).any())
+        return bool(((d < 0) & (self._contact_scale < _MAX_CONTACT_SCALE)).any())
 
     def checks(self, x, *, converged: bool = False) -> DrapeChecks:
         """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`."""
