@@ -58,6 +58,13 @@ def drape(
     time_limit: float = typer.Option(300.0, help="Time limit of the drape [s]."),
     units: str = typer.Option(None, help="Units of a body mesh file (m, cm, mm, in); guessed "
                                          "from its height when not given."),
+    engine: str = typer.Option("static", help="static (equilibrium, default) or newton "
+                                              "(dynamic, Style3D; pip install "
+                                              "\"patternfit[newton]\")."),
+    device: str = typer.Option(None, help="newton: Warp device (cpu, cuda); default CUDA "
+                                          "when present, else cpu."),
+    from_static: bool = typer.Option(False, "--from-static", help="newton: start at the static "
+                                     "equilibrium, slightly perturbed, so that folds form."),
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     out: Path = typer.Option(..., "--out", "-o", help="Output folder."),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
@@ -71,11 +78,13 @@ def drape(
     from ..fit.metrics import FitEvaluator
     from ..fit.outputs import write_fit_outputs
     from ..mesh.triangulate import mesh_pattern
-    from ..sim.drape import drape as run_drape
     from ..sim.fabrics import FabricError, get_fabric
+    from ..sim.newton_engine import ENGINES, NewtonMissingError, drape_with
     from ..sim.solver import SolverSettings
 
     t0 = time.perf_counter()
+    if engine not in ENGINES or (engine == "static" and (from_static or device)):
+        fail(f"--engine: one of {', '.join(ENGINES)}; --device and --from-static need newton")
     b = load_body_arg(body, units)
     pat = load_pattern_arg(pattern, size)
     try:
@@ -89,7 +98,11 @@ def drape(
     settings = SolverSettings(max_iterations=max_iterations, time_limit=time_limit)
     bar, callback = drape_progress(console, total=max_iterations)
     with bar:
-        d = run_drape(pat, m, b, fab, settings=settings, clearance=clearance, progress=callback)
+        try:
+            d = drape_with(engine, pat, m, b, fab, settings=settings, device=device,
+                           from_static=from_static, clearance=clearance, progress=callback)
+        except NewtonMissingError as exc:
+            fail(str(exc))
     evaluator = FitEvaluator(m)
     placed_ratio = evaluator.metrics(d.placed)[1]
     result = evaluator(d.positions)

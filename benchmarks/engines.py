@@ -1,0 +1,91 @@
+"""Cross-check of the two drape engines: static equilibrium vs. Newton Style3D (dynamic).
+
+Run ``python benchmarks/engines.py [--sizes coat=22000 skirt=15000 trousers=20000]
+[--body female_average] [--device cpu]``. Per garment, both engines drape the same mesh on the
+same body from the same placement (the Newton engine reuses the static engine's placement and
+gravity-free sewing phase, whose time it includes), then a ``--from-static`` Newton run starts
+at the static result. Prints seconds, iterations (static) / frames (Newton), the checks,
+ϖ per panel and the mean vertex distance to the static result. Warp's kernels are compiled
+(or loaded from the cache) once before the timings; the distance field is warm.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from _table import print_table
+from patternfit.body.builtin import load_body
+from patternfit.fit import FitEvaluator
+from patternfit.mesh import mesh_pattern
+from patternfit.pattern.library import build
+from patternfit.sim.drape import drape
+from patternfit.sim.newton_engine import mean_dihedral, newton_drape
+
+
+def _welded(d):
+    vmap = d.result.vertex_map
+    x = np.zeros((vmap.max() + 1, 3))
+    x[vmap] = d.positions
+    return x, vmap
+
+
+def _checks(d) -> str:
+    c = d.checks
+    return (f"{c.inside_vertices}in/{c.seam_gap_max_mm:.2f}mm/{c.self_intersections}x/"
+            f"{'rest' if c.equilibrium else 'NOT'}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--sizes", nargs="+", default=["coat=22000", "skirt=15000",
+                                                   "trousers=20000"])
+    ap.add_argument("--body", default="female_average")
+    ap.add_argument("--fabric", default="cotton")
+    ap.add_argument("--device", default=None)
+    args = ap.parse_args()
+    body = load_body(args.body)
+    body.distance_field(0.005)
+    # compile / load Warp's kernels outside the timings
+    warm_p = build("skirt", "M")
+    warm_m = mesh_pattern(warm_p, triangles=300)
+    t0 = time.perf_counter()
+    newton_drape(warm_p, warm_m, body, args.fabric, device=args.device)
+    print(f"Warp kernels ready in {time.perf_counter() - t0:.1f} s (compile or cache)")
+    rows = []
+    for item in args.sizes:
+        name, n = item.split("=")
+        pattern = build(name, "M")
+        mesh = mesh_pattern(pattern, triangles=int(n))
+        fe = FitEvaluator(mesh)
+        runs = {}
+        try:
+            runs["static"] = drape(pattern, mesh, body, args.fabric)
+        except Exception as exc:  # noqa: BLE001 - a failing engine is a row, not a crash
+            print(f"{name}: static engine failed: {exc!r}")
+            continue
+        runs["newton"] = newton_drape(pattern, mesh, body, args.fabric, device=args.device)
+        runs["from-static"] = newton_drape(pattern, mesh, body, args.fabric, device=args.device,
+                                           from_static=runs["static"])
+        ref = runs["static"].positions
+        for engine, d in runs.items():
+            r = fe(d.positions)
+            x, vmap = _welded(d)
+            steps = (f"{d.result.iterations + d.timing.get('sewing_iterations', 0)} it"
+                     if engine == "static" else
+                     f"{d.timing.get('sewing_iterations', 0)} it+{d.result.iterations} fr")
+            rows.append((name, mesh.n_triangles, engine, f"{d.seconds:.1f}", steps, _checks(d),
+                         f"{r.fitting_ratio * 100:.3f}",
+                         " ".join(f"{v * 100:.2f}" for v in r.panel_ratio),
+                         f"{np.linalg.norm(d.positions - ref, axis=1).mean() * 1e3:.1f}",
+                         f"{np.degrees(mean_dihedral(x, vmap[mesh.triangles])):.2f}"))
+    print_table(f"drape engines on {args.body}, {args.fabric}, device "
+                f"{args.device or 'auto'}", rows,
+                ("garment", "tris", "engine", "seconds", "iter/frames",
+                 "inside/seam/cross/rest", "ϖ %", "ϖ per panel %", "dist mm", "dihedral °"))
+
+
+if __name__ == "__main__":
+    main()

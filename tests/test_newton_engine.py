@@ -1,0 +1,128 @@
+"""The Newton (Style3D) engine against the static engine, on the CPU.
+
+Skipped when ``newton`` is not installed (``pip install "patternfit[newton]"``); the first run
+compiles Warp's kernels (about a minute and a half on 2 cores, then cached in
+``~/.cache/warp`` / ``WARP_CACHE_PATH``).
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+
+from patternfit.sim.newton_engine import (
+    BENDING_SCALE, NewtonMissingError, edge_bending, import_newton, mean_dihedral, panel_rest)
+
+
+def test_mean_dihedral_of_a_flat_and_a_folded_pair():
+    tris = np.array([[0, 1, 2], [0, 3, 1]])
+    flat = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0]], float)
+    assert mean_dihedral(flat, tris) == pytest.approx(0.0, abs=1e-12)
+    folded = flat.copy()
+    folded[3] = [0, 0, 1]
+    assert mean_dihedral(folded, tris) == pytest.approx(np.pi / 2)
+
+
+def test_missing_newton_says_how_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "newton", None)
+    with pytest.raises(NewtonMissingError, match=r"patternfit\[newton\]"):
+        import_newton()
+
+
+def test_cli_refuses_an_unknown_engine_and_newton_options_on_static(tmp_path):
+    from typer.testing import CliRunner
+
+    from patternfit.cli.main import app
+
+    for extra in (["--engine", "warp"], ["--from-static"], ["--device", "cpu"]):
+        res = CliRunner().invoke(app, ["drape", "--out", str(tmp_path), *extra])
+        assert res.exit_code != 0
+        assert "--engine" in res.output
+
+
+def test_panel_rest_turns_the_grain_onto_u_and_bending_follows_it():
+    from patternfit.mesh import mesh_pattern
+    from patternfit.pattern.library import build
+    from patternfit.sim.fabrics import get_fabric
+
+    mesh = mesh_pattern(build("skirt", "M"), triangles=400)
+    rest = panel_rest(mesh)
+    # lengths are kept (a rotation per panel)
+    t = mesh.triangles
+    for a, b in ((0, 1), (1, 2)):
+        assert np.allclose(np.linalg.norm(rest[t[:, a]] - rest[t[:, b]], axis=1),
+                           np.linalg.norm(mesh.vertices[t[:, a]] - mesh.vertices[t[:, b]], axis=1))
+    # the grain direction of each panel becomes +u
+    for p, g in enumerate(mesh.grain):
+        i = np.flatnonzero(mesh.vertex_panel == p)[:2]
+        d = mesh.vertices[i[1]] - mesh.vertices[i[0]]
+        r = rest[i[1]] - rest[i[0]]
+        assert r[0] == pytest.approx(d @ g / np.linalg.norm(g))
+    fabric = get_fabric("cotton")
+    edges = np.array([[t[0, 0], t[0, 1]]])
+    d = rest[t[0, 1]] - rest[t[0, 0]]
+    d /= np.linalg.norm(d)
+    want = BENDING_SCALE * (fabric.bending_warp * d[1] ** 2 + fabric.bending_weft * d[0] ** 2)
+    got = edge_bending(rest, t, np.arange(len(rest)), edges, fabric)
+    assert got[0] == pytest.approx(want)
+    assert fabric.bending_weft * BENDING_SCALE <= got[0] <= fabric.bending_warp * BENDING_SCALE
+
+
+@pytest.fixture(scope="module")
+def skirt():
+    pytest.importorskip("newton", reason="newton not installed: pip install \"patternfit[newton]\"")
+    from patternfit.body.builtin import load_body
+    from patternfit.fit import FitEvaluator
+    from patternfit.mesh import mesh_pattern
+    from patternfit.pattern.library import build
+    from patternfit.sim.drape import drape
+    from patternfit.sim.newton_engine import newton_drape
+
+    body = load_body("female_thin")
+    pattern = build("skirt", "M")
+    mesh = mesh_pattern(pattern, triangles=1500)
+    static = drape(pattern, mesh, body, "cotton")
+    cold = newton_drape(pattern, mesh, body, "cotton", device="cpu")
+    warm = newton_drape(pattern, mesh, body, "cotton", device="cpu", from_static=static)
+    ratio = FitEvaluator(mesh)
+    return dict(mesh=mesh, static=static, cold=cold, warm=warm,
+                ratio={k: ratio(d.positions).fitting_ratio
+                       for k, d in (("static", static), ("cold", cold), ("warm", warm))})
+
+
+def test_newton_skirt_drapes_inside_nothing_sewn_and_at_rest(skirt):
+    d = skirt["cold"]
+    c = d.checks
+    assert skirt["static"].checks.passed, "the static reference drape failed its checks"
+    assert c.inside_vertices == 0
+    assert c.seam_gap_max_mm < 0.5
+    assert c.self_intersections == 0
+    assert c.equilibrium and d.result.stop_reason == "converged"
+    assert d.timing["engine"] == "newton" and d.timing["device"] == "cpu"
+    assert d.timing["max_speed"] < 0.01
+    extra = d.report_extra()
+    assert extra["timing"]["engine"] == "newton" and extra["checks"]["passed"]
+
+
+def test_newton_fitting_ratio_agrees_with_the_static_engine(skirt):
+    assert skirt["ratio"]["cold"] == pytest.approx(skirt["ratio"]["static"], rel=0.01)
+
+
+def test_from_static_forms_folds_and_keeps_the_fit(skirt):
+    mesh, static, warm = skirt["mesh"], skirt["static"], skirt["warm"]
+    tris = static.result.vertex_map[mesh.triangles]
+    folds_static = mean_dihedral(_welded(static), tris)
+    folds_warm = mean_dihedral(_welded(warm), tris)
+    assert folds_warm > folds_static
+    assert warm.checks.inside_vertices == 0 and warm.checks.equilibrium
+    assert skirt["ratio"]["warm"] == pytest.approx(skirt["ratio"]["static"], rel=0.01)
+    assert warm.result.iterations < skirt["cold"].result.iterations
+
+
+def _welded(d):
+    vmap = d.result.vertex_map
+    x = np.zeros((vmap.max() + 1, 3))
+    x[vmap] = d.positions
+    return x
