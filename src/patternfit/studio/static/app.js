@@ -29,6 +29,7 @@ const editor = new Editor($("mesh2d"), $("overlay"), {
   onSelect: (h) => { $("selected").textContent = `selected: ${h.key} (${h.op})`; },
   onClickPanel: insertDart,
 });
+studio.editor = editor;
 const view = new View3D($("view3d"), {
   onHover: (t, value) => {
     editor.highlight(t);
@@ -201,7 +202,7 @@ $("upload").onchange = async () => {
   const f = $("upload").files[0];
   if (!f) return;
   const form = new FormData(); form.append("file", f);
-  try { await api("/api/upload", { method: "POST", form }); message(`opened ${f.name}`, "warning"); await refresh(); }
+  try { await api("/api/upload", { method: "POST", form }); await refresh(); message(`opened ${f.name}`, "warning"); }
   catch (e) { message(`could not open ${f.name}: ${e.message}`); }
   $("upload").value = "";
 };

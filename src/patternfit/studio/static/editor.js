@@ -89,17 +89,20 @@ export class Editor {
       X[i] = PAD + (v[2 * i] + this.offsets[p][0]) * k;
       Y[i] = this.H - PAD - (v[2 * i + 1] + this.offsets[p][1]) * k;
     }
-    const path = (ts) => {
-      ctx.beginPath();
-      for (const t of ts) {
-        const a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
-        ctx.moveTo(X[a], Y[a]); ctx.lineTo(X[b], Y[b]); ctx.lineTo(X[c], Y[c]); ctx.closePath();
-      }
+    const tri3 = (t) => {
+      const a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+      ctx.moveTo(X[a], Y[a]); ctx.lineTo(X[b], Y[b]); ctx.lineTo(X[c], Y[c]); ctx.closePath();
     };
-    for (const [colour, ts] of this.groups) { path(ts); ctx.fillStyle = colour; ctx.fill(); }
+    const path = (ts) => { ctx.beginPath(); for (const t of ts) tri3(t); };
+    // one small path per triangle: software canvases rasterise thousands of small paths far
+    // faster than one path with thousands of overlapping pieces
+    for (const [colour, ts] of this.groups) {
+      ctx.fillStyle = colour;
+      for (const t of ts) { ctx.beginPath(); tri3(t); ctx.fill(); }
+    }
     if (this.showMesh) {
       ctx.strokeStyle = "rgba(40,40,40,0.35)"; ctx.lineWidth = 0.5;
-      path(Array.from({ length: tp.length }, (_, t) => t)); ctx.stroke();
+      for (let t = 0; t < tp.length; t++) { ctx.beginPath(); tri3(t); ctx.stroke(); }
     }
     if (this.highlighted >= 0 && this.highlighted < tp.length) {
       path([this.highlighted]); ctx.strokeStyle = "#000"; ctx.lineWidth = 2.5; ctx.stroke();
