@@ -81,6 +81,12 @@ class DesignSession:
         Target triangle count of the garment mesh.
     threshold : float
         ϖ at which the design counts as fitting (METHOD.md section 1; default 0.90).
+    relax : float
+        Width factor (>= 1) of the first, cold drape: the garment is sewn and draped with
+        every panel widened across by ``relax`` about its centre, then its true rest shape
+        is restored and the drape solved again warm. A garment drafted much too small
+        cannot be sewn around the body directly (the seams squeeze it off the body); 1.0
+        sews it as it is.
     """
 
     pattern: Pattern
@@ -91,9 +97,12 @@ class DesignSession:
     history: list[State] = field(default_factory=list)
     position: int = 0
     _drape: Drape | None = field(default=None, repr=False)
+    relax: float = 1.0
 
     def __post_init__(self):
         self.fabric = get_fabric(self.fabric)
+        if not (np.isfinite(self.relax) and self.relax >= 1.0):
+            raise ValueError(f"relax: must be a factor >= 1, got {self.relax!r}")
         if not self.history:
             self.history = [State("start", None, self.pattern,
                                   mesh_pattern(self.pattern, triangles=self.triangles))]
@@ -102,11 +111,11 @@ class DesignSession:
     @classmethod
     def new(cls, *, garment: str = "skirt", size: str = "M", body: str = "female_average",
             fabric: str = "cotton", triangles: int = 3000, threshold: float = 0.90,
-            **options) -> "DesignSession":
+            relax: float = 1.0, **options) -> "DesignSession":
         """A session on a built-in garment (``options`` go to its drafting function) and a
         built-in body."""
         return cls(build(garment, size, **options), load_body(body), fabric, triangles,
-                   threshold)
+                   threshold, relax=relax)
 
     # -- the current state ---------------------------------------------------------------
     @property
@@ -135,6 +144,13 @@ class DesignSession:
                 and np.array_equal(self._drape.solver.triangles, st.mesh.triangles))
         if same:
             result = redrape(self._drape, st.mesh, start=st.positions, progress=progress)
+        elif self.relax > 1.0:
+            wide_pattern, wide_mesh = _widened(st.pattern, st.mesh, self.relax)
+            first = drape(wide_pattern, wide_mesh, self.body, self.fabric, progress=progress)
+            result = redrape(first, st.mesh, progress=progress)
+            result.placed = first.placed
+            result.seconds += first.seconds
+            result.timing = {**first.timing, "relaxed_sewing_seconds": first.seconds}
         else:
             result = drape(st.pattern, st.mesh, self.body, self.fabric, progress=progress)
         self._drape = result
@@ -157,8 +173,16 @@ class DesignSession:
 
         if op not in EDIT_OPS:
             raise ValueError(f"op: unknown edit {op!r} (known: {', '.join(EDIT_OPS)})")
+        new_pattern = getattr(tools, op)(self.state.pattern, **args)
+        return self.apply_pattern(new_pattern, label=label or _describe(op, args),
+                                  edit={"op": op, "args": args})
+
+    def apply_pattern(self, new_pattern: Pattern, *, label: str, edit: dict | None = None):
+        """Make ``new_pattern`` (an edit of the current pattern made elsewhere, e.g. by the
+        automatic correction) the next state; the mesh follows as in :meth:`apply`."""
+        from .. import edit as tools
+
         old = self.state
-        new_pattern = getattr(tools, op)(old.pattern, **args)
         report = None
         try:
             mesh, report = tools.update_mesh(old.pattern, new_pattern, old.mesh,
@@ -168,8 +192,7 @@ class DesignSession:
         except PatternError:
             mesh, positions = mesh_pattern(new_pattern, triangles=self.triangles), None
         del self.history[self.position + 1:]
-        self.history.append(State(label or _describe(op, args), {"op": op, "args": args},
-                                  new_pattern, mesh, positions))
+        self.history.append(State(label, edit, new_pattern, mesh, positions))
         self.position += 1
         self.pattern = new_pattern
         return report
@@ -224,7 +247,8 @@ class DesignSession:
                            "checks": s.checks, "draped": s.positions is not None})
         meta = {"format": SNAPSHOT_FORMAT, "version": 1, "body": body_ref,
                 "fabric": vars(self.fabric), "triangles": self.triangles,
-                "threshold": self.threshold, "position": self.position, "states": states}
+                "threshold": self.threshold, "relax": self.relax, "position": self.position,
+                "states": states}
         atomic_write_text(snap / "session.json", json.dumps(meta, indent=1, default=_plain))
         atomic_write_text(folder / "current", snap.name + "\n")
         for old in folder.glob("snapshot-*"):
@@ -253,7 +277,21 @@ class DesignSession:
                                  GarmentMesh.load(d / "mesh.npz"), positions,
                                  s["fitting_ratio"], s["checks"]))
         return cls(history[meta["position"]].pattern, body, Fabric(**meta["fabric"]),
-                   meta["triangles"], meta["threshold"], history, meta["position"])
+                   meta["triangles"], meta["threshold"], history, meta["position"],
+                   relax=meta.get("relax", 1.0))
+
+
+def _widened(pattern: Pattern, mesh: GarmentMesh, factor: float):
+    """Pattern and mesh (same topology) with every panel widened by ``factor`` along x of
+    its flat frame about its outline's centroid (as ``edit.grade`` does)."""
+    from ..edit import grade
+
+    v = mesh.vertices.copy()
+    for i, name in enumerate(mesh.panel_names):
+        c = pattern.panel(name).outline.polygon().mean(axis=0)
+        ids = mesh.panel_vertices(i)
+        v[ids, 0] = c[0] + factor * (v[ids, 0] - c[0])
+    return grade(pattern, None, factor, 1.0), mesh.with_vertices(v)
 
 
 def _plain(o):

@@ -1,0 +1,318 @@
+"""Automatic fit correction: from the drape's stretch to corner moves a pattern maker makes.
+
+The method (``docs/fit-correction.md``): across the grain, the fabric a panel lacks at a
+height h along its grainline is the integral of the excess weft stretch over the panel's
+width there, Σ a_t (weft_t − 1)⁺ / Δh over the triangles of a band Δh high; the corners of
+the panel's seam edges at that height move outward by half of it each (both sides of the
+panel), so a panel that is mirror-symmetric stays so. Along the grain, excess warp stretch
+lengthens the panel below its anchored top. Only stretch counts (no growth where the
+garment is loose); sewn corners move by the same amount on both panels of a seam, so
+seams still match; edges keep their kind (lines stay lines, curves keep their shape near
+the other end), so outlines stay smooth. Lengths in metres.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from typing import Callable
+
+import numpy as np
+
+from ..constants import tol
+from ..edit.tools import _locate, _match_partners, _move_corner
+from ..fit.metrics import FitResult
+from ..mesh.garment import GarmentMesh
+from ..pattern.errors import PatternError
+from ..pattern.model import Pattern
+from ..pattern.validate import check_pattern
+from .regions import find_regions
+
+
+@dataclass(frozen=True)
+class CorrectionSettings:
+    """Knobs of the automatic correction.
+
+    threshold : float     ϖ to reach [-] (default 0.90).
+    tight_limit : float   no region may stay stretched more than this in area [-].
+    max_iterations : int  correction rounds (edit + re-drape) at most.
+    gain : float          share of the measured lack of fabric added per round [-].
+    max_move : float      largest corner move of one round [m].
+    band : float          height of the bands the lack of width is measured in [m].
+    min_move : float      corner moves smaller than this are left out [m].
+    warp_min : float      mean excess warp stretch of a panel below which it is not
+                          lengthened [-].
+    """
+
+    threshold: float = 0.90
+    tight_limit: float = 0.20
+    max_iterations: int = 3
+    gain: float = 1.0
+    max_move: float = 0.08
+    band: float = 0.10
+    min_move: float = 1e-3
+    warp_min: float = 0.02
+
+
+@dataclass(frozen=True)
+class CornerMove:
+    """A move of the corner where ``edge`` starts on ``panel`` by ``offset`` (2,) [m]."""
+
+    panel: str
+    edge: str
+    offset: tuple
+
+    def to_dict(self) -> dict:
+        dx, dy = self.offset
+        return {"op": "move_point", "panel": self.panel, "corner": self.edge,
+                "offset_cm": [round(dx * 100, 2), round(dy * 100, 2)],
+                "cm": round(float(np.hypot(dx, dy)) * 100, 2)}
+
+
+@dataclass
+class Iteration:
+    """One round of the loop: ϖ of the drape, its regions, the edits made after it, time."""
+
+    index: int
+    fitting_ratio: float
+    regions: list
+    edits: list
+    seconds: float
+    checks: dict | None = None
+
+    def to_dict(self) -> dict:
+        return {"iteration": self.index, "fitting_ratio": self.fitting_ratio,
+                "regions": [r.to_dict() for r in self.regions],
+                "edits": [e.to_dict() for e in self.edits], "seconds": self.seconds,
+                "checks": self.checks}
+
+
+@dataclass
+class Correction:
+    """Outcome of :func:`correct`: the iterations (0 = the first drape), whether the fit
+    was reached, and the corrected pattern."""
+
+    iterations: list[Iteration] = field(default_factory=list)
+    reached: bool = False
+    pattern: Pattern | None = None
+    seconds: float = 0.0
+
+    @property
+    def fitting_ratio(self) -> float:
+        return self.iterations[-1].fitting_ratio
+
+    def to_dict(self) -> dict:
+        return {"fitting_ratio": self.fitting_ratio, "reached": self.reached,
+                "seconds": self.seconds, "correction_rounds": len(self.iterations) - 1,
+                "edits_made": sum(len(it.edits) for it in self.iterations),
+                "iterations": [it.to_dict() for it in self.iterations]}
+
+
+def propose_moves(pattern: Pattern, mesh: GarmentMesh, fit: FitResult, *,
+                  settings: CorrectionSettings = CorrectionSettings()) -> list[CornerMove]:
+    """Corner moves that give every panel the fabric its drape lacks (see the module).
+
+    Parameters
+    ----------
+    pattern : Pattern
+        The pattern ``mesh`` was made from.
+    mesh : GarmentMesh
+    fit : FitResult
+        The fit of the drape of ``mesh``.
+    settings : CorrectionSettings
+
+    Returns
+    -------
+    list of CornerMove
+    """
+    seamed = {(side.panel, side.edge) for s in pattern.seams for side in (s.a, s.b)}
+    verts = mesh.vertices
+    centroid = verts[mesh.triangles].mean(axis=1)
+    moves: dict[tuple, np.ndarray] = {}
+    for pi, name in enumerate(mesh.panel_names):
+        panel = pattern.panel(name)
+        tris = mesh.panel_triangles(pi)
+        g = mesh.grain[pi]
+        c = np.array([-g[1], g[0]])
+        h = centroid[tris] @ g
+        a = fit.area_2d[tris]
+        weft_excess = np.clip(fit.weft[tris] - 1.0, 0.0, None)
+        warp_excess = float(a @ np.clip(fit.warp[tris] - 1.0, 0.0, None) / a.sum())
+        outline = panel.outline.polygon()
+        axis = float(np.median(outline @ c))
+        hmin, hmax = float((outline @ g).min()), float((outline @ g).max())
+        half_width = 0.5 * float(np.ptp(outline @ c))
+        edges = panel.outline.edges
+        for k, e in enumerate(edges):
+            if (name, e.name) not in seamed and (name, edges[k - 1].name) not in seamed:
+                continue
+            p = np.asarray(e.start, dtype=np.float64)
+            side = p @ c - axis
+            d = np.zeros(2)
+            if abs(side) > 0.2 * half_width:
+                h0 = p @ g
+                lo, hi = max(h0 - settings.band / 2, hmin), min(h0 + settings.band / 2, hmax)
+                sel = (h >= lo) & (h <= hi)
+                lack = float(a[sel] @ weft_excess[sel]) / max(hi - lo, tol.merge)
+                d += np.sign(side) * c * 0.5 * lack
+            if warp_excess > settings.warp_min:
+                # the top is anchored on the body (waist, neck): grow downwards
+                d -= g * warp_excess * (hmax - p @ g)
+            moves[(name, e.name)] = settings.gain * d
+    for _ in range(3):  # both are averages: alternating them converges
+        _share_sewn_corners(pattern, moves)
+        _mirror_symmetric(pattern, mesh, moves)
+    out = []
+    for (pname, ename), d in moves.items():
+        n = float(np.linalg.norm(d))
+        if n < settings.min_move:
+            continue
+        if n > settings.max_move:
+            d = d * (settings.max_move / n)
+        out.append(CornerMove(pname, ename, (float(d[0]), float(d[1]))))
+    return out
+
+
+def _corner_partner(pattern: Pattern, panel: str, edge: str):
+    """(panel, edge whose start is the same sewn point) across each full-length seam."""
+    p = pattern.panel(panel)
+    li, k = _locate(p, edge)
+    loop = p.loops[li].edges
+    prev = loop[k - 1].name
+    for s in pattern.seams:
+        for mine, other in ((s.a, s.b), (s.b, s.a)):
+            if mine.panel != panel or (mine.start, mine.end) != (0.0, 1.0) \
+                    or (other.start, other.end) != (0.0, 1.0):
+                continue
+            op = pattern.panel(other.panel)
+            oli, ok = _locate(op, other.edge)
+            onext = op.loops[oli].edges[(ok + 1) % len(op.loops[oli].edges)].name
+            if mine.edge == edge:       # our corner is the start of this seam side
+                yield other.panel, (onext if s.reverse else other.edge)
+            elif mine.edge == prev:     # ... or its end
+                yield other.panel, (other.edge if s.reverse else onext)
+
+
+def _share_sewn_corners(pattern: Pattern, moves: dict) -> None:
+    """Sewn corners get the same outward move size on both panels (the mean of their
+    demands), each along its own panel's direction, so seam sides keep equal lengths."""
+    groups: dict = {}
+    for key in list(moves):
+        group = {key}
+        frontier = [key]
+        while frontier:
+            for q in _corner_partner(pattern, *frontier.pop()):
+                if q in moves and q not in group:
+                    group.add(q)
+                    frontier.append(q)
+        groups[frozenset(group)] = group
+    for group in groups.values():
+        if len(group) < 2:
+            continue
+        size = np.mean([np.linalg.norm(moves[k]) for k in group])
+        for k in group:
+            n = np.linalg.norm(moves[k])
+            if n > 0:
+                moves[k] = moves[k] * (size / n)
+
+
+def _mirror_symmetric(pattern: Pattern, mesh: GarmentMesh, moves: dict) -> None:
+    """On a panel symmetric about an axis along its grain, mirrored corners get mirrored
+    moves (the mean of the two), so the panel stays symmetric."""
+    for pi, name in enumerate(mesh.panel_names):
+        panel = pattern.panel(name)
+        g = mesh.grain[pi]
+        c = np.array([-g[1], g[0]])
+        edges = panel.outline.edges
+        pts = np.array([e.start for e in edges])
+        poly = panel.outline.polygon()
+        axis = 0.5 * float((poly @ c).min() + (poly @ c).max())
+        mirrored = pts - 2.0 * np.outer(pts @ c - axis, c)
+        dist = np.linalg.norm(mirrored[:, None, :] - pts[None, :, :], axis=2)
+        partner = np.argmin(dist, axis=1)
+        if not np.all(dist[np.arange(len(pts)), partner] < 1e-3):
+            continue
+        reflect = np.eye(2) - 2.0 * np.outer(c, c)
+        for i, j in enumerate(partner):
+            ki, kj = (name, edges[i].name), (name, edges[j].name)
+            if i < j and ki in moves and kj in moves:
+                mean = 0.5 * (moves[ki] + reflect @ moves[kj])
+                moves[ki], moves[kj] = mean, reflect @ mean
+
+
+def apply_moves(pattern: Pattern, moves: list[CornerMove]) -> Pattern:
+    """The pattern with all corner moves made at once; seam sides left of unequal length
+    (panels that are not congruent) are matched by sliding the partner's corner, as the
+    editing tools do with ``partner=True``. Refuses a result that fails ``check_pattern``."""
+    new = pattern
+    edited = set()
+    for mv in moves:
+        p = new.panel(mv.panel)
+        new = new.with_panel(_move_corner(p, mv.edge, np.asarray(mv.offset)))
+        li, k = _locate(p, mv.edge)
+        edited |= {(mv.panel, mv.edge), (mv.panel, p.loops[li].edges[k - 1].name)}
+    first = {(s.a.panel, s.a.edge) for s in new.seams}
+    new = _match_partners(pattern, new, edited & first)
+    check_pattern(new)
+    return new
+
+
+def fit_reached(fit: FitResult, regions, settings: CorrectionSettings) -> bool:
+    """ϖ at the threshold and no region stretched more than ``tight_limit``."""
+    return fit.fitting_ratio >= settings.threshold and not any(
+        r.kind == "tight" and r.area_change > settings.tight_limit for r in regions)
+
+
+def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
+            progress: Callable | None = None, drape_progress: Callable | None = None
+            ) -> Correction:
+    """Run the loop on a :class:`~patternfit.loop.DesignSession`: drape (if not yet),
+    evaluate, find the regions, edit, re-drape warm-started, until the fit is reached or
+    ``settings.max_iterations`` rounds were made.
+
+    ``progress(iteration: Iteration)`` is called after each drape is evaluated;
+    ``drape_progress`` goes to the solver. Returns the :class:`Correction`; the session
+    holds every state (one per round) for undo.
+    """
+    out = Correction()
+    t_all = time.perf_counter()
+    for index in range(settings.max_iterations + 1):
+        t0 = time.perf_counter()
+        if index > 0 or session.state.positions is None or session.state.fitting_ratio is None:
+            session.redrape(progress=drape_progress)
+        fit = session.evaluate()
+        regions = find_regions(session.mesh, fit)
+        reached = fit_reached(fit, regions, settings)
+        it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks)
+        if not reached and index < settings.max_iterations:
+            it.edits = _edit(session, fit, settings)
+        it.seconds = time.perf_counter() - t0
+        out.iterations.append(it)
+        if progress is not None:
+            progress(it)
+        if reached or not it.edits:  # fit reached, the limit hit, or nothing left to change
+            out.reached = reached
+            break
+    out.pattern = session.pattern
+    out.seconds = time.perf_counter() - t_all
+    return out
+
+
+def _edit(session, fit: FitResult, settings: CorrectionSettings) -> list[CornerMove]:
+    """Propose and apply one round of moves; halve them if the result is refused."""
+    moves = propose_moves(session.pattern, session.mesh, fit, settings=settings)
+    for _ in range(4):
+        if not moves:
+            return []
+        try:
+            new = apply_moves(session.pattern, moves)
+        except PatternError:
+            moves = [replace(m, offset=tuple(0.5 * np.asarray(m.offset))) for m in moves]
+            continue
+        total = sum(np.hypot(*m.offset) for m in moves) * 100
+        session.apply_pattern(new, label=f"correct: {len(moves)} corner moves, "
+                              f"{total:.1f} cm in all",
+                              edit={"op": "correct", "args": {"moves": [m.to_dict()
+                                                                        for m in moves]}})
+        return moves
+    return []

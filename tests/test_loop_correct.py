@@ -1,0 +1,90 @@
+"""The design loop: a manual widening raises ϖ, and the automatic correction brings a skirt
+drafted too small to the threshold with seams matched, symmetry kept, no inverted triangle."""
+
+import numpy as np
+import pytest
+
+from patternfit.body.builtin import load_body
+from patternfit.edit import grade
+from patternfit.fit.metrics import triangle_areas
+from patternfit.loop import DesignSession
+from patternfit.loop.correct import CorrectionSettings, apply_moves, correct, propose_moves
+from patternfit.pattern.library import build
+from patternfit.pattern.validate import check_pattern
+
+NARROW = 0.7  # the skirt is drafted at 70% of its width: much too small for the body
+SETTINGS = CorrectionSettings(threshold=0.95, max_iterations=3)
+
+
+@pytest.fixture(scope="module")
+def session():
+    small = grade(build("skirt", "M"), None, NARROW, 1.0)
+    s = DesignSession(small, load_body("female_thin"), "stretch_knit", 1500, 0.95,
+                      relax=1.0 / NARROW)
+    s.redrape()
+    return s
+
+
+def _mirror_gap(panel) -> float:
+    """Largest distance from the mirrored outline (about its vertical axis) to the
+    outline [m]: 0 for a mirror-symmetric panel."""
+    p = panel.outline.polygon(64)
+    axis = 0.5 * (p[:, 0].min() + p[:, 0].max())
+    q = p * [-1.0, 1.0] + [2 * axis, 0.0]
+    return float(np.linalg.norm(q[:, None, :] - p[None, :, :], axis=2).min(axis=1).max())
+
+
+def test_widening_a_too_tight_skirt_raises_the_fitting_ratio(session):
+    start = session.state.fitting_ratio
+    assert start < 0.95
+    for panel in ("front", "back"):
+        # lengthen across the panel at its hip line: its left half moves out by 3 cm
+        session.apply("lengthen", panel=panel, a=(-0.05, 0.4), b=(0.05, 0.4), amount=0.03,
+                      partner=True)
+    session.redrape()
+    assert session.state.fitting_ratio > start + 0.01
+    session.undo()
+    session.undo()
+    assert session.state.fitting_ratio == start
+
+
+def test_proposed_moves_only_widen_and_keep_the_pattern_valid(session):
+    fit = session.evaluate()
+    moves = propose_moves(session.pattern, session.mesh, fit, settings=SETTINGS)
+    assert moves
+    new = apply_moves(session.pattern, moves)
+    check_pattern(new)
+    for panel in new.panels:
+        old = session.pattern.panel(panel.name)
+        assert panel.area() > old.area()  # it lacked fabric: nothing was taken away
+        assert np.ptp(panel.outline.polygon()[:, 0]) >= np.ptp(old.outline.polygon()[:, 0])
+
+
+def test_correction_reaches_the_threshold(session):
+    result = correct(session, settings=SETTINGS)
+    first, last = result.iterations[0], result.iterations[-1]
+    assert first.fitting_ratio < SETTINGS.threshold
+    assert result.reached and last.fitting_ratio >= SETTINGS.threshold
+    assert len(result.iterations) - 1 <= SETTINGS.max_iterations
+    assert all(it.checks["inside_vertices"] == 0 for it in result.iterations)
+    assert first.edits and not last.edits
+    pattern = result.pattern
+    # seams matched
+    for seam in pattern.seams:
+        assert pattern.seam_side_length(seam.a) == pytest.approx(
+            pattern.seam_side_length(seam.b), abs=1e-5)
+    check_pattern(pattern)
+    # mirror-symmetric panels stay so
+    for panel in pattern.panels:
+        assert _mirror_gap(session.history[0].pattern.panel(panel.name)) < 1e-6
+        assert _mirror_gap(panel) < 1e-4
+    # no inverted triangle in the followed mesh
+    mesh = session.mesh
+    v, t = mesh.vertices, mesh.triangles
+    e1, e2 = v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]
+    signed = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    assert np.all(signed > 0) and np.all(triangle_areas(v, t) > 0)
+    report = result.to_dict()
+    assert report["fitting_ratio"] == last.fitting_ratio
+    assert report["iterations"][0]["iteration"] == 0
+    assert all("edits" in it and "seconds" in it for it in report["iterations"])
