@@ -69,7 +69,7 @@ def _neckline(nw: float, top: float, depth: float) -> Edge:
 
 
 # -- coat ----------------------------------------------------------------------------------
-def coat(m: Measurements, *, ease: float = 0.12, sleeve_angle: float = 45.0) -> Pattern:
+def coat(m: Measurements, *, ease: float = 0.12, sleeve_angle: float = 42.0) -> Pattern:
     """A hip-length coat with kimono sleeves, in two panels (front, back).
 
     Parameters
@@ -90,8 +90,8 @@ def coat(m: Measurements, *, ease: float = 0.12, sleeve_angle: float = 45.0) -> 
     nw = m.neck / 6 + 0.01
     tip = np.array([m.shoulder / 2, length - 0.045])
     cuff_top = tip + (m.arm_length + 0.02) * d
-    cuff_bottom = cuff_top + (m.wrist + 0.14) / 2 * n
-    pit = np.array([wc, length - (m.bust / 8 + 0.10)])
+    cuff_bottom = cuff_top + (m.wrist + 0.20) / 2 * n
+    pit = np.array([wc, length - (m.bust / 8 + 0.15)])
 
     def panel(name: str, neck_depth: float, side: str) -> Panel:
         half = [Edge.line("side_l", (wh, 0.0), pit),

@@ -308,7 +308,7 @@ def _sewing_lift(mesh: GarmentMesh, x, body, clearance: float, *, most: float = 
     best, best_lift = None, 0.0
     for lift in np.arange(0.0, most + 1e-9, 0.01):
         d, _ = field.query(mid + [0.0, lift, 0.0])
-        blocked = int(np.sum(d < 0.5 * clearance))
+        blocked = int(np.sum(d < 0.005))
         if best is None or blocked < best:
             best, best_lift = blocked, float(lift)
         if blocked == 0:
