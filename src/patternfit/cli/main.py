@@ -8,6 +8,7 @@ from . import bodies  # noqa: F401
 from . import edit  # noqa: F401
 from . import drape  # noqa: F401
 from . import studio  # noqa: F401
+from . import loop  # noqa: F401
 from .app import app
 
 __all__ = ["app"]

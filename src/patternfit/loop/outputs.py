@@ -1,0 +1,116 @@
+"""What the design loop writes: the corrected pattern, before/after fit outputs, the regions
+outlined on the 2D pattern, and ``report.json`` with every iteration."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ..files import atomic_write_text
+from ..fit.colormap import FitScale
+from ..fit.metrics import FitEvaluator, FitResult
+from ..fit.outputs import write_fit_outputs
+from ..fit.pictures import flat_layout
+from ..mesh.garment import GarmentMesh
+from ..pattern.io import save_pattern
+from .correct import Correction
+from .regions import Region
+from .session import _plain
+
+
+def region_outline(mesh: GarmentMesh, triangles) -> np.ndarray:
+    """Boundary edges of a set of triangles (edges used by exactly one of them): (k, 2) int."""
+    t = mesh.triangles[np.asanyarray(triangles)]
+    e = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    edges, count = np.unique(e, axis=0, return_counts=True)
+    return edges[count == 1]
+
+
+def plot_regions(mesh: GarmentMesh, fit: FitResult, regions: list[Region], path, *,
+                 title: str | None = None) -> Path:
+    """The flat pattern coloured by area change with each region outlined and numbered
+    (dark red: tight, blue: loose); the numbers are listed with each region's description."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection, PolyCollection
+
+    scale = FitScale(band=fit.thresholds[0])
+    xy = flat_layout(mesh)
+    width, height = np.ptp(xy[:, 0]), np.ptp(xy[:, 1])
+    lines = max(len(regions), 1)
+    fig_w = min(16.0, 3.0 + 10.0 * width / max(width, height))
+    fig_h = 8.0 * height / max(width, height) + 1.5 + 0.22 * lines
+    fig, ax = plt.subplots(figsize=(fig_w, fig_h))
+    colors = scale.colors(fit.area_change)
+    ax.add_collection(PolyCollection(xy[mesh.triangles], facecolors=colors, edgecolors=colors,
+                                     linewidths=0.3))
+    for loop in range(len(mesh.loop_panel)):
+        ids = mesh.boundary_vertices[mesh.boundary_loop == loop]
+        ring = xy[np.append(ids, ids[0])]
+        ax.plot(ring[:, 0], ring[:, 1], color="k", lw=0.8)
+    legend = []
+    for k, r in enumerate(regions, start=1):
+        colour = "#b2182b" if r.kind == "tight" else "#2166ac"
+        ax.add_collection(LineCollection(xy[region_outline(mesh, r.triangles)], colors=colour,
+                                         linewidths=1.6))
+        c = xy[mesh.triangles[r.triangles]].mean(axis=(0, 1))
+        ax.text(c[0], c[1], str(k), ha="center", va="center", fontsize=10, weight="bold",
+                color=colour, bbox=dict(boxstyle="circle,pad=0.15", fc="white", ec=colour))
+        legend.append(f"{k}. {r.describe()}")
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.set_xlabel("m")
+    head = f"{title} — " if title else ""
+    ax.set_title(f"{head}ϖ = {fit.fitting_ratio * 100:.2f}%: {len(regions)} region(s) to "
+                 "modify", fontsize=10)
+    fig.text(0.01, 0.01, "\n".join(legend) or "no region tighter or looser than the band",
+             fontsize=7, va="bottom", ha="left")
+    fig.tight_layout(rect=(0, 0.03 + 0.022 * lines, 1, 1))
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return Path(path)
+
+
+def write_correction_outputs(folder, session, correction: Correction, *, start: int = 0,
+                             pictures: bool = True, extra: dict | None = None,
+                             progress=None) -> dict:
+    """Write the loop's results into ``folder`` and return the report.
+
+    ``folder/pattern.json`` is the corrected pattern; ``before/`` and ``after/`` hold the fit
+    outputs of history state ``start`` (the first drape) and of the current state;
+    ``regions_before.png`` / ``regions_after.png`` outline the regions on the 2D pattern;
+    ``report.json`` holds ``fitting_ratio`` (final ϖ), ``iterations`` (per iteration: ϖ,
+    regions, edits in cm, seconds; 0 = the first drape) and ``regions`` (of the final drape).
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    say = progress or (lambda msg: None)
+    save_pattern(correction.pattern, folder / "pattern.json")
+    body = (session.body.vertices, session.body.faces)
+    files = {"pattern": "pattern.json"}
+    for name, state, it in (("before", session.history[start], correction.iterations[0]),
+                            ("after", session.state, correction.iterations[-1])):
+        say(f"{name}: fit outputs")
+        fit = FitEvaluator(state.mesh)(state.positions)
+        write_fit_outputs(folder / name, state.pattern, state.mesh, state.positions, fit,
+                          state="draped", body=body, pictures=pictures,
+                          extra={"checks": state.checks,
+                                 "regions": [r.to_dict() for r in it.regions]})
+        files[name] = f"{name}/"
+        if pictures:
+            say(f"{name}: regions picture")
+            plot_regions(state.mesh, fit, it.regions, folder / f"regions_{name}.png",
+                         title=f"{state.pattern.name} ({name})")
+            files[f"regions_{name}_png"] = f"regions_{name}.png"
+    report = {**correction.to_dict(), "regions": [r.to_dict() for r in
+                                                  correction.iterations[-1].regions],
+              "garment": correction.pattern.name, "body": session.body.name,
+              "fabric": session.fabric.name, "triangles": int(session.mesh.n_triangles),
+              "threshold": session.threshold, "relax": session.relax, "files": files,
+              **(extra or {})}
+    atomic_write_text(folder / "report.json", json.dumps(report, indent=1, default=_plain))
+    return report
+

@@ -1,0 +1,120 @@
+"""The paper's Table 2, automatically: each garment drafted too small for its body, draped,
+and corrected by :func:`patternfit.loop.correct` until ϖ reaches the threshold.
+
+Setup of each row (METHOD.md section 6): the built-in garment in size M, every panel
+narrowed across its grainline by ``narrow`` (``edit.grade(pattern, None, narrow, 1)``),
+in a stretch knit so that the body can still get in; the first drape sews it widened by
+``1 / narrow`` and then restores its true width (``DesignSession.relax``).
+"""
+
+from __future__ import annotations
+
+import platform
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..body.builtin import load_body
+from ..edit import grade
+from ..fit.metrics import FitEvaluator
+from ..pattern.library import build
+from ..sim.placement import place_on_body
+from .correct import CorrectionSettings, correct
+from .session import DesignSession
+
+
+@dataclass(frozen=True)
+class Row:
+    """One garment of the experiment and the paper's numbers for it (fractions)."""
+
+    garment: str
+    body: str
+    triangles: int
+    narrow: float
+    fabric: str
+    paper: tuple  # (after simulation, 1st edit, 2nd edit, output, manual seconds)
+
+
+ROWS = (
+    Row("coat", "male_heavy", 22000, 0.75, "stretch_knit",
+        (0.6523, 0.7249, 0.8573, 0.9143, 10.3)),
+    Row("skirt", "female_thin", 15000, 0.70, "stretch_knit",
+        (0.7096, 0.7856, 0.8329, 0.9234, 12.6)),
+    Row("trousers", "male_thin", 20000, 0.75, "stretch_knit",
+        (0.6371, 0.7083, 0.7555, 0.9019, 15.9)),
+)
+
+
+def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettings(),
+            figures: Path | None = None, progress=None) -> dict:
+    """Run one row: drape, correct, and (with ``figures``) write the before/after maps as
+    ``figures/table2_<garment>_{before,after}_{2d,3d}.png``. Returns the row's numbers."""
+    from .outputs import plot_regions
+    from ..fit.pictures import plot_3d_map
+
+    t0 = time.perf_counter()
+    pattern = grade(build(row.garment, "M"), None, row.narrow, 1.0)
+    session = DesignSession(pattern, load_body(row.body), row.fabric,
+                            triangles or row.triangles, settings.threshold,
+                            relax=1.0 / row.narrow)
+    placed = place_on_body(pattern, session.mesh, session.body)
+    placed_ratio = FitEvaluator(session.mesh).metrics(placed)[1]
+    result = correct(session, settings=settings, progress=progress)
+    seconds = time.perf_counter() - t0
+    if figures is not None:
+        figures.mkdir(parents=True, exist_ok=True)
+        body = (session.body.vertices, session.body.faces)
+        for name, state, it in (("before", session.history[0], result.iterations[0]),
+                                ("after", session.state, result.iterations[-1])):
+            fit = FitEvaluator(state.mesh)(state.positions)
+            stem = figures / f"table2_{row.garment}_{name}"
+            plot_regions(state.mesh, fit, it.regions, f"{stem}_2d.png",
+                         title=f"{row.garment} on {row.body} ({name})")
+            plot_3d_map(state.positions, state.mesh, fit, f"{stem}_3d.png", body=body,
+                        title=f"{row.garment} on {row.body} ({name})")
+    return {"garment": row.garment, "body": row.body, "fabric": row.fabric,
+            "narrow": row.narrow, "size": "M", "triangles": int(session.mesh.n_triangles),
+            "vertices": int(session.mesh.n_vertices), "panels": len(pattern.panels),
+            "placed": placed_ratio, "ratios": [it.fitting_ratio for it in result.iterations],
+            "final": result.fitting_ratio, "reached": result.reached,
+            "rounds": len(result.iterations) - 1,
+            "edits": sum(len(it.edits) for it in result.iterations),
+            "edit_cm": sum(e.to_dict()["cm"] for it in result.iterations for e in it.edits),
+            "checks_passed": [bool(it.checks and it.checks.get("passed"))
+                              for it in result.iterations],
+            "seconds": seconds, "device": device_name(), "paper": row.paper}
+
+
+def device_name() -> str:
+    """The CPU this runs on, in words."""
+    import os
+
+    name = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                name = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return f"{name}, {os.cpu_count()} cores (CPU)"
+
+
+def format_table(rows: list[dict]) -> str:
+    """The results beside the paper's rows, as plain text."""
+    head = (f"{'garment':9} {'body':12} {'#vert,#tri,#pan':17} {'placed':>7} {'1st drape':>9} "
+            f"{'after edits':28} {'final':>7} {'rounds':>6} {'edits':>9} {'time':>7}  checks")
+    out = [head, "-" * len(head)]
+    for r in rows:
+        p = r["paper"]
+        mid = " / ".join(f"{x * 100:.2f}%" for x in r["ratios"][1:]) or "—"
+        size = f"{r['vertices'] / 1e3:.1f}K,{r['triangles'] / 1e3:.1f}K,{r['panels']}"
+        ok = "".join("✓" if c else "✗" for c in r["checks_passed"])
+        out.append(f"{r['garment']:9} {r['body']:12} {size:17} {r['placed'] * 100:6.2f}% "
+                   f"{r['ratios'][0] * 100:8.2f}% {mid:28} {r['final'] * 100:6.2f}% "
+                   f"{r['rounds']:6d} {r['edits']:3d} {r['edit_cm']:4.0f}cm "
+                   f"{r['seconds']:6.1f}s  {ok}")
+        out.append(f"{'  paper':9} {'':12} {'':17} {100:6.2f}% {p[0] * 100:8.2f}% "
+                   f"{p[1] * 100:.2f}% / {p[2] * 100:.2f}%{'':11} {p[3] * 100:6.2f}% "
+                   f"{2:6d} {'manual':>9} {p[4]:6.1f}s")
+    return "\n".join(out)

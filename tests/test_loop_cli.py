@@ -1,0 +1,45 @@
+"""``patternfit correct``: writes the corrected pattern and a report with every iteration."""
+
+import json
+
+from typer.testing import CliRunner
+
+from patternfit.cli.main import app
+from patternfit.pattern.io import load_pattern
+from patternfit.pattern.validate import check_pattern
+
+runner = CliRunner()
+
+
+def test_correct_writes_pattern_and_report(tmp_path):
+    out = tmp_path / "run"
+    res = runner.invoke(app, ["correct", "--body", "female_thin", "--pattern", "skirt",
+                              "--size", "S", "--fabric", "stretch_knit", "--triangles", "900",
+                              "--threshold", "0.999", "--max-iterations", "1",
+                              "--no-pictures", "--out", str(out), "--json"])
+    assert res.exit_code == 0, res.output
+    report = json.loads(res.stdout)
+    on_disk = json.loads((out / "report.json").read_text())
+    assert on_disk["fitting_ratio"] == report["fitting_ratio"]
+    its = report["iterations"]
+    assert its[0]["iteration"] == 0 and 1 <= len(its) <= 2
+    assert report["fitting_ratio"] == its[-1]["fitting_ratio"]
+    assert all({"fitting_ratio", "edits", "seconds", "regions"} <= set(it) for it in its)
+    assert isinstance(report["regions"], list)
+    check_pattern(load_pattern(out / "pattern.json"))
+    assert (out / "before" / "report.json").exists() and (out / "after" / "report.json").exists()
+
+
+def test_correct_refuses_to_overwrite_its_input(tmp_path):
+    src = tmp_path / "pattern.json"
+    res = runner.invoke(app, ["patterns", "skirt", "--out", str(src)])
+    assert res.exit_code == 0, res.output
+    res = runner.invoke(app, ["correct", "--body", "female_thin", "--pattern", str(src),
+                              "--out", str(tmp_path)])
+    assert res.exit_code != 0 and "overwrite" in res.output
+
+
+def test_bad_threshold_is_refused(tmp_path):
+    res = runner.invoke(app, ["correct", "--body", "female_thin", "--pattern", "skirt",
+                              "--threshold", "90", "--out", str(tmp_path)])
+    assert res.exit_code != 0 and "threshold" in res.output
