@@ -43,3 +43,18 @@ def test_bad_threshold_is_refused(tmp_path):
     res = runner.invoke(app, ["correct", "--body", "female_thin", "--pattern", "skirt",
                               "--threshold", "90", "--out", str(tmp_path)])
     assert res.exit_code != 0 and "threshold" in res.output
+
+
+def test_demo_runs_the_loop(tmp_path):
+    out = tmp_path / "demo"
+    res = runner.invoke(app, ["demo", "--out", str(out), "--triangles", "900", "--json"])
+    assert res.exit_code == 0, res.output
+    report = json.loads(res.stdout)
+    # isometric placement: only the chords of the curved placement differ, O(h^2)
+    assert abs(report["fitting_ratio_placed"] - 1.0) < 2e-3
+    first = report["iterations"][0]["fitting_ratio"]
+    assert first < 0.95 and report["fitting_ratio"] > first
+    assert report["iterations"][0]["regions"] and report["iterations"][0]["edits"]
+    for f in ("pattern.json", "report.json", "regions_before.png", "regions_after.png",
+              "before/fit_3d.png", "after/fit_2d.png", "after/garment.glb"):
+        assert (out / f).stat().st_size > 500, f
