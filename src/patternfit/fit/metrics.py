@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..mesh.garment import GarmentMesh
+from ..mesh.quality import signed_areas
 
 #: fit classes, stored per triangle as these integers
 LOOSE, FIT, TIGHT = -1, 0, 1
@@ -34,10 +35,10 @@ def triangle_areas(vertices, triangles) -> np.ndarray:
     """
     v = np.asanyarray(vertices, dtype=np.float64)
     t = np.asanyarray(triangles)
+    if v.shape[1] == 2:
+        return np.abs(signed_areas(v, t))
     e1 = v[t[:, 1]] - v[t[:, 0]]
     e2 = v[t[:, 2]] - v[t[:, 0]]
-    if v.shape[1] == 2:
-        return 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
     cx = e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1]
     cy = e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2]
     cz = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]

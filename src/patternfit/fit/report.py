@@ -6,9 +6,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from ..files import atomic_write_text
+from ..files import atomic_write_text, json_default
 from ..mesh.garment import GarmentMesh
 from ..mesh.quality import min_angle
 from .metrics import FitResult
@@ -60,10 +58,4 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
 
 def write_report(report: dict[str, Any], path) -> Path:
     """Write ``report`` as indented JSON, atomically."""
-    def default(o):
-        if isinstance(o, np.generic):
-            return o.item()
-        if isinstance(o, np.ndarray):
-            return o.tolist()
-        raise TypeError(f"not JSON serialisable: {type(o).__name__}")
-    return atomic_write_text(path, json.dumps(report, indent=1, default=default) + "\n")
+    return atomic_write_text(path, json.dumps(report, indent=1, default=json_default) + "\n")

@@ -19,7 +19,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..body.builtin import list_bodies, load_body, read_body, save_body
-from ..files import atomic_write_bytes, atomic_write_text
+from ..files import atomic_write_bytes, atomic_write_text, json_default
 from ..fit.metrics import FitEvaluator, FitResult
 from ..mesh.garment import GarmentMesh
 from ..mesh.triangulate import mesh_pattern
@@ -249,7 +249,7 @@ class DesignSession:
                 "fabric": vars(self.fabric), "triangles": self.triangles,
                 "threshold": self.threshold, "relax": self.relax, "position": self.position,
                 "states": states}
-        atomic_write_text(snap / "session.json", json.dumps(meta, indent=1, default=_plain))
+        atomic_write_text(snap / "session.json", json.dumps(meta, indent=1, default=json_default))
         atomic_write_text(folder / "current", snap.name + "\n")
         for old in folder.glob("snapshot-*"):
             if old.name != snap.name:
@@ -292,14 +292,6 @@ def _widened(pattern: Pattern, mesh: GarmentMesh, factor: float):
         ids = mesh.panel_vertices(i)
         v[ids, 0] = c[0] + factor * (v[ids, 0] - c[0])
     return grade(pattern, None, factor, 1.0), mesh.with_vertices(v)
-
-
-def _plain(o):
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
 
 
 def _describe(op: str, args: dict) -> str:

@@ -9,7 +9,6 @@ and ``.pdf`` (plots). Lengths are metres inside.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from .errors import PatternError
@@ -33,27 +32,7 @@ def check_imported(pattern: Pattern) -> list[str]:
     from .validate import check_pattern, check_seams
 
     check_pattern(replace(pattern, seams=()))
-    warnings = []
-    for seam in pattern.seams:
-        try:
-            check_seams(replace(pattern, seams=(seam,)))
-        except PatternError as exc:
-            if "different length" not in exc.reason:
-                raise
-            warnings.append(exc.reason)
-    used: dict[tuple[str, str], list[tuple[float, float, str]]] = {}
-    for seam in pattern.seams:
-        for side in (seam.a, seam.b):
-            for s0, s1, other in used.get((side.panel, side.edge), []):
-                if side.start < s1 - 1e-9 and s0 < side.end - 1e-9:
-                    raise PatternError(f"seams '{other}' and '{seam.name}' overlap on the "
-                                       "same edge", panel=side.panel, edge=side.edge)
-            used.setdefault((side.panel, side.edge), []).append(
-                (side.start, side.end, seam.name))
-    names = [s.name for s in pattern.seams]
-    if len(set(names)) != len(names):
-        raise PatternError(f"seam name used twice: {sorted({n for n in names if names.count(n) > 1})}")
-    return warnings
+    return check_seams(pattern, unequal="warn")
 
 
 def sniff_format(path) -> str:
@@ -62,7 +41,7 @@ def sniff_format(path) -> str:
     Raises :class:`PatternError` naming the file for an unknown ending or JSON content.
     """
     from .garmentcode import is_garmentcode
-    from .io import FORMAT
+    from .io import FORMAT, read_json
 
     path = Path(path)
     suffix = path.suffix.lower()
@@ -71,13 +50,7 @@ def sniff_format(path) -> str:
     if suffix != ".json":
         raise PatternError(f"cannot read '{suffix or path.name}' files (readable: "
                            f"{', '.join(READ_SUFFIXES)})", file=path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise PatternError(f"cannot read file: {exc.strerror}", file=path) from None
-    except json.JSONDecodeError as exc:
-        raise PatternError(f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})",
-                           file=path) from None
+    data = read_json(path)
     if isinstance(data, dict) and data.get("format") == FORMAT:
         return "patternfit"
     if is_garmentcode(data):

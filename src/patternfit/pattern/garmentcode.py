@@ -45,6 +45,7 @@ from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
 from .formats import check_imported
+from .io import read_json
 
 __all__ = ["euler_xyz_matrix", "garmentcode_from_dict", "garmentcode_to_dict", "is_garmentcode",
            "load_garmentcode", "panel_points_3d", "save_garmentcode"]
@@ -302,13 +303,7 @@ def load_garmentcode(path) -> Pattern:
     The pattern is named after the file (``x_specification.json`` gives ``x``).
     """
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise PatternError(f"cannot read file: {exc.strerror}", file=path) from None
-    except json.JSONDecodeError as exc:
-        raise PatternError(f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})",
-                           file=path) from None
+    data = read_json(path)
     name = path.stem.removesuffix("_specification") or "pattern"
     try:
         return garmentcode_from_dict(data, name=name)

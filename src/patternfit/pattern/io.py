@@ -189,18 +189,25 @@ def pattern_to_dict(pattern: Pattern, *, units: str = "m") -> dict:
             "meta": pattern.meta, "panels": panels, "seams": seams}
 
 
-def load_pattern(path) -> Pattern:
-    """Read and validate a pattern JSON file; errors name the file, panel and edge."""
+def read_json(path) -> Any:
+    """The parsed JSON document in ``path``; :class:`PatternError` naming the file when it
+    cannot be read or parsed."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise PatternError(f"cannot read file: {exc.strerror}", file=path) from None
     try:
-        data = json.loads(text)
+        return json.loads(text)
     except json.JSONDecodeError as exc:
         raise PatternError(f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})",
                            file=path) from None
+
+
+def load_pattern(path) -> Pattern:
+    """Read and validate a pattern JSON file; errors name the file, panel and edge."""
+    path = Path(path)
+    data = read_json(path)
     try:
         return pattern_from_dict(data)
     except PatternError as exc:

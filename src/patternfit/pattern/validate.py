@@ -111,10 +111,17 @@ def check_panel(panel: Panel) -> None:
                                    edge=names2[int(np.argwhere(hit)[0, 1])])
 
 
-def check_seams(pattern: Pattern) -> None:
+def check_seams(pattern: Pattern, *, unequal: str = "error") -> list[str]:
     """Raise :class:`PatternError` for a seam naming a missing panel or edge, a bad range,
     overlapping seams on one edge, or two sides whose lengths differ beyond tolerance
-    (``tol.seam_length`` or ``tol.seam_length_rel`` of their mean, whichever is larger)."""
+    (``tol.seam_length`` or ``tol.seam_length_rel`` of their mean, whichever is larger).
+
+    With ``unequal="warn"`` (patterns from other tools, which gather or ease seams) sides of
+    different length are allowed and returned as warnings instead.
+    """
+    if unequal not in ("error", "warn"):
+        raise ValueError(f"unequal: expected 'error' or 'warn', got {unequal!r}")
+    warnings: list[str] = []
     names = [s.name for s in pattern.seams]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
@@ -145,11 +152,15 @@ def check_seams(pattern: Pattern) -> None:
         la, lb = lengths
         allowed = max(tol.seam_length, tol.seam_length_rel * 0.5 * (la + lb))
         if abs(la - lb) > allowed:
-            raise PatternError(
+            err = PatternError(
                 f"seam '{seam.name}' joins sides of different length: "
                 f"{la * 100:.2f} cm ({seam.a.panel}/{seam.a.edge}) vs {lb * 100:.2f} cm "
                 f"({seam.b.panel}/{seam.b.edge}); tolerance {allowed * 1000:.1f} mm",
                 panel=seam.a.panel, edge=seam.a.edge)
+            if unequal == "error":
+                raise err
+            warnings.append(err.reason)
+    return warnings
 
 
 def check_pattern(pattern: Pattern) -> None:
