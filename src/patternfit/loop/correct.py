@@ -20,7 +20,7 @@ from typing import Callable
 import numpy as np
 
 from ..constants import tol
-from ..edit.tools import _locate, _match_partners, _move_corner
+from ..edit.tools import _locate, _move_corner
 from ..fit.metrics import FitResult
 from ..mesh.garment import GarmentMesh
 from ..pattern.errors import PatternError
@@ -34,7 +34,9 @@ class CorrectionSettings:
     """Knobs of the automatic correction.
 
     threshold : float     ϖ to reach [-] (default 0.90).
-    tight_limit : float   no region may stay stretched more than this in area [-].
+    tight_limit : float   no region may stay stretched more than this in area [-] ...
+    region_share : float  ... counting regions of at least this share of the garment's
+                          flat area (a few stretched triangles at an ankle do not count).
     max_iterations : int  correction rounds (edit + re-drape) at most.
     gain : float          share of the measured lack of fabric added per round [-].
     max_move : float      largest corner move of one round [m].
@@ -46,6 +48,7 @@ class CorrectionSettings:
 
     threshold: float = 0.90
     tight_limit: float = 0.20
+    region_share: float = 0.01
     max_iterations: int = 3
     gain: float = 1.0
     max_move: float = 0.08
@@ -217,50 +220,106 @@ def _share_sewn_corners(pattern: Pattern, moves: dict) -> None:
 
 
 def _mirror_symmetric(pattern: Pattern, mesh: GarmentMesh, moves: dict) -> None:
-    """On a panel symmetric about an axis along its grain, mirrored corners get mirrored
-    moves (the mean of the two), so the panel stays symmetric."""
-    for pi, name in enumerate(mesh.panel_names):
-        panel = pattern.panel(name)
-        g = mesh.grain[pi]
-        c = np.array([-g[1], g[0]])
-        edges = panel.outline.edges
-        pts = np.array([e.start for e in edges])
-        poly = panel.outline.polygon()
-        axis = 0.5 * float((poly @ c).min() + (poly @ c).max())
-        mirrored = pts - 2.0 * np.outer(pts @ c - axis, c)
-        dist = np.linalg.norm(mirrored[:, None, :] - pts[None, :, :], axis=2)
-        partner = np.argmin(dist, axis=1)
-        if not np.all(dist[np.arange(len(pts)), partner] < 1e-3):
-            continue
-        reflect = np.eye(2) - 2.0 * np.outer(c, c)
-        for i, j in enumerate(partner):
-            ki, kj = (name, edges[i].name), (name, edges[j].name)
-            if i < j and ki in moves and kj in moves:
-                mean = 0.5 * (moves[ki] + reflect @ moves[kj])
-                moves[ki], moves[kj] = mean, reflect @ mean
+    """Corners that mirror each other — within a panel symmetric about an axis along its
+    grain, or between two panels that are mirror images (left and right legs) — get
+    mirrored moves (the mean of the two), so the symmetry stays."""
+    names = list(mesh.panel_names)
+    for i, a in enumerate(names):
+        for b in names[i:]:
+            pairs = _mirrored_corners(pattern.panel(a), pattern.panel(b), mesh.grain[i])
+            if pairs is None:
+                continue
+            g = mesh.grain[i]
+            c = np.array([-g[1], g[0]])
+            reflect = np.eye(2) - 2.0 * np.outer(c, c)
+            for ka, kb in pairs:
+                ka, kb = (a, ka), (b, kb)
+                if ka in moves and kb in moves and ka < kb:
+                    mean = 0.5 * (moves[ka] + reflect @ moves[kb])
+                    moves[ka], moves[kb] = mean, reflect @ mean
+
+
+def _mirrored_corners(pa, pb, grain):
+    """[(edge of pa, edge of pb)] whose start corners are mirror images across the grain
+    (after aligning the outlines' centres), or None if the outlines are not mirrored."""
+    c = np.array([-grain[1], grain[0]])
+    ea, eb = pa.outline.edges, pb.outline.edges
+    if len(ea) != len(eb):
+        return None
+    qa = np.array([e.start for e in ea])
+    qb = np.array([e.start for e in eb])
+    ma = pa.outline.polygon()
+    mb = pb.outline.polygon()
+    mirrored = qa - 2.0 * np.outer(qa @ c, c)
+    centre_a = 0.5 * (ma.min(axis=0) + ma.max(axis=0))
+    centre_b = 0.5 * (mb.min(axis=0) + mb.max(axis=0))
+    mirrored += centre_b - (centre_a - 2.0 * (centre_a @ c) * c)
+    dist = np.linalg.norm(mirrored[:, None, :] - qb[None, :, :], axis=2)
+    match = np.argmin(dist, axis=1)
+    if not np.all(dist[np.arange(len(qa)), match] < 1e-3):
+        return None
+    return [(ea[k].name, eb[m].name) for k, m in enumerate(match)]
 
 
 def apply_moves(pattern: Pattern, moves: list[CornerMove]) -> Pattern:
     """The pattern with all corner moves made at once; seam sides left of unequal length
-    (panels that are not congruent) are matched by sliding the partner's corner, as the
-    editing tools do with ``partner=True``. Refuses a result that fails ``check_pattern``."""
+    (panels that are not congruent) are closed by the smallest extra moves of the corners
+    of each seam's second side (:func:`close_seams`). Refuses (``PatternError``) a result
+    that fails ``check_pattern``."""
     new = pattern
-    edited = set()
     for mv in moves:
-        p = new.panel(mv.panel)
-        new = new.with_panel(_move_corner(p, mv.edge, np.asarray(mv.offset)))
-        li, k = _locate(p, mv.edge)
-        edited |= {(mv.panel, mv.edge), (mv.panel, p.loops[li].edges[k - 1].name)}
-    first = {(s.a.panel, s.a.edge) for s in new.seams}
-    new = _match_partners(pattern, new, edited & first)
+        new = new.with_panel(_move_corner(new.panel(mv.panel), mv.edge, np.asarray(mv.offset)))
+    new = close_seams(new)
     check_pattern(new)
     return new
 
 
+def close_seams(pattern: Pattern, *, iterations: int = 12) -> Pattern:
+    """Make every seam's two sides equally long by the smallest moves (least squares) of
+    the corners at the ends of each seam's side ``b``: Gauss–Newton with minimum-norm
+    steps on the length differences [m], Jacobian by finite differences."""
+    corners = []
+    for s in pattern.seams:
+        p = pattern.panel(s.b.panel)
+        li, k = _locate(p, s.b.edge)
+        edges = p.loops[li].edges
+        for key in ((s.b.panel, s.b.edge), (s.b.panel, edges[(k + 1) % len(edges)].name)):
+            if key not in corners:
+                corners.append(key)
+
+    def moved(x):
+        out = pattern
+        for (pname, ename), d in zip(corners, x.reshape(-1, 2)):
+            if d.any():
+                out = out.with_panel(_move_corner(out.panel(pname), ename, d))
+        return out
+
+    def residual(pat):
+        return np.array([pat.seam_side_length(s.b) - pat.seam_side_length(s.a)
+                         for s in pat.seams])
+
+    x = np.zeros(2 * len(corners))
+    r = residual(pattern)
+    h = 1e-5
+    for _ in range(iterations):
+        if np.abs(r).max(initial=0.0) <= 0.1 * tol.merge:
+            break
+        J = np.empty((len(r), len(x)))
+        for j in range(len(x)):
+            e = np.zeros_like(x)
+            e[j] = h
+            J[:, j] = (residual(moved(x + e)) - r) / h
+        x = x - np.linalg.lstsq(J, r, rcond=None)[0]
+        r = residual(moved(x))
+    return moved(x)
+
+
 def fit_reached(fit: FitResult, regions, settings: CorrectionSettings) -> bool:
-    """ϖ at the threshold and no region stretched more than ``tight_limit``."""
+    """ϖ at the threshold and no region of some size stretched more than ``tight_limit``."""
+    least = settings.region_share * float(fit.area_2d.sum()) * 1e4  # [cm^2]
     return fit.fitting_ratio >= settings.threshold and not any(
-        r.kind == "tight" and r.area_change > settings.tight_limit for r in regions)
+        r.kind == "tight" and r.area_change > settings.tight_limit and r.area_cm2 >= least
+        for r in regions)
 
 
 def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_write_text
+from ..files import atomic_write_text, json_default
 from ..fit.colormap import FitScale
 from ..fit.metrics import FitEvaluator, FitResult
 from ..fit.outputs import write_fit_outputs
@@ -17,7 +17,6 @@ from ..mesh.garment import GarmentMesh
 from ..pattern.io import save_pattern
 from .correct import Correction
 from .regions import Region
-from .session import _plain
 
 
 def region_outline(mesh: GarmentMesh, triangles) -> np.ndarray:
@@ -111,6 +110,6 @@ def write_correction_outputs(folder, session, correction: Correction, *, start: 
               "fabric": session.fabric.name, "triangles": int(session.mesh.n_triangles),
               "threshold": session.threshold, "relax": session.relax, "files": files,
               **(extra or {})}
-    atomic_write_text(folder / "report.json", json.dumps(report, indent=1, default=_plain))
+    atomic_write_text(folder / "report.json", json.dumps(report, indent=1, default=json_default))
     return report
 
