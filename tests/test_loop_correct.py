@@ -88,3 +88,29 @@ def test_correction_reaches_the_threshold(session):
     assert report["fitting_ratio"] == last.fitting_ratio
     assert report["iterations"][0]["iteration"] == 0
     assert all("edits" in it and "seconds" in it for it in report["iterations"])
+
+
+def test_moves_on_panels_that_are_not_congruent_keep_seams_matched():
+    from patternfit.loop.correct import CornerMove
+
+    trousers = build("trousers", "M")
+    moves = [CornerMove("front_r", "waist", (0.02, 0.0)),
+             CornerMove("front_r", "hip", (-0.03, 0.0)),
+             CornerMove("back_l", "crotch", (0.025, -0.01))]
+    new = apply_moves(trousers, moves)
+    check_pattern(new)
+    for seam in new.seams:
+        assert new.seam_side_length(seam.a) == pytest.approx(new.seam_side_length(seam.b),
+                                                             abs=1e-6)
+    # the moves asked for are made on the first sides of the seams
+    assert np.allclose(new.panel("front_r").edge("waist").start,
+                       trousers.panel("front_r").edge("waist").start + [0.02, 0.0])
+
+
+def test_left_and_right_legs_are_found_mirrored():
+    from patternfit.loop.correct import _mirrored_corners
+
+    t = build("trousers", "M")
+    pairs = dict(_mirrored_corners(t.panel("front_r"), t.panel("front_l"), np.array([0, 1.0])))
+    assert pairs["waist"] == "crotch"  # front_r: waist starts at the side; front_l: crotch
+    assert _mirrored_corners(t.panel("front_r"), t.panel("back_r"), np.array([0, 1.0])) is None

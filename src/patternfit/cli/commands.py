@@ -204,8 +204,8 @@ def demo(
 
     garment = garment or "skirt"
     row = {r.garment: r for r in ROWS}.get(garment)
-    body, narrow, fabric = (row.body, row.narrow, row.fabric) if row else \
-        ("female_average", 0.8, "stretch_knit")
+    body, narrow, fabric, relax = (row.body, row.narrow, row.fabric, row.relax) if row \
+        else ("female_average", 0.8, "stretch_knit", 1.0)
     t0 = time.perf_counter()
     try:
         pat = grade(build(garment, size), None, narrow, 1.0)
@@ -214,7 +214,7 @@ def demo(
     console.print(f"[bold]{garment}[/] size {size.upper()} drafted too small (narrowed to "
                   f"{narrow:.0%} of its width) in {fabric}, on the body '{body}'")
     session = DesignSession(pat, load_body(body), fabric, triangles or 3000, 0.90,
-                            relax=1.0 / narrow)
+                            relax=relax)
     placed = FitEvaluator(session.mesh).metrics(place_on_body(pat, session.mesh,
                                                               session.body))[1]
     report = run_correction(session, threshold=0.90, max_iterations=3, out=out,

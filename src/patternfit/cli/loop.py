@@ -146,3 +146,37 @@ def table2(
         return
     console.print(format_table(results), highlight=False, soft_wrap=True)
     console.print(f"total wall time {time.perf_counter() - t0:.1f} s")
+
+
+@reproduce.command("variants")
+def variants(
+    triangles: int = typer.Option(3000, "--triangles", "-n", help="Target triangle count."),
+    fabric: str = typer.Option("cotton", "--fabric", "-f", help="Fabric preset or JSON file."),
+    figures: Path = typer.Option(Path("docs/figures"), help="Where the 3D maps go."),
+    only: str = typer.Option("", help="Comma-separated figure numbers (e.g. 15a,17c)."),
+    json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
+) -> None:
+    """The variants of the paper's Figs 15–17 (coat small/original/large, lengthened,
+    shortened; skirt stretched; trousers original/stretched/large), each draped once, with
+    its ϖ and a 3D colour map."""
+    from ..loop.table2 import VARIANTS, run_variant
+
+    wanted = {s.strip() for s in only.split(",") if s.strip()}
+    rows = []
+    for v in VARIANTS:
+        if wanted and v[0] not in wanted:
+            continue
+        with console.status(f"Fig. {v[0]}: {v[1]}, {v[3]}"):
+            try:
+                rows.append(run_variant(v, triangles=triangles, fabric=fabric,
+                                        figures=figures))
+            except Exception as exc:  # one failing variant does not stop the others
+                console.print(f"[red]Fig. {v[0]}: failed: {type(exc).__name__}: {exc}[/]")
+                continue
+        r = rows[-1]
+        console.print(f"Fig. {r['figure']:4} {r['garment']:9} {r['variant']:24} ϖ "
+                      f"{r['fitting_ratio'] * 100:6.2f}%  checks "
+                      f"{'passed' if r['checks_passed'] else 'failed'}  {r['seconds']:.1f} s",
+                      highlight=False)
+    if json_out:
+        print_json(rows)

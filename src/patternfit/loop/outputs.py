@@ -3,10 +3,12 @@ outlined on the 2D pattern, and ``report.json`` with every iteration."""
 
 from __future__ import annotations
 
+import io
 import json
 from pathlib import Path
 
 import numpy as np
+from PIL import Image
 
 from ..files import atomic_write_text, json_default
 from ..fit.colormap import FitScale
@@ -40,8 +42,9 @@ def plot_regions(mesh: GarmentMesh, fit: FitResult, regions: list[Region], path,
     xy = flat_layout(mesh)
     width, height = np.ptp(xy[:, 0]), np.ptp(xy[:, 1])
     lines = max(len(regions), 1)
+    text_h = 0.25 + 0.14 * lines  # [inch] the list of regions below the picture
     fig_w = min(16.0, 3.0 + 10.0 * width / max(width, height))
-    fig_h = 8.0 * height / max(width, height) + 1.5 + 0.22 * lines
+    fig_h = 8.0 * height / max(width, height) + 1.5 + text_h
     fig, ax = plt.subplots(figsize=(fig_w, fig_h))
     colors = scale.colors(fit.area_change)
     ax.add_collection(PolyCollection(xy[mesh.triangles], facecolors=colors, edgecolors=colors,
@@ -67,9 +70,12 @@ def plot_regions(mesh: GarmentMesh, fit: FitResult, regions: list[Region], path,
                  "modify", fontsize=10)
     fig.text(0.01, 0.01, "\n".join(legend) or "no region tighter or looser than the band",
              fontsize=7, va="bottom", ha="left")
-    fig.tight_layout(rect=(0, 0.03 + 0.022 * lines, 1, 1))
-    fig.savefig(path, dpi=150)
+    fig.tight_layout(rect=(0, text_h / fig_h, 1, 0.97))
+    buf = io.BytesIO()
+    fig.savefig(buf, dpi=150, format="png")
     plt.close(fig)
+    # a palette of 128 colours is plenty for a few flat colours and text: 3x smaller files
+    Image.open(buf).convert("RGB").quantize(colors=128).save(path, optimize=True)
     return Path(path)
 
 
