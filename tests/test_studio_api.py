@@ -37,7 +37,7 @@ def test_page_and_vendored_three_are_served(client):
 def test_options_and_state(client):
     o = client.get("/api/options").json()
     assert "skirt" in o["garments"] and o["sizes"] and o["bodies"] and o["fabrics"]
-    assert isinstance(o["correct_available"], bool)
+    assert o["correct_available"] is True
     s = client.get("/api/state").json()
     assert s["history"][0]["label"] == "start" and not s["draped"] and s["fitting_ratio"] is None
 
@@ -100,6 +100,18 @@ def test_drape_progress_stop_and_exports(client):
         assert r.status_code == 200 and len(r.content) > 100, name
     assert client.get("/api/export/report.json").json()["fitting_ratio"] == \
         pytest.approx(s["fitting_ratio"])
+
+
+def test_automatic_correction_runs_in_the_background(client):
+    if not client.get("/api/options").json()["correct_available"]:
+        pytest.skip("patternfit.loop.correct not available")
+    assert client.post("/api/correct").status_code == 200
+    client.app.state.studio.wait(120)
+    job = client.get("/api/drape").json()
+    assert job["kind"] == "correct" and job["error"] is None and not job["running"]
+    assert job["rounds"] and job["rounds"][0]["iteration"] == 0
+    assert job["result"]["fitting_ratio"] == pytest.approx(
+        client.get("/api/state").json()["fitting_ratio"])
 
 
 def test_safety(client, folder):

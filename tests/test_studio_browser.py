@@ -115,6 +115,12 @@ def test_drape_edit_redrape_undo(page, server):
     page.wait_for_function("studio.state.position === 0", timeout=20000)
     assert ratio(page) == pytest.approx(r0)
     assert page.evaluate("Array.from(studio.geometry.vertices)") == pytest.approx(v0)
+    # automatic correction: its rounds are shown while it runs and its outcome at the end
+    if not page.is_disabled("#correct-btn"):
+        page.click("#correct-btn")
+        page.wait_for_function("/fit (reached|not reached)/.test(document.getElementById("
+                               "'message').textContent)", timeout=120000)
+        assert "round 0" in page.inner_text("#drape-status")
     assert not page.errors
 
 

@@ -180,6 +180,14 @@ def create_app(session_dir, *, max_upload: int = MAX_UPLOAD) -> FastAPI:
             refuse(exc, 409)
         return studio.job.as_dict()
 
+    @app.post("/api/correct")
+    def correct():
+        try:
+            studio.start_drape(kind="correct")
+        except Exception as exc:
+            refuse(exc, 409)
+        return studio.job.as_dict()
+
     @app.get("/api/drape")
     def drape_progress():
         return studio.job.as_dict()

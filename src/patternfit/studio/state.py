@@ -42,13 +42,17 @@ class DrapeJob:
     fraction: float = 0.0
     error: str | None = None
     finished: float | None = None
+    kind: str = "drape"
+    rounds: list = field(default_factory=list)
+    result: dict | None = None
     _step0: float | None = field(default=None, repr=False)
 
     def as_dict(self) -> dict:
         return {"running": self.running, "iteration": self.iteration,
                 "energy": _finite(self.energy), "step": _finite(self.step),
                 "elapsed": self.elapsed, "fraction": self.fraction, "error": self.error,
-                "stopping": self.stop and self.running}
+                "stopping": self.stop and self.running, "kind": self.kind,
+                "rounds": self.rounds, "result": self.result}
 
 
 def _finite(x):
@@ -175,12 +179,16 @@ class Studio:
         return mesh.vertices, list(report.moved)
 
     # -- drape ---------------------------------------------------------------------------
-    def start_drape(self) -> None:
-        """Drape the current state in a background thread (progress in :attr:`job`)."""
+    def start_drape(self, *, kind: str = "drape") -> None:
+        """Drape the current state (``kind="drape"``) or run the automatic fit correction
+        (``"correct"``: drape, edit, re-drape rounds) in a background thread (progress in
+        :attr:`job`)."""
+        if kind not in ("drape", "correct"):
+            raise ValueError(f"kind: 'drape' or 'correct', got {kind!r}")
         with self.lock:
             self._refuse_while_draping()
             self.ensure()
-            self.job = DrapeJob(running=True)
+            self.job = DrapeJob(running=True, kind=kind)
             self._thread = threading.Thread(target=self._run_drape, args=(self.job,),
                                             daemon=True, name="patternfit-drape")
             self._thread.start()
@@ -213,10 +221,15 @@ class Studio:
             with self.lock:
                 session = self.session
                 state = session.state
-            session.redrape(progress=progress)
-            with self.lock:
-                if self.session is session and session.state is state:
-                    self._save()
+            if job.kind == "correct":
+                self._run_correction(job, session, progress)
+            else:
+                session.redrape(progress=progress)
+                with self.lock:
+                    if self.session is session and session.state is state:
+                        self._save()
+        except KeyboardInterrupt:  # stopped between two drapes of the correction
+            pass
         except Exception as exc:  # shown in the page; the server keeps serving
             job.error = f"{type(exc).__name__}: {exc}"
         finally:
@@ -224,6 +237,29 @@ class Studio:
             job.fraction = 1.0 if job.error is None else job.fraction
             job.running = False
             job.finished = time.time()
+
+    def _run_correction(self, job: DrapeJob, session, progress) -> None:
+        """The automatic correction; each round's ϖ and edits go to ``job.rounds`` and the
+        session is saved after each round, so the page can follow and a reload keeps it."""
+        from ..loop import CorrectionSettings, correct
+
+        def round_done(it):
+            job.rounds.append({"iteration": it.index, "fitting_ratio": it.fitting_ratio,
+                               "edits": len(it.edits), "seconds": it.seconds})
+            job.fraction = 0.0
+            job._step0 = None
+            with self.lock:
+                if self.session is session:
+                    self._save()
+            if job.stop:
+                raise KeyboardInterrupt
+
+        result = correct(session, settings=CorrectionSettings(threshold=session.threshold),
+                         progress=round_done, drape_progress=progress)
+        job.result = {"reached": result.reached, "fitting_ratio": result.fitting_ratio}
+        with self.lock:
+            if self.session is session:
+                self._save()
 
 
 def describe_error(exc: Exception) -> str:

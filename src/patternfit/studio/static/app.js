@@ -168,24 +168,36 @@ let polling = false;
 $("drape-btn").onclick = async () => {
   try { await api("/api/drape", { method: "POST" }); message(""); pollDrape(); } catch (e) { message(e.message); }
 };
+$("correct-btn").onclick = async () => {
+  try { await api("/api/correct", { method: "POST" }); message(""); pollDrape(); } catch (e) { message(e.message); }
+};
 $("stop-btn").onclick = () => api("/api/drape/stop", { method: "POST" });
 
 async function pollDrape() {
   if (polling) return;
   polling = true; $("stop-btn").disabled = false; $("drape-btn").disabled = true;
+  const correctWas = $("correct-btn").disabled; $("correct-btn").disabled = true;
+  let seen = 0;
   try {
     for (;;) {
       const j = await api("/api/drape");
       $("progress").value = j.fraction;
-      $("drape-status").textContent = `iteration ${j.iteration}, ${j.elapsed.toFixed(1)} s` +
-        (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "");
-      if (!j.running) { if (j.error) message(j.error); break; }
+      const rounds = j.rounds.map((r) => `round ${r.iteration}: ϖ ${(100 * r.fitting_ratio).toFixed(2)} %, ${r.edits} edits`);
+      $("drape-status").textContent = (j.kind === "correct" ? `correcting: ${rounds.join("; ")}${rounds.length ? "; " : ""}` : "") +
+        `iteration ${j.iteration}, ${j.elapsed.toFixed(1)} s` + (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "");
+      if (j.rounds.length > seen) { seen = j.rounds.length; await refresh(); }  // each round's edit shows
+      if (!j.running) {
+        if (j.error) message(j.error);
+        else if (j.result) message(j.result.reached ? `fit reached: ϖ ${(100 * j.result.fitting_ratio).toFixed(2)} %` : `fit not reached after ${j.rounds.length - 1} rounds`, "warning");
+        break;
+      }
       await new Promise((r) => setTimeout(r, 250));
     }
     polling = false;
     await refresh();
   } finally {
     polling = false; $("stop-btn").disabled = true; $("drape-btn").disabled = false;
+    $("correct-btn").disabled = correctWas;
   }
 }
 
