@@ -300,13 +300,20 @@ def run_to_rest(scene: NewtonScene, *, field=None, progress=None) -> RunResult:
                 v = scene.state.particle_qd.numpy()
                 if s.project_contact and field is not None:
                     x = scene.state.particle_q.numpy().astype(np.float64)
-                    d, g = field.query(x)
-                    low = d < 0.0
-                    if low.any():
-                        projected += int(low.sum())
+                    moved = False
+                    # a few steps: one gradient step of an interpolated field can fall short
+                    # in creases (crotch, armpits)
+                    for _ in range(4):
+                        d, g = field.query(x)
+                        low = d < 0.0
+                        if not low.any():
+                            break
+                        projected += int(low.sum()) if not moved else 0
+                        moved = True
                         x[low] += (h - d[low])[:, None] * g[low]
                         vn = (v[low] * g[low]).sum(axis=1)
                         v[low] -= np.minimum(vn, 0.0)[:, None] * g[low]
+                    if moved:
                         scene.state.particle_q.assign(x.astype(np.float32))
                         scene.state.particle_qd.assign(v)
                 speed = float(np.linalg.norm(v, axis=1).max())
