@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from ..mesh.garment import GarmentMesh
+from ..pattern.garmentcode import panel_points_3d
 from ..pattern.model import Panel, Pattern
 
 #: default axis position (x, z) [m] and radius [m] of each body part, for a body-free placement
@@ -240,7 +241,9 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     outwards in front of / behind the arms, :class:`WingedProfile`). Leg panels are
     rolled onto a circular cylinder around their leg, the front panel from the front midline
     and the back one from the back midline round the outside, so that the crotch seams start
-    at the midline. Returns positions (n, 3) [m], one per flat vertex.
+    at the midline. A panel with an explicit 3D placement (``Placement.translation`` /
+    ``rotation``, as GarmentCode files carry) keeps it. Returns positions (n, 3) [m], one per
+    flat vertex.
     """
     lm = body.landmarks
     dy = _vertical_offset(pattern, mesh, body)
@@ -252,7 +255,9 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
         part = panel.placement.part
         ids = mesh.panel_vertices(pi)
         uv = mesh.vertices[ids]
-        if part.startswith("leg"):
+        if panel.placement.translation is not None or panel.placement.rotation is not None:
+            x[ids] = panel_points_3d(panel.placement, uv)  # an imported file's own placement
+        elif part.startswith("leg"):
             legs.setdefault(part, []).append(pi)
         elif part.startswith("arm"):
             axis = np.asarray(lm[f"arm_axis_{part.split('_')[1]}"])[:, [0, 2]].mean(axis=0)

@@ -1,0 +1,33 @@
+"""Placement details: explicit 3D placements of imported patterns are kept."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from patternfit.body.builtin import load_body
+from patternfit.mesh import mesh_pattern
+from patternfit.pattern.garmentcode import panel_points_3d
+from patternfit.pattern.library import build
+from patternfit.pattern.model import Placement
+from patternfit.sim.placement import place_on_body
+
+
+def test_explicit_placement_is_kept():
+    body = load_body("female_thin")
+    pattern = build("skirt", "M")
+    placed = []
+    for i, panel in enumerate(pattern.panels):
+        z = 0.3 if i == 0 else -0.3
+        placed.append(replace(panel, placement=Placement(
+            panel.placement.part, panel.placement.side, translation=(0.0, 0.6, z),
+            rotation=(0.0, 0.0 if i == 0 else 180.0, 0.0))))
+    pattern = replace(pattern, panels=tuple(placed))
+    mesh = mesh_pattern(pattern, triangles=800)
+    x = place_on_body(pattern, mesh, body)
+    for i, panel in enumerate(pattern.panels):
+        ids = mesh.panel_vertices(i)
+        want = panel_points_3d(panel.placement, mesh.vertices[ids])
+        shift = x[ids] - want
+        assert np.allclose(shift, shift[0]) and shift[0, [0, 2]] == pytest.approx([0, 0])
+        assert 0.0 <= shift[0, 1] <= 0.06  # at most the sewing lift, the same for all panels
