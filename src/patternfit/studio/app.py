@@ -152,6 +152,16 @@ def create_app(session_dir, *, max_upload: int = MAX_UPLOAD) -> FastAPI:
                         media_type="application/octet-stream",
                         headers={"X-Moved": ",".join(moved)})
 
+    @app.post("/api/drag/basis")
+    async def drag_basis(request: Request):
+        body = await request.json()
+        try:
+            basis = studio.drag_basis(str(body.get("op")), dict(body.get("args") or {}))
+        except Exception as exc:
+            refuse(exc)
+        return Response(np.ascontiguousarray(basis, dtype="<f4").tobytes(),
+                        media_type="application/octet-stream")
+
     @app.post("/api/undo")
     async def undo(request: Request):
         body = await request.json() if await request.body() else {}

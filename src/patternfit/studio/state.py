@@ -178,6 +178,16 @@ class Studio:
                                    return_report=True)
         return mesh.vertices, list(report.moved)
 
+    def drag_basis(self, op: str, args: dict, *, step: float = 0.005) -> np.ndarray:
+        """How the mesh's flat vertices move per metre of drag offset, (2, n, 2): the change
+        for an offset ``(step, 0)`` and ``(0, step)`` [m], divided by ``step``. The page moves
+        the mesh by ``basis[0] * dx + basis[1] * dy`` between two exact previews (exact for
+        straight edges, where the update is linear in the offset)."""
+        base = self.ensure().mesh.vertices
+        out = [(self.drag(op, {**args, "offset": d})[0] - base) / step
+               for d in ((step, 0.0), (0.0, step))]
+        return np.stack(out)
+
     # -- drape ---------------------------------------------------------------------------
     def start_drape(self, *, kind: str = "drape") -> None:
         """Drape the current state (``kind="drape"``) or run the automatic fit correction

@@ -4,7 +4,7 @@ import { Editor } from "/static/editor.js";
 import { View3D } from "/static/view3d.js";
 
 const $ = (id) => document.getElementById(id);
-const studio = { state: null, geometry: null, revision: null, dragStats: { frames: 0, ms: 0 } };
+const studio = { state: null, geometry: null, revision: null, dragStats: {} };
 window.studio = studio;
 
 function message(text, kind = "error") {
@@ -99,20 +99,59 @@ function dragArgs(h, offset) {
   return args;
 }
 
+// Live drag: exact previews from the server (one request in flight, the newest offset wins)
+// and, between them, the mesh moved on the page by the drag's linear basis (how every vertex
+// moves per metre of offset), redrawn once per animation frame.
+let live = null;
+const JSON_HEADERS = { "Content-Type": "application/json" };
+
 function dragPreview(h, offset) {
+  if (!live || live.h !== h) startLive(h);
+  live.offset = offset;
   pending = { op: h.op, args: dragArgs(h, offset) };
   if (!inflight) sendDrag();
+  if (!live.raf) live.raf = requestAnimationFrame(drawLive);
+}
+
+function startLive(h) {
+  const me = { h, base: Float32Array.from(studio.geometry.vertices), baseOffset: [0, 0], basis: null, offset: [0, 0], raf: 0 };
+  live = me;
+  fetch("/api/drag/basis", { method: "POST", headers: JSON_HEADERS, body: JSON.stringify({ op: h.op, args: dragArgs(h, [0, 0]) }) })
+    .then((r) => (r.ok ? r.arrayBuffer() : null))
+    .then((b) => { if (b && live === me) me.basis = new Float32Array(b); });
+}
+
+function drawLive() {
+  const L = live;
+  if (!L) return;
+  L.raf = 0;
+  const t0 = performance.now();
+  let v = L.base;
+  if (L.basis) {
+    const n = v.length, dx = L.offset[0] - L.baseOffset[0], dy = L.offset[1] - L.baseOffset[1];
+    v = new Float32Array(n);
+    for (let i = 0; i < n; i++) v[i] = L.base[i] + L.basis[i] * dx + L.basis[n + i] * dy;
+  }
+  editor.setPreview(v);
+  const st = studio.dragStats, t1 = performance.now();
+  st.frames = (st.frames || 0) + 1; st.drawMs = (st.drawMs || 0) + (t1 - t0);
+  if (!st.t0) st.t0 = t1;
+  st.t1 = t1;
+  if (st.frames > 1) $("drag-rate").textContent = `live mesh: ${(1000 * (st.frames - 1) / (st.t1 - st.t0)).toFixed(0)} frames/s, ${(st.exact || 0)} exact updates`;
 }
 
 async function sendDrag() {
   const req = pending; pending = null; inflight = true;
-  const t0 = performance.now();
+  const L = live;
   try {
-    const r = await fetch("/api/drag", { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(req) });
+    const r = await fetch("/api/drag", { method: "POST", headers: JSON_HEADERS, body: JSON.stringify(req) });
     if (r.ok) {
-      editor.setPreview(new Float32Array(await r.arrayBuffer()));
-      const st = studio.dragStats; st.frames += 1; st.ms += performance.now() - t0;
-      $("drag-rate").textContent = `live mesh: ${(1000 * st.frames / st.ms).toFixed(0)} updates/s`;
+      const v = new Float32Array(await r.arrayBuffer());
+      if (L && live === L) {
+        L.base = v; L.baseOffset = req.args.offset;
+        studio.dragStats.exact = (studio.dragStats.exact || 0) + 1;
+        if (!L.raf) L.raf = requestAnimationFrame(drawLive);
+      }
     } else {
       message((await r.json()).error);
     }
@@ -122,7 +161,10 @@ async function sendDrag() {
   }
 }
 
-async function waitDrag() { while (inflight) await new Promise((r) => setTimeout(r, 5)); pending = null; }
+async function waitDrag() {
+  while (inflight) await new Promise((r) => setTimeout(r, 5));
+  pending = null; live = null;
+}
 
 async function applyEdit(h, offset) {
   await waitDrag();

@@ -1,5 +1,8 @@
 // The 2D pattern editor: panels side by side at true proportions, the mesh with its fit
-// colours on a canvas, outlines and drag handles in an SVG on top. Lengths in metres.
+// colours drawn by WebGL (three.js, one draw call for 20K triangles, cheap to redraw every
+// frame of a drag), outlines and drag handles in an SVG on top. Lengths in metres.
+import * as THREE from "three";
+
 const SVGNS = "http://www.w3.org/2000/svg";
 const GAP = 0.08;  // space between panels [m]
 const PAD = 24;    // margin [px]
@@ -13,6 +16,10 @@ export class Editor {
     this.onClickPanel = onClickPanel;
     this.geo = null; this.vertices = null; this.tool = "point"; this.showMesh = true;
     this.snap = false; this.selected = null; this.highlighted = -1;
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
+    this.renderer.setClearColor(0xffffff);
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.OrthographicCamera(0, 1, 0, 1, -1, 1);  // screen pixels, y down
     new ResizeObserver(() => this.layout()).observe(canvas.parentElement);
     svg.addEventListener("pointerdown", (e) => this.pointerDown(e));
     svg.addEventListener("pointermove", (e) => this.pointerMove(e));
@@ -44,13 +51,7 @@ export class Editor {
     this.extent = [x0 - GAP, Math.max(...hi.map((h, p) => h[1] - lo[p][1]))];
     this.vertexPanel = new Int32Array(v.length / 2);
     for (let t = 0; t < tp.length; t++) for (let c = 0; c < 3; c++) this.vertexPanel[tri[3 * t + c]] = tp[t];
-    // triangles grouped by colour: one fill per colour keeps a 20K-triangle redraw cheap
-    this.groups = new Map();
-    for (let t = 0; t < tp.length; t++) {
-      const key = geo.colors ? `rgb(${geo.colors[3 * t]},${geo.colors[3 * t + 1]},${geo.colors[3 * t + 2]})` : "#e9ece4";
-      if (!this.groups.has(key)) this.groups.set(key, []);
-      this.groups.get(key).push(t);
-    }
+    this.buildScene();
     this.layout();
   }
 
@@ -58,8 +59,11 @@ export class Editor {
     const r = this.canvas.parentElement.getBoundingClientRect();
     const dpr = window.devicePixelRatio || 1;
     this.W = r.width; this.H = r.height;
-    this.canvas.width = r.width * dpr; this.canvas.height = r.height * dpr;
-    this.canvas.getContext("2d").setTransform(dpr, 0, 0, dpr, 0, 0);
+    if (r.width < 2 || r.height < 2) return;
+    this.renderer.setPixelRatio(dpr);
+    this.renderer.setSize(r.width, r.height, false);
+    Object.assign(this.camera, { right: r.width, bottom: r.height });
+    this.camera.updateProjectionMatrix();
     if (!this.geo) return;
     this.k = Math.min((this.W - 2 * PAD) / this.extent[0], (this.H - 2 * PAD - 16) / this.extent[1]);
     this.drawMesh(); this.drawOverlay();
@@ -73,40 +77,67 @@ export class Editor {
 
   highlight(t) { this.highlighted = t; this.drawMesh(); }
 
+  // the mesh as one triangle soup (flat colour per triangle) and its unique edges
+  buildScene() {
+    const geo = this.geo, tri = geo.triangles, m = tri.length / 3;
+    this.scene.clear();
+    const col = new Float32Array(9 * m), c = new THREE.Color();
+    for (let t = 0; t < m; t++) {
+      if (geo.colors) c.setRGB(geo.colors[3 * t] / 255, geo.colors[3 * t + 1] / 255, geo.colors[3 * t + 2] / 255, THREE.SRGBColorSpace);
+      else c.setRGB(0.91, 0.925, 0.894, THREE.SRGBColorSpace);
+      for (let k = 0; k < 3; k++) col.set([c.r, c.g, c.b], 9 * t + 3 * k);
+    }
+    const g = new THREE.BufferGeometry();
+    g.setAttribute("position", new THREE.BufferAttribute(new Float32Array(9 * m), 3));
+    g.setAttribute("color", new THREE.BufferAttribute(col, 3));
+    this.fill = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide }));
+    const seen = new Set(), edges = [], n = geo.vertices.length / 2;
+    for (let t = 0; t < m; t++) {
+      for (let k = 0; k < 3; k++) {
+        const a = tri[3 * t + k], b = tri[3 * t + (k + 1) % 3];
+        const key = a < b ? a * n + b : b * n + a;
+        if (!seen.has(key)) { seen.add(key); edges.push(a, b); }
+      }
+    }
+    this.edges = Uint32Array.from(edges);
+    const w = new THREE.BufferGeometry();
+    w.setAttribute("position", new THREE.BufferAttribute(new Float32Array(3 * this.edges.length), 3));
+    this.wire = new THREE.LineSegments(w, new THREE.LineBasicMaterial({ color: 0x282828, transparent: true, opacity: 0.35 }));
+    const h = new THREE.BufferGeometry();
+    h.setAttribute("position", new THREE.BufferAttribute(new Float32Array(9), 3));
+    this.hi = new THREE.LineLoop(h, new THREE.LineBasicMaterial({ color: 0x000000 }));
+    this.grid = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xeeeeee }));
+    // flat 2D: painter's order, no depth test
+    [this.grid, this.fill, this.wire, this.hi].forEach((o, i) => { o.renderOrder = i; o.material.depthTest = false; o.material.depthWrite = false; });
+    this.scene.add(this.grid, this.fill, this.wire, this.hi);
+  }
+
   drawMesh() {
-    if (!this.geo) return;
-    const ctx = this.canvas.getContext("2d"), v = this.vertices, tri = this.geo.triangles;
-    const tp = this.geo.triangle_panel, k = this.k;
-    ctx.clearRect(0, 0, this.W, this.H);
-    // 10 cm grid
-    ctx.strokeStyle = "#eee"; ctx.lineWidth = 1; ctx.beginPath();
-    for (let x = PAD; x < this.W; x += 0.1 * k) { ctx.moveTo(x, 0); ctx.lineTo(x, this.H); }
-    for (let y = this.H - PAD; y > 0; y -= 0.1 * k) { ctx.moveTo(0, y); ctx.lineTo(this.W, y); }
-    ctx.stroke();
+    if (!this.geo || !this.fill || !this.W) return;
+    const v = this.vertices, tri = this.geo.triangles, k = this.k;
     const X = new Float32Array(v.length / 2), Y = new Float32Array(v.length / 2);
     for (let i = 0; i < X.length; i++) {
       const p = this.vertexPanel[i];
       X[i] = PAD + (v[2 * i] + this.offsets[p][0]) * k;
       Y[i] = this.H - PAD - (v[2 * i + 1] + this.offsets[p][1]) * k;
     }
-    const tri3 = (t) => {
-      const a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
-      ctx.moveTo(X[a], Y[a]); ctx.lineTo(X[b], Y[b]); ctx.lineTo(X[c], Y[c]); ctx.closePath();
+    const put = (attr, ids) => {
+      const a = attr.array;
+      for (let j = 0; j < ids.length; j++) { a[3 * j] = X[ids[j]]; a[3 * j + 1] = Y[ids[j]]; }
+      attr.needsUpdate = true;
     };
-    const path = (ts) => { ctx.beginPath(); for (const t of ts) tri3(t); };
-    // one small path per triangle: software canvases rasterise thousands of small paths far
-    // faster than one path with thousands of overlapping pieces
-    for (const [colour, ts] of this.groups) {
-      ctx.fillStyle = colour;
-      for (const t of ts) { ctx.beginPath(); tri3(t); ctx.fill(); }
-    }
-    if (this.showMesh) {
-      ctx.strokeStyle = "rgba(40,40,40,0.35)"; ctx.lineWidth = 0.5;
-      for (let t = 0; t < tp.length; t++) { ctx.beginPath(); tri3(t); ctx.stroke(); }
-    }
-    if (this.highlighted >= 0 && this.highlighted < tp.length) {
-      path([this.highlighted]); ctx.strokeStyle = "#000"; ctx.lineWidth = 2.5; ctx.stroke();
-    }
+    put(this.fill.geometry.getAttribute("position"), tri);
+    this.wire.visible = this.showMesh;
+    if (this.showMesh) put(this.wire.geometry.getAttribute("position"), this.edges);
+    const t = this.highlighted;
+    this.hi.visible = t >= 0 && t < tri.length / 3;
+    if (this.hi.visible) put(this.hi.geometry.getAttribute("position"), [tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]]);
+    // 10 cm grid
+    const gl = [];
+    for (let x = PAD; x < this.W; x += 0.1 * k) gl.push(x, 0, 0, x, this.H, 0);
+    for (let y = this.H - PAD; y > 0; y -= 0.1 * k) gl.push(0, y, 0, this.W, y, 0);
+    this.grid.geometry.setAttribute("position", new THREE.Float32BufferAttribute(gl, 3));
+    this.renderer.render(this.scene, this.camera);
   }
 
   el(name, attrs, parent) {
