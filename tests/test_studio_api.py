@@ -52,6 +52,11 @@ def test_drag_preview_moves_vertices_without_recording(client):
     moved = np.linalg.norm(v1 - v0, axis=1)
     assert 0.005 < moved.max() < 0.011
     assert len(client.get("/api/state").json()["history"]) == 1
+    # the linear basis predicts the exact preview of a straight-edge drag
+    basis = np.frombuffer(client.post("/api/drag/basis", json={**EDIT, "args": {
+        k: v for k, v in EDIT["args"].items() if k != "offset"}}).content, dtype="<f4")
+    basis = basis.reshape(2, -1, 2)
+    assert np.abs(v0 + 0.01 * basis[0] - v1).max() < 1e-3
     bad = client.post("/api/drag", json={"op": "insert_dart", "args": {}})
     assert bad.status_code == 400 and "drag" in bad.json()["error"]
 
