@@ -51,8 +51,8 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
             figures: Path | None = None, progress=None) -> dict:
     """Run one row: drape, correct, and (with ``figures``) write the before/after maps as
     ``figures/table2_<garment>_{before,after}_{2d,3d}.png``. Returns the row's numbers."""
-    from .outputs import plot_regions
     from ..fit.pictures import plot_3d_map
+    from .outputs import compress_png, plot_regions
 
     t0 = time.perf_counter()
     pattern = grade(build(row.garment, "M"), None, row.narrow, 1.0)
@@ -74,6 +74,7 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
                          title=f"{row.garment} on {row.body} ({name})")
             plot_3d_map(state.positions, state.mesh, fit, f"{stem}_3d.png", body=body,
                         title=f"{row.garment} on {row.body} ({name})")
+            compress_png(f"{stem}_3d.png", f"{stem}_3d.png")
     return {"garment": row.garment, "body": row.body, "fabric": row.fabric,
             "narrow": row.narrow, "relax": row.relax, "size": "M",
             "triangles": int(session.mesh.n_triangles),
@@ -144,6 +145,7 @@ def run_variant(variant, *, triangles: int = 3000, fabric: str = "cotton",
     """Drape one variant of Figs 15–17 once (no correction) and return its ϖ; with
     ``figures``, write ``figures/fig<N>_<garment>_<label>.png`` (3D colour map)."""
     from ..fit.pictures import plot_3d_map
+    from .outputs import compress_png
 
     fig, garment, body, label, size, (sx, sy) = variant
     t0 = time.perf_counter()
@@ -155,11 +157,11 @@ def run_variant(variant, *, triangles: int = 3000, fabric: str = "cotton",
     fit = session.evaluate()
     if figures is not None:
         figures.mkdir(parents=True, exist_ok=True)
-        name = label.split()[0]
-        plot_3d_map(session.positions, session.mesh, fit,
-                    figures / f"fig{fig}_{garment}_{name}.png",
+        path = figures / f"fig{fig}_{garment}_{label.split()[0]}.png"
+        plot_3d_map(session.positions, session.mesh, fit, path,
                     body=(session.body.vertices, session.body.faces),
                     title=f"Fig. {fig}: {garment}, {label}")
+        compress_png(path, path)
     return {"figure": fig, "garment": garment, "body": body, "variant": label, "size": size,
             "fabric": fabric, "fitting_ratio": fit.fitting_ratio,
             "checks_passed": bool(session.state.checks["passed"]),
