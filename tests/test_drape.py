@@ -51,3 +51,67 @@ def test_skirt_drapes_to_rest(thin_woman):
     again = redrape(d, m)
     assert again.result.iterations < d.result.iterations
     assert np.abs(again.positions - x).max() < 0.01
+
+
+def _drape(garment, body, triangles, *, size="M", fabric="cotton", **kw):
+    p = build(garment, size)
+    m = mesh_pattern(p, triangles=triangles)
+    return m, drape(p, m, load_body(body), fabric, **kw)
+
+
+@pytest.mark.parametrize("garment,body", [("coat", "male_heavy"), ("trousers", "male_thin"),
+                                          ("dress", "female_average")])
+def test_garment_drapes_and_passes_checks(garment, body):
+    m, d = _drape(garment, body, 1500)
+    c = d.checks
+    assert c.inside_vertices == 0 and c.seam_gap_max_mm < 0.5 and c.equilibrium, c
+    assert c.self_intersections == 0 and c.passed, c
+    # the default contact margin (3 mm) keeps the cloth at least half of it off the distance
+    # field's surface, which itself departs from the body mesh by up to ~2.7 mm
+    assert c.min_clearance_mm > 1.0
+    if garment == "coat":
+        # the sleeves stay on the arms: cloth all round each upper arm
+        b = load_body(body)
+        for side in ("left", "right"):
+            top, wrist = np.asarray(b.landmarks[f"arm_axis_{side}"])
+            mid = top + 0.35 * (wrist - top)
+            axis = (wrist - top) / np.linalg.norm(wrist - top)
+            rel = d.positions - mid
+            radial = rel - np.outer(rel @ axis, axis)
+            near = (np.abs(rel @ axis) < 0.03) & (np.linalg.norm(radial, axis=1) < 0.15)
+            radial = radial[near]
+            front = np.array([0.0, 0.0, 1.0]) - axis[2] * axis
+            front /= np.linalg.norm(front)
+            up = np.cross(front, axis)
+            up *= np.sign(up[1])
+            angles = np.arctan2(radial @ up, radial @ front)
+            # cloth in front of, above, behind and below the arm
+            for direction in (0.0, 0.5 * np.pi, np.pi, -0.5 * np.pi):
+                off = np.angle(np.exp(1j * (angles - direction)))
+                assert (np.abs(off) < 0.25 * np.pi).any(), (side, direction)
+
+
+def test_larger_size_fits_looser():
+    # a too-small dress in a stretch knit is stretched (ϖ < 1); a larger one less so
+    m_s, small = _drape("dress", "female_heavy", 1200, size="S", fabric="stretch_knit")
+    m_l, large = _drape("dress", "female_heavy", 1200, size="L", fabric="stretch_knit")
+    assert small.checks.passed and large.checks.passed
+    r_s = FitEvaluator(m_s)(small.positions).fitting_ratio
+    r_l = FitEvaluator(m_l)(large.positions).fitting_ratio
+    assert r_s < 0.99 and r_l > r_s + 0.01
+
+
+def test_placement_clearance_does_not_decide_the_fit():
+    m, near = _drape("skirt", "female_thin", 1200, clearance=0.02)
+    _, far = _drape("skirt", "female_thin", 1200, clearance=0.05)
+    assert near.checks.passed and far.checks.passed
+    ev = FitEvaluator(m)
+    assert ev(near.positions).fitting_ratio == pytest.approx(ev(far.positions).fitting_ratio,
+                                                             rel=5e-3)
+
+
+def test_same_run_twice_gives_the_same_result():
+    _, a = _drape("skirt", "female_thin", 800)
+    _, b = _drape("skirt", "female_thin", 800)
+    assert a.result.iterations == b.result.iterations
+    assert np.array_equal(a.positions, b.positions)

@@ -139,24 +139,24 @@ def skirt(m: Measurements, *, ease: float = 0.04, length: float = 0.60,
 # -- trousers ------------------------------------------------------------------------------
 def _leg(m: Measurements, *, quarter: float, extension: float, hem_outer: float,
          side_in: float, inseam_length: float | None, waist_rise: float,
-         name: str) -> tuple[Panel, float]:
+         name: str, hem: float = 0.0) -> tuple[Panel, float]:
     """Right leg panel drafted as seen from the front (outer side at x < 0).
 
     ``side_in`` is the waist's inset from the side line [m], the same on front and back so
     that their hip seams match. Returns the panel and its inseam length [m]; with
     ``inseam_length`` given, the hem's inner corner is placed so that the inseam has exactly
-    that length.
+    that length. The hem lies ``hem`` [m] above the floor (y = 0).
     """
     top = m.inseam + m.rise
     hd = 0.20
     wq = (m.waist + 0.02) / 4
     x_side, x_cf = -0.5 * quarter, 0.5 * quarter
     crotch = np.array([x_cf + extension, m.inseam])
-    h_out = np.array([x_side + hem_outer, 0.0])
+    h_out = np.array([x_side + hem_outer, hem])
     if inseam_length is None:
-        h_in = np.array([h_out[0] + 0.20, 0.0])
+        h_in = np.array([h_out[0] + 0.20, hem])
     else:
-        h_in = np.array([crotch[0] - math.sqrt(inseam_length**2 - m.inseam**2), 0.0])
+        h_in = np.array([crotch[0] - math.sqrt(inseam_length**2 - (m.inseam - hem)**2), hem])
     w_side = np.array([x_side + side_in, top])
     w_centre = np.array([x_side + wq + side_in, top + waist_rise])
     hip = np.array([x_side, top - hd])
@@ -174,16 +174,17 @@ def _leg(m: Measurements, *, quarter: float, extension: float, hem_outer: float,
     return Panel(name, Loop("outline", edges)), inseam
 
 
-def trousers(m: Measurements, *, ease: float = 0.04) -> Pattern:
-    """Full-length trousers in four panels: front and back of each leg."""
+def trousers(m: Measurements, *, ease: float = 0.04, hem: float = 0.04) -> Pattern:
+    """Full-length trousers in four panels: front and back of each leg; the hem ``hem`` [m]
+    above the floor when the waist is at the body's waist (clear of the feet)."""
     q = (m.hip + ease) / 4
     side_in = 0.6 * (q - (m.waist + 0.02) / 4)
-    front_r, inseam = _leg(m, quarter=q - 0.02, extension=m.hip / 16, hem_outer=0.03,
+    front_r, inseam = _leg(m, quarter=q - 0.02, extension=m.hip / 20, hem_outer=0.03,
                            side_in=side_in, inseam_length=None, waist_rise=0.0,
-                           name="front_r")
-    back_r_drafted, _ = _leg(m, quarter=q + 0.02, extension=m.hip / 8 + 0.01, hem_outer=0.03,
+                           name="front_r", hem=hem)
+    back_r_drafted, _ = _leg(m, quarter=q + 0.02, extension=m.hip / 10, hem_outer=0.03,
                              side_in=side_in, inseam_length=inseam, waist_rise=0.03,
-                             name="back_r")
+                             name="back_r", hem=hem)
     front_r = replace(front_r, placement=Placement("leg_right", "front"))
     back_r = Panel("back_r", _mirror_loop(back_r_drafted.outline, lambda s: s),
                    placement=Placement("leg_right", "back"))

@@ -63,7 +63,7 @@ def _grain_per_triangle(mesh: GarmentMesh) -> np.ndarray:
 
 def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cotton", *,
           settings: SolverSettings | None = None, clearance: float = 0.03, spacing: float = 0.005,
-          placed=None, sewing_iterations: int = 1500, contact_margin: float = 0.0,
+          placed=None, sewing_iterations: int = 1500, contact_margin: float = 0.003,
           progress=None) -> Drape:
     """Place, sew and drape ``mesh`` on ``body`` to static equilibrium.
 
@@ -95,13 +95,12 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cot
     """
     t0 = time.perf_counter()
     fabric = get_fabric(fabric)
-    fabric = replace(fabric, thickness=max(fabric.thickness, contact_margin))
     t = time.perf_counter()
     field_ = body.distance_field(spacing)
     t_sdf = time.perf_counter() - t
     x0 = place_on_body(pattern, mesh, body, clearance=clearance) if placed is None \
         else np.asanyarray(placed, dtype=np.float64)
-    settings = settings or SolverSettings()
+    settings = replace(settings or SolverSettings(), contact_margin=contact_margin)
     # Sewing happens in place, without gravity: a garment hanging from open seams would fall
     # off the body while the seam springs stiffen.
     solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh), fabric,

@@ -175,6 +175,38 @@ def friction(x, idx, anchor, normal, limit, slip, grad):
     return energy
 
 
+@njit(cache=True)
+def seam_springs(x, a, b, stiffness, limit, grad):
+    """Zero-length seam springs with a bounded pull between vertices ``a[k]`` and ``b[k]``.
+
+    Energy ``k g^2 / 2`` for a gap ``g`` below ``r_k = limit_k / k`` and ``limit_k (g - r_k / 2)``
+    beyond: the spring [N/m] near closing, a constant pull ``limit_k`` [N] when far apart, so
+    that body contact (which grows without bound) wins and an edge slides round the body
+    rather than being dragged through it.
+    """
+    energy = 0.0
+    for j in range(a.shape[0]):
+        i, k = a[j], b[j]
+        d0 = x[i, 0] - x[k, 0]
+        d1 = x[i, 1] - x[k, 1]
+        d2 = x[i, 2] - x[k, 2]
+        g = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        r = limit[j] / stiffness
+        if g <= r:
+            energy += 0.5 * stiffness * g * g
+            s = stiffness
+        else:
+            energy += limit[j] * (g - 0.5 * r)
+            s = limit[j] / g
+        grad[i, 0] += s * d0
+        grad[i, 1] += s * d1
+        grad[i, 2] += s * d2
+        grad[k, 0] -= s * d0
+        grad[k, 1] -= s * d1
+        grad[k, 2] -= s * d2
+    return energy
+
+
 # ---------------------------------------------------------------------------------------
 # vector helpers for L-BFGS: serial loops, so that results do not depend on BLAS threads
 
@@ -342,11 +374,13 @@ def _vertex_table(x, cell):
 
 
 @njit(cache=True)
-def near_pairs(x, tris, radius, cell):
+def near_pairs(x, tris, radius, cell, root):
     """Vertex-triangle pairs closer than ``radius`` whose projection falls inside the triangle.
 
     Returns pairs (p, 2) int (vertex, triangle), barycentric (p, 3) and the unit normal
-    (p, 3) oriented towards the vertex. Triangles incident to the vertex are skipped.
+    (p, 3) oriented towards the vertex. Triangles incident to the vertex, or to a vertex
+    with the same ``root`` (n,) (the seam partners it is being sewn to), are skipped: the
+    seam pulls them together, repulsion must not hold them apart.
     """
     keys, used, start, end, order = _vertex_table(x, cell)
     size = keys.shape[0]
@@ -374,7 +408,8 @@ def near_pairs(x, tris, radius, cell):
                         continue
                     for e in range(start[slot], end[slot]):
                         v = order[e]
-                        if mark[v] == t or v == t0 or v == t1 or v == t2:
+                        r = root[v]
+                        if mark[v] == t or r == root[t0] or r == root[t1] or r == root[t2]:
                             continue
                         mark[v] = t
                         dist, b0, b1, b2, nx, ny, nz = _above_triangle(x, v, t0, t1, t2, radius)

@@ -46,6 +46,11 @@ class SolverSettings:
     history: int = 10
     #: largest vertex displacement of one iteration [m]
     max_step: float = 5e-3
+    #: least distance kept from the body [m] when larger than the fabric's thickness: the
+    #: trilinear distance field departs from the true surface by up to about half a grid
+    #: step, so a margin of that size keeps the cloth off the real body mesh (cloth-cloth
+    #: distances keep the thickness)
+    contact_margin: float = 0.0
     #: contact pressure per metre of penetration into the thickness layer [N/m^3]
     contact_stiffness: float = 1e7
     #: share of the contact stiffness put on the preconditioner's diagonal [-]
@@ -69,12 +74,20 @@ class SolverSettings:
     #: self-collision pairs are sought within this share of the mean edge length [-]
     self_detect: float = 1.0
     #: cloth-cloth distance kept, as a share of the mean edge length (at least the thickness)
-    self_gap: float = 0.1
+    self_gap: float = 0.25
     #: stretch stiffness kept in compression, as a share [-]
     compression: float = 0.05
     seam_stiffness: float = 1e3
     seam_growth: float = 4.0
     seam_stiffness_max: float = 1e7
+    #: a seam pair pulls at most with the contact force of its vertices at this depth into
+    #: the thickness layer [m] (0: unbounded springs), so that contact wins over sewing;
+    #: once the springs are at their stiffest, the bound grows by ``seam_growth`` at each
+    #: outer update where the widest gap did not shrink by 5 %, so that a seam held open by a
+    #: pinch (arm against torso) still closes
+    seam_pull: float = 1e-3
+    #: the preconditioner sees a seam spring as the pull over this gap at most [m]
+    seam_precond_gap: float = 1e-2
     #: seam pairs are welded once every gap is below this [m]
     weld_gap: float = 5e-4
     #: return right after the weld (stop_reason "welded"), e.g. to sew without gravity and
@@ -227,7 +240,7 @@ class GarmentSolver:
         iterations later.
     body : DistanceField, optional
         Signed distance field of the body [m]; contact keeps vertices ``fabric.thickness``
-        away from it.
+        (or ``settings.contact_margin`` when larger)         away from it.
     pinned : (p,) int, optional
         Simulated vertices held at their start position.
     settings : SolverSettings, optional
@@ -281,6 +294,8 @@ class GarmentSolver:
             k_weft=f.stretch_weft, k_shear=f.shear)
         self._mass = f.density * self.terms.vertex_area
         self._pinned = np.unique(self._group[self.pinned])
+        self._root = (np.arange(self._n) if self._welded or not len(self.seam_pairs)
+                      else self._seam_roots())
         self._free = np.ones(self._n, bool)
         self._free[self._pinned] = False
 
@@ -293,8 +308,8 @@ class GarmentSolver:
         self.rest = rest
         self._build()
 
-    def _weld(self):
-        """Merge every seam pair into one solved vertex."""
+    def _seam_roots(self):
+        """(n,) int: the solved vertex each solved vertex will be welded into."""
         parent = np.arange(self._n)
 
         def find(i):
@@ -307,8 +322,11 @@ class GarmentSolver:
             ra, rb = find(a), find(b)
             if ra != rb:
                 parent[max(ra, rb)] = min(ra, rb)
-        roots = np.array([find(i) for i in range(self._n)])
-        _, new = np.unique(roots, return_inverse=True)
+        return np.array([find(i) for i in range(self._n)], dtype=np.int64)
+
+    def _weld(self):
+        """Merge every seam pair into one solved vertex."""
+        _, new = np.unique(self._seam_roots(), return_inverse=True)
         self._group = new[self._group]
         self._welded = True
         self._build()
@@ -334,10 +352,13 @@ class GarmentSolver:
         grad += qx - self._f
         if self.body is not None:
             e += kernels.contact(x, self.body.values, self.body.origin, self.body.spacing,
-                                 self.fabric.thickness, self._kc, grad)
+                                 self._reach, self._kc, grad)
         if len(self._fr_idx):
             e += kernels.friction(x, self._fr_idx, self._fr_anchor, self._fr_normal,
                                   self._fr_limit, self.settings.friction_slip, grad)
+        if self._seam_limit is not None:
+            a, b = self._seam_ab
+            e += kernels.seam_springs(x, a, b, self._seam_k, self._seam_limit, grad)
         if len(self._pairs):
             e += kernels.self_repulsion(x, t.tris, self._pairs, self._bary, self._pnormal,
                                         self._self_gap, self._kc, grad)
@@ -345,11 +366,26 @@ class GarmentSolver:
         return e, grad
 
     # ------------------------------------------------------------------------ outer updates
-    def _set_springs(self, stiffness):
-        Q = self.terms.bending
+    def _set_springs(self, stiffness, pull=1.0):
+        s = self.settings
+        Q = Qpre = self.terms.bending
+        self._seam_limit = None
         if not self._welded and len(self.seam_pairs):
-            Q = Q + spring_matrix(self._group[self.seam_pairs], stiffness, self._n)
+            pairs = self._group[self.seam_pairs]
+            if s.seam_pull > 0:
+                # bounded pull (kernels.seam_springs): the preconditioner gets the secant
+                # stiffness of a pull over seam_precond_gap at most
+                kc = s.contact_stiffness * self.terms.vertex_area
+                self._seam_ab = (np.ascontiguousarray(pairs[:, 0]),
+                                 np.ascontiguousarray(pairs[:, 1]))
+                self._seam_limit = pull * s.seam_pull * np.minimum(kc[pairs[:, 0]], kc[pairs[:, 1]])
+                self._seam_k = float(stiffness)
+                k_pre = min(stiffness, float(np.median(self._seam_limit)) / s.seam_precond_gap)
+                Qpre = Qpre + spring_matrix(pairs, k_pre, self._n)
+            else:
+                Q = Qpre = Q + spring_matrix(pairs, stiffness, self._n)
         self._Q = Q.tocsr()
+        self._Qpre = Qpre.tocsr()
 
     def _refresh(self, x, friction_on):
         """Contact stiffness, friction anchors, self-collision pairs, preconditioner."""
@@ -359,15 +395,16 @@ class GarmentSolver:
         self._fr_idx = np.zeros(0, np.int64)
         if self.body is not None:
             d, g = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
-            # a vertex found inside the body gets a stiffer contact (x4, up to 4^6)
-            inside = d < 0.0
+            # a vertex found inside the body (or deeper than half the contact margin, where
+            # the true surface may lie) gets a stiffer contact (x4, up to 4^6)
+            inside = d < self._floor
             self._contact_scale[inside] = np.minimum(self._contact_scale[inside] * 4.0,
                                                      _MAX_CONTACT_SCALE)
             self._kc = self._contact_k()
-            near = d < self.fabric.thickness + s.contact_band
+            near = d < self._reach + s.contact_band
             diag[near] = s.contact_precond * self._kc[near]
             if friction_on and self.fabric.friction > 0:
-                pen = self.fabric.thickness - d
+                pen = self._reach - d
                 idx = np.flatnonzero((pen > 0) & self._free)
                 nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
                 self._fr_idx = idx
@@ -407,8 +444,19 @@ class GarmentSolver:
         if not self.settings.self_collision:
             return
         self._pairs, self._bary, self._pnormal = kernels.near_pairs(
-            x, self.terms.tris, self._detect, max(self.terms.edge_length, 2 * self._detect))
+            x, self.terms.tris, self._detect, max(self.terms.edge_length, 2 * self._detect),
+            self._root)
         self._x_pairs = x.copy()
+
+    @property
+    def _reach(self):
+        """Distance kept from the body [m]."""
+        return max(self.fabric.thickness, self.settings.contact_margin)
+
+    @property
+    def _floor(self):
+        """Distance to the body below which the contact is stiffened [m]."""
+        return 0.5 * self.settings.contact_margin
 
     @property
     def _detect(self):
@@ -424,7 +472,7 @@ class GarmentSolver:
 
     def _ensure_factor(self, diag):
         s = self.settings
-        base = (self.terms.membrane_pd + self._Q).tocsr()
+        base = (self.terms.membrane_pd + self._Qpre).tocsr()
         base = base + sp.diags(self._mass / s.precond_dt ** 2)
         old = self._factor_matrix
         same_base = (old is not None and base.shape == old.shape and base.nnz == old.nnz
@@ -489,6 +537,8 @@ class GarmentSolver:
             raise ValueError(f"forces: expected {self.n3} rows, got {len(f_ext)}")
         sewing = not self._welded
         k_seam = s.seam_stiffness
+        pull = 1.0
+        last_gap = np.inf
         # a solve that follows one which ended with friction on (a warm start) keeps its
         # friction anchors and contact stiffness, and friction acts from the first iteration
         warm = (not sewing and self._held is not None
@@ -544,8 +594,11 @@ class GarmentSolver:
                                 reason = "welded"
                                 break
                         else:
+                            if k_seam >= s.seam_stiffness_max and gap > 0.95 * last_gap:
+                                pull *= s.seam_growth
+                            last_gap = gap
                             k_seam = min(k_seam * s.seam_growth, s.seam_stiffness_max)
-                            self._set_springs(k_seam)
+                            self._set_springs(k_seam, pull)
                     self._refresh(x, friction_on=friction_from is not None and it >= friction_from)
                     energy, grad = self._energy(x)
                     calm = 0
@@ -619,11 +672,12 @@ class GarmentSolver:
         return float(np.linalg.norm(x_red[a] - x_red[b], axis=1).max())
 
     def _can_stiffen(self, x_red):
-        """Whether a vertex is inside the body with its contact stiffness not yet at the cap."""
+        """Whether a vertex is inside the body (or deeper than half the contact margin) with
+        its contact stiffness not yet at the cap."""
         if self.body is None:
             return False
         d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x_red)
-        return bool(((d < 0) & (self._contact_scale < _MAX_CONTACT_SCALE)).any())
+        return bool(((d < self._floor) & (self._contact_scale < _MAX_CONTACT_SCALE)).any())
 
     def checks(self, x, *, converged: bool = False) -> DrapeChecks:
         """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`."""

@@ -1,0 +1,124 @@
+"""Benchmark of the drape of the built-in garments on the built-in bodies (static engine).
+
+Run ``python benchmarks/drape.py [--garments coat skirt trousers] [--cold] [--figures DIR]``;
+prints, per garment (the paper's sizes: coat 22K, skirt 15K, trousers 20K triangles), the
+first drape (placement, sewing, drape under gravity) and a warm re-drape after a 3 cm hem
+edit: iterations, seconds, peak memory, the checks and the fitting ratio. Each garment runs
+in its own process so that the peak memory is its own. ``--cold`` also times the first
+drape with an empty distance-field cache (the field is computed, not read).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+#: garment -> (body, triangles) as in the paper's Table 2
+CASES = {"coat": ("male_heavy", 22000), "skirt": ("female_thin", 15000),
+         "trousers": ("male_thin", 20000)}
+
+
+def _peak_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def run_one(garment: str, figures: str | None) -> dict:
+    """First drape and warm re-drape of one garment; returns the table's numbers."""
+    from patternfit.body.builtin import load_body
+    from patternfit.edit import move_edge, update_mesh
+    from patternfit.fit import FitEvaluator
+    from patternfit.mesh import mesh_pattern
+    from patternfit.pattern.library import build
+    from patternfit.sim.drape import drape, redrape
+
+    body_name, triangles = CASES[garment]
+    body = load_body(body_name)
+    pattern = build(garment, "M")
+    mesh = mesh_pattern(pattern, triangles=triangles)
+    rows = []
+    t0 = time.perf_counter()
+    first = drape(pattern, mesh, body, "cotton")
+    wall = time.perf_counter() - t0
+    fit = FitEvaluator(mesh)(first.positions)
+    rows.append(("first", first, wall, fit.fitting_ratio))
+    if figures:
+        from patternfit.fit.pictures import plot_3d_map
+        plot_3d_map(first.positions, mesh, fit, os.path.join(figures, f"drape_{garment}.png"),
+                    body=(body.vertices, body.faces),
+                    title=f"{garment} M on {body_name}, {len(mesh.triangles)} triangles, cotton")
+    panel = "front" if any(p.name == "front" for p in pattern.panels) else pattern.panels[0].name
+    edited = move_edge(pattern, panel, "hem", (0.0, -0.03), partner=True)
+    new_mesh = update_mesh(pattern, edited, mesh)
+    t0 = time.perf_counter()
+    again = redrape(first, new_mesh)
+    wall = time.perf_counter() - t0
+    rows.append(("re-drape", again, wall, FitEvaluator(new_mesh)(again.positions).fitting_ratio))
+    out = []
+    for name, d, wall, ratio in rows:
+        c = d.checks
+        out.append({"garment": garment, "body": body_name, "triangles": len(mesh.triangles),
+                    "run": name, "iterations": d.result.iterations
+                    + d.timing.get("sewing_iterations", 0), "seconds": wall,
+                    "sdf_seconds": d.timing.get("distance_field_seconds", 0.0),
+                    "sewing": f"{d.timing['sewing_iterations']}/{d.timing['sewing_seconds']:.1f}"
+                    if "sewing_iterations" in d.timing else "-",
+                    "peak_mb": _peak_mb(), "inside": c.inside_vertices,
+                    "clear_mm": c.min_clearance_mm, "seam_mm": c.seam_gap_max_mm,
+                    "crossing": c.self_intersections, "equilibrium": c.equilibrium,
+                    "ratio": ratio})
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--garments", nargs="+", default=list(CASES), choices=list(CASES))
+    ap.add_argument("--cold", action="store_true",
+                    help="also run each first drape with an empty distance-field cache")
+    ap.add_argument("--figures", default=None, help="directory for drape_<garment>.png")
+    ap.add_argument("--one", default=None, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.one:
+        print(json.dumps(run_one(args.one, args.figures)))
+        return
+    print("built-in garments (size M, cotton) on built-in bodies, 5 mm distance field, "
+          "contact margin 3 mm; re-drape after a 3 cm hem edit (both hems); 2-core CPU")
+    print("iters and seconds of the whole run; sewing: iterations/seconds of the "
+          "gravity-free sewing phase in it")
+    print(f"{'garment':>8} {'tri':>6} {'run':>9} {'iters':>6} {'seconds':>8} {'sdf s':>6} "
+          f"{'sewing':>9} {'peak MB':>8} {'inside':>6} {'clear mm':>8} {'seam mm':>7} {'cross':>5} "
+          f"{'equil':>5} {'ratio':>7}")
+    for garment in args.garments:
+        runs = [("warm", None)]
+        if args.cold:
+            runs.append(("cold", tempfile.mkdtemp(prefix="patternfit-cache-")))
+        for label, cache in runs:
+            env = dict(os.environ)
+            if cache:
+                env["PATTERNFIT_CACHE"] = cache
+            cmd = [sys.executable, __file__, "--one", garment]
+            if args.figures and label == "warm":
+                cmd += ["--figures", args.figures]
+            done = subprocess.run(cmd, env=env, capture_output=True, text=True)
+            if done.returncode:
+                print(f"{garment}: failed\n{done.stderr[-2000:]}")
+                continue
+            for r in json.loads(done.stdout.strip().splitlines()[-1]):
+                if label == "cold" and r["run"] != "first":
+                    continue
+                run = r["run"] + (" cold" if label == "cold" else "")
+                print(f"{garment:>8} {r['triangles']:>6} {run:>9} {r['iterations']:>6} "
+                      f"{r['seconds']:>8.2f} {r['sdf_seconds']:>6.2f} {r['sewing']:>9} "
+                      f"{r['peak_mb']:>8.0f} "
+                      f"{r['inside']:>6} {r['clear_mm']:>8.3f} {r['seam_mm']:>7.3f} "
+                      f"{r['crossing']:>5} {str(r['equilibrium']):>5} {r['ratio']:>7.4f}",
+                      flush=True)
+
+
+if __name__ == "__main__":
+    main()
