@@ -151,7 +151,8 @@ def table2(
 @reproduce.command("variants")
 def variants(
     triangles: int = typer.Option(3000, "--triangles", "-n", help="Target triangle count."),
-    fabric: str = typer.Option("cotton", "--fabric", "-f", help="Fabric preset or JSON file."),
+    fabric: str = typer.Option("stretch_knit", "--fabric", "-f",
+                               help="Fabric preset or JSON file."),
     figures: Path = typer.Option(Path("docs/figures"), help="Where the 3D maps go."),
     only: str = typer.Option("", help="Comma-separated figure numbers (e.g. 15a,17c)."),
     json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
