@@ -63,7 +63,8 @@ def _grain_per_triangle(mesh: GarmentMesh) -> np.ndarray:
 
 def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cotton", *,
           settings: SolverSettings | None = None, clearance: float = 0.03, spacing: float = 0.005,
-          placed=None, sewing_iterations: int = 1500, contact_margin: float = 0.003,
+          placed=None, sewing_iterations: int = 1500, relax_iterations: int = 300,
+          contact_margin: float = 0.003,
           progress=None) -> Drape:
     """Place, sew and drape ``mesh`` on ``body`` to static equilibrium.
 
@@ -84,7 +85,10 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cot
         A start state instead of the automatic placement (e.g. an imported 3D placement).
     sewing_iterations : int
         Iteration limit of the sewing phase (no gravity), which ends once the seams are
-        closed and welded; the drape under gravity follows.
+        closed and welded.
+    relax_iterations : int
+        Iteration limit of the gravity-free relaxation of the sewn garment that follows;
+        then the drape under gravity.
     contact_margin : float
         Least distance kept from the body [m] (the fabric's thickness if larger): the
         trilinear distance field departs from the true surface by up to about half a grid
@@ -106,9 +110,16 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cot
     solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh), fabric,
                            seam_pairs=mesh.seam_pairs, body=field_,
                            settings=replace(settings, gravity=(0.0, 0.0, 0.0),
-                                            max_iterations=sewing_iterations))
+                                            max_iterations=sewing_iterations,
+                                            stop_at_weld=True))
     t = time.perf_counter()
     sewn = solver.solve(x0, progress=progress)
+    sewing_its = sewn.iterations
+    if sewn.welded and not sewn.interrupted and relax_iterations > 0:
+        # the sewn garment relaxes (still without gravity) from the seams' pull
+        solver.settings = replace(solver.settings, max_iterations=relax_iterations)
+        sewn = solver.solve(sewn.x, progress=progress)
+        sewing_its += sewn.iterations
     t_sew = time.perf_counter() - t
     solver.settings = settings
     result = sewn
@@ -117,7 +128,7 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cot
     return Drape(positions=result.x[solver.vertex_map], placed=x0, result=result, solver=solver,
                  seconds=time.perf_counter() - t0,
                  timing={"distance_field_seconds": t_sdf, "sewing_seconds": t_sew,
-                         "sewing_iterations": sewn.iterations})
+                         "sewing_iterations": sewing_its})
 
 
 def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, progress=None) -> Drape:
