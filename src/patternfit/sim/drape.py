@@ -92,7 +92,8 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cot
     contact_margin : float
         Least distance kept from the body [m] (the fabric's thickness if larger): the
         trilinear distance field departs from the true surface by up to about half a grid
-        step, so a margin of that size keeps the cloth off the real body mesh.
+        step, so a margin of that size keeps the cloth off the real body mesh (sets
+        ``settings.contact_margin``; see :class:`SolverSettings`).
     progress : callable, optional
         ``progress(iteration, energy [J], step [m], elapsed [s])``; raising KeyboardInterrupt
         in it stops cleanly with the last state.

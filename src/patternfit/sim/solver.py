@@ -74,7 +74,7 @@ class SolverSettings:
     #: self-collision pairs are sought within this share of the mean edge length [-]
     self_detect: float = 1.0
     #: cloth-cloth distance kept, as a share of the mean edge length (at least the thickness)
-    self_gap: float = 0.25
+    self_gap: float = 0.1
     #: stretch stiffness kept in compression, as a share [-]
     compression: float = 0.05
     seam_stiffness: float = 1e3
