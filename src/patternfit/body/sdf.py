@@ -40,54 +40,61 @@ def cache_dir() -> Path:
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def _axis(x, origin, spacing, n):
-    """Cell index, fraction in the cell, and squared distance beyond the grid on one axis."""
-    t = (x - origin) / spacing
+def _cell(p, origin, spacing, n):
+    """Cell index and fraction along one axis, clamped to the grid, and the squared distance
+    beyond the grid (as ``DistanceField.query`` counts it)."""
+    q = (p - origin) / spacing
     out = 0.0
-    if t < 0.0:
-        out = (t * spacing) ** 2
-        t = 0.0
-    elif t > n - 1:
-        out = ((t - (n - 1)) * spacing) ** 2
-        t = float(n - 1)
-    i = min(int(t), n - 2)
-    return i, t - i, out
+    if q < 0.0:
+        out = (q * spacing) ** 2
+        q = 0.0
+    elif q > n - 1:
+        out = ((q - (n - 1)) * spacing) ** 2
+        q = float(n - 1)
+    k = min(int(q), n - 2)
+    return k, q - k, out
 
 
 @numba.njit(cache=True, nogil=True)
-def _trilinear(values, origin, spacing, points, dist, grad):
+def trilinear_at(values, origin, spacing, p):
+    """Distance [m] and gradient (x, y, z) of the trilinear interpolant at point ``p`` (3,);
+    compiled, so that simulation kernels call it per vertex."""
     nx, ny, nz = values.shape
-    for n in range(points.shape[0]):
-        outside2 = 0.0
-        i, fx, o = _axis(points[n, 0], origin[0], spacing, nx)
-        outside2 += o
-        j, fy, o = _axis(points[n, 1], origin[1], spacing, ny)
-        outside2 += o
-        k, fz, o = _axis(points[n, 2], origin[2], spacing, nz)
-        outside2 += o
-        c000 = values[i, j, k]
-        c001 = values[i, j, k + 1]
-        c010 = values[i, j + 1, k]
-        c011 = values[i, j + 1, k + 1]
-        c100 = values[i + 1, j, k]
-        c101 = values[i + 1, j, k + 1]
-        c110 = values[i + 1, j + 1, k]
-        c111 = values[i + 1, j + 1, k + 1]
-        c00 = c000 * (1 - fx) + c100 * fx
-        c01 = c001 * (1 - fx) + c101 * fx
-        c10 = c010 * (1 - fx) + c110 * fx
-        c11 = c011 * (1 - fx) + c111 * fx
-        c0 = c00 * (1 - fy) + c10 * fy
-        c1 = c01 * (1 - fy) + c11 * fy
-        # Beyond the grid the body is at least this much further away.
-        dist[n] = c0 * (1 - fz) + c1 * fz + np.sqrt(outside2)
-        gx = (((c100 - c000) * (1 - fz) + (c101 - c001) * fz) * (1 - fy)
-              + ((c110 - c010) * (1 - fz) + (c111 - c011) * fz) * fy)
-        gy = (c10 - c00) * (1 - fz) + (c11 - c01) * fz
-        gz = c1 - c0
-        grad[n, 0] = gx / spacing
-        grad[n, 1] = gy / spacing
-        grad[n, 2] = gz / spacing
+    x0, fx, ox = _cell(p[0], origin[0], spacing, nx)
+    y0, fy, oy = _cell(p[1], origin[1], spacing, ny)
+    z0, fz, oz = _cell(p[2], origin[2], spacing, nz)
+    c000 = values[x0, y0, z0]
+    c100 = values[x0 + 1, y0, z0]
+    c010 = values[x0, y0 + 1, z0]
+    c110 = values[x0 + 1, y0 + 1, z0]
+    c001 = values[x0, y0, z0 + 1]
+    c101 = values[x0 + 1, y0, z0 + 1]
+    c011 = values[x0, y0 + 1, z0 + 1]
+    c111 = values[x0 + 1, y0 + 1, z0 + 1]
+    c00 = c000 * (1 - fx) + c100 * fx
+    c10 = c010 * (1 - fx) + c110 * fx
+    c01 = c001 * (1 - fx) + c101 * fx
+    c11 = c011 * (1 - fx) + c111 * fx
+    c0 = c00 * (1 - fy) + c10 * fy
+    c1 = c01 * (1 - fy) + c11 * fy
+    # beyond the grid the body is at least this much further away
+    d = c0 * (1 - fz) + c1 * fz + np.sqrt(ox + oy + oz)
+    gx = (((c100 - c000) * (1 - fy) + (c110 - c010) * fy) * (1 - fz)
+          + ((c101 - c001) * (1 - fy) + (c111 - c011) * fy) * fz)
+    gy = (c10 - c00) * (1 - fz) + (c11 - c01) * fz
+    gz = c1 - c0
+    return d, gx / spacing, gy / spacing, gz / spacing
+
+
+@numba.njit(cache=True, nogil=True)
+def sdf_query(values, origin, spacing, x):
+    """Distances (n,) and gradients (n, 3) of the trilinear field at points ``x`` (n, 3)."""
+    n = x.shape[0]
+    d = np.empty(n)
+    g = np.empty((n, 3))
+    for i in range(n):
+        d[i], g[i, 0], g[i, 1], g[i, 2] = trilinear_at(values, origin, spacing, x[i])
+    return d, g
 
 
 @numba.njit(cache=True, nogil=True)
@@ -191,10 +198,7 @@ class DistanceField:
             Gradient of the interpolated distance (approximately the outward unit normal).
         """
         p = np.ascontiguousarray(np.asanyarray(points, dtype=np.float64).reshape(-1, 3))
-        d = np.empty(len(p))
-        g = np.empty((len(p), 3))
-        _trilinear(self.values, self.origin, self.spacing, p, d, g)
-        return d, g
+        return sdf_query(self.values, self.origin, self.spacing, p)
 
     @classmethod
     def from_mesh(cls, vertices, faces, *, spacing: float = 0.005, padding: float = 0.1,

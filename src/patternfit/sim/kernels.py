@@ -10,6 +10,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..body.sdf import sdf_query  # noqa: F401  (the solver's distance lookup)
+from ..body.sdf import trilinear_at as _trilinear
+
 # ---------------------------------------------------------------------------------------
 # membrane
 
@@ -65,64 +68,6 @@ def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, grad):
 
 # ---------------------------------------------------------------------------------------
 # body contact and friction
-
-
-@njit(cache=True, inline="always")
-def _cell(p, origin, spacing, n):
-    """Cell index and fraction along one axis, clamped to the grid, and the squared distance
-    beyond the grid (as ``DistanceField.query`` counts it)."""
-    q = (p - origin) / spacing
-    out = 0.0
-    if q < 0.0:
-        out = (q * spacing) ** 2
-        q = 0.0
-    elif q > n - 1:
-        out = ((q - (n - 1)) * spacing) ** 2
-        q = float(n - 1)
-    k = min(int(q), n - 2)
-    return k, q - k, out
-
-
-@njit(cache=True)
-def _trilinear(values, origin, spacing, p):
-    """Distance and gradient of the trilinear interpolant at point ``p``, as
-    ``patternfit.body.sdf.DistanceField.query`` computes them."""
-    nx, ny, nz = values.shape
-    x0, fx, ox = _cell(p[0], origin[0], spacing, nx)
-    y0, fy, oy = _cell(p[1], origin[1], spacing, ny)
-    z0, fz, oz = _cell(p[2], origin[2], spacing, nz)
-    c000 = values[x0, y0, z0]
-    c100 = values[x0 + 1, y0, z0]
-    c010 = values[x0, y0 + 1, z0]
-    c110 = values[x0 + 1, y0 + 1, z0]
-    c001 = values[x0, y0, z0 + 1]
-    c101 = values[x0 + 1, y0, z0 + 1]
-    c011 = values[x0, y0 + 1, z0 + 1]
-    c111 = values[x0 + 1, y0 + 1, z0 + 1]
-    c00 = c000 * (1 - fx) + c100 * fx
-    c10 = c010 * (1 - fx) + c110 * fx
-    c01 = c001 * (1 - fx) + c101 * fx
-    c11 = c011 * (1 - fx) + c111 * fx
-    c0 = c00 * (1 - fy) + c10 * fy
-    c1 = c01 * (1 - fy) + c11 * fy
-    # beyond the grid the body is at least this much further away
-    d = c0 * (1 - fz) + c1 * fz + np.sqrt(ox + oy + oz)
-    gx = (((c100 - c000) * (1 - fy) + (c110 - c010) * fy) * (1 - fz)
-          + ((c101 - c001) * (1 - fy) + (c111 - c011) * fy) * fz)
-    gy = (c10 - c00) * (1 - fz) + (c11 - c01) * fz
-    gz = c1 - c0
-    return d, gx / spacing, gy / spacing, gz / spacing
-
-
-@njit(cache=True)
-def sdf_query(values, origin, spacing, x):
-    """Distances (n,) and gradients (n, 3) of the trilinear field at points ``x`` (n, 3)."""
-    n = x.shape[0]
-    d = np.empty(n)
-    g = np.empty((n, 3))
-    for i in range(n):
-        d[i], g[i, 0], g[i, 1], g[i, 2] = _trilinear(values, origin, spacing, x[i])
-    return d, g
 
 
 @njit(cache=True)
