@@ -55,7 +55,7 @@ def _cell(p, origin, spacing, n):
     return k, q - k, out
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
 def trilinear_at(values, origin, spacing, p):
     """Distance [m] and gradient (x, y, z) of the trilinear interpolant at point ``p`` (3,);
     compiled, so that simulation kernels call it per vertex."""
