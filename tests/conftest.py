@@ -27,3 +27,18 @@ def two_rectangles():
     return Pattern("tube", (a, b), (
         Seam("s1", SeamSide("A", "right"), SeamSide("B", "left")),
         Seam("s2", SeamSide("A", "left", 0.0, 0.5), SeamSide("B", "right", 0.5, 1.0))))
+
+
+def end_line_load(v, ids, tension):
+    """Forces (n, 3) [N] of a uniform line load ``tension`` [N/m] along +x on the strip end
+    ``ids`` (vertices on a line x = const): each end vertex takes half its two segments."""
+    import numpy as np
+
+    order = np.argsort(v[ids, 1])
+    seg = np.diff(v[ids[order], 1])
+    share = np.zeros(len(ids))
+    share[order[:-1]] += seg / 2
+    share[order[1:]] += seg / 2
+    forces = np.zeros((len(v), 3))
+    forces[ids, 0] = tension * share
+    return forces

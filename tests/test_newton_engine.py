@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import end_line_load
 
 from patternfit.sim.newton_engine import (
     BENDING_SCALE, NewtonMissingError, edge_bending, import_newton, mean_dihedral, panel_rest)
@@ -182,14 +183,8 @@ def test_newton_strip_stretches_as_its_stiffness_says(fabric, angle):
     length = 0.2
     v, scene = _strip(length, 0.05, 4e-5, angle, fab, lambda v: v[:, 0] < 1e-9, gravity=0.0)
     right = np.flatnonzero(v[:, 0] > length - 1e-9)
-    order = np.argsort(v[right, 1])
-    seg = np.diff(v[right[order], 1])
-    share = np.zeros(len(right))
-    share[order[:-1]] += seg / 2
-    share[order[1:]] += seg / 2
     tension = 0.01 * stiffness
-    forces = np.zeros((len(v), 3))
-    forces[right, 0] = tension * share
+    forces = end_line_load(v, right, tension)
     x = _settle(scene, 300, forces)
     mid = (v[:, 0] > 0.05) & (v[:, 0] < 0.15)
     slope = np.polyfit(v[mid, 0], x[mid, 0], 1)[0]

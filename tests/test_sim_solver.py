@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 import triangle
 
+from conftest import end_line_load
+
 from patternfit.body.sdf import DistanceField
 from patternfit.sim.fabrics import get_fabric
 from patternfit.sim.solver import GarmentSolver, SolverSettings
@@ -39,15 +41,8 @@ def test_strip_stretches_as_its_stiffness_says(fabric, angle):
     v, t = rect_mesh(length, width, 4e-5)
     left = np.flatnonzero(v[:, 0] < 1e-9)
     right = np.flatnonzero(v[:, 0] > length - 1e-9)
-    # a uniform line load on the free end: each end vertex takes half its two segments
-    order = np.argsort(v[right, 1])
-    seg = np.diff(v[right[order], 1])
-    share = np.zeros(len(right))
-    share[order[:-1]] += seg / 2
-    share[order[1:]] += seg / 2
     tension = 0.01 * stiffness  # 1 % strain expected [N/m]
-    forces = np.zeros((len(v), 3))
-    forces[right, 0] = tension * share
+    forces = end_line_load(v, right, tension)
     settings = SolverSettings(gravity=(0.0, 0.0, 0.0), self_collision=False,
                               step_tol=1e-10, energy_tol=1e-12)
     solver = GarmentSolver(v, t, grain_at(angle, len(t)), fab, pinned=left, settings=settings)
