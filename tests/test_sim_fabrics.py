@@ -13,11 +13,27 @@ def test_presets_cover_the_required_fabrics_in_si_ranges():
     for name in ("cotton_shirting", "denim", "wool_coating", "jersey_knit", "stretch_knit"):
         f = FABRICS[name]
         assert 0.05 < f.density < 1.0  # kg/m^2
-        assert 50 < f.stretch_weft <= f.stretch_warp < 1e5  # N/m
+        assert 10 < f.stretch_weft <= f.stretch_warp < 1e5  # N/m; a knit at low strain ~30
         assert 1e-7 < f.bending_weft <= f.bending_warp < 1e-3  # N m
         assert 0 < f.thickness < 5e-3  # m
     assert FABRICS["denim"].bending_warp > FABRICS["cotton_shirting"].bending_warp
     assert FABRICS["stretch_knit"].stretch_weft < FABRICS["cotton_shirting"].stretch_weft
+
+
+@pytest.mark.parametrize("name, row0, density", [
+    ("cotton_shirting", (2016.55, 9.17, 2034.98, 104.76), None),      # royal-target
+    ("jersey_knit", (16.594, -14.696, 34.477, 36.860), 0.187),        # gray-interlock
+    ("stretch_knit", (42.871, -0.235, 65.166, 83.176), 0.276),        # ivory-rib-knit
+])
+def test_presets_follow_their_wang_2011_samples(name, row0, density):
+    """docs/fabrics.md: zero-strain row [c0..c3] of Wang et al. 2011 (ARCSim material file)
+    -> warp 2 c2, weft 2 c0, shear c3 / 2 [N/m]."""
+    f = FABRICS[name]
+    assert f.stretch_warp == pytest.approx(2 * row0[2], rel=5e-3)
+    assert f.stretch_weft == pytest.approx(2 * row0[0], rel=5e-3)
+    assert f.shear == pytest.approx(row0[3] / 2, rel=5e-3)
+    if density is not None:
+        assert f.density == density
 
 
 def test_names_and_aliases():

@@ -90,19 +90,19 @@ def _check_values(values: dict, source) -> None:
 #: Built-in fabrics (sources in docs/fabrics.md).
 FABRICS: dict[str, Fabric] = {
     f.name: f for f in (
-        Fabric("cotton_shirting", density=0.115, stretch_warp=6.0e3, stretch_weft=4.0e3,
-               shear=40.0, bending_warp=6.9e-6, bending_weft=4.9e-6, friction=0.4,
+        Fabric("cotton_shirting", density=0.115, stretch_warp=4.07e3, stretch_weft=4.03e3,
+               shear=52.4, bending_warp=6.9e-6, bending_weft=4.9e-6, friction=0.4,
                thickness=0.25e-3),
         Fabric("denim", density=0.41, stretch_warp=8.9e3, stretch_weft=8.9e3, shear=122.0,
                bending_warp=16.9e-6, bending_weft=16.9e-6, friction=0.4, thickness=1.07e-3),
         Fabric("wool_coating", density=0.45, stretch_warp=2.1e3, stretch_weft=1.7e3,
                shear=26.0, bending_warp=30.0e-6, bending_weft=25.0e-6, friction=0.4,
                thickness=2.0e-3),
-        Fabric("jersey_knit", density=0.16, stretch_warp=6.0e2, stretch_weft=2.5e2,
-               shear=15.0, bending_warp=2.5e-6, bending_weft=1.5e-6, friction=0.4,
+        Fabric("jersey_knit", density=0.187, stretch_warp=69.0, stretch_weft=33.2,
+               shear=18.4, bending_warp=2.5e-6, bending_weft=1.5e-6, friction=0.4,
                thickness=0.55e-3),
-        Fabric("stretch_knit", density=0.22, stretch_warp=3.0e2, stretch_weft=1.5e2,
-               shear=10.0, bending_warp=3.0e-6, bending_weft=2.0e-6, friction=0.5,
+        Fabric("stretch_knit", density=0.276, stretch_warp=130.3, stretch_weft=85.7,
+               shear=41.6, bending_warp=3.0e-6, bending_weft=2.0e-6, friction=0.5,
                thickness=0.6e-3),
     )
 }
