@@ -14,7 +14,8 @@ import pytest
 from conftest import end_line_load
 
 from patternfit.sim.newton_engine import (
-    BENDING_SCALE, NewtonMissingError, edge_bending, import_newton, mean_dihedral, panel_rest)
+    BENDING_SCALE, NewtonMissingError, NewtonSettings, edge_bending, import_newton, mean_dihedral,
+    panel_rest)
 
 
 def test_mean_dihedral_of_a_flat_and_a_folded_pair():
@@ -93,18 +94,28 @@ def skirt():
                        for k, d in (("static", static), ("cold", cold), ("warm", warm))})
 
 
-def test_newton_skirt_drapes_inside_nothing_sewn_and_at_rest(skirt):
+def test_newton_skirt_drapes_inside_nothing_sewn(skirt):
     d = skirt["cold"]
     c = d.checks
     assert skirt["static"].checks.passed, "the static reference drape failed its checks"
     assert c.inside_vertices == 0
     assert c.seam_gap_max_mm < 0.5
     assert c.self_intersections == 0
-    assert c.equilibrium and d.result.stop_reason == "converged"
     assert d.timing["engine"] == "newton" and d.timing["device"] == "cpu"
+    # slow enough for the old speed-only stop (1 cm/s), yet still moving: not called rest
     assert d.timing["max_speed"] < 0.01
+    assert d.timing["drift_m"] > NewtonSettings().rest_drift
+    assert not c.equilibrium and d.result.stop_reason == "frames"
     extra = d.report_extra()
-    assert extra["timing"]["engine"] == "newton" and extra["checks"]["passed"]
+    assert extra["timing"]["engine"] == "newton" and not extra["checks"]["passed"]
+
+
+@pytest.mark.xfail(strict=True, reason="Style3D (projective dynamics, constant matrix with the "
+                                       "full stretch stiffness) creeps on bending modes: the 1.5K "
+                                       "skirt still drifts ~1 mm/s after 300 frames; see "
+                                       "docs/simulation.md")
+def test_newton_skirt_reaches_equilibrium(skirt):
+    assert skirt["cold"].checks.equilibrium
 
 
 def test_newton_fitting_ratio_agrees_with_the_static_engine(skirt):
@@ -117,9 +128,8 @@ def test_from_static_forms_folds_and_keeps_the_fit(skirt):
     folds_static = mean_dihedral(_welded(static), tris)
     folds_warm = mean_dihedral(_welded(warm), tris)
     assert folds_warm > folds_static
-    assert warm.checks.inside_vertices == 0 and warm.checks.equilibrium
+    assert warm.checks.inside_vertices == 0
     assert skirt["ratio"]["warm"] == pytest.approx(skirt["ratio"]["static"], rel=0.01)
-    assert warm.result.iterations < skirt["cold"].result.iterations
 
 
 def _welded(d):
@@ -191,7 +201,8 @@ def test_newton_strip_stretches_as_its_stiffness_says(fabric, angle):
     assert slope - 1.0 == pytest.approx(tension / stiffness, rel=0.02)
 
 
-@pytest.mark.xfail(reason="Style3D's projective-dynamics step moves soft (bending) modes by "
+@pytest.mark.xfail(strict=True,
+                   reason="Style3D's projective-dynamics step moves soft (bending) modes by "
                           "~f/k_stretch per iteration: with realistic stretch stiffness the strip "
                           "creeps (0.1 deg per 100 frames at 5 iterations) and never reaches "
                           "Peirce's 41.5 deg in a usable number of frames; see docs/simulation.md")
@@ -209,3 +220,22 @@ def test_newton_cantilever_bends_to_its_bending_length():
     theta = np.arctan2(-x[tip, 1].mean(), x[tip, 0].mean() - clamp)
     measured = overhang * (np.cos(theta / 2) / (8 * np.tan(theta))) ** (1 / 3)
     assert measured == pytest.approx(c, rel=0.10)
+
+
+def test_rest_needs_both_slow_speed_and_no_drift():
+    """A strip with nothing acting on it is at rest after ``min_frames``; a drooping cotton
+    cantilever, which Style3D moves at ~1e-5 m/s (far below the speed tolerance), is not."""
+    pytest.importorskip("newton", reason="newton not installed")
+    from patternfit.sim.fabrics import get_fabric
+    from patternfit.sim.newton_engine import run_to_rest
+
+    fab = get_fabric("cotton_shirting")
+    c = (fab.bending_warp / (fab.density * 9.80665)) ** (1 / 3)
+    quick = dict(min_frames=30, max_frames=90)
+    for gravity, rests in ((0.0, True), (9.80665, False)):
+        _, scene = _strip(2.2 * c, 0.5 * c, (c / 8) ** 2, 0, fab,
+                          lambda v: v[:, 0] <= 0.2 * c + 1e-12, gravity=gravity, **quick)
+        run = run_to_rest(scene)
+        assert run.at_rest is rests
+        assert run.max_speed < scene.settings.speed_tol
+        assert (run.drift < scene.settings.rest_drift) is rests

@@ -64,8 +64,10 @@ class NewtonSettings:
     """Knobs of the Newton engine (SI units).
 
     Stopping: at rest when the largest vertex speed stays below ``speed_tol`` [m/s] for
-    ``patience`` consecutive frames after ``min_frames``; otherwise stopped at
-    ``max_frames`` or ``time_limit`` [s] (not at rest).
+    ``patience`` consecutive frames after ``min_frames`` **and** no vertex moved more than
+    ``rest_drift`` [m] over the last ``window`` frames (a slow creep, which Style3D's
+    projective-dynamics step produces on bending modes at speeds far below ``speed_tol``,
+    is not rest); otherwise stopped at ``max_frames`` or ``time_limit`` [s] (not at rest).
     """
 
     fps: float = 30.0
@@ -77,6 +79,11 @@ class NewtonSettings:
     time_limit: float = 300.0
     speed_tol: float = 0.01
     patience: int = 3
+    #: frames over which the net displacement is measured (1 s at 30 fps)
+    window: int = 30
+    #: largest net vertex displacement over ``window`` frames still counted as rest [m]
+    #: (5 µm/s: the measured creep of a cotton cantilever, 15 µm/s, is not rest)
+    rest_drift: float = 5.0e-6
     #: body contact stiffness per vertex [N/m] (Newton's default, 10, lets a stretched
     #: garment sink millimetres into the body; see docs/simulation.md)
     contact_ke: float = 1.0e4
@@ -269,6 +276,8 @@ class RunResult:
     seconds: float
     stop_reason: str
     projected: int = 0
+    #: largest net vertex displacement over the last ``window`` frames [m] (inf before that)
+    drift: float = float("inf")
 
 
 def run_to_rest(scene: NewtonScene, *, field=None, progress=None) -> RunResult:
@@ -287,6 +296,9 @@ def run_to_rest(scene: NewtonScene, *, field=None, progress=None) -> RunResult:
     h = scene.fabric.thickness
     t0 = time.perf_counter()
     calm, frame, speed, reason, at_rest, projected = 0, 0, np.inf, "frames", False, 0
+    # positions of the last ``window`` frames (ring buffer) for the drift test
+    history = np.zeros((s.window, scene.model.particle_count, 3))
+    drift = np.inf
     try:
         with wp.ScopedDevice(scene.device):
             while frame < s.max_frames:
@@ -317,10 +329,15 @@ def run_to_rest(scene: NewtonScene, *, field=None, progress=None) -> RunResult:
                         scene.state.particle_q.assign(x.astype(np.float32))
                         scene.state.particle_qd.assign(v)
                 speed = float(np.linalg.norm(v, axis=1).max())
+                x_now = scene.state.particle_q.numpy().astype(np.float64)
+                slot = frame % s.window
+                if frame > s.window:
+                    drift = float(np.linalg.norm(x_now - history[slot], axis=1).max())
+                history[slot] = x_now
                 if progress is not None:
                     progress(frame, speed, 0.0, time.perf_counter() - t0)
                 calm = calm + 1 if speed < s.speed_tol else 0
-                if frame >= s.min_frames and calm >= s.patience:
+                if frame >= s.min_frames and calm >= s.patience and drift < s.rest_drift:
                     at_rest, reason = True, "at rest"
                     break
                 if time.perf_counter() - t0 > s.time_limit:
@@ -330,7 +347,8 @@ def run_to_rest(scene: NewtonScene, *, field=None, progress=None) -> RunResult:
         reason = "interrupted"
     x = scene.state.particle_q.numpy().astype(np.float64)
     return RunResult(x=x, frames=frame, at_rest=at_rest, max_speed=speed,
-                     seconds=time.perf_counter() - t0, stop_reason=reason, projected=projected)
+                     seconds=time.perf_counter() - t0, stop_reason=reason, projected=projected,
+                     drift=drift)
 
 
 def _sim_positions(flat: np.ndarray, vertex_map: np.ndarray) -> np.ndarray:
@@ -416,6 +434,7 @@ def newton_drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str
     result = _result(solver, flat, vmap, run)
     timing.update(engine="newton", device=scene.device, frames=run.frames,
                   max_speed=run.max_speed, newton_seconds=run.seconds,
+                  drift_m=run.drift if np.isfinite(run.drift) else None,
                   projected_vertices=run.projected)
     return Drape(positions=flat, placed=x0, result=result, solver=solver,
                  seconds=time.perf_counter() - t0, timing=timing)
