@@ -63,11 +63,11 @@ def run_one(garment: str, figures: str | None) -> dict:
     for name, d, wall, ratio in rows:
         c = d.checks
         out.append({"garment": garment, "body": body_name, "triangles": len(mesh.triangles),
-                    "run": name, "iterations": d.result.iterations
-                    + d.timing.get("sewing_iterations", 0), "seconds": wall,
+                    "run": name, "iterations": d.report_extra()["timing"]["iterations"],
+                    "seconds": wall,
                     "sdf_seconds": d.timing.get("distance_field_seconds", 0.0),
-                    "sewing": f"{d.timing['sewing_iterations']}/{d.timing['sewing_seconds']:.1f}"
-                    if "sewing_iterations" in d.timing else "-",
+                    "coarse": f"{d.timing['coarse_iterations']}/{d.timing['coarse_seconds']:.1f}"
+                    if "coarse_iterations" in d.timing else "-",
                     "peak_mb": _peak_mb(), "inside": c.inside_vertices,
                     "clear_mm": c.min_clearance_mm, "seam_mm": c.seam_gap_max_mm,
                     "crossing": c.self_intersections, "equilibrium": c.equilibrium,
@@ -88,10 +88,10 @@ def main():
         return
     print("built-in garments (size M, cotton) on built-in bodies, 5 mm distance field, "
           "contact margin 3 mm; re-drape after a 3 cm hem edit (both hems); 2-core CPU")
-    print("iters and seconds of the whole run; sewing: iterations/seconds of the "
-          "gravity-free sewing phase in it")
+    print("iters and seconds of the whole run; coarse: iterations/seconds of the whole "
+          "coarse drape (2K triangles: placement, sewing, drape) that starts the fine one")
     print(f"{'garment':>8} {'tri':>6} {'run':>9} {'iters':>6} {'seconds':>8} {'sdf s':>6} "
-          f"{'sewing':>9} {'peak MB':>8} {'inside':>6} {'clear mm':>8} {'seam mm':>7} {'cross':>5} "
+          f"{'coarse':>9} {'peak MB':>8} {'inside':>6} {'clear mm':>8} {'seam mm':>7} {'cross':>5} "
           f"{'equil':>5} {'ratio':>7}")
     for garment in args.garments:
         runs = [("warm", None)]
@@ -113,7 +113,7 @@ def main():
                     continue
                 run = r["run"] + (" cold" if label == "cold" else "")
                 print(f"{garment:>8} {r['triangles']:>6} {run:>9} {r['iterations']:>6} "
-                      f"{r['seconds']:>8.2f} {r['sdf_seconds']:>6.2f} {r['sewing']:>9} "
+                      f"{r['seconds']:>8.2f} {r['sdf_seconds']:>6.2f} {r['coarse']:>9} "
                       f"{r['peak_mb']:>8.0f} "
                       f"{r['inside']:>6} {r['clear_mm']:>8.3f} {r['seam_mm']:>7.3f} "
                       f"{r['crossing']:>5} {str(r['equilibrium']):>5} {r['ratio']:>7.4f}",

@@ -124,3 +124,20 @@ def test_same_run_twice_gives_the_same_result():
     _, b = _drape("skirt", "female_thin", 800)
     assert a.result.iterations == b.result.iterations
     assert np.array_equal(a.positions, b.positions)
+
+
+def test_coarse_start_gives_the_fit_of_a_direct_drape(thin_woman):
+    p = build("skirt", "M")
+    m = mesh_pattern(p, triangles=2400)
+    direct = drape(p, m, thin_woman, "cotton", coarse=None)
+    staged = drape(p, m, thin_woman, "cotton", coarse=600)
+    assert "coarse_triangles" not in direct.timing
+    assert staged.timing["coarse_triangles"] < 800
+    assert direct.checks.passed and staged.checks.passed, staged.checks
+    # the fine mesh only settles: fewer fine iterations than the direct run's drape alone
+    assert staged.result.iterations < direct.result.iterations
+    ev = FitEvaluator(m)
+    assert ev(staged.positions).fitting_ratio == pytest.approx(
+        ev(direct.positions).fitting_ratio, rel=5e-3)
+    # the kept solver re-drapes the fine mesh
+    assert redrape(staged, m).result.iterations < staged.result.iterations

@@ -70,16 +70,35 @@ def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, grad):
 # body contact and friction
 
 
+#: bound on the slope of the trilinear distance interpolant [m/m]: each partial derivative is
+#: a blend of grid differences of a 1-Lipschitz distance, so |grad| <= sqrt(3); 2 leaves room
+#: for the seam between the exact band and the upsampled far field
+SDF_SLOPE = 2.0
+
+
 @njit(cache=True)
-def contact(x, values, origin, spacing, thickness, stiffness, grad):
+def contact(x, values, origin, spacing, thickness, stiffness, seen, room, grad):
     """Penalty ``k_i (h - d_i)^2 / 2`` on every vertex whose distance ``d_i`` is below ``h``.
 
     ``stiffness`` (n,) [N/m] is per vertex (area times the contact pressure stiffness).
+    ``seen`` (n, 3) [m] and ``room`` (n,) [m] spare the lookups that cannot matter: a vertex
+    less than ``room_i`` from ``seen_i``, where it was last looked up, is still beyond ``h``
+    (the distance changes by at most ``SDF_SLOPE`` per metre moved). Both are updated here;
+    start them at ``inf`` and 0.
     """
     energy = 0.0
     for i in range(x.shape[0]):
+        m0 = x[i, 0] - seen[i, 0]
+        m1 = x[i, 1] - seen[i, 1]
+        m2 = x[i, 2] - seen[i, 2]
+        if m0 * m0 + m1 * m1 + m2 * m2 < room[i] * room[i]:
+            continue
         d, gx, gy, gz = _trilinear(values, origin, spacing, x[i])
         pen = thickness - d
+        seen[i, 0] = x[i, 0]
+        seen[i, 1] = x[i, 1]
+        seen[i, 2] = x[i, 2]
+        room[i] = max(-pen, 0.0) / SDF_SLOPE
         if pen > 0.0:
             k = stiffness[i]
             energy += 0.5 * k * pen * pen

@@ -331,6 +331,12 @@ class GarmentSolver:
         self._welded = True
         self._build()
 
+    def weld(self) -> None:
+        """Join every seam pair into one vertex now, before a solve whose start state has
+        its seams closed already (e.g. a coarser drape carried over to this mesh)."""
+        if not self._welded:
+            self._weld()
+
     def _reduce(self, x_full):
         """Mean position of each group of simulated vertices."""
         out = np.zeros((self._n, 3))
@@ -352,7 +358,7 @@ class GarmentSolver:
         grad += qx - self._f
         if self.body is not None:
             e += kernels.contact(x, self.body.values, self.body.origin, self.body.spacing,
-                                 self._reach, self._kc, grad)
+                                 self._reach, self._kc, self._seen, self._room, grad)
         if len(self._fr_idx):
             e += kernels.friction(x, self._fr_idx, self._fr_anchor, self._fr_normal,
                                   self._fr_limit, self.settings.friction_slip, grad)
@@ -554,6 +560,9 @@ class GarmentSolver:
                 self._contact_scale = np.ones(self._n)
                 self._anchor_of = np.full((self._n, 3), np.nan)
             self._pairs = np.zeros((0, 2), np.int64)
+            # contact lookups start afresh (the reach may differ from the last solve's)
+            self._seen = np.full((self._n, 3), np.inf)
+            self._room = np.zeros(self._n)
             self._set_springs(k_seam)
             return x_red
 

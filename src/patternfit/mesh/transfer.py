@@ -1,0 +1,98 @@
+"""Carry per-vertex values from one garment mesh to another of the same pattern.
+
+Two meshes of one pattern (another resolution, or a re-meshed panel) share the panels' flat
+frames, so a value on one (a 3D drape state, a colour) reaches the other through the flat
+triangle that holds each vertex: barycentric interpolation, panel by panel. Vertices on a
+curved outline may lie just outside the other mesh's chords; they take the linear
+extension of the nearest triangle, which follows the curve better than clamping.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .garment import GarmentMesh
+
+#: candidate triangles tried per point (nearest centroids)
+_CANDIDATES = 12
+
+
+def _barycentric(p, a, b, c):
+    """Barycentric coordinates (..., 3) of points ``p`` in triangles ``abc`` (all (..., 2))."""
+    v0, v1, v2 = b - a, c - a, p - a
+    d00 = (v0 * v0).sum(-1)
+    d01 = (v0 * v1).sum(-1)
+    d11 = (v1 * v1).sum(-1)
+    d20 = (v2 * v0).sum(-1)
+    d21 = (v2 * v1).sum(-1)
+    den = d00 * d11 - d01 * d01
+    v = (d11 * d20 - d01 * d21) / den
+    w = (d00 * d21 - d01 * d20) / den
+    return np.stack([1.0 - v - w, v, w], axis=-1)
+
+
+def locate(mesh: GarmentMesh, panel: int, points) -> tuple[np.ndarray, np.ndarray]:
+    """Triangle of ``panel`` holding each flat point, and the point's barycentric coordinates.
+
+    Parameters
+    ----------
+    mesh : GarmentMesh
+    panel : int
+        Panel index in ``mesh``.
+    points : (k, 2) float
+        Flat points in that panel's frame [m].
+
+    Returns
+    -------
+    triangles : (k,) int
+        Triangle index in ``mesh`` (the best-fitting one for a point outside every triangle).
+    bary : (k, 3) float
+        Barycentric coordinates; they sum to 1 and are all >= 0 inside the panel's mesh,
+        slightly negative (a linear extension) outside it.
+    """
+    points = np.asanyarray(points, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] != 2:
+        raise ValueError(f"points: expected shape (k, 2), got {points.shape}")
+    tris = np.flatnonzero(mesh.triangle_panel == panel)
+    if not len(tris):
+        raise ValueError(f"panel: mesh has no triangles in panel {panel}")
+    corners = mesh.vertices[mesh.triangles[tris]]
+    tree = cKDTree(corners.mean(axis=1))
+    k = min(_CANDIDATES, len(tris))
+    _, cand = tree.query(points, k=k)
+    cand = cand.reshape(len(points), k)
+    c = corners[cand]
+    bary = _barycentric(points[:, None, :], c[..., 0, :], c[..., 1, :], c[..., 2, :])
+    best = np.argmax(bary.min(axis=2), axis=1)
+    rows = np.arange(len(points))
+    return tris[cand[rows, best]], bary[rows, best]
+
+
+def transfer(source: GarmentMesh, values, target: GarmentMesh) -> np.ndarray:
+    """Values per vertex of ``source`` interpolated at every vertex of ``target``.
+
+    Parameters
+    ----------
+    source : GarmentMesh
+    values : (n_source, d) float
+        A value per source vertex, e.g. 3D positions [m].
+    target : GarmentMesh
+        A mesh of the same pattern (panels matched by name).
+
+    Returns
+    -------
+    (n_target, d) float
+    """
+    values = np.asanyarray(values, dtype=np.float64)
+    if values.ndim != 2 or len(values) != source.n_vertices:
+        raise ValueError(f"values: expected shape ({source.n_vertices}, d), got {values.shape}")
+    names = {name: i for i, name in enumerate(source.panel_names)}
+    out = np.empty((target.n_vertices, values.shape[1]))
+    for p, name in enumerate(target.panel_names):
+        if name not in names:
+            raise ValueError(f"target: panel {name!r} is not in the source mesh")
+        idx = np.flatnonzero(target.vertex_panel == p)
+        tri, bary = locate(source, names[name], target.vertices[idx])
+        out[idx] = np.einsum("kj,kjd->kd", bary, values[source.triangles[tri]])
+    return out
