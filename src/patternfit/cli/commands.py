@@ -176,7 +176,9 @@ def demo(
     out: Path = typer.Option(Path("patternfit-demo"), "--out", "-o", help="Output folder."),
     garment: Optional[str] = typer.Option(None, help="Built-in garment (default: skirt; coat "
                                                       "with --no-drape)."),
-    size: str = typer.Option("M", "--size", "-s", help="Size: S, M, L or XL."),
+    size: Optional[str] = typer.Option(None, "--size", "-s",
+                                       help="Size: S, M, L or XL (default: the garment's "
+                                            "Table 2 size, else M)."),
     triangles: Optional[int] = typer.Option(None, "--triangles", "-n",
                                             help="Target triangle count (default 3000; 22000 "
                                                  "with --no-drape)."),
@@ -192,7 +194,7 @@ def demo(
     cylinders around the body): its fitting ratio is 100%, the paper's Fig. 8(b).
     """
     if not drape:
-        return _demo_placed(out, garment or "coat", size, triangles or 22000, json_out)
+        return _demo_placed(out, garment or "coat", size or "M", triangles or 22000, json_out)
     from ..edit import grade
     from ..loop.table2 import ROWS
     from ..loop.session import DesignSession
@@ -206,6 +208,7 @@ def demo(
     row = {r.garment: r for r in ROWS}.get(garment)
     body, narrow, fabric, relax = (row.body, row.narrow, row.fabric, row.relax) if row \
         else ("female_average", 0.8, "stretch_knit", 1.0)
+    size = size or (row.size if row else "M")
     t0 = time.perf_counter()
     try:
         pat = grade(build(garment, size), None, narrow, 1.0)

@@ -133,8 +133,7 @@ def table2(
     t0 = time.perf_counter()
     results = []
     for row in rows:
-        console.print(f"[bold]{row.garment}[/] on {row.body}: size M narrowed to "
-                      f"{row.narrow:.0%} of its width, {row.fabric}")
+        console.print(f"[bold]{row.garment}[/] on {row.body}: {row.describe()}")
         try:
             results.append(run_row(row, triangles=triangles, figures=figures,
                                    settings=CorrectionSettings(max_iterations=max_iterations),

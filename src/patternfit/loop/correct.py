@@ -51,7 +51,7 @@ class CorrectionSettings:
     region_share: float = 0.01
     max_iterations: int = 3
     gain: float = 1.0
-    max_move: float = 0.08
+    max_move: float = 0.12
     band: float = 0.10
     min_move: float = 1e-3
     warp_min: float = 0.02
@@ -129,38 +129,32 @@ def propose_moves(pattern: Pattern, mesh: GarmentMesh, fit: FitResult, *,
     list of CornerMove
     """
     seamed = {(side.panel, side.edge) for s in pattern.seams for side in (s.a, s.b)}
-    verts = mesh.vertices
-    centroid = verts[mesh.triangles].mean(axis=1)
+    centroid = mesh.vertices[mesh.triangles].mean(axis=1)
     moves: dict[tuple, np.ndarray] = {}
     for pi, name in enumerate(mesh.panel_names):
         panel = pattern.panel(name)
         tris = mesh.panel_triangles(pi)
         g = mesh.grain[pi]
         c = np.array([-g[1], g[0]])
-        h = centroid[tris] @ g
         a = fit.area_2d[tris]
-        weft_excess = np.clip(fit.weft[tris] - 1.0, 0.0, None)
         warp_excess = float(a @ np.clip(fit.warp[tris] - 1.0, 0.0, None) / a.sum())
         outline = panel.outline.polygon()
         axis = float(np.median(outline @ c))
-        hmin, hmax = float((outline @ g).min()), float((outline @ g).max())
+        hmax = float((outline @ g).max())
         half_width = 0.5 * float(np.ptp(outline @ c))
         edges = panel.outline.edges
-        for k, e in enumerate(edges):
-            if (name, e.name) not in seamed and (name, edges[k - 1].name) not in seamed:
+        corners = [e.name for k, e in enumerate(edges)
+                   if (name, e.name) in seamed or (name, edges[k - 1].name) in seamed]
+        across = _across_moves(mesh, pi, panel, fit, tris, centroid[tris], g, c, axis,
+                               half_width, corners, settings)
+        for e in edges:
+            if e.name not in corners:
                 continue
             p = np.asarray(e.start, dtype=np.float64)
-            side = p @ c - axis
-            d = np.zeros(2)
-            if abs(side) > 0.2 * half_width:
-                h0 = p @ g
-                lo, hi = max(h0 - settings.band / 2, hmin), min(h0 + settings.band / 2, hmax)
-                sel = (h >= lo) & (h <= hi)
-                lack = float(a[sel] @ weft_excess[sel]) / max(hi - lo, tol.merge)
-                d += np.sign(side) * c * 0.5 * lack
+            d = across[e.name] * c
             if warp_excess > settings.warp_min:
                 # the top is anchored on the body (waist, neck): grow downwards
-                d -= g * warp_excess * (hmax - p @ g)
+                d = d - g * warp_excess * (hmax - p @ g)
             moves[(name, e.name)] = settings.gain * d
     for _ in range(3):  # both are averages: alternating them converges
         _share_sewn_corners(pattern, moves)
@@ -174,6 +168,56 @@ def propose_moves(pattern: Pattern, mesh: GarmentMesh, fit: FitResult, *,
             d = d * (settings.max_move / n)
         out.append(CornerMove(pname, ename, (float(d[0]), float(d[1]))))
     return out
+
+
+def _across_moves(mesh: GarmentMesh, pi: int, panel, fit: FitResult, tris, centroid, g, c,
+                  axis: float, half_width: float, corners: list, settings) -> dict:
+    """Signed move across the grain [m] (along ``c``) of each corner in ``corners``.
+
+    Each outline vertex p of the panel should move outward by the width the fabric lacks
+    between the panel's axis and p, in a band ``settings.band`` high around p:
+    D(p) = Σ a_t (weft_t − 1)⁺ / Δh over the band's triangles on p's side and nearer the
+    axis. A corner move carries the outline points of its two edges along, linearly in their
+    arc-length fraction; the outward sizes of the corners off the axis (≥ 0: nothing is
+    taken in) are fitted to D over all outline vertices by non-negative least squares.
+    """
+    from scipy.optimize import nnls
+
+    excess = fit.area_2d[tris] * np.clip(fit.weft[tris] - 1.0, 0.0, None)
+    h_t, x_t = centroid @ g, centroid @ c - axis
+    loop = mesh.loops(pi)[0]
+    pts = mesh.vertices[loop]
+    h_p, x_p = pts @ g, pts @ c - axis
+    hmin, hmax = float(h_t.min()), float(h_t.max())
+    lo = np.maximum(h_p - settings.band / 2, hmin)
+    hi = np.minimum(h_p + settings.band / 2, hmax)
+    inband = (h_t[None, :] >= lo[:, None]) & (h_t[None, :] <= hi[:, None])
+    inside = (x_t[None, :] * np.sign(x_p)[:, None] > 0) & \
+        (np.abs(x_t)[None, :] <= np.abs(x_p)[:, None])
+    want = ((inband & inside) @ excess) / np.maximum(hi - lo, tol.merge) * np.sign(x_p)
+
+    edges = panel.outline.edges
+    names = [e.name for e in edges]
+    free = [n for n in corners
+            if abs(np.asarray(panel.edge(n).start) @ c - axis) > 0.2 * half_width]
+    col = {n: j for j, n in enumerate(free)}
+    side = np.array([np.sign(np.asarray(panel.edge(n).start) @ c - axis) for n in free])
+    where = {int(v): i for i, v in enumerate(mesh.boundary_vertices)}
+    rows = np.array([where[int(v)] for v in loop])
+    k_edge = np.array([names.index(mesh.edge_names[k][1]) for k in mesh.boundary_edge[rows]])
+    s = mesh.boundary_param[rows]
+    A = np.zeros((len(loop), len(free)))
+    for i, (k, t) in enumerate(zip(k_edge, s)):
+        for n, w in ((names[k], 1.0 - t), (names[(k + 1) % len(names)], t)):
+            if n in col:
+                A[i, col[n]] += w * side[col[n]]
+    used = A.any(axis=1)
+    if not free or not used.any():
+        return {n: 0.0 for n in corners}
+    # a faint pull to zero keeps a corner with few outline points near it well posed
+    ridge = 1e-2 * np.eye(len(free))
+    u, _ = nnls(np.vstack([A[used], ridge]), np.concatenate([want[used], np.zeros(len(free))]))
+    return {n: float(u[col[n]] * side[col[n]]) if n in col else 0.0 for n in corners}
 
 
 def _corner_partner(pattern: Pattern, panel: str, edge: str):
@@ -366,7 +410,8 @@ def _edit(session, fit: FitResult, settings: CorrectionSettings) -> list[CornerM
         try:
             new = apply_moves(session.pattern, moves)
         except PatternError:
-            moves = [replace(m, offset=tuple(0.5 * np.asarray(m.offset))) for m in moves]
+            moves = [replace(m, offset=(0.5 * m.offset[0], 0.5 * m.offset[1]))
+                     for m in moves]
             continue
         total = sum(np.hypot(*m.offset) for m in moves) * 100
         session.apply_pattern(new, label=f"correct: {len(moves)} corner moves, "

@@ -82,11 +82,14 @@ class DesignSession:
     threshold : float
         ϖ at which the design counts as fitting (METHOD.md section 1; default 0.90).
     relax : float
-        Width factor (>= 1) of the first, cold drape: the garment is sewn and draped with
-        every panel widened across by ``relax`` about its centre, then its true rest shape
-        is restored and the drape solved again warm. A garment drafted much too small
-        cannot be sewn around the body directly (the seams squeeze it off the body); 1.0
-        sews it as it is.
+        Width factor (>= 1) of the cold drape of the starting pattern (the history's first
+        state): the garment is sewn and draped with every panel widened across by
+        ``relax`` about its centre, then its true rest shape is restored and the drape
+        solved again warm. A garment drafted much too small cannot be sewn around the body
+        directly (the seams squeeze it off the body); 1.0 sews it as it is. An edited
+        pattern whose mesh had to be re-meshed is draped cold as it is (its edits made it
+        fit better, and a narrow-by-``relax`` grading of it need not keep its seams
+        matched).
     """
 
     pattern: Pattern
@@ -144,7 +147,7 @@ class DesignSession:
                 and np.array_equal(self._drape.solver.triangles, st.mesh.triangles))
         if same:
             result = redrape(self._drape, st.mesh, start=st.positions, progress=progress)
-        elif self.relax > 1.0:
+        elif self.relax > 1.0 and self.position == 0:
             wide_pattern, wide_mesh = _widened(st.pattern, st.mesh, self.relax)
             first = drape(wide_pattern, wide_mesh, self.body, self.fabric, progress=progress)
             result = redrape(first, st.mesh, progress=progress)
