@@ -5,7 +5,8 @@ Run ``python benchmarks/engines.py [--sizes coat=22000 skirt=15000 trousers=2000
 same body from the same placement (the Newton engine reuses the static engine's placement and
 gravity-free sewing phase, whose time it includes), then a ``--from-static`` Newton run starts
 at the static result. Prints seconds, iterations (static) / frames (Newton), the checks,
-ϖ per panel and the mean vertex distance to the static result. Warp's kernels are compiled
+ϖ per panel, the mean vertex distance to the static result, the mean dihedral angle and
+Newton's drift over its last second (its rest test: see docs/simulation.md). Warp's kernels are compiled
 (or loaded from the cache) once before the timings; the distance field is warm.
 """
 
@@ -36,6 +37,12 @@ def _checks(d) -> str:
     c = d.checks
     return (f"{c.inside_vertices}in/{c.seam_gap_max_mm:.2f}mm/{c.self_intersections}x/"
             f"{'rest' if c.equilibrium else 'NOT'}")
+
+
+def _drift(d) -> str:
+    """Newton's last-second drift (largest net vertex displacement over 30 frames at 30 fps)."""
+    drift = d.timing.get("drift_m")
+    return "-" if drift is None else f"{drift * 1e3:.3f}"
 
 
 def main():
@@ -80,11 +87,13 @@ def main():
                          f"{r.fitting_ratio * 100:.3f}",
                          " ".join(f"{v * 100:.2f}" for v in r.panel_ratio),
                          f"{np.linalg.norm(d.positions - ref, axis=1).mean() * 1e3:.1f}",
-                         f"{np.degrees(mean_dihedral(x, vmap[mesh.triangles])):.2f}"))
+                         f"{np.degrees(mean_dihedral(x, vmap[mesh.triangles])):.2f}",
+                         _drift(d)))
     print_table(f"drape engines on {args.body}, {args.fabric}, device "
                 f"{args.device or 'auto'}", rows,
                 ("garment", "tris", "engine", "seconds", "iter/frames",
-                 "inside/seam/cross/rest", "ϖ %", "ϖ per panel %", "dist mm", "dihedral °"))
+                 "inside/seam/cross/rest", "ϖ %", "ϖ per panel %", "dist mm", "dihedral °",
+                 "drift mm/s"))
 
 
 if __name__ == "__main__":
