@@ -44,6 +44,9 @@ class CorrectionSettings:
     min_move : float      corner moves smaller than this are left out [m].
     warp_min : float      mean excess warp stretch of a panel below which it is not
                           lengthened [-].
+    min_angle : float     the mesh follows the edits without re-meshing down to this
+                          smallest triangle angle [degrees]: a re-meshed panel loses the
+                          warm start, and the corrected 22K coat draped cold crossed itself.
     """
 
     threshold: float = 0.90
@@ -55,6 +58,7 @@ class CorrectionSettings:
     band: float = 0.10
     min_move: float = 1e-3
     warp_min: float = 0.02
+    min_angle: float = 10.0
 
 
 @dataclass(frozen=True)
@@ -417,6 +421,7 @@ def _edit(session, fit: FitResult, settings: CorrectionSettings) -> list[CornerM
         session.apply_pattern(new, label=f"correct: {len(moves)} corner moves, "
                               f"{total:.1f} cm in all",
                               edit={"op": "correct", "args": {"moves": [m.to_dict()
-                                                                        for m in moves]}})
+                                                                        for m in moves]}},
+                              min_angle=settings.min_angle)
         return moves
     return []

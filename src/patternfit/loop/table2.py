@@ -144,16 +144,16 @@ def format_table(rows: list[dict]) -> str:
 #: (sx, sy) a grading of every panel across / along the grain about its centre.
 VARIANTS = (
     ("15a", "coat", "male_heavy", "original size", "M", (1.0, 1.0)),
-    ("15b", "coat", "male_heavy", "small (75% width)", "M", (0.75, 1.0)),
+    ("15b", "coat", "male_heavy", "small (65% width)", "M", (0.65, 1.0)),
     ("15c", "coat", "male_heavy", "large size", "L", (1.0, 1.0)),
     ("15d", "coat", "male_heavy", "lengthened 10%", "M", (1.0, 1.1)),
     ("15e", "coat", "male_heavy", "shortened 10%", "M", (1.0, 0.9)),
     ("16a", "skirt", "female_thin", "original size", "M", (1.0, 1.0)),
     ("16b", "skirt", "female_thin", "stretched 15% in length", "M", (1.0, 1.15)),
-    ("16c", "skirt", "female_thin", "small (70% width)", "M", (0.7, 1.0)),
+    ("16c", "skirt", "female_thin", "small (size S, 60% width)", "S", (0.6, 1.0)),
     ("17a", "trousers", "male_thin", "original size", "M", (1.0, 1.0)),
     ("17b", "trousers", "male_thin", "stretched 10% in length", "M", (1.0, 1.1)),
-    ("17d", "trousers", "male_thin", "small (60% width)", "M", (0.6, 1.0)),
+    ("17d", "trousers", "male_thin", "small (size S, 50% width)", "S", (0.5, 1.0)),
     ("17c", "trousers", "male_thin", "large size", "L", (1.0, 1.0)),
 )
 
@@ -171,8 +171,9 @@ def run_variant(variant, *, triangles: int = 3000, fabric: str = "stretch_knit",
     pattern = build(garment, size)
     if (sx, sy) != (1.0, 1.0):
         pattern = grade(pattern, None, sx, sy)
-    # a narrowed variant is sewn as its Table 2 row is
-    relax = next((r.relax for r in ROWS if r.garment == garment and r.narrow == sx), 1.0)
+    # the small variants are the Table 2 rows, sewn as those are
+    relax = next((r.relax for r in ROWS if (r.garment, r.size, r.narrow) == (garment, size, sx)),
+                 1.0)
     session = DesignSession(pattern, load_body(body), fabric, triangles, relax=relax)
     session.redrape()
     fit = session.evaluate()
