@@ -33,6 +33,12 @@ from .solver import DrapeResult, GarmentSolver, SolverSettings
 #: stiffness is B / 3.4 for the same energy.
 BENDING_SCALE = 1.0 / 3.4
 
+#: A stiffness continuation for :attr:`NewtonSettings.stretch_ramp`. Style3D moves a bending
+#: mode by ~B (pi/L)^2 / k_stretch of the way per iteration (its matrix holds the stretch
+#: stiffness), so at 1e-3 of the stretch stiffness a strip droops in ~150 frames; the
+#: stiffer phases then only take back the small extra stretch.
+STIFFNESS_RAMP = ((1.0e-3, 150), (1.0e-2, 30), (1.0e-1, 30))
+
 MISSING = ("the Newton engine needs the optional packages 'newton' and 'warp-lang': "
            "pip install \"patternfit[newton]\"")
 
@@ -63,11 +69,12 @@ def default_device() -> str:
 class NewtonSettings:
     """Knobs of the Newton engine (SI units).
 
-    Stopping: at rest when the largest vertex speed stays below ``speed_tol`` [m/s] for
-    ``patience`` consecutive frames after ``min_frames`` **and** no vertex moved more than
-    ``rest_drift`` [m] over the last ``window`` frames (a slow creep, which Style3D's
-    projective-dynamics step produces on bending modes at speeds far below ``speed_tol``,
-    is not rest); otherwise stopped at ``max_frames`` or ``time_limit`` [s] (not at rest).
+    Stopping (counted in the last phase, at the real stiffness, after ``stretch_ramp``): at
+    rest when the largest vertex speed stays below ``speed_tol`` [m/s] for ``patience``
+    consecutive frames after ``min_frames`` **and** no vertex moved more than ``rest_drift``
+    [m] over the last ``window`` frames (a slow creep, which Style3D's projective-dynamics
+    step produces on bending modes at speeds far below ``speed_tol``, is not rest);
+    otherwise stopped at ``max_frames`` or ``time_limit`` [s] (not at rest).
     """
 
     fps: float = 30.0
@@ -101,6 +108,12 @@ class NewtonSettings:
     #: random displacement along the vertex normals of a ``from_static`` start [m]
     perturbation: float = 2.0e-3
     seed: int = 0
+    #: stiffness continuation: ``(scale, frames)`` phases run before the real fabric, with
+    #: the stretch and shear stiffness (and Style3D's constant projective-dynamics matrix)
+    #: multiplied by ``scale``; rest is tested in the last (real) phase only. ``()``: plain
+    #: Style3D. :data:`STIFFNESS_RAMP` brings Peirce's cantilever to rest at its angle, but
+    #: not a skirt on a body (see docs/simulation.md), so it is not the default.
+    stretch_ramp: tuple[tuple[float, int], ...] = ()
 
 
 def panel_rest(mesh: GarmentMesh) -> np.ndarray:
@@ -191,6 +204,16 @@ class NewtonScene:
     device: str
     fabric: Fabric
     settings: NewtonSettings
+    #: (m, 3) float32, the real Style3D stretch stiffness per triangle [N/m]
+    tri_ke: np.ndarray | None = None
+
+    def set_stretch_scale(self, scale: float) -> None:
+        """Multiply the stretch stiffness by ``scale`` (1: the fabric's) and rebuild the
+        solver, whose projective-dynamics matrix is assembled from it once."""
+        if self.tri_ke is None:
+            self.tri_ke = self.model.style3d.tri_aniso_ke.numpy().copy()
+        self.model.style3d.tri_aniso_ke.assign(self.tri_ke * np.float32(scale))
+        self.solver = _style3d_solver(self.model, self.settings)
 
 
 def build_scene(mesh: GarmentMesh, x_sim, vertex_map, body, fabric: Fabric | str, *,
@@ -248,12 +271,7 @@ def build_scene(mesh: GarmentMesh, x_sim, vertex_map, body, fabric: Fabric | str
         model.soft_contact_ke = s.contact_ke
         model.soft_contact_kd = s.contact_kd
         model.soft_contact_mu = fabric.friction
-        solver = newton.solvers.SolverStyle3D(model, config=newton.solvers.SolverStyle3D.Config(
-            iterations=s.iterations, linear_iterations=s.linear_iterations))
-        if s.self_collision:
-            solver.collision.radius = s.self_radius
-        else:
-            solver.collision = None
+        solver = _style3d_solver(model, s)
         pipeline = newton.CollisionPipeline(model)
         contacts = pipeline.contacts()
         state, state_next = model.state(), model.state()
@@ -261,6 +279,17 @@ def build_scene(mesh: GarmentMesh, x_sim, vertex_map, body, fabric: Fabric | str
                        control=model.control(), pipeline=pipeline, contacts=contacts,
                        vertex_map=vmap, triangles=tri_sim, device=device, fabric=fabric,
                        settings=s)
+
+
+def _style3d_solver(model, s: NewtonSettings):
+    newton, _ = import_newton()
+    solver = newton.solvers.SolverStyle3D(model, config=newton.solvers.SolverStyle3D.Config(
+        iterations=s.iterations, linear_iterations=s.linear_iterations))
+    if s.self_collision:
+        solver.collision.radius = s.self_radius
+    else:
+        solver.collision = None
+    return solver
 
 
 @dataclass(frozen=True)
@@ -280,6 +309,36 @@ class RunResult:
     drift: float = float("inf")
 
 
+def _frame(scene: NewtonScene, field, dt: float, h: float) -> tuple[float, int]:
+    """One frame of ``substeps`` steps, then the contact projection; returns the largest
+    speed [m/s] and how many vertices were projected out of the body."""
+    s = scene.settings
+    scene.pipeline.collide(scene.state, scene.contacts)
+    for _ in range(s.substeps):
+        scene.state.clear_forces()
+        scene.solver.step(scene.state, scene.state_next, scene.control, scene.contacts, dt)
+        scene.state, scene.state_next = scene.state_next, scene.state
+    v = scene.state.particle_qd.numpy()
+    projected = 0
+    if s.project_contact and field is not None:
+        x = scene.state.particle_q.numpy().astype(np.float64)
+        # a few steps: one gradient step of an interpolated field can fall short in creases
+        # (crotch, armpits)
+        for _ in range(4):
+            d, g = field.query(x)
+            low = d < 0.0
+            if not low.any():
+                break
+            projected = projected or int(low.sum())
+            x[low] += (h - d[low])[:, None] * g[low]
+            vn = (v[low] * g[low]).sum(axis=1)
+            v[low] -= np.minimum(vn, 0.0)[:, None] * g[low]
+        if projected:
+            scene.state.particle_q.assign(x.astype(np.float32))
+            scene.state.particle_qd.assign(v)
+    return float(np.linalg.norm(v, axis=1).max()), projected
+
+
 def run_to_rest(scene: NewtonScene, *, field=None, progress=None) -> RunResult:
     """Step ``scene`` frame by frame until the largest vertex speed stays under
     ``speed_tol`` (see :class:`NewtonSettings`).
@@ -295,53 +354,38 @@ def run_to_rest(scene: NewtonScene, *, field=None, progress=None) -> RunResult:
     dt = 1.0 / s.fps / s.substeps
     h = scene.fabric.thickness
     t0 = time.perf_counter()
-    calm, frame, speed, reason, at_rest, projected = 0, 0, np.inf, "frames", False, 0
-    # positions of the last ``window`` frames (ring buffer) for the drift test
-    history = np.zeros((s.window, scene.model.particle_count, 3))
+    frame, speed, reason, at_rest, projected = 0, np.inf, "frames", False, 0
     drift = np.inf
+    phases = [*s.stretch_ramp, (1.0, s.max_frames)]
     try:
         with wp.ScopedDevice(scene.device):
-            while frame < s.max_frames:
-                scene.pipeline.collide(scene.state, scene.contacts)
-                for _ in range(s.substeps):
-                    scene.state.clear_forces()
-                    scene.solver.step(scene.state, scene.state_next, scene.control,
-                                      scene.contacts, dt)
-                    scene.state, scene.state_next = scene.state_next, scene.state
-                frame += 1
-                v = scene.state.particle_qd.numpy()
-                if s.project_contact and field is not None:
-                    x = scene.state.particle_q.numpy().astype(np.float64)
-                    moved = False
-                    # a few steps: one gradient step of an interpolated field can fall short
-                    # in creases (crotch, armpits)
-                    for _ in range(4):
-                        d, g = field.query(x)
-                        low = d < 0.0
-                        if not low.any():
-                            break
-                        projected += int(low.sum()) if not moved else 0
-                        moved = True
-                        x[low] += (h - d[low])[:, None] * g[low]
-                        vn = (v[low] * g[low]).sum(axis=1)
-                        v[low] -= np.minimum(vn, 0.0)[:, None] * g[low]
-                    if moved:
-                        scene.state.particle_q.assign(x.astype(np.float32))
-                        scene.state.particle_qd.assign(v)
-                speed = float(np.linalg.norm(v, axis=1).max())
-                x_now = scene.state.particle_q.numpy().astype(np.float64)
-                slot = frame % s.window
-                if frame > s.window:
-                    drift = float(np.linalg.norm(x_now - history[slot], axis=1).max())
-                history[slot] = x_now
-                if progress is not None:
-                    progress(frame, speed, 0.0, time.perf_counter() - t0)
-                calm = calm + 1 if speed < s.speed_tol else 0
-                if frame >= s.min_frames and calm >= s.patience and drift < s.rest_drift:
-                    at_rest, reason = True, "at rest"
-                    break
-                if time.perf_counter() - t0 > s.time_limit:
-                    reason = "time"
+            for phase, (scale, n_frames) in enumerate(phases):
+                real = phase == len(phases) - 1
+                if len(phases) > 1:
+                    scene.set_stretch_scale(scale)
+                calm, drift = 0, np.inf
+                # positions of the last ``window`` frames (ring buffer) for the drift test
+                history = np.zeros((s.window, scene.model.particle_count, 3))
+                for k in range(1, n_frames + 1):
+                    speed, moved = _frame(scene, field, dt, h)
+                    frame += 1
+                    projected += moved
+                    x_now = scene.state.particle_q.numpy().astype(np.float64)
+                    if k > s.window:
+                        drift = float(np.linalg.norm(x_now - history[k % s.window],
+                                                     axis=1).max())
+                    history[k % s.window] = x_now
+                    if progress is not None:
+                        progress(frame, speed, 0.0, time.perf_counter() - t0)
+                    calm = calm + 1 if speed < s.speed_tol else 0
+                    if real and k >= s.min_frames and calm >= s.patience \
+                            and drift < s.rest_drift:
+                        at_rest, reason = True, "at rest"
+                        break
+                    if time.perf_counter() - t0 > s.time_limit:
+                        reason = "time"
+                        break
+                if reason == "time":
                     break
     except KeyboardInterrupt:
         reason = "interrupted"
