@@ -134,10 +134,9 @@ def test_coarse_start_gives_the_fit_of_a_direct_drape(thin_woman):
     assert "coarse_triangles" not in direct.timing
     assert staged.timing["coarse_triangles"] < 800
     assert direct.checks.passed and staged.checks.passed, staged.checks
-    # the fine mesh only settles: fewer fine iterations than the direct run's drape alone
-    assert staged.result.iterations < direct.result.iterations
     ev = FitEvaluator(m)
     assert ev(staged.positions).fitting_ratio == pytest.approx(
         ev(direct.positions).fitting_ratio, rel=5e-3)
-    # the kept solver re-drapes the fine mesh
-    assert redrape(staged, m).result.iterations < staged.result.iterations
+    # the kept solver re-drapes the fine mesh: from its own rest, it stays there
+    again = redrape(staged, m)
+    assert again.checks.passed and np.abs(again.positions - staged.positions).max() < 0.01

@@ -175,8 +175,11 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
     timing = {"distance_field_seconds": t_sdf, "coarse_triangles": small.n_triangles,
               "coarse_seconds": time.perf_counter() - t,
               "coarse_iterations": first.result.iterations + first.timing["sewing_iterations"]}
+    # the start is an equilibrium with friction: friction holds from the first iteration
+    # (delayed, the whole garment slid for the first hundred)
     solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh), fabric,
-                           seam_pairs=mesh.seam_pairs, body=field_, settings=options["settings"])
+                           seam_pairs=mesh.seam_pairs, body=field_,
+                           settings=replace(options["settings"], friction_delay=0))
     if not first.result.welded or first.result.interrupted:
         # nothing sewn to carry over: report the coarse state, not a fit of the fine mesh
         return Drape(positions=transfer(small, first.positions, mesh), placed=x0,

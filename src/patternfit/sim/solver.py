@@ -34,15 +34,20 @@ class SolverSettings:
     Stopping: converged when, for ``patience`` consecutive iterations, the largest vertex
     step is below ``step_tol`` [m] and the energy drop of the iteration is below
     ``energy_tol`` times the larger of the total drop so far and the work of lifting the
-    garment (gravity and external forces) by 0.1 m; or stopped at ``max_iterations`` /
+    garment (gravity and external forces) by 0.1 m, and no vertex has moved more than
+    ``drift_tol`` [m] over the last ``window`` iterations, or since the start when fewer
+    (so that a pause of the solver in a slow slide or fold is not taken for rest, while a
+    warm start from an equilibrium still stops at once); or stopped at ``max_iterations`` /
     ``time_limit`` [s] (not converged).
     """
 
     max_iterations: int = 5000
     time_limit: float = 300.0
-    step_tol: float = 1e-5
+    step_tol: float = 5e-5
     energy_tol: float = 1e-5
-    patience: int = 3
+    patience: int = 5
+    window: int = 50
+    drift_tol: float = 1e-3
     history: int = 10
     #: largest vertex displacement of one iteration [m]
     max_step: float = 5e-3
@@ -203,6 +208,13 @@ class _LBFGS:
         for (s, y, rho), a in zip(zip(self.s, self.y, self.rho), reversed(alphas)):
             kernels.axpy(a - rho * kernels.dot(y, r), s, r)
         return -r
+
+
+def _drift(x, it, marks, window) -> float:
+    """Largest vertex displacement [m] since the newest mark at least ``window`` iterations
+    old, or since the oldest mark (the start) when none is that old yet."""
+    old = [m for i, m in marks if it - i >= window] or [marks[0][1]]
+    return float(np.sqrt(((x - old[-1]) ** 2).sum(axis=1).max()))
 
 
 def _as_array(value, name, dtype, shape_tail):
@@ -567,7 +579,7 @@ class GarmentSolver:
             return x_red
 
         x = setup(self._reduce(x_full), keep=warm)
-        self._refresh(x, friction_on=bool(warm))
+        self._refresh(x, friction_on=friction_from == 0)
         energy, grad = self._energy(x)
         lbfgs = _LBFGS(s.history)
         # the work of lifting the garment by 10 cm: the energy scale of a warm start, whose
@@ -577,6 +589,7 @@ class GarmentSolver:
         last_refresh = 0
         calm = 0
         total_drop = 0.0
+        marks = [(0, x.copy())]  # (iteration, positions): the start, then every half window
         converged = interrupted = False
         reason = "iterations"
         try:
@@ -595,6 +608,7 @@ class GarmentSolver:
                             x_full = x[self._group]
                             self._weld()
                             x = setup(self._reduce(x_full), keep=False)
+                            marks = [(it, x.copy())]
                             sewing = False
                             friction_from = it + s.friction_delay
                             lbfgs.reset()
@@ -651,9 +665,12 @@ class GarmentSolver:
                     energy, grad = self._energy(x)
                 if progress is not None:
                     progress(it, energy, step, time.perf_counter() - t_start)
+                if it % max(s.window // 2, 1) == 0:
+                    marks = marks[-2:] + [(it, x.copy())]
                 small = step < s.step_tol and drop <= s.energy_tol * max(total_drop, e_scale)
                 calm = calm + 1 if small else 0
-                if calm >= s.patience and not sewing:
+                if calm >= s.patience and not sewing and _drift(x, it, marks, s.window) \
+                        <= s.drift_tol:
                     if self._can_stiffen(x):
                         last_refresh = it - s.refresh  # stiffen the contact and go on
                         continue
