@@ -394,6 +394,128 @@ def near_pairs(x, tris, radius, cell, root):
 
 
 @njit(cache=True)
+def _segment_closest(x, a, b, c, d):
+    """Parameters (s, t) of the nearest points of segments ab and cd and their distance;
+    s = -1 when the segments are near parallel (Ericson, Real-Time Collision Detection,
+    5.1.9)."""
+    d1x, d1y, d1z = x[b, 0] - x[a, 0], x[b, 1] - x[a, 1], x[b, 2] - x[a, 2]
+    d2x, d2y, d2z = x[d, 0] - x[c, 0], x[d, 1] - x[c, 1], x[d, 2] - x[c, 2]
+    rx, ry, rz = x[a, 0] - x[c, 0], x[a, 1] - x[c, 1], x[a, 2] - x[c, 2]
+    aa = d1x * d1x + d1y * d1y + d1z * d1z
+    ee = d2x * d2x + d2y * d2y + d2z * d2z
+    ff = d2x * rx + d2y * ry + d2z * rz
+    cc = d1x * rx + d1y * ry + d1z * rz
+    bb = d1x * d2x + d1y * d2y + d1z * d2z
+    den = aa * ee - bb * bb
+    if den <= 1e-6 * aa * ee:
+        return -1.0, 0.0, 0.0
+    s = min(max((bb * ff - cc * ee) / den, 0.0), 1.0)
+    t = (bb * s + ff) / ee
+    if t < 0.0:
+        t = 0.0
+        s = min(max(-cc / aa, 0.0), 1.0)
+    elif t > 1.0:
+        t = 1.0
+        s = min(max((bb - cc) / aa, 0.0), 1.0)
+    px = rx + s * d1x - t * d2x
+    py = ry + s * d1y - t * d2y
+    pz = rz + s * d1z - t * d2z
+    return s, t, np.sqrt(px * px + py * py + pz * pz)
+
+
+@njit(cache=True)
+def near_edge_pairs(x, edges, radius, cell, root):
+    """Edge-edge pairs whose nearest points lie inside both edges and closer than ``radius``.
+
+    Vertex-triangle pairs miss two edges crossing each other when every vertex is beside the
+    other triangle (sharp folds); these pairs close that gap. Returns pairs (p, 2) int (edge,
+    edge), the nearest points' parameters (p, 2) along each edge and the unit direction
+    (p, 3) from the second edge's point to the first's. Edges sharing a vertex (or a ``root``,
+    the seam partners being sewn) are skipped.
+    """
+    boxes = np.empty((edges.shape[0], 3), dtype=np.int64)
+    boxes[:, 0] = edges[:, 0]
+    boxes[:, 1] = edges[:, 1]
+    boxes[:, 2] = edges[:, 1]
+    keys, ids, lo, hi = _hash_triangles(x, boxes, cell, 0.5 * radius)
+    mark = np.full(edges.shape[0], -1, dtype=np.int64)
+    out_p = []
+    out_s = []
+    out_n = []
+    for e in range(edges.shape[0]):
+        a, b = edges[e, 0], edges[e, 1]
+        for ix in range(lo[e, 0], hi[e, 0] + 1):
+            for iy in range(lo[e, 1], hi[e, 1] + 1):
+                for iz in range(lo[e, 2], hi[e, 2] + 1):
+                    i0, i1 = _range(keys, _cell_key(ix, iy, iz))
+                    for k in range(i0, i1):
+                        f = ids[k]
+                        if f <= e or mark[f] == e:
+                            continue
+                        mark[f] = e
+                        c, d = edges[f, 0], edges[f, 1]
+                        if (root[a] == root[c] or root[a] == root[d] or root[b] == root[c]
+                                or root[b] == root[d]):
+                            continue
+                        if (lo[e, 0] > hi[f, 0] or lo[f, 0] > hi[e, 0] or lo[e, 1] > hi[f, 1]
+                                or lo[f, 1] > hi[e, 1] or lo[e, 2] > hi[f, 2]
+                                or lo[f, 2] > hi[e, 2]):
+                            continue
+                        s, t, dist = _segment_closest(x, a, b, c, d)
+                        if not (0.0 < s < 1.0 and 0.0 < t < 1.0) or dist >= radius \
+                                or dist <= 0.0:
+                            continue
+                        nx = (x[a, 0] + s * (x[b, 0] - x[a, 0]) - x[c, 0]
+                              - t * (x[d, 0] - x[c, 0])) / dist
+                        ny = (x[a, 1] + s * (x[b, 1] - x[a, 1]) - x[c, 1]
+                              - t * (x[d, 1] - x[c, 1])) / dist
+                        nz = (x[a, 2] + s * (x[b, 2] - x[a, 2]) - x[c, 2]
+                              - t * (x[d, 2] - x[c, 2])) / dist
+                        out_p.append((e, f))
+                        out_s.append((s, t))
+                        out_n.append((nx, ny, nz))
+    m = len(out_p)
+    pairs = np.empty((m, 2), dtype=np.int64)
+    st = np.empty((m, 2))
+    normal = np.empty((m, 3))
+    for i in range(m):
+        pairs[i, 0], pairs[i, 1] = out_p[i]
+        st[i, 0], st[i, 1] = out_s[i]
+        normal[i, 0], normal[i, 1], normal[i, 2] = out_n[i]
+    return pairs, st, normal
+
+
+@njit(cache=True)
+def edge_repulsion(x, edges, pairs, st, normal, radius, stiffness, grad):
+    """Lagged edge-edge repulsion: the distance ``d = n . (p(s) - q(t))`` between the points
+    found at the pair's making, along its direction then, is pushed above ``radius`` by
+    ``k (r - d)^2 / 2`` with ``k`` the mean of the four vertices' ``stiffness`` [N/m]."""
+    energy = 0.0
+    w = np.empty(4)
+    v = np.empty(4, dtype=np.int64)
+    for p in range(pairs.shape[0]):
+        e, f = pairs[p, 0], pairs[p, 1]
+        v[0], v[1], v[2], v[3] = edges[e, 0], edges[e, 1], edges[f, 0], edges[f, 1]
+        s, t = st[p, 0], st[p, 1]
+        w[0], w[1], w[2], w[3] = 1.0 - s, s, t - 1.0, -t
+        d = 0.0
+        for c in range(3):
+            q = 0.0
+            for j in range(4):
+                q += w[j] * x[v[j], c]
+            d += normal[p, c] * q
+        pen = radius - d
+        if pen > 0.0:
+            k = 0.25 * (stiffness[v[0]] + stiffness[v[1]] + stiffness[v[2]] + stiffness[v[3]])
+            energy += 0.5 * k * pen * pen
+            force = k * pen
+            for j in range(4):
+                for c in range(3):
+                    grad[v[j], c] -= force * w[j] * normal[p, c]
+    return energy
+
+
+@njit(cache=True)
 def _segment_hits_triangle(p, q, a, b, c):
     """Whether the closed segment pq crosses the interior of triangle abc (Möller-Trumbore)."""
     d = q - p
