@@ -721,6 +721,14 @@ class GarmentSolver:
         d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x_red)
         return bool(((d < self._floor) & (self._contact_scale < _MAX_CONTACT_SCALE)).any())
 
+    def crossings(self, x) -> int:
+        """Triangle pairs (sharing no vertex once welded) that cross each other at simulated
+        positions ``x`` (n3, 3) [m]."""
+        x = _as_array(x, "x", np.float64, (3,))
+        # welded pairs are one vertex here, so triangles meeting across a seam are neighbours
+        return int(kernels.intersecting_pairs(self._reduce(x), self.terms.tris,
+                                              self.terms.edge_length))
+
     def checks(self, x, *, converged: bool = False) -> DrapeChecks:
         """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`."""
         x = _as_array(x, "x", np.float64, (3,))
@@ -733,9 +741,7 @@ class GarmentSolver:
             inside, depth, clearance = 0, 0.0, None
         gap = (float(np.linalg.norm(x[self.seam_pairs[:, 0]] - x[self.seam_pairs[:, 1]],
                                     axis=1).max() * 1e3) if len(self.seam_pairs) else 0.0)
-        # welded pairs are one vertex here, so triangles meeting across a seam are neighbours
-        crossing = int(kernels.intersecting_pairs(self._reduce(x), self.terms.tris,
-                                                  self.terms.edge_length))
+        crossing = self.crossings(x)
         return DrapeChecks(inside_vertices=inside, max_depth_mm=depth, min_clearance_mm=clearance,
                            seam_gap_max_mm=gap, self_intersections=crossing,
                            equilibrium=bool(converged))
