@@ -410,6 +410,8 @@ class GarmentSolver:
                 Q = Qpre = Q + spring_matrix(pairs, stiffness, self._n)
         self._Q = Q.tocsr()
         self._Qpre = Qpre.tocsr()
+        self._base = (self.terms.membrane_pd + self._Qpre
+                      + sp.diags(self._mass / s.precond_dt ** 2)).tocsr()
 
     def _refresh(self, x, friction_on):
         """Contact stiffness, friction anchors, self-collision pairs, preconditioner."""
@@ -437,7 +439,9 @@ class GarmentSolver:
                 self._fr_limit = self.fabric.friction * self._kc[idx] * pen[idx]
         else:
             self._kc = self._contact_k()
-        self._find_pairs(x)
+        if self.settings.self_collision and (self._x_pairs is None
+                                             or self._moved_since_pairs(x)):
+            self._find_pairs(x)
         self._ensure_factor(diag)
 
     def _anchors(self, x, idx, normal):
@@ -505,14 +509,14 @@ class GarmentSolver:
 
     def _ensure_factor(self, diag):
         s = self.settings
-        base = (self.terms.membrane_pd + self._Qpre).tocsr()
-        base = base + sp.diags(self._mass / s.precond_dt ** 2)
+        base = self._base
         old = self._factor_matrix
-        same_base = (old is not None and base.shape == old.shape and base.nnz == old.nnz
-                     and np.array_equal(base.indptr, old.indptr)
-                     and np.array_equal(base.indices, old.indices)
-                     and np.linalg.norm(base.data - old.data)
-                     <= s.refactor_change * np.linalg.norm(old.data))
+        same_base = base is old or (old is not None and base.shape == old.shape
+                                    and base.nnz == old.nnz
+                                    and np.array_equal(base.indptr, old.indptr)
+                                    and np.array_equal(base.indices, old.indices)
+                                    and np.linalg.norm(base.data - old.data)
+                                    <= s.refactor_change * np.linalg.norm(old.data))
         if same_base and self._factor_diag is not None:
             changed = np.count_nonzero(diag != self._factor_diag)
             if changed <= s.refactor_share * len(diag):
@@ -588,6 +592,7 @@ class GarmentSolver:
                 self._anchor_of = np.full((self._n, 3), np.nan)
             self._pairs = np.zeros((0, 2), np.int64)
             self._epairs = np.zeros((0, 2), np.int64)
+            self._x_pairs = None
             # contact lookups start afresh (the reach may differ from the last solve's)
             self._seen = np.full((self._n, 3), np.inf)
             self._room = np.zeros(self._n)
