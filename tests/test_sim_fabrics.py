@@ -36,6 +36,11 @@ def test_presets_follow_their_wang_2011_samples(name, row0, density):
         assert f.density == density
 
 
+def test_shirting_thickness_follows_penava_2014():
+    """docs/fabrics.md: 100 % cotton plain weave, Penava et al. 2014 Table 1, T = 0.318 mm."""
+    assert FABRICS["cotton_shirting"].thickness == pytest.approx(0.318e-3, rel=1e-9)
+
+
 def test_names_and_aliases():
     assert get_fabric("cotton") is FABRICS["cotton_shirting"]
     assert get_fabric("Wool-Coating") is FABRICS["wool_coating"]

@@ -92,7 +92,7 @@ FABRICS: dict[str, Fabric] = {
     f.name: f for f in (
         Fabric("cotton_shirting", density=0.115, stretch_warp=4.07e3, stretch_weft=4.03e3,
                shear=52.4, bending_warp=6.9e-6, bending_weft=4.9e-6, friction=0.4,
-               thickness=0.25e-3),
+               thickness=0.318e-3),
         Fabric("denim", density=0.41, stretch_warp=8.9e3, stretch_weft=8.9e3, shear=122.0,
                bending_warp=16.9e-6, bending_weft=16.9e-6, friction=0.4, thickness=1.07e-3),
         Fabric("wool_coating", density=0.45, stretch_warp=2.1e3, stretch_weft=1.7e3,
