@@ -172,41 +172,41 @@ class DrapeResult:
 
 
 class _LBFGS:
-    """Two-loop recursion with a given initial inverse Hessian (vectors flattened)."""
+    """Two-loop recursion with a given initial inverse Hessian (vectors flattened), the
+    pairs kept in a ring of ``size`` rows."""
 
     def __init__(self, size: int):
         self.size = size
-        self.s: list[np.ndarray] = []
-        self.y: list[np.ndarray] = []
-        self.rho: list[float] = []
+        self.count = 0
+        self.head = 0
+        self.S = self.Y = None
+        self.rho = np.zeros(size)
 
     def reset(self):
-        self.s.clear()
-        self.y.clear()
-        self.rho.clear()
+        self.count = 0
 
     def push(self, s, y):
         sy = kernels.dot(s, y)
         if not sy > 1e-12 * np.sqrt(kernels.dot(s, s) * kernels.dot(y, y)):
             return
-        if len(self.s) == self.size:
-            self.s.pop(0)
-            self.y.pop(0)
-            self.rho.pop(0)
-        self.s.append(s)
-        self.y.append(y)
-        self.rho.append(1.0 / sy)
+        if self.S is None or self.S.shape[1] != len(s):
+            self.S = np.empty((self.size, len(s)))
+            self.Y = np.empty((self.size, len(s)))
+            self.count = self.head = 0
+        self.S[self.head] = s
+        self.Y[self.head] = y
+        self.rho[self.head] = 1.0 / sy
+        self.head = (self.head + 1) % self.size
+        self.count = min(self.count + 1, self.size)
 
     def direction(self, g, h0):
         q = g.copy()
-        alphas = []
-        for s, y, rho in zip(reversed(self.s), reversed(self.y), reversed(self.rho)):
-            a = rho * kernels.dot(s, q)
-            alphas.append(a)
-            kernels.axpy(-a, y, q)
+        if not self.count:
+            return -h0(q)
+        alphas = np.empty(self.count)
+        kernels.lbfgs_back(self.S, self.Y, self.rho, self.count, self.head, q, alphas)
         r = h0(q)
-        for (s, y, rho), a in zip(zip(self.s, self.y, self.rho), reversed(alphas)):
-            kernels.axpy(a - rho * kernels.dot(y, r), s, r)
+        kernels.lbfgs_forward(self.S, self.Y, self.rho, self.count, self.head, r, alphas)
         return -r
 
 
@@ -537,10 +537,8 @@ class GarmentSolver:
 
     def _moved_since_pairs(self, x):
         """Whether two vertices may have closed half the detection margin since the search."""
-        moved = x - self._x_pairs
-        moved -= moved.mean(axis=0)
         margin = self._detect - self._self_gap
-        return float((moved ** 2).sum(axis=1).max()) > (0.25 * margin) ** 2
+        return kernels.max_relative_move(x, self._x_pairs) > 0.25 * margin
 
     def _precondition(self, q):
         b = np.ascontiguousarray(q.reshape(-1, 3))
@@ -663,7 +661,7 @@ class GarmentSolver:
                     break
                 # a capped step cannot tunnel through the body, nor follow the unbounded
                 # descent of a garment that would fall past it
-                longest = float(np.sqrt((d.reshape(-1, 3) ** 2).sum(axis=1).max()))
+                longest = kernels.max_row_norm(d.reshape(-1, 3))
                 alpha = min(1.0, s.max_step / max(longest, 1e-300))
                 accepted = False
                 for _ in range(30):
@@ -674,7 +672,7 @@ class GarmentSolver:
                         break
                     alpha *= 0.5
                 if not accepted:
-                    if lbfgs.s:
+                    if lbfgs.count:
                         lbfgs.reset()
                         continue
                     converged, reason = not sewing, "converged" if not sewing else "stalled"
@@ -683,7 +681,7 @@ class GarmentSolver:
                 lbfgs.push(step_vec.ravel(), (g_new - grad).ravel())
                 drop = energy - e_new
                 total_drop += max(drop, 0.0)
-                step = float(np.sqrt((step_vec ** 2).sum(axis=1).max()))
+                step = kernels.max_row_norm(step_vec)
                 x, energy, grad = x_new, e_new, g_new
                 it += 1
                 if s.self_collision and self._moved_since_pairs(x):
