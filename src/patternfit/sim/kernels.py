@@ -315,6 +315,35 @@ def _hash_triangles(x, tris, cell, pad):
 
 
 @njit(cache=True)
+def _box_pairs(x, items, cell, pad):
+    """Pairs (p, 2) of items (rows of ``items``, (m, 3) vertex indices) whose boxes, padded
+    by ``pad`` [m] and rounded out to the hash grid, overlap; each pair once, lower first."""
+    keys, ids, lo, hi = _hash_triangles(x, items, cell, pad)
+    m = items.shape[0]
+    mark = np.full(m, -1, dtype=np.int64)
+    out = []
+    for t in range(m):
+        for ix in range(lo[t, 0], hi[t, 0] + 1):
+            for iy in range(lo[t, 1], hi[t, 1] + 1):
+                for iz in range(lo[t, 2], hi[t, 2] + 1):
+                    a, b = _range(keys, _cell_key(ix, iy, iz))
+                    for e in range(a, b):
+                        u = ids[e]
+                        if u <= t or mark[u] == t:
+                            continue
+                        mark[u] = t
+                        if (lo[t, 0] > hi[u, 0] or lo[u, 0] > hi[t, 0] or lo[t, 1] > hi[u, 1]
+                                or lo[u, 1] > hi[t, 1] or lo[t, 2] > hi[u, 2]
+                                or lo[u, 2] > hi[t, 2]):
+                            continue
+                        out.append((t, u))
+    pairs = np.empty((len(out), 2), dtype=np.int64)
+    for i in range(len(out)):
+        pairs[i, 0], pairs[i, 1] = out[i]
+    return pairs
+
+
+@njit(cache=True)
 def _above_triangle(x, v, t0, t1, t2, radius):
     """Distance from vertex v to the plane of triangle (t0, t1, t2) when its projection falls
     inside the triangle and lies within ``radius``; else -1. Also the barycentric
@@ -493,43 +522,26 @@ def near_edge_pairs(x, edges, radius, cell, root):
     boxes[:, 0] = edges[:, 0]
     boxes[:, 1] = edges[:, 1]
     boxes[:, 2] = edges[:, 1]
-    keys, ids, lo, hi = _hash_triangles(x, boxes, cell, 0.5 * radius)
-    mark = np.full(edges.shape[0], -1, dtype=np.int64)
+    candidates = _box_pairs(x, boxes, cell, 0.5 * radius)
     out_p = []
     out_s = []
     out_n = []
-    for e in range(edges.shape[0]):
+    for k in range(candidates.shape[0]):
+        e, f = candidates[k, 0], candidates[k, 1]
         a, b = edges[e, 0], edges[e, 1]
-        for ix in range(lo[e, 0], hi[e, 0] + 1):
-            for iy in range(lo[e, 1], hi[e, 1] + 1):
-                for iz in range(lo[e, 2], hi[e, 2] + 1):
-                    i0, i1 = _range(keys, _cell_key(ix, iy, iz))
-                    for k in range(i0, i1):
-                        f = ids[k]
-                        if f <= e or mark[f] == e:
-                            continue
-                        mark[f] = e
-                        c, d = edges[f, 0], edges[f, 1]
-                        if (root[a] == root[c] or root[a] == root[d] or root[b] == root[c]
-                                or root[b] == root[d]):
-                            continue
-                        if (lo[e, 0] > hi[f, 0] or lo[f, 0] > hi[e, 0] or lo[e, 1] > hi[f, 1]
-                                or lo[f, 1] > hi[e, 1] or lo[e, 2] > hi[f, 2]
-                                or lo[f, 2] > hi[e, 2]):
-                            continue
-                        s, t, dist = _segment_closest(x, a, b, c, d)
-                        if not (0.0 < s < 1.0 and 0.0 < t < 1.0) or dist >= radius \
-                                or dist <= 0.0:
-                            continue
-                        nx = (x[a, 0] + s * (x[b, 0] - x[a, 0]) - x[c, 0]
-                              - t * (x[d, 0] - x[c, 0])) / dist
-                        ny = (x[a, 1] + s * (x[b, 1] - x[a, 1]) - x[c, 1]
-                              - t * (x[d, 1] - x[c, 1])) / dist
-                        nz = (x[a, 2] + s * (x[b, 2] - x[a, 2]) - x[c, 2]
-                              - t * (x[d, 2] - x[c, 2])) / dist
-                        out_p.append((e, f))
-                        out_s.append((s, t))
-                        out_n.append((nx, ny, nz))
+        c, d = edges[f, 0], edges[f, 1]
+        if (root[a] == root[c] or root[a] == root[d] or root[b] == root[c]
+                or root[b] == root[d]):
+            continue
+        s, t, dist = _segment_closest(x, a, b, c, d)
+        if not (0.0 < s < 1.0 and 0.0 < t < 1.0) or dist >= radius or dist <= 0.0:
+            continue
+        nx = (x[a, 0] + s * (x[b, 0] - x[a, 0]) - x[c, 0] - t * (x[d, 0] - x[c, 0])) / dist
+        ny = (x[a, 1] + s * (x[b, 1] - x[a, 1]) - x[c, 1] - t * (x[d, 1] - x[c, 1])) / dist
+        nz = (x[a, 2] + s * (x[b, 2] - x[a, 2]) - x[c, 2] - t * (x[d, 2] - x[c, 2])) / dist
+        out_p.append((e, f))
+        out_s.append((s, t))
+        out_n.append((nx, ny, nz))
     m = len(out_p)
     pairs = np.empty((m, 2), dtype=np.int64)
     st = np.empty((m, 2))
@@ -597,39 +609,25 @@ def _segment_hits_triangle(p, q, a, b, c):
 @njit(cache=True)
 def intersecting_pairs(x, tris, cell):
     """Number of triangle pairs, sharing no vertex, whose surfaces cross each other."""
-    keys, ids, lo, hi = _hash_triangles(x, tris, cell, 0.0)
-    m = tris.shape[0]
-    mark = np.full(m, -1, dtype=np.int64)
+    candidates = _box_pairs(x, tris, cell, 0.0)
     count = 0
-    for t in range(m):
-        for ix in range(lo[t, 0], hi[t, 0] + 1):
-            for iy in range(lo[t, 1], hi[t, 1] + 1):
-                for iz in range(lo[t, 2], hi[t, 2] + 1):
-                    a, b = _range(keys, _cell_key(ix, iy, iz))
-                    for e in range(a, b):
-                        s = ids[e]
-                        if s <= t or mark[s] == t:
-                            continue
-                        mark[s] = t
-                        shared = False
-                        for i in range(3):
-                            for j in range(3):
-                                if tris[t, i] == tris[s, j]:
-                                    shared = True
-                        if shared:
-                            continue
-                        if (lo[t, 0] > hi[s, 0] or lo[s, 0] > hi[t, 0] or lo[t, 1] > hi[s, 1]
-                                or lo[s, 1] > hi[t, 1] or lo[t, 2] > hi[s, 2]
-                                or lo[s, 2] > hi[t, 2]):
-                            continue
-                        hit = False
-                        for (u, w) in ((0, 1), (1, 2), (2, 0)):
-                            if _segment_hits_triangle(x[tris[t, u]], x[tris[t, w]], x[tris[s, 0]],
-                                                      x[tris[s, 1]], x[tris[s, 2]]):
-                                hit = True
-                            if _segment_hits_triangle(x[tris[s, u]], x[tris[s, w]], x[tris[t, 0]],
-                                                      x[tris[t, 1]], x[tris[t, 2]]):
-                                hit = True
-                        if hit:
-                            count += 1
+    for k in range(candidates.shape[0]):
+        t, u = candidates[k, 0], candidates[k, 1]
+        shared = False
+        for i in range(3):
+            for j in range(3):
+                if tris[t, i] == tris[u, j]:
+                    shared = True
+        if shared:
+            continue
+        hit = False
+        for (p, q) in ((0, 1), (1, 2), (2, 0)):
+            if _segment_hits_triangle(x[tris[t, p]], x[tris[t, q]], x[tris[u, 0]],
+                                      x[tris[u, 1]], x[tris[u, 2]]):
+                hit = True
+            if _segment_hits_triangle(x[tris[u, p]], x[tris[u, q]], x[tris[t, 0]],
+                                      x[tris[t, 1]], x[tris[t, 2]]):
+                hit = True
+        if hit:
+            count += 1
     return count
