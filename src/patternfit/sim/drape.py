@@ -12,6 +12,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..mesh.garment import GarmentMesh
+from ..mesh.transfer import transfer
+from ..mesh.triangulate import mesh_pattern
 from ..pattern.model import Pattern
 from .fabrics import Fabric, get_fabric
 from .placement import place_on_body
@@ -173,9 +175,6 @@ _COARSE_TRIES = (1.0, 1.5, 0.75)
 def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0, t_sdf,
                     progress) -> Drape:
     """Drape a coarse mesh of ``pattern`` whole, then settle ``mesh`` from its equilibrium."""
-    from ..mesh.transfer import transfer
-    from ..mesh.triangulate import mesh_pattern
-
     # the start is an equilibrium with friction: friction holds from the first iteration
     # (delayed, the whole garment slid for the first hundred)
     solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh), fabric,

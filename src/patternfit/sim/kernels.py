@@ -315,6 +315,15 @@ def _hash_triangles(x, tris, cell, pad):
 
 
 @njit(cache=True)
+def _rows(rows, out):
+    """``out`` (k, w) filled from ``rows``, a list of k tuples of w numbers; returned."""
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = rows[i][j]
+    return out
+
+
+@njit(cache=True)
 def _box_pairs(x, items, cell, pad):
     """Pairs (p, 2) of items (rows of ``items``, (m, 3) vertex indices) whose boxes, padded
     by ``pad`` [m] and rounded out to the hash grid, overlap; each pair once, lower first."""
@@ -337,10 +346,7 @@ def _box_pairs(x, items, cell, pad):
                                 or lo[u, 2] > hi[t, 2]):
                             continue
                         out.append((t, u))
-    pairs = np.empty((len(out), 2), dtype=np.int64)
-    for i in range(len(out)):
-        pairs[i, 0], pairs[i, 1] = out[i]
-    return pairs
+    return _rows(out, np.empty((len(out), 2), dtype=np.int64))
 
 
 @njit(cache=True)
@@ -468,14 +474,8 @@ def near_pairs(x, tris, radius, cell, root):
                         out_b.append((b0, b1, b2))
                         out_n.append((nx, ny, nz))
     k = len(out_p)
-    pairs = np.empty((k, 2), dtype=np.int64)
-    bary = np.empty((k, 3))
-    normal = np.empty((k, 3))
-    for i in range(k):
-        pairs[i, 0], pairs[i, 1] = out_p[i]
-        bary[i, 0], bary[i, 1], bary[i, 2] = out_b[i]
-        normal[i, 0], normal[i, 1], normal[i, 2] = out_n[i]
-    return pairs, bary, normal
+    return (_rows(out_p, np.empty((k, 2), dtype=np.int64)), _rows(out_b, np.empty((k, 3))),
+            _rows(out_n, np.empty((k, 3))))
 
 
 @njit(cache=True)
@@ -543,14 +543,8 @@ def near_edge_pairs(x, edges, radius, cell, root):
         out_s.append((s, t))
         out_n.append((nx, ny, nz))
     m = len(out_p)
-    pairs = np.empty((m, 2), dtype=np.int64)
-    st = np.empty((m, 2))
-    normal = np.empty((m, 3))
-    for i in range(m):
-        pairs[i, 0], pairs[i, 1] = out_p[i]
-        st[i, 0], st[i, 1] = out_s[i]
-        normal[i, 0], normal[i, 1], normal[i, 2] = out_n[i]
-    return pairs, st, normal
+    return (_rows(out_p, np.empty((m, 2), dtype=np.int64)), _rows(out_s, np.empty((m, 2))),
+            _rows(out_n, np.empty((m, 3))))
 
 
 @njit(cache=True)
