@@ -477,9 +477,10 @@ class GarmentSolver:
         self-collision)."""
         if not self.settings.self_collision:
             return
-        cell = max(self.terms.edge_length, 2 * self._detect)
+        # grid cells of the search radius for the vertices (a 20K mesh: 9.6 ms, 11.9 at
+        # twice that), twice the radius for the edges' boxes
         self._pairs, self._bary, self._pnormal = kernels.near_pairs(
-            x, self.terms.tris, self._detect, cell, self._root)
+            x, self.terms.tris, self._detect, self._detect, self._root)
         # edges cross each other only where two sheets are near: search the edges of the
         # vertex-triangle pairs' vertices and triangles (a tenth of the 20K trousers' edges)
         near = np.zeros(self._n, bool)
@@ -487,7 +488,7 @@ class GarmentSolver:
         near[self.terms.tris[self._pairs[:, 1]]] = True
         self._near_edges = np.ascontiguousarray(self._edges[near[self._edges].any(axis=1)])
         self._epairs, self._est, self._enormal = kernels.near_edge_pairs(
-            x, self._near_edges, self._detect, cell, self._root)
+            x, self._near_edges, self._detect, 2 * self._detect, self._root)
         self._x_pairs = x.copy()
 
     @property
