@@ -5,7 +5,10 @@ prints, per garment (the paper's sizes: coat 22K, skirt 15K, trousers 20K triang
 first drape (placement, sewing, drape under gravity) and a warm re-drape after a 3 cm hem
 edit: iterations, seconds, peak memory, the checks and the fitting ratio. Each garment runs
 in its own process so that the peak memory is its own. ``--cold`` also times the first
-drape with an empty distance-field cache (the field is computed, not read).
+drape with an empty distance-field cache (the field is computed, not read). ``--edits N``
+goes on with N - 1 more hem edits (lengths in ``HEM_STEPS``), each re-draped from the last
+equilibrium as in a design session: the iterations a re-drape needs depend on where the
+folds land, so one edit is one sample.
 """
 
 from __future__ import annotations
@@ -23,13 +26,16 @@ import time
 CASES = {"coat": ("male_heavy", 22000), "skirt": ("female_thin", 15000),
          "trousers": ("male_thin", 20000)}
 
+#: successive hem moves [m] of ``--edits`` (down is negative: -0.03 lengthens by 3 cm)
+HEM_STEPS = (-0.03, 0.02, -0.01, 0.03, -0.02, 0.01)
+
 
 def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def run_one(garment: str, figures: str | None) -> dict:
-    """First drape and warm re-drape of one garment; returns the table's numbers."""
+def run_one(garment: str, figures: str | None, edits: int = 1) -> list:
+    """First drape and ``edits`` warm re-drapes of one garment; returns the table's rows."""
     from patternfit.body.builtin import load_body
     from patternfit.edit import move_edge, update_mesh
     from patternfit.fit import FitEvaluator
@@ -53,12 +59,17 @@ def run_one(garment: str, figures: str | None) -> dict:
                     body=(body.vertices, body.faces),
                     title=f"{garment} M on {body_name}, {len(mesh.triangles)} triangles, cotton")
     panel = "front" if any(p.name == "front" for p in pattern.panels) else pattern.panels[0].name
-    edited = move_edge(pattern, panel, "hem", (0.0, -0.03), partner=True)
-    new_mesh = update_mesh(pattern, edited, mesh)
-    t0 = time.perf_counter()
-    again = redrape(first, new_mesh)
-    wall = time.perf_counter() - t0
-    rows.append(("re-drape", again, wall, FitEvaluator(new_mesh)(again.positions).fitting_ratio))
+    last = first
+    for k in range(edits):
+        step = HEM_STEPS[k % len(HEM_STEPS)]
+        pattern_next = move_edge(pattern, panel, "hem", (0.0, step), partner=True)
+        mesh = update_mesh(pattern, pattern_next, mesh)
+        pattern = pattern_next
+        t0 = time.perf_counter()
+        last = redrape(last, mesh)
+        wall = time.perf_counter() - t0
+        name = "re-drape" if edits == 1 else f"hem {step * 100:+.0f}cm"
+        rows.append((name, last, wall, FitEvaluator(mesh)(last.positions).fitting_ratio))
     out = []
     for name, d, wall, ratio in rows:
         c = d.checks
@@ -81,16 +92,18 @@ def main():
     ap.add_argument("--cold", action="store_true",
                     help="also run each first drape with an empty distance-field cache")
     ap.add_argument("--figures", default=None, help="directory for drape_<garment>.png")
+    ap.add_argument("--edits", type=int, default=1,
+                    help="successive hem edits re-draped after the first drape (HEM_STEPS)")
     ap.add_argument("--one", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.one:
-        print(json.dumps(run_one(args.one, args.figures)))
+        print(json.dumps(run_one(args.one, args.figures, args.edits)))
         return
     print("built-in garments (size M, cotton) on built-in bodies, 5 mm distance field, "
           "contact margin 3 mm; re-drape after a 3 cm hem edit (both hems); 2-core CPU")
     print("iters and seconds of the whole run; coarse: iterations/seconds of the whole "
           "coarse drape (2K triangles: placement, sewing, drape) that starts the fine one")
-    print(f"{'garment':>8} {'tri':>6} {'run':>9} {'iters':>6} {'seconds':>8} {'sdf s':>6} "
+    print(f"{'garment':>8} {'tri':>6} {'run':>10} {'iters':>6} {'seconds':>8} {'sdf s':>6} "
           f"{'coarse':>9} {'peak MB':>8} {'inside':>6} {'clear mm':>8} {'seam mm':>7} {'cross':>5} "
           f"{'equil':>5} {'ratio':>7}")
     for garment in args.garments:
@@ -101,7 +114,7 @@ def main():
             env = dict(os.environ)
             if cache:
                 env["PATTERNFIT_CACHE"] = cache
-            cmd = [sys.executable, __file__, "--one", garment]
+            cmd = [sys.executable, __file__, "--one", garment, "--edits", str(args.edits)]
             if args.figures and label == "warm":
                 cmd += ["--figures", args.figures]
             done = subprocess.run(cmd, env=env, capture_output=True, text=True)
@@ -112,7 +125,7 @@ def main():
                 if label == "cold" and r["run"] != "first":
                     continue
                 run = r["run"] + (" cold" if label == "cold" else "")
-                print(f"{garment:>8} {r['triangles']:>6} {run:>9} {r['iterations']:>6} "
+                print(f"{garment:>8} {r['triangles']:>6} {run:>10} {r['iterations']:>6} "
                       f"{r['seconds']:>8.2f} {r['sdf_seconds']:>6.2f} {r['coarse']:>9} "
                       f"{r['peak_mb']:>8.0f} "
                       f"{r['inside']:>6} {r['clear_mm']:>8.3f} {r['seam_mm']:>7.3f} "
