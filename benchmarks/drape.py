@@ -34,14 +34,16 @@ def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def run_one(garment: str, figures: str | None, edits: int = 1) -> list:
-    """First drape and ``edits`` warm re-drapes of one garment; returns the table's rows."""
+def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | None = None) -> list:
+    """First drape and ``edits`` warm re-drapes of one garment; returns the table's rows.
+    ``knobs``: SolverSettings fields to change (name -> value)."""
     from patternfit.body.builtin import load_body
     from patternfit.edit import move_edge, update_mesh
     from patternfit.fit import FitEvaluator
     from patternfit.mesh import mesh_pattern
     from patternfit.pattern.library import build
     from patternfit.sim.drape import drape, redrape
+    from patternfit.sim.solver import SolverSettings
 
     body_name, triangles = CASES[garment]
     body = load_body(body_name)
@@ -49,7 +51,7 @@ def run_one(garment: str, figures: str | None, edits: int = 1) -> list:
     mesh = mesh_pattern(pattern, triangles=triangles)
     rows = []
     t0 = time.perf_counter()
-    first = drape(pattern, mesh, body, "cotton")
+    first = drape(pattern, mesh, body, "cotton", settings=SolverSettings(**(knobs or {})))
     wall = time.perf_counter() - t0
     fit = FitEvaluator(mesh)(first.positions)
     rows.append(("first", first, wall, fit.fitting_ratio))
@@ -82,6 +84,7 @@ def run_one(garment: str, figures: str | None, edits: int = 1) -> list:
                     "peak_mb": _peak_mb(), "inside": c.inside_vertices,
                     "clear_mm": c.min_clearance_mm, "seam_mm": c.seam_gap_max_mm,
                     "crossing": c.self_intersections, "equilibrium": c.equilibrium,
+                    "start": str(d.timing.get("start", "-")),
                     "ratio": ratio})
     return out
 
@@ -94,10 +97,14 @@ def main():
     ap.add_argument("--figures", default=None, help="directory for drape_<garment>.png")
     ap.add_argument("--edits", type=int, default=1,
                     help="successive hem edits re-draped after the first drape (HEM_STEPS)")
+    ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE",
+                    help="SolverSettings fields to change, e.g. refresh=50 (numbers only)")
     ap.add_argument("--one", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
+    knobs = {k: float(v) if "." in v or "e" in v else int(v)
+             for k, v in (item.split("=", 1) for item in args.set)}
     if args.one:
-        print(json.dumps(run_one(args.one, args.figures, args.edits)))
+        print(json.dumps(run_one(args.one, args.figures, args.edits, knobs)))
         return
     print("built-in garments (size M, cotton) on built-in bodies, 5 mm distance field, "
           "contact margin 3 mm; re-drape after a 3 cm hem edit (both hems); 2-core CPU")
@@ -105,7 +112,7 @@ def main():
           "coarse drape (2K triangles: placement, sewing, drape) that starts the fine one")
     print(f"{'garment':>8} {'tri':>6} {'run':>10} {'iters':>6} {'seconds':>8} {'sdf s':>6} "
           f"{'coarse':>9} {'peak MB':>8} {'inside':>6} {'clear mm':>8} {'seam mm':>7} {'cross':>5} "
-          f"{'equil':>5} {'ratio':>7}")
+          f"{'equil':>5} {'ratio':>7} {'start':>8}")
     for garment in args.garments:
         runs = [("warm", None)]
         if args.cold:
@@ -114,7 +121,8 @@ def main():
             env = dict(os.environ)
             if cache:
                 env["PATTERNFIT_CACHE"] = cache
-            cmd = [sys.executable, __file__, "--one", garment, "--edits", str(args.edits)]
+            cmd = [sys.executable, __file__, "--one", garment, "--edits", str(args.edits),
+                   "--set", *args.set]
             if args.figures and label == "warm":
                 cmd += ["--figures", args.figures]
             done = subprocess.run(cmd, env=env, capture_output=True, text=True)
@@ -129,7 +137,8 @@ def main():
                       f"{r['seconds']:>8.2f} {r['sdf_seconds']:>6.2f} {r['coarse']:>9} "
                       f"{r['peak_mb']:>8.0f} "
                       f"{r['inside']:>6} {r['clear_mm']:>8.3f} {r['seam_mm']:>7.3f} "
-                      f"{r['crossing']:>5} {str(r['equilibrium']):>5} {r['ratio']:>7.4f}",
+                      f"{r['crossing']:>5} {str(r['equilibrium']):>5} {r['ratio']:>7.4f} "
+                      f"{r['start']:>8}",
                       flush=True)
 
 

@@ -2,11 +2,12 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from patternfit.mesh import mesh_pattern
-from patternfit.mesh.transfer import locate, transfer
+from patternfit.mesh.transfer import follow_edit, locate, transfer
 from patternfit.pattern.library import build
 
 
@@ -58,3 +59,30 @@ def test_bad_values_are_refused(meshes):
         transfer(coarse, np.zeros((3, 3)), fine)
     with pytest.raises(ValueError, match="points"):
         locate(coarse, 0, np.zeros((4, 3)))
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.floats(-0.3, 0.3), min_size=6, max_size=6), st.integers(0, 2**31 - 1))
+def test_an_affine_edit_of_a_rigidly_placed_panel_is_followed_exactly(coef, seed):
+    # a flat mesh placed by a rotation (3 x 2, orthonormal columns) and an affine edit of it:
+    # every deformation gradient is the rotation, so the edit is carried exactly
+    m = mesh_pattern(build("skirt", "M"), triangles=200)
+    rng = np.random.default_rng(seed)
+    rot = np.linalg.qr(rng.normal(size=(3, 3)))[0][:, :2]
+    shift = rng.normal(size=3)
+    edit = np.eye(2) + np.array(coef[:4]).reshape(2, 2)
+    new = m.vertices @ edit.T + np.array(coef[4:])
+    out = follow_edit(m.vertices, new, m.triangles, m.vertices @ rot.T + shift)
+    assert np.allclose(out, new @ rot.T + shift, atol=1e-12)
+
+
+def test_follow_edit_keeps_an_unedited_mesh_and_refuses_bad_shapes(meshes):
+    coarse, _ = meshes
+    x = np.random.default_rng(5).normal(size=(coarse.n_vertices, 3))
+    assert np.array_equal(follow_edit(coarse.vertices, coarse.vertices, coarse.triangles, x), x)
+    with pytest.raises(ValueError, match="positions"):
+        follow_edit(coarse.vertices, coarse.vertices, coarse.triangles, x[:-1])
+    with pytest.raises(ValueError, match="new_flat"):
+        follow_edit(coarse.vertices, coarse.vertices[:, :1], coarse.triangles, x)
+    with pytest.raises(ValueError, match="triangles"):
+        follow_edit(coarse.vertices, coarse.vertices, coarse.triangles + coarse.n_vertices, x)

@@ -155,7 +155,7 @@ class DesignSession:
         elif self.relax > 1.0 and self.position == 0:
             wide_pattern, wide_mesh = _widened(st.pattern, st.mesh, self.relax)
             first = drape(wide_pattern, wide_mesh, self.body, self.fabric, progress=progress)
-            result = redrape(first, st.mesh, progress=progress)
+            result = redrape(first, st.mesh, start=first.result.x, progress=progress)
             result.placed = first.placed
             result.seconds += first.seconds
             result.timing = {**first.timing, "relaxed_sewing_seconds": first.seconds}

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..mesh.garment import GarmentMesh
-from ..mesh.transfer import transfer
+from ..mesh.transfer import follow_edit, transfer
 from ..mesh.triangulate import mesh_pattern
 from ..pattern.model import Pattern
 from .fabrics import Fabric, get_fabric
@@ -204,13 +204,38 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
 
 
 def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, progress=None) -> Drape:
-    """Drape again after an edit that kept the mesh topology (new rest shapes only),
-    starting from the previous equilibrium (or ``start``, (n, 3) [m] per flat vertex); the
-    factorisation is reused when it can be."""
+    """Drape again after an edit that kept the mesh topology (new rest shapes only); the
+    factorisation is reused when it can be.
+
+    The solve starts from ``start`` ((n3, 3) [m] per simulated vertex) when given; else from
+    the previous equilibrium moved with the edit (:func:`patternfit.mesh.transfer.follow_edit`:
+    a lowered hem starts lower, where it settles in a fraction of the iterations of a start
+    with the new cloth compressed: 15K skirt 1,575 -> 75, 22K coat 675 -> 175), unless that
+    state crosses itself or enters the body more than the previous one (layers folded flat,
+    e.g. a trouser hem pooled on the feet, move through each other: 49 crossed pairs after a
+    3 cm hem edit of the 20K trousers; a panel taken in moves into the body); then from the
+    previous equilibrium as it is. (Half or a quarter of the motion crossed less, but
+    settled no faster than none of it.)
+    ``timing["start"]`` says which: "given", "moved" or "previous".
+    """
     t0 = time.perf_counter()
     solver = previous.solver
+    if start is not None:
+        x0, how = np.asanyarray(start, dtype=np.float64), "given"
+    else:
+        x0, how = previous.result.x, "previous"
+        if mesh.vertices.shape == solver.rest.shape and not np.array_equal(mesh.vertices,
+                                                                           solver.rest):
+            moved = follow_edit(solver.rest, mesh.vertices, solver.triangles,
+                                previous.positions)
+            rows = np.zeros_like(x0)
+            np.add.at(rows, solver.vertex_map, moved)
+            rows /= np.maximum(np.bincount(solver.vertex_map, minlength=len(rows)), 1)[:, None]
+            now, then = solver.checks(rows), solver.checks(x0)
+            if (now.self_intersections <= then.self_intersections
+                    and now.inside_vertices <= then.inside_vertices):
+                x0, how = rows, "moved"
     solver.set_rest(mesh.vertices)
-    x0 = previous.result.x if start is None else np.asanyarray(start, dtype=np.float64)
-    result = solver.solve(x0, progress=progress)
+    result = solver.solve(x0, resume=how == "moved", progress=progress)
     return Drape(positions=result.x[solver.vertex_map], placed=previous.placed, result=result,
-                 solver=solver, seconds=time.perf_counter() - t0)
+                 solver=solver, seconds=time.perf_counter() - t0, timing={"start": how})

@@ -548,7 +548,7 @@ class GarmentSolver:
         return out.ravel()
 
     # ------------------------------------------------------------------------ solve
-    def solve(self, x0, *, forces=None,
+    def solve(self, x0, *, forces=None, resume: bool = False,
               progress: Callable[[int, float, float, float], None] | None = None) -> DrapeResult:
         """Minimise the energy from the start positions ``x0``.
 
@@ -559,6 +559,11 @@ class GarmentSolver:
             warm start after :meth:`set_rest`).
         forces : (n3, 3) float, optional
             Constant external forces on the simulated vertices [N].
+        resume : bool
+            ``x0`` is the end of the last solve moved a little (by an edit): its contact
+            stiffness is kept, the friction anchors move with their vertices and friction
+            holds from the first iteration. (A start equal to the last solve's end is
+            resumed anyway.)
         progress : callable, optional
             Called after every iteration as ``progress(iteration, energy [J], step [m],
             elapsed [s])``. Raising KeyboardInterrupt in it stops the solve cleanly.
@@ -582,8 +587,8 @@ class GarmentSolver:
         last_gap = np.inf
         # a solve that follows one which ended with friction on (a warm start) keeps its
         # friction anchors and contact stiffness, and friction acts from the first iteration
-        warm = (not sewing and self._held is not None
-                and np.array_equal(x_full, self._held))
+        same = self._held is not None and np.array_equal(x_full, self._held)
+        warm = not sewing and self._held is not None and (same or resume)
         friction_from = None if sewing else (0 if warm else s.friction_delay)
 
         def setup(x_red, keep):
@@ -604,6 +609,9 @@ class GarmentSolver:
             return x_red
 
         x = setup(self._reduce(x_full), keep=warm)
+        if warm and not same:
+            # the anchors move with their vertices: friction keeps the force it held
+            self._anchor_of += x - self._reduce(self._held)
         self._refresh(x, friction_on=friction_from == 0)
         energy, grad = self._energy(x)
         lbfgs = _LBFGS(s.history)
