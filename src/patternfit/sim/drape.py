@@ -203,6 +203,13 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
                  seconds=time.perf_counter() - t0, timing=timing)
 
 
+#: a re-drape's moved start may lie this far inside the body [mm]: contact pushes such
+#: vertices out along the distance field's gradient (the 22K coat's hem lowered 3 cm: 12
+#: vertices, 2.7 mm deep); much deeper, a vertex could be pushed out through the far side of
+#: a thin limb
+_MOVED_DEPTH_MM = 5.0
+
+
 def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, progress=None) -> Drape:
     """Drape again after an edit that kept the mesh topology (new rest shapes only); the
     factorisation is reused when it can be.
@@ -211,11 +218,11 @@ def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, progress=None) ->
     the previous equilibrium moved with the edit (:func:`patternfit.mesh.transfer.follow_edit`:
     a lowered hem starts lower, where it settles in a fraction of the iterations of a start
     with the new cloth compressed: 15K skirt 1,575 -> 75, 22K coat 675 -> 175), unless that
-    state crosses itself or enters the body more than the previous one (layers folded flat,
-    e.g. a trouser hem pooled on the feet, move through each other: 49 crossed pairs after a
-    3 cm hem edit of the 20K trousers; a panel taken in moves into the body); then from the
-    previous equilibrium as it is. (Half or a quarter of the motion crossed less, but
-    settled no faster than none of it.)
+    state crosses itself more than the previous one (layers folded flat, e.g. a trouser hem
+    pooled on the feet, move through each other: 49 crossed pairs after a 3 cm hem edit of
+    the 20K trousers) or enters the body deeper than ``_MOVED_DEPTH_MM`` (a panel taken in);
+    then from the previous equilibrium as it is. (Half or a quarter of the motion crossed
+    less, but settled no faster than none of it.)
     ``timing["start"]`` says which: "given", "moved" or "previous".
     """
     t0 = time.perf_counter()
@@ -233,7 +240,7 @@ def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, progress=None) ->
             rows /= np.maximum(np.bincount(solver.vertex_map, minlength=len(rows)), 1)[:, None]
             now, then = solver.checks(rows), solver.checks(x0)
             if (now.self_intersections <= then.self_intersections
-                    and now.inside_vertices <= then.inside_vertices):
+                    and now.max_depth_mm <= max(then.max_depth_mm, _MOVED_DEPTH_MM)):
                 x0, how = rows, "moved"
     solver.set_rest(mesh.vertices)
     result = solver.solve(x0, resume=how == "moved", progress=progress)
