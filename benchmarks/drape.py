@@ -107,7 +107,9 @@ def main():
         print(json.dumps(run_one(args.one, args.figures, args.edits, knobs)))
         return
     print("built-in garments (size M, cotton) on built-in bodies, 5 mm distance field, "
-          "contact margin 3 mm; re-drape after a 3 cm hem edit (both hems); 2-core CPU")
+          "contact margin 3 mm; re-drapes after hem edits (front, or the first panel, and "
+          "its seam partner; -3 cm = 3 cm longer), each from the last equilibrium; "
+          "2-core CPU")
     print("iters and seconds of the whole run; coarse: iterations/seconds of the whole "
           "coarse drape (2K triangles: placement, sewing, drape) that starts the fine one")
     print(f"{'garment':>8} {'tri':>6} {'run':>10} {'iters':>6} {'seconds':>8} {'sdf s':>6} "
