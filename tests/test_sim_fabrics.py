@@ -117,6 +117,17 @@ def test_shirting_thickness_follows_penava_2014():
     assert FABRICS["cotton_shirting"].thickness == pytest.approx(0.318e-3, rel=1e-9)
 
 
+def test_denim_density_is_wangs_measured_denim():
+    """docs/fabrics.md: Wang et al. 2011, 11oz-black-denim.json, "density": 0.324 [kg/m^2]
+    (the earlier assumed 12 oz/yd^2 = 0.407 kg/m^2 is gone)."""
+    assert FABRICS["denim"].density == pytest.approx(0.324, rel=1e-9)
+
+
+def test_wool_coating_density_in_the_melton_weight_range():
+    """docs/fabrics.md: thick melton is sold at 340-520 g/m^2."""
+    assert 0.340 <= FABRICS["wool_coating"].density <= 0.520
+
+
 def test_names_and_aliases():
     assert get_fabric("cotton") is FABRICS["cotton_shirting"]
     assert get_fabric("Wool-Coating") is FABRICS["wool_coating"]
