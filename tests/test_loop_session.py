@@ -99,3 +99,17 @@ def test_load_refuses_other_folders(tmp_path):
     from patternfit.pattern.errors import PatternError
     with pytest.raises(PatternError, match="not a saved design session"):
         DesignSession.load(tmp_path)
+
+
+def test_a_hem_edit_is_redraped_from_the_last_drape_moved_with_it():
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=900)
+    s.redrape()
+    hem = s.positions[:, 1].min()
+    s.apply("move_edge", panel="front", edge="hem", offset=(0.0, -0.03), partner=True)
+    again = s.redrape()
+    assert again.timing["start"] == "moved" and again.checks.passed, again.checks
+    assert 0.02 < hem - s.positions[:, 1].min() < 0.04
+    # after an undo the state's positions are an older drape's: re-draped from them as given
+    s.undo()
+    s.apply("move_edge", panel="front", edge="hem", offset=(0.0, -0.01), partner=True)
+    assert s.redrape().timing["start"] == "given"

@@ -177,6 +177,9 @@ class DesignSession:
         faster than in one."""
         solver = self._drape.solver
         old = solver.rest
+        if np.array_equal(start, self._drape.positions):
+            # the last drape itself: redrape starts from it moved with the edit
+            start = None
         change = float(np.linalg.norm(mesh.vertices - old, axis=1).max(initial=0.0))
         stages = max(1, int(np.ceil(change / STAGE_LENGTH)))
         full, previous, seconds = solver.settings, self._drape, 0.0
