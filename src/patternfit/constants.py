@@ -28,3 +28,32 @@ GRAVITY = 9.80665
 
 #: length of one file unit in metres
 UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254}
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Caps on what an input may ask for, so that a small file or request cannot exhaust
+    memory or time. Every reader and front end checks against these; a value beyond one is
+    refused with an error naming the limit."""
+
+    #: polyline segments in one panel's outline and inner loops, after curve sampling [-]
+    segments_per_panel: int = 20_000
+    #: edges (lines, curves, arcs) in one pattern [-]
+    edges_per_pattern: int = 50_000
+    #: panels in one pattern [-]
+    panels: int = 500
+    #: the largest coordinate (absolute) a pattern point may have [m]
+    extent: float = 20.0
+    #: triangles a mesh may be asked for [-]
+    triangles: int = 2_000_000
+    #: vertices of a body mesh [-]
+    body_vertices: int = 5_000_000
+    #: bytes of a file upload to the studio [bytes]
+    upload_bytes: int = 32 * 1024 * 1024
+    #: seconds one heavy studio request (mesh, drape, export) may take [s]
+    request_seconds: float = 600.0
+    #: largest scale factor an edit may apply (and smallest: its inverse) [-]
+    edit_scale: float = 10.0
+
+
+limits = Limits()

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..constants import UNITS
+from ..errors import InputError
 from ..files import atomic_write_bytes
 from .measure import measure
 from .model import Body
@@ -21,12 +22,8 @@ _HEIGHT_RANGE = (0.3, 2.8)
 _AXES = {"x": 0, "y": 1, "z": 2}
 
 
-class BodyMeshError(ValueError):
+class BodyMeshError(InputError):
     """A body mesh that cannot be used, with the reason and the file."""
-
-    def __init__(self, message: str, *, file=None):
-        self.file = None if file is None else str(file)
-        super().__init__(f"{self.file}: {message}" if self.file else message)
 
 
 def _guess_units(extent: float, file) -> float:

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+from ..errors import InputError
 
-class PatternError(ValueError):
+
+class PatternError(InputError):
     """A pattern is malformed; the message names the file, panel and edge where known.
 
     Attributes
@@ -13,13 +15,11 @@ class PatternError(ValueError):
     """
 
     def __init__(self, message: str, *, file=None, panel=None, edge=None):
-        self.file = None if file is None else str(file)
         self.panel = panel
         self.edge = edge
-        self.reason = message
         place = ", ".join(([f"panel '{panel}'"] if panel is not None else [])
                           + ([f"edge '{edge}'"] if edge is not None else []))
-        super().__init__(": ".join(s for s in (self.file, place, message) if s))
+        super().__init__(message, file=file, place=place or None)
 
     def located(self, file) -> "PatternError":
         """Return the same error with the file name filled in."""

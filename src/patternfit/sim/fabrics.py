@@ -16,8 +16,10 @@ import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+from ..errors import InputError
 
-class FabricError(ValueError):
+
+class FabricError(InputError):
     """An invalid fabric; the message names the file (if any) and the field."""
 
 
