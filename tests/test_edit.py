@@ -108,3 +108,56 @@ def test_dart_insert_move_resize(shape, n_seams):
         insert_dart(q, "A", "d1", (0.2, 0.3), length=0.1, width=0.02)
     with pytest.raises(PatternError, match="no dart"):
         move_dart(q, "A", "zz", (0.0, 0.0))
+
+
+def test_tools_refuse_results_that_are_no_garment():
+    from patternfit.constants import limits
+
+    p = two_panels()
+    # the strongest grading allowed either way is accepted, and nothing beyond it
+    assert grade(p, None, 1 / limits.edit_scale, 1 / limits.edit_scale).area() == \
+        pytest.approx(p.area() / limits.edit_scale ** 2)
+    assert grade(p, "A", limits.edit_scale, 1.0, partner=True).panel("A").area() == \
+        pytest.approx(p.panel("A").area() * limits.edit_scale)
+    for sx in (1e300, 0.0, -1.0, 1 / limits.edit_scale / 1.01, np.inf):
+        with pytest.raises(PatternError, match="sx: expected a number in") as info:
+            grade(p, "A", sx, 1.0)
+        assert info.value.panel == "A"
+    # shortened past its own length: the panel turns inside out, with or without partner
+    for partner in (False, True):
+        with pytest.raises(PatternError, match=r"amount=-10 m.*inside out") as info:
+            lengthen(p, "A", (0.2, 0.0), (0.2, 0.6), -10.0, partner=partner)
+        assert info.value.panel == "A"
+    # shortened to a sliver: collapsed
+    with pytest.raises(PatternError, match="collapses"):
+        lengthen(p, "A", (0.2, 0.0), (0.2, 0.6), -0.598, partner=True)
+    # offsets that leave the pattern's extent, or could not be computed with
+    for op in (lambda d: move_edge(p, "A", "top", d, partner=True),
+               lambda d: move_point(p, "A", "left", d),
+               lambda d: edit_curve(p, "A", "top", d)):
+        with pytest.raises(PatternError, match="offset: expected a 2-vector") as info:
+            op((0.0, 1e30))
+        assert info.value.panel == "A"
+    with pytest.raises(PatternError, match=r"offset=\(0, 25\) m.*beyond the limit"):
+        move_edge(p, "B", "top", (0.0, 25.0))
+    with pytest.raises(PatternError, match="no such panel") as info:
+        move_edge(p, "Z", "top", (0.0, 0.1))
+    assert info.value.panel == "Z"
+    with pytest.raises(PatternError, match="control: a quadratic edge") as info:
+        edit_curve(p, "A", "top", (0.0, 0.1), control=2)
+
+
+def test_dart_tools_check_their_arguments():
+    p = two_panels()
+    for kw, name in ((dict(length=1e30, width=0.02), "length"),
+                     (dict(length=0.1, width=0.0), "width"),
+                     (dict(length=0.1, width=0.02, axis=(0.0, 0.0)), "axis"),
+                     (dict(length=0.1, width=0.02, shape="star"), "shape")):
+        with pytest.raises(PatternError, match=name) as info:
+            insert_dart(p, "A", "d", (0.2, 0.3), **kw)
+        assert info.value.panel == "A"
+    q = insert_dart(p, "A", "d", (0.2, 0.3), length=0.2, width=0.04)
+    with pytest.raises(PatternError, match="offset"):
+        move_dart(q, "A", "d", (1e30, 0.0))
+    with pytest.raises(PatternError, match="width"):
+        resize_dart(q, "A", "d", width=-0.01)

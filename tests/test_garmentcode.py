@@ -38,13 +38,16 @@ def _top(pattern, panel="front"):
 
 
 def test_units_and_placement():
-    for units, metres in [(100, 0.40), (1000, 0.040), (300, 40 / 300), (1, 40.0)]:
+    for units, metres in [(100, 0.40), (1000, 0.040), (300, 40 / 300), (10, 4.0)]:
         p = garmentcode_from_dict(_doc({"front": _square()}, units_in_meter=units))
         assert p.panel("front").outline.edges[0].length == pytest.approx(metres)
         assert p.panel("front").placement.translation == pytest.approx(
             (0, 100 / units, 20 / units))
     p = garmentcode_from_dict(_doc({"front": _square()}, units_in_meter=100))
     assert p.panel("front").placement.side == "front"
+    # centimetre numbers declared as metres: a 40 m panel is beyond any garment
+    with pytest.raises(PatternError, match="beyond"):
+        garmentcode_from_dict(_doc({"front": _square()}, units_in_meter=1))
     # a file without units is in centimetres, as GarmentCode assumes
     doc = _doc({"front": _square()})
     del doc["properties"]["units_in_meter"]

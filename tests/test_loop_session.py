@@ -1,15 +1,9 @@
 """The design session: edits with mesh update, undo/redo, atomic save and load."""
 
-import json
-import os
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
 from patternfit.loop import DesignSession
-from patternfit.pattern.io import pattern_to_dict
 
 
 @pytest.fixture(scope="module")
@@ -67,37 +61,9 @@ def test_save_load_round_trip(session, tmp_path):
     assert back.body.name == session.body.name and back.fabric == session.fabric
 
 
-def test_save_killed_halfway_leaves_previous_loadable(session, tmp_path):
-    folder = tmp_path / "s"
-    session.save(folder)
-    first = (folder / "current").read_text()
-    # a second save killed while writing: run it in a child process stopped by SIGKILL
-    # right after its snapshot folder was started
-    code = f"""
-import os, signal, pathlib
-from patternfit.loop import session as sm
-from patternfit.loop import DesignSession
-s = DesignSession.load({str(folder)!r})
-real = sm.save_pattern
-def dying(*a, **k):
-    real(*a, **k)
-    os.kill(os.getpid(), signal.SIGKILL)
-sm.save_pattern = dying
-s.save({str(folder)!r})
-"""
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True)
-    assert proc.returncode != 0  # killed
-    assert (folder / "current").read_text() == first
-    assert len(list(folder.glob("snapshot-*"))) == 2  # the half-written one is ignored
-    back = DesignSession.load(folder)
-    assert back.position == session.position
-    session.save(folder)  # the next save cleans up
-    assert len(list(folder.glob("snapshot-*"))) == 1
-
-
 def test_load_refuses_other_folders(tmp_path):
-    from patternfit.pattern.errors import PatternError
-    with pytest.raises(PatternError, match="not a saved design session"):
+    from patternfit.errors import SessionError
+    with pytest.raises(SessionError, match="not a saved design session"):
         DesignSession.load(tmp_path)
 
 

@@ -19,10 +19,15 @@ def folder(tmp_path_factory):
     return tmp_path_factory.mktemp("studio")
 
 
+def studio_client(app) -> TestClient:
+    """A client of ``app`` that sends the page's token, as the page does."""
+    return TestClient(app, headers={"X-Patternfit-Token": app.state.token})
+
+
 @pytest.fixture(scope="module")
 def client(folder):
-    app = create_app(folder, max_upload=64 * 1024)
-    c = TestClient(app)
+    app = create_app(folder, max_upload=64 * 1024, allowed_hosts=("testserver",))
+    c = studio_client(app)
     assert c.post("/api/new", json={"garment": "skirt", "triangles": 400}).status_code == 200
     return c
 
@@ -77,7 +82,7 @@ def test_edit_undo_redo_and_refusals(client, folder):
     assert unmatched.status_code == 400 and "seam" in unmatched.json()["error"]
     assert client.post("/api/edit", json={"op": "rm_rf", "args": {}}).status_code == 400
     # a restarted studio continues the saved session
-    again = TestClient(create_app(folder))
+    again = studio_client(create_app(folder, allowed_hosts=("testserver",)))
     assert len(again.get("/api/state").json()["history"]) == 2
 
 

@@ -1,8 +1,11 @@
 """End-to-end tests of the studio in headless Chromium (Debian's ``chromium`` package driven
-by Playwright; nothing is installed at run time). Screenshots go to docs/figures/."""
+by Playwright; nothing is installed at run time). Screenshots go to a temporary folder, or
+to the folder ``PATTERNFIT_FIGURES`` names (``PATTERNFIT_FIGURES=docs/figures`` renews the
+documentation's pictures)."""
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import threading
@@ -15,10 +18,16 @@ CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no chromium installed (apt-get install -y chromium)")
 playwright = pytest.importorskip("playwright.sync_api", reason="playwright not installed (pip install playwright)")
 
-FIGURES = Path(__file__).resolve().parents[1] / "docs" / "figures"
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
         "--disable-component-update", "--disable-sync", "--no-first-run",
         "--enable-unsafe-swiftshader"]
+
+
+@pytest.fixture(scope="module")
+def figures(tmp_path_factory) -> Path:
+    """Where the screenshots go: a test run never rewrites the documentation's pictures."""
+    folder = os.environ.get("PATTERNFIT_FIGURES")
+    return Path(folder) if folder else tmp_path_factory.mktemp("figures")
 
 
 @pytest.fixture(scope="module")
@@ -81,7 +90,7 @@ def drag(page, selector, dx, dy, steps=20):
     page.mouse.up()
 
 
-def test_drape_edit_redrape_undo(page, server):
+def test_drape_edit_redrape_undo(page, server, figures):
     assert page.inner_text("#ratio") == "—"
     n_tri = len(page.evaluate("studio.geometry.triangles")) // 3
     assert 800 <= n_tri <= 1600
@@ -90,8 +99,8 @@ def test_drape_edit_redrape_undo(page, server):
     assert 50 < r0 < 150
     assert page.evaluate("studio.geometry.colors !== null")
     page.wait_for_timeout(300)
-    page.screenshot(path=str(FIGURES / "studio_draped.png"))
-    page.locator("#view3d").screenshot(path=str(FIGURES / "studio_3d.png"))
+    page.screenshot(path=str(figures / "studio_draped.png"))
+    page.locator("#view3d").screenshot(path=str(figures / "studio_3d.png"))
     # hover the 3D view: a value is read under the cursor
     box = page.locator("#view3d canvas").bounding_box()
     page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] * 0.55)
@@ -106,7 +115,7 @@ def test_drape_edit_redrape_undo(page, server):
     assert page.evaluate("studio.dragStats.frames") >= 3  # the mesh followed live
     v1 = page.evaluate("Array.from(studio.geometry.vertices)")
     assert len(v1) == len(v0) and max(abs(a - b) for a, b in zip(v0, v1)) > 0.01
-    page.screenshot(path=str(FIGURES / "studio_editor.png"))
+    page.screenshot(path=str(figures / "studio_editor.png"))
     wait_drape(page)
     r1 = ratio(page)
     assert abs(r1 - r0) > 1e-4  # the edit changed ϖ (percent)
@@ -149,3 +158,49 @@ def test_malformed_upload_shows_error(page, server, tmp_path):
     assert "broken.json" in text and str(server[1].state.studio.folder) not in text
     # the server keeps serving
     assert page.evaluate("fetch('/api/state').then(r => r.status)") == 200
+
+
+def test_a_page_of_another_site_cannot_drive_the_studio(page, server):
+    """What the security review did from http://evil.example: simple cross-site requests
+    (text/plain, a form, no-cors) and one with the token header (needs a preflight). The
+    browser runs without Chromium's own guard for local addresses (Private Network Access),
+    as Firefox does, so that the studio's refusals are what is tested."""
+    url, app = server
+    studio = app.state.studio
+    before = (studio.revision, sorted(p.name for p in (studio.folder / "session").iterdir()))
+    browser = page.context.browser.browser_type.launch(
+        executable_path=CHROMIUM, args=ARGS + [
+            "--disable-features=BlockInsecurePrivateNetworkRequests,"
+            "PrivateNetworkAccessSendPreflights,LocalNetworkAccessChecks"])
+    pg = browser.new_page()
+    try:
+        pg.route("http://evil.example/", lambda route: route.fulfill(
+            body="<html><body>evil</body></html>", content_type="text/html"))
+        pg.goto("http://evil.example/")
+        outcome = pg.evaluate("""async (url) => {
+            const out = [];
+            for (const [path, body] of [["/api/new", '{"garment": "coat"}'],
+                                        ["/api/edit", '{"op": "grade", "args": {}}'],
+                                        ["/api/undo", "{}"]]) {
+                try {
+                    const r = await fetch(url + path, {method: "POST", mode: "no-cors",
+                        headers: {"Content-Type": "text/plain"}, body});
+                    out.push(r.type);
+                } catch (e) { out.push("refused"); }
+            }
+            try {
+                await fetch(url + "/api/new", {method: "POST", body: "{}", headers: {
+                    "Content-Type": "application/json", "X-Patternfit-Token": "guess"}});
+                out.push("answered");
+            } catch (e) { out.push("refused"); }
+            const form = document.createElement("form");
+            form.method = "POST"; form.action = url + "/api/new"; form.enctype = "text/plain";
+            document.body.appendChild(form); form.submit();
+            return out;
+        }""", url)
+        pg.wait_for_load_state()
+    finally:
+        browser.close()
+    assert outcome[-1] == "refused"  # the preflight is never granted
+    assert (studio.revision, sorted(p.name for p in (studio.folder / "session").iterdir())) \
+        == before

@@ -19,6 +19,17 @@ class Tolerances:
     seam_length_rel: float = 0.005
     #: triangles whose area is below this are degenerate [m^2]
     area: float = 1e-12
+    #: two seam ranges on one edge may overlap by this fraction of the edge (the rounding
+    #: of fractions written to files) [-]
+    seam_range_overlap: float = 1e-9
+    #: how far an edge re-fitted to a DXF's points may stray from them [m]
+    dxf_fit: float = 5e-5
+    #: how far a DXF polyline written for a curve may stray from it [m]
+    dxf_sample: float = 2e-5
+    #: how far from an outline edge a DXF notch may lie and still mark it [m]
+    notch_reach: float = 1e-3
+    #: how far apart (in arc-length fraction) two edges' notches may lie and still match [-]
+    notch_match: float = 0.02
 
 
 tol = Tolerances()
@@ -46,10 +57,20 @@ class Limits:
     extent: float = 20.0
     #: triangles a mesh may be asked for [-]
     triangles: int = 2_000_000
+    #: a saved garment's mesh.npz, as a file and unpacked (about 50 bytes a triangle) [bytes]
+    mesh_bytes: int = 64 * 2_000_000
+    #: a saved garment's positions.npy (24 bytes a vertex, fewer vertices than triangles)
+    #: [bytes]
+    positions_bytes: int = 24 * 2_000_000 + 4096
     #: vertices of a body mesh [-]
     body_vertices: int = 5_000_000
+    #: bytes of a DXF file (ezdxf holds many times a file's size in memory) [bytes]
+    dxf_bytes: int = 32 * 1024 * 1024
     #: bytes of a file upload to the studio [bytes]
     upload_bytes: int = 32 * 1024 * 1024
+    #: bytes of a JSON request body to the studio (the page's requests are a few hundred)
+    #: [bytes]
+    json_body_bytes: int = 1024 * 1024
     #: seconds one heavy studio request (mesh, drape, export) may take [s]
     request_seconds: float = 600.0
     #: largest scale factor an edit may apply (and smallest: its inverse) [-]

@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import os
+import re
 import stat
 import tempfile
+import zipfile
 from pathlib import Path
+
+import numpy as np
 
 _UMASK = os.umask(0)
 os.umask(_UMASK)
@@ -135,6 +140,74 @@ def read_bytes_capped(path, *, limit: int, error=None) -> bytes:
     return data
 
 
+_NPY_HEADERS = {(1, 0): np.lib.format.read_array_header_1_0,
+                (2, 0): np.lib.format.read_array_header_2_0}
+
+
+def _read_npy(fh, size: int, *, error, file, place=None) -> np.ndarray:
+    """The array in the open ``.npy`` stream ``fh`` of ``size`` bytes; the header is checked
+    before any data is read, so that a damaged or hostile header allocates nothing."""
+    try:
+        version = np.lib.format.read_magic(fh)
+    except Exception:  # zlib, zipfile and numpy raise many kinds for damaged bytes
+        raise error("damaged, or not a NumPy array", file=file, place=place) from None
+    if version not in _NPY_HEADERS:
+        raise error(f".npy format version {version} is not read", file=file, place=place)
+    try:
+        shape, _, dtype = _NPY_HEADERS[version](fh)
+    except Exception:
+        raise error("damaged, or not a NumPy array", file=file, place=place) from None
+    if dtype.hasobject:
+        raise error("holds Python objects (a pickle), which are never loaded", file=file,
+                    place=place)
+    need, have = math.prod(shape) * dtype.itemsize, size - fh.tell()
+    if need != have:
+        raise error(f"truncated or damaged: shape {shape} of {dtype} needs {need} bytes, the "
+                    f"file holds {have}", file=file, place=place)
+    try:
+        fh.seek(0)
+        array = np.lib.format.read_array(fh, allow_pickle=False)
+        fh.read()  # reaching the end makes zipfile check the member's CRC
+    except Exception:
+        raise error("damaged data", file=file, place=place) from None
+    return array
+
+
+def read_npy(path, *, limit: int, error) -> np.ndarray:
+    """The array in the ``.npy`` file ``path`` (at most ``limit`` bytes), refused with
+    ``error`` (an :class:`~patternfit.errors.InputError` class) naming the file when it is
+    unreadable, too large, damaged, truncated or holds Python objects (never unpickled)."""
+    data = read_bytes_capped(path, limit=limit, error=error)
+    return _read_npy(io.BytesIO(data), len(data), error=error, file=path)
+
+
+def read_npz(path, *, limit: int, error) -> dict[str, np.ndarray]:
+    """Every array of the ``.npz`` file ``path``, by name, refused with ``error`` (an
+    :class:`~patternfit.errors.InputError` class) naming the file and the array: unreadable,
+    not a zip archive, damaged, truncated, holding Python objects (never unpickled), or
+    larger than ``limit`` bytes as a file or unpacked."""
+    data = read_bytes_capped(path, limit=limit, error=error)
+    try:
+        archive = zipfile.ZipFile(io.BytesIO(data))
+        members = archive.infolist()
+    except Exception:  # zipfile raises many kinds for damaged archives
+        raise error("not a NumPy .npz archive (damaged or truncated)", file=path) from None
+    if sum(m.file_size for m in members) > limit:
+        raise error(f"its arrays unpack to more than the limit of {limit} bytes", file=path)
+    arrays = {}
+    for m in members:
+        name = m.filename.removesuffix(".npy")
+        try:
+            fh = archive.open(m)
+        except Exception:  # a damaged, encrypted or oddly compressed member
+            raise error("damaged data", file=path, place=f"array '{name}'") from None
+        with fh:
+            arrays[name] = _read_npy(fh, m.file_size, error=error, file=path,
+                                     place=f"array '{name}'")
+    return arrays
+
+
+
 def _depth(text: str) -> int:
     depth = best = 0
     in_str = esc = False
@@ -156,14 +229,23 @@ def _depth(text: str) -> int:
     return best
 
 
+class _Refused(ValueError):
+    """A JSON number the readers refuse; ``token`` is its text, to find its line."""
+
+    def __init__(self, message: str, token: str):
+        super().__init__(message)
+        self.token = token
+
+
 def _refuse_constant(name: str):
-    raise ValueError(f"{name} is not a number JSON allows")
+    raise _Refused(f"{name} is not a number JSON allows", name)
 
 
 def _finite_float(text: str) -> float:
     value = float(text)
     if not math.isfinite(value):
-        raise ValueError(f"number {text[:20]}... is out of range")
+        raise _Refused(f"number {text[:20]}{'...' if len(text) > 20 else ''} is out of range",
+                       text)
     return value
 
 
@@ -172,6 +254,17 @@ def _bounded_int(text: str):
         # a 400-digit integer is no coordinate; read it as a float, refused when out of range
         return _finite_float(text)
     return int(text)
+
+
+def _line_column(text: str, token: str) -> str:
+    """'line L, column C' of the first ``token`` outside a string, or ''."""
+    for match in re.finditer(re.escape(token), text):
+        before = text[:match.start()]
+        if before.count('"') - before.count('\\"') & 1:
+            continue  # inside a string
+        line = before.count("\n") + 1
+        return f"line {line}, column {match.start() - before.rfind(chr(10))}: "
+    return ""
 
 
 def parse_json_text(text: str, *, file=None, error=None):
@@ -189,6 +282,9 @@ def parse_json_text(text: str, *, file=None, error=None):
                           parse_int=_bounded_int)
     except json.JSONDecodeError as exc:
         raise error(f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})",
+                    file=file) from None
+    except _Refused as exc:
+        raise error(f"not valid JSON ({_line_column(text, exc.token)}{exc})",
                     file=file) from None
     except (ValueError, RecursionError) as exc:
         raise error(f"not valid JSON: {exc}", file=file) from None
@@ -219,8 +315,6 @@ def dumps_finite_json(data, **kwargs) -> str:
 
 def json_default(o):
     """``json.dumps`` ``default`` for NumPy scalars and arrays."""
-    import numpy as np
-
     if isinstance(o, np.generic):
         return o.item()
     if isinstance(o, np.ndarray):

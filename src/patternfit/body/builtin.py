@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import io
 import json
-from importlib.resources import files
+from importlib.resources import as_file, files
 from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_write_bytes
+from ..constants import limits
+from ..files import atomic_write_bytes, parse_json_text
+from .measure import LandmarkError
 from .model import Body
 
 #: the paper's body names (Table 2) and friendly spellings
@@ -48,17 +50,70 @@ def load_body(name: str) -> Body:
     if not res.is_file():
         raise ValueError(f"name: no built-in body {name!r}; known: {', '.join(list_bodies())} "
                          f"(aliases: {', '.join(sorted(ALIASES))})")
-    return read_body(res, name=canon)
+    with as_file(res) as path:
+        return read_body(path, name=canon)
+
+
+#: the largest body file [bytes], unpacked: float32 vertices and int32 faces (about twice as
+#: many as vertices) take 36 bytes per vertex; landmarks and measurements are small
+_BODY_BYTES = 36 * limits.body_vertices + (1 << 20)
 
 
 def read_body(path, *, name: str | None = None) -> Body:
-    """A body from a file written by :func:`save_body` (a path or package resource)."""
-    with path.open("rb") as fh, np.load(io.BytesIO(fh.read())) as z:
-        meas = dict(zip(z["measurement_names"].tolist(), z["measurement_values"].tolist()))
-        lm = {k[len("landmark_"):]: z[k] for k in z.files if k.startswith("landmark_")}
-        meta = json.loads(str(z["meta"]))
-        return Body(z["vertices"], z["faces"], name=name or meta.get("name", path.stem),
-                    measurements=meas, landmarks=lm, meta=meta)
+    """A body from a ``.npz`` file written by :func:`save_body`: vertices (n, 3) and
+    landmarks [m], faces (m, 3), measurements [m].
+
+    Raises :class:`~patternfit.body.mesh_io.BodyMeshError` naming the file and the array
+    (or the landmark) when it is unreadable, damaged, no body (an array missing, of the
+    wrong kind or shape, NaN, a face index out of range, more than ``limits.body_vertices``
+    vertices) or lacks a landmark or measurement.
+    """
+    from ..files import read_npz
+    from .mesh_io import BodyMeshError
+
+    z = read_npz(path, limit=_BODY_BYTES, error=BodyMeshError)
+
+    def bad(key, why):
+        return BodyMeshError(why, file=path, place=f"array '{key}'")
+
+    for key, kind, ndim in _BODY_LAYOUT:
+        if key not in z:
+            raise bad(key, "missing (not a body saved by patternfit)")
+        if z[key].dtype.kind not in kind or z[key].ndim != ndim:
+            raise bad(key, f"expected a {ndim}-d array of kind {kind!r}, got {z[key].dtype} "
+                           f"{z[key].shape}")
+    v, f = z["vertices"].astype(np.float64), z["faces"].astype(np.int64)
+    if v.shape[1] != 3 or f.shape[1] != 3 or not len(v) or not len(f):
+        raise bad("vertices" if v.shape[1] != 3 or not len(v) else "faces",
+                  f"expected (n, 3) vertices and (m, 3) faces, got {v.shape}, {f.shape}")
+    if len(v) > limits.body_vertices:
+        raise bad("vertices", f"{len(v)} vertices, more than the limit of "
+                              f"{limits.body_vertices}")
+    if not np.isfinite(v).all():
+        raise bad("vertices", "NaN or infinite coordinates")
+    if f.min() < 0 or f.max() >= len(v):
+        raise bad("faces", f"vertex index out of range: the body has {len(v)} vertices")
+    names, values = z["measurement_names"], z["measurement_values"]
+    if names.shape != values.shape:
+        raise bad("measurement_values", f"{values.shape} values for {names.shape} names")
+    meta = parse_json_text(str(z["meta"]), file=path, error=BodyMeshError)
+    if not isinstance(meta, dict):
+        raise bad("meta", "expected a JSON object")
+    landmarks = {k[len("landmark_"):]: a for k, a in z.items() if k.startswith("landmark_")}
+    stem = Path(str(path)).stem
+    try:
+        return Body(v, f, name=name or str(meta.get("name", stem)),
+                    measurements=dict(zip(names.tolist(), values.tolist())),
+                    landmarks=landmarks, meta=meta)
+    except LandmarkError as exc:
+        raise BodyMeshError(str(exc), file=path, place=f"landmark '{exc.landmark}'") from None
+    except ValueError as exc:  # a landmark that is no array of numbers
+        raise BodyMeshError(str(exc), file=path) from None
+
+
+#: what :func:`read_body` expects of each array: name, dtype kinds, dimensions
+_BODY_LAYOUT = (("vertices", "f", 2), ("faces", "iu", 2), ("measurement_names", "U", 1),
+                ("measurement_values", "f", 1), ("meta", "U", 0))
 
 
 def save_body(body: Body, path) -> Path:

@@ -25,6 +25,30 @@ _BIG = 0.3
 #: smaller loops than this fraction of the largest are ignored (fingers, toes)
 _TINY = 0.03
 
+#: the landmarks :func:`measure` finds on every body it accepts: points (3,) and axes (2, 3)
+LANDMARKS = ("neck_base", "shoulder_left", "shoulder_right", "wrist_left", "wrist_right",
+             "crotch", "bust", "waist", "hip", "torso_axis", "arm_axis_left", "arm_axis_right",
+             "leg_axis_left", "leg_axis_right")
+#: the measurements :func:`measure` returns [m]
+MEASUREMENTS = ("height", "bust", "waist", "hip", "neck", "arm_length", "inseam",
+                "shoulder_width", "bust_height", "waist_height", "hip_height", "crotch_height",
+                "armpit_height", "neck_base_height")
+
+
+class LandmarkError(ValueError):
+    """A human landmark that cannot be found on a mesh (or is missing from a body).
+
+    Attributes
+    ----------
+    landmark : str
+        What is missing: a name from :data:`LANDMARKS` or :data:`MEASUREMENTS`, or the level
+        the search needs (``crotch``, ``armpits``, ...).
+    """
+
+    def __init__(self, landmark: str, message: str):
+        self.landmark = landmark
+        super().__init__(message)
+
 
 @dataclass(eq=False)
 class Loop:
@@ -113,19 +137,26 @@ def measure(vertices, faces) -> tuple[dict[str, float], dict[str, np.ndarray]]:
         ``height``, ``bust``, ``waist``, ``hip``, ``neck`` (girths), ``arm_length``
         (shoulder point to wrist), ``inseam`` (floor to crotch), ``shoulder_width``,
         and the heights ``bust_height``, ``waist_height``, ``hip_height``,
-        ``crotch_height``, ``armpit_height``, ``neck_base_height``; all [m].
+        ``crotch_height``, ``armpit_height``, ``neck_base_height``; all [m]
+        (:data:`MEASUREMENTS`).
     landmarks : dict of str to array
         Points (3,) [m]: ``neck_base``, ``shoulder_left``, ``shoulder_right``,
         ``wrist_left``, ``wrist_right``, ``crotch``, ``bust``, ``waist``, ``hip``.
         Axes (2, 3) [m] as (start, end): ``torso_axis`` (hip centre to neck base),
         ``arm_axis_left/right`` (shoulder point to wrist), ``leg_axis_left/right`` (top of
-        the thigh to the ankle). Left is +X.
+        the thigh to the ankle). Left is +X. (:data:`LANDMARKS`.)
+
+    Raises
+    ------
+    LandmarkError
+        When the mesh is no standing human in an A-pose (a sphere, a box, arms down): it
+        names the first landmark that cannot be found.
     """
     v = np.asanyarray(vertices, dtype=np.float64)
     f = np.asanyarray(faces)
     height = float(v[:, 1].max() - v[:, 1].min())
     if not height > 0:
-        raise ValueError("vertices: the body has no height")
+        raise LandmarkError("height", "vertices: the body has no height")
     ys = np.arange(0.02, 0.96, _STEP) * height + v[:, 1].min()
     sections = [cross_section(v, f, y) for y in ys]
     nbig = np.array([len(_big(s)) for s in sections])
@@ -136,32 +167,43 @@ def measure(vertices, faces) -> tuple[dict[str, float], dict[str, np.ndarray]]:
     # Crotch: the legs' two large loops join into one.
     legs = np.flatnonzero((nbig >= 2) & (h > 0.3) & (h < 0.6))
     if len(legs) == 0:
-        raise ValueError("vertices: cannot find the crotch (are the legs apart, Y up?)")
+        raise LandmarkError("crotch", "cannot find the crotch: no level between 30% and 60% "
+                            "of the height has two legs apart (is it a person standing, Y up?)")
     ic = legs.max() + 1
     # Armpit: the highest level where the arms are apart from the torso.
     arms = np.flatnonzero((nreal >= 3) & (h > 0.55) & (h < 0.9))
     if len(arms) == 0:
-        raise ValueError("vertices: cannot find the armpits (are the arms away from the body?)")
+        raise LandmarkError("armpits", "cannot find the armpits: no level between 55% and 90% "
+                            "of the height has both arms apart from the torso (A-pose?)")
     ia = arms.max()
 
     torso_girth = np.array([_big(s)[0].girth if s else 0.0 for s in sections])
     lower_girth = np.array([girth(_big(s)) if s else 0.0 for s in sections])
 
-    def pick(lo, hi, values, fn):
+    def pick(name, lo, hi, values, fn):
         idx = np.arange(max(lo, 0), min(hi, len(ys)))
+        if len(idx) == 0:  # the levels found so far leave no room: the proportions are no human's
+            raise LandmarkError(name, f"cannot find the {name}: no level left between the "
+                                      "levels found below and above it")
         return int(idx[fn(values[idx])])
 
-    ib = pick(ia - int(0.10 / _STEP), ia - int(0.012 / _STEP), torso_girth, np.argmax)
-    iw = pick(ic + int(0.08 / _STEP), ib - int(0.04 / _STEP), torso_girth, np.argmin)
-    ih = pick(ic, iw - int(0.03 / _STEP), lower_girth, np.argmax)
-    inn = pick(ia + 1, int(0.92 / _STEP), torso_girth, np.argmin)
+    ib = pick("bust", ia - int(0.10 / _STEP), ia - int(0.012 / _STEP), torso_girth, np.argmax)
+    iw = pick("waist", ic + int(0.08 / _STEP), ib - int(0.04 / _STEP), torso_girth, np.argmin)
+    ih = pick("hip", ic, iw - int(0.03 / _STEP), lower_girth, np.argmax)
+    inn = pick("neck", ia + 1, int(0.92 / _STEP), torso_girth, np.argmin)
     neck = torso_girth[inn]
-    ibase = next(i for i in range(ia + 1, inn + 1) if torso_girth[i] <= 1.2 * neck)
+    ibase = next((i for i in range(ia + 1, inn + 1) if torso_girth[i] <= 1.2 * neck), None)
+    if ibase is None or not neck > 0:
+        raise LandmarkError("neck_base", "cannot find the neck base above the armpits")
 
-    def centre(i):
-        return np.mean([lp.centroid for lp in _big(sections[i])], axis=0)
+    def centre(name, i):
+        loops = _big(sections[i])
+        if not loops:
+            raise LandmarkError(name, f"cannot find the {name}: the mesh has no cross-section "
+                                      "at its level")
+        return np.mean([lp.centroid for lp in loops], axis=0)
 
-    neck_base = centre(ibase)
+    neck_base = centre("neck_base", ibase)
     torso_at_armpit = _big(sections[ia])[0]
 
     lm: dict[str, np.ndarray] = {}
@@ -172,7 +214,8 @@ def measure(vertices, faces) -> tuple[dict[str, float], dict[str, np.ndarray]]:
         near = (np.abs(v[:, 0] - xs) < 0.01) & (np.abs(v[:, 2] - neck_base[2]) < 0.08) \
             & (v[:, 1] > ys[ia])
         if not near.any():
-            raise ValueError("vertices: cannot find the shoulder points")
+            raise LandmarkError(f"shoulder_{side}", f"cannot find the {side} shoulder point "
+                                                    "above the armpit")
         shoulder = v[near][np.argmax(v[near][:, 1])]
         # Arm: the lateral loops below the armpit, down to the fingertips.
         arm = []
@@ -185,7 +228,8 @@ def measure(vertices, faces) -> tuple[dict[str, float], dict[str, np.ndarray]]:
                 continue
             arm.append((i, max(cand, key=lambda lp: lp.area)))
         if len(arm) < 5:
-            raise ValueError("vertices: cannot follow the arms")
+            raise LandmarkError(f"arm_axis_{side}", f"cannot follow the {side} arm down from "
+                                                    "the armpit")
         end = arm[-1][0]
         span = [(i, lp) for i, lp in arm
                 if end + int(0.06 / _STEP) <= i <= end + int(0.14 / _STEP)]
@@ -194,7 +238,8 @@ def measure(vertices, faces) -> tuple[dict[str, float], dict[str, np.ndarray]]:
         leg = [lp.centroid for i in (ic - int(0.03 / _STEP), int(0.03 / _STEP))
                for lp in _big(sections[i]) if sign * lp.centroid[0] > 0]
         if len(leg) != 2:
-            raise ValueError("vertices: cannot follow the legs")
+            raise LandmarkError(f"leg_axis_{side}", f"cannot follow the {side} leg down from "
+                                                    "the crotch")
         lm[f"shoulder_{side}"] = shoulder
         lm[f"wrist_{side}"] = wrist
         lm[f"arm_axis_{side}"] = np.array([shoulder, wrist])
@@ -207,7 +252,7 @@ def measure(vertices, faces) -> tuple[dict[str, float], dict[str, np.ndarray]]:
     for name, i in (("bust", ib), ("waist", iw), ("hip", ih), ("crotch", ic),
                     ("armpit", ia), ("neck_base", ibase)):
         meas[f"{name}_height"] = float(ys[i] - v[:, 1].min())
-    lm.update(neck_base=neck_base, bust=centre(ib), waist=centre(iw), hip=centre(ih),
-              crotch=centre(ic))
+    lm.update(neck_base=neck_base, bust=centre("bust", ib), waist=centre("waist", iw),
+              hip=centre("hip", ih), crotch=centre("crotch", ic))
     lm["torso_axis"] = np.array([lm["hip"], neck_base])
     return meas, lm

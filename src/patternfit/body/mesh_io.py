@@ -1,24 +1,44 @@
-"""Load any body mesh (OBJ, PLY, STL, GLB/glTF, ... through trimesh) and write bodies out.
+"""Load any body mesh (OBJ, PLY, STL, GLB/glTF, OFF through trimesh; a body saved as
+``.npz``) and write bodies out.
 
 A loaded body is brought to patternfit's frame: metres, Y up, feet on y = 0, centred on the
-Y axis. It must be closed: small holes are filled, anything worse is refused with a
-:class:`BodyMeshError` that says what is wrong.
+Y axis. It must be closed and a standing adult in an A-pose: small holes are filled,
+anything else is refused with a :class:`BodyMeshError` that names the file and says what is
+wrong (the missing landmark of a sphere, the unit guessed for an absurd size, ...).
+
+The unit of a mesh is guessed when not given: ``body.meta["units"]`` names the unit used
+and ``body.meta["units_guessed"]`` is True when it was guessed, so that front ends can say
+so (a body in inches must not pass silently as centimetres).
 """
 
 from __future__ import annotations
 
+import io
+import math
 from pathlib import Path
 
 import numpy as np
 
-from ..constants import UNITS
+from ..constants import UNITS, limits
 from ..errors import InputError
-from ..files import atomic_write_bytes
-from .measure import measure
+from ..files import atomic_write_bytes, read_bytes_capped
+from .measure import LandmarkError, measure
 from .model import Body
 
-#: plausible standing heights [m]: anything outside is taken as wrong units or not a body
-_HEIGHT_RANGE = (0.3, 2.8)
+#: plausible adult standing heights [m] (the built-in bodies are 1.65 and 1.78 m tall): a
+#: mesh outside is in other units than given or guessed, or no adult
+HEIGHT_RANGE = (1.0, 2.3)
+#: the guessed unit is the one that makes the mesh's height closest to this [m]
+_TYPICAL_HEIGHT = 1.7
+_UNIT_NAMES = {"m": "metres", "cm": "centimetres", "mm": "millimetres", "in": "inches"}
+#: holes bounded by at most this many edges are filled: a missing vertex leaves a hole of
+#: its valence (5 to 7 on a body mesh); larger openings are cuts the user must close
+_MAX_HOLE_EDGES = 8
+#: bytes a mesh file may take per allowed vertex (an ASCII OBJ with normals and texture
+#: coordinates takes about 150), so that the file cap follows ``limits.body_vertices``
+_FILE_BYTES_PER_VERTEX = 200
+#: the mesh formats read (trimesh also opens archives, which could expand without bound)
+_FORMATS = ("obj", "ply", "stl", "glb", "gltf", "off")
 _AXES = {"x": 0, "y": 1, "z": 2}
 
 
@@ -26,12 +46,17 @@ class BodyMeshError(InputError):
     """A body mesh that cannot be used, with the reason and the file."""
 
 
-def _guess_units(extent: float, file) -> float:
-    for name in ("m", "cm", "mm", "in"):
-        if _HEIGHT_RANGE[0] <= extent * UNITS[name] <= _HEIGHT_RANGE[1]:
-            return UNITS[name]
-    raise BodyMeshError(f"absurd size: the body is {extent:.4g} units tall, which is no "
-                        "human height in m, cm, mm or inches; give the units", file=file)
+def _guess_units(extent: float, file) -> str:
+    """The unit (a key of ``UNITS``) in which a mesh ``extent`` file units tall has the most
+    typical adult height; refused when even that height is no adult's."""
+    unit = min(UNITS, key=lambda u: abs(math.log(extent * UNITS[u] / _TYPICAL_HEIGHT)))
+    height = extent * UNITS[unit]
+    if not HEIGHT_RANGE[0] <= height <= HEIGHT_RANGE[1]:
+        raise BodyMeshError(
+            f"absurd size: the mesh is {extent:.4g} units tall; the nearest adult height is "
+            f"{height:.3g} m, taken as {_UNIT_NAMES[unit]} (guessed), outside "
+            f"{HEIGHT_RANGE[0]}-{HEIGHT_RANGE[1]} m; give the units", file=file, place="units")
+    return unit
 
 
 def _up_rotation(vertices, up: str | None) -> np.ndarray:
@@ -62,6 +87,77 @@ def _up_rotation(vertices, up: str | None) -> np.ndarray:
     return np.eye(3) + kx + kx @ kx / (1.0 + src @ dst)
 
 
+def _consistent_winding(faces) -> np.ndarray:
+    """(m, 3) ``faces`` with every connected patch wound one way.
+
+    trimesh.repair.fix_winding needs networkx; this walks a scipy breadth-first tree of the
+    face adjacency instead: each face is flipped when the faces on its path to the patch's
+    first face disagree an odd number of times.
+    """
+    import trimesh
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import breadth_first_order, connected_components
+
+    f = np.asarray(faces, dtype=np.int64)
+    m = len(f)
+    pairs, edges = trimesh.graph.face_adjacency(f, return_edges=True)
+
+    def forward(face_ids):  # does the shared edge run edges[:, 0] -> edges[:, 1] in the face?
+        fv = f[face_ids]
+        return ((fv == edges[:, :1]) & (np.roll(fv, -1, axis=1) == edges[:, 1:])).any(axis=1)
+
+    flip_rel = forward(pairs[:, 0]) == forward(pairs[:, 1])
+    _, label = connected_components(coo_matrix((np.ones(len(pairs)), pairs.T), shape=(m, m)),
+                                    directed=False)
+    # one extra node m joins every patch's first face, so that a single search covers all
+    firsts = np.unique(label, return_index=True)[1]
+    rows = np.concatenate([pairs[:, 0], firsts])
+    cols = np.concatenate([pairs[:, 1], np.full(len(firsts), m)])
+    weight = np.concatenate([flip_rel + 1.0, np.ones(len(firsts))])  # 0 would be no edge
+    graph = coo_matrix((weight, (rows, cols)), shape=(m + 1, m + 1)).tocsr()
+    graph = graph + graph.T
+    order, pred = breadth_first_order(graph, m, directed=False, return_predecessors=True)
+    node = order[1:]
+    anc = np.full(m + 1, m)
+    anc[node] = pred[node]
+    odd = np.zeros(m + 1, dtype=bool)
+    odd[node] = np.asarray(graph[node, pred[node]]).ravel() == 2.0
+    while (anc != m).any():  # pointer jumping: parity along the path to the root
+        odd = odd ^ odd[anc]
+        anc = anc[anc]
+    out = f.copy()
+    out[odd[:m]] = out[odd[:m]][:, ::-1]
+    return out
+
+
+def _hole_fans(faces) -> np.ndarray:
+    """(k, 3) triangles closing every hole of ``faces`` (consistently wound) bounded by a
+    simple loop of at most ``_MAX_HOLE_EDGES`` edges, wound like the rest.
+
+    trimesh.repair.fill_holes needs networkx; the loops are found here from trimesh's edge
+    grouping and scipy's connected components.
+    """
+    import trimesh
+
+    edges = trimesh.geometry.faces_to_edges(faces)
+    boundary = edges[trimesh.grouping.group_rows(np.sort(edges, axis=1), require_count=1)]
+    fans = []
+    for loop in trimesh.graph.connected_components(boundary, min_len=3):
+        if len(loop) > _MAX_HOLE_EDGES:
+            continue
+        sub = boundary[np.isin(boundary[:, 0], loop)]
+        after = dict(sub.tolist())
+        if len(sub) != len(loop) or len(after) != len(loop) or len(set(after.values())) != \
+                len(loop):
+            continue  # a vertex where two holes touch: no single loop to fill
+        ring = [int(loop[0])]
+        for _ in range(len(loop) - 1):
+            ring.append(after[ring[-1]])
+        # the loop runs like the faces around it, so new faces run it backwards
+        fans += [(ring[0], ring[i + 1], ring[i]) for i in range(1, len(ring) - 1)]
+    return np.array(fans, dtype=np.int64).reshape(-1, 3)
+
+
 def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | None = None,
                      name: str = "body", file=None) -> Body:
     """Check, repair and normalise a body mesh given as arrays.
@@ -69,81 +165,134 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
     Parameters
     ----------
     vertices : (n, 3) float
-        Vertices in ``units`` (guessed from the height when None).
+        Vertices in ``units``; at most ``limits.body_vertices``.
     faces : (m, 3) int
-        Triangles.
+        Triangles, indices into ``vertices``.
     units : str, optional
-        One of ``m``, ``cm``, ``mm``, ``in``.
+        One of ``m``, ``cm``, ``mm``, ``in``. When None, the unit that makes the height
+        closest to a typical adult's is guessed.
     up : str, optional
         The mesh's up axis (``y``, ``z``, ``-z``, ...); guessed when None.
     name : str
         Name of the body.
+    file : path, optional
+        Where the arrays come from, named in errors.
 
-    Returns a :class:`Body` in metres, Y up, feet on y = 0, with measurements and landmarks
-    when the pose allows (the reason is kept in ``meta["measure_error"]`` otherwise).
+    Returns a :class:`Body` in metres, Y up, feet on y = 0, with its measurements and
+    landmarks; ``meta`` holds ``units`` (the unit used), ``units_guessed`` and
+    ``scale_to_m``.
+
+    Raises :class:`BodyMeshError` naming ``file`` (and the place: ``units``, ``faces``, a
+    landmark) when the mesh is empty, too large, has NaN coordinates or bad face indices, a
+    height outside :data:`HEIGHT_RANGE` in the given or guessed unit, is open beyond small
+    holes, or is no standing human in an A-pose (a sphere, a box: the first landmark that
+    cannot be found is named).
     """
     import trimesh
 
-    v = np.asanyarray(vertices, dtype=np.float64)
+    v = np.asanyarray(vertices)
     f = np.asanyarray(faces)
     if v.ndim != 2 or v.shape[1] != 3 or len(v) == 0 or f.ndim != 2 or len(f) == 0:
         raise BodyMeshError("empty mesh: no vertices or no triangles", file=file)
     if f.shape[1] != 3:
         raise BodyMeshError(f"faces must be triangles, got {f.shape[1]} corners", file=file)
+    if len(v) > limits.body_vertices:
+        raise BodyMeshError(f"{len(v)} vertices, more than the limit of "
+                            f"{limits.body_vertices}", file=file)
+    if v.dtype.kind not in "iuf":
+        raise BodyMeshError(f"vertices must be numbers, got {v.dtype}", file=file)
+    if f.dtype.kind not in "iu":
+        raise BodyMeshError(f"faces must be vertex indices (integers), got {f.dtype}",
+                            file=file, place="faces")
+    v = v.astype(np.float64)
     if not np.isfinite(v).all():
         raise BodyMeshError(f"{int((~np.isfinite(v)).any(axis=1).sum())} vertices are NaN or "
                             "infinite", file=file)
+    if f.min() < 0 or f.max() >= len(v):
+        bad = int(f.min()) if f.min() < 0 else int(f.max())
+        raise BodyMeshError(f"vertex index {bad} out of range: the mesh has {len(v)} "
+                            "vertices", file=file, place="faces")
     if units is not None and units not in UNITS:
         raise ValueError(f"units: expected one of {', '.join(UNITS)}, got {units!r}")
     rot = _up_rotation(v, up)
     v = v @ rot.T
-    scale = UNITS[units] if units else _guess_units(float(np.ptp(v[:, 1])), file)
-    height = float(np.ptp(v[:, 1])) * scale
-    if not _HEIGHT_RANGE[0] <= height <= _HEIGHT_RANGE[1]:
-        raise BodyMeshError(f"absurd size: {height:.4g} m tall in {units}", file=file)
+    extent = float(np.ptp(v[:, 1]))
+    if not 0.0 < extent < np.inf:
+        raise BodyMeshError("the mesh has no height (flat or beyond float range)", file=file)
+    unit = units or _guess_units(extent, file)
+    scale = UNITS[unit]
+    height = extent * scale
+    if not HEIGHT_RANGE[0] <= height <= HEIGHT_RANGE[1]:
+        raise BodyMeshError(f"absurd size: {height:.4g} m tall in {_UNIT_NAMES[unit]} (given),"
+                            f" outside {HEIGHT_RANGE[0]}-{HEIGHT_RANGE[1]} m", file=file,
+                            place="units")
     v = v * scale
 
-    tm = trimesh.Trimesh(v, f, process=True, validate=True)
-    if not tm.is_watertight:
-        trimesh.repair.fill_holes(tm)
+    tm = trimesh.Trimesh(v, f, process=True)  # merges the copies of split vertices (STL)
+    tm.update_faces(tm.unique_faces() & tm.nondegenerate_faces())
+    tm.remove_unreferenced_vertices()
+    if len(tm.faces) == 0:
+        raise BodyMeshError("empty mesh: every triangle is degenerate", file=file)
+    faces_out = np.asarray(tm.faces, dtype=np.int64)
+    if not tm.is_winding_consistent:
+        faces_out = _consistent_winding(faces_out)
+    faces_out = np.concatenate([faces_out, _hole_fans(faces_out)])
+    tm = trimesh.Trimesh(tm.vertices, faces_out, process=False)
     if not tm.is_watertight:
         edges = trimesh.grouping.group_rows(tm.edges_sorted, require_count=2)
         bad = len(tm.edges_sorted) - 2 * len(edges)
         raise BodyMeshError(f"not a closed surface: {bad} edges are open or shared by more "
                             "than two triangles, beyond hole filling; close the mesh first",
                             file=file)
-    trimesh.repair.fix_winding(tm)
+    if not tm.is_winding_consistent:
+        raise BodyMeshError("the surface has no consistent outside (non-orientable)",
+                            file=file)
     if tm.volume < 0:
         tm.invert()
     v = np.asarray(tm.vertices, dtype=np.float64)
     v -= [0.5 * (v[:, 0].min() + v[:, 0].max()), v[:, 1].min(),
           0.5 * (v[:, 2].min() + v[:, 2].max())]
     faces_out = np.asarray(tm.faces, dtype=np.int64)
-    meta = {"source": str(file) if file else "arrays", "units": units or "guessed",
-            "scale_to_m": scale}
+    meta = {"source": str(file) if file else "arrays", "units": unit,
+            "units_guessed": units is None, "scale_to_m": scale}
     try:
         meas, lm = measure(v, faces_out)
-    except ValueError as exc:
-        meas, lm = {}, {}
-        meta["measure_error"] = str(exc)
-    return Body(v, faces_out, name=name, measurements=meas, landmarks=lm, meta=meta)
+        return Body(v, faces_out, name=name, measurements=meas, landmarks=lm, meta=meta)
+    except LandmarkError as exc:
+        raise BodyMeshError(f"no standing human body in an A-pose: {exc}", file=file,
+                            place=f"landmark '{exc.landmark}'") from None
 
 
 def load_body_mesh(path, *, units: str | None = None, up: str | None = None) -> Body:
-    """Load a body mesh file (OBJ, PLY, STL, GLB/glTF, OFF, ...) as a :class:`Body`.
+    """Load a body mesh file (OBJ, PLY, STL, GLB/glTF, OFF) as a :class:`Body`, or a body
+    saved as ``.npz`` (:func:`patternfit.body.builtin.save_body`: metres, Y up, measured).
 
     Scenes are merged into one mesh. See :func:`body_from_arrays` for units, ``up`` and the
-    checks; errors are :class:`BodyMeshError` naming the file.
+    checks; the file may take at most 200 bytes per allowed vertex. Errors are
+    :class:`BodyMeshError` naming the file.
     """
     import trimesh
 
     path = Path(path)
-    if not path.is_file():
+    fmt = path.suffix.lower().lstrip(".")
+    if fmt == "npz":
+        from .builtin import read_body
+
+        if units not in (None, "m") or up not in (None, "y"):
+            raise ValueError("units, up: a saved body (.npz) is in metres with Y up")
+        return read_body(path)
+    if fmt not in _FORMATS:
+        raise BodyMeshError(f"unsupported mesh format {path.suffix!r}; use "
+                            f"{', '.join('.' + x for x in _FORMATS)} or .npz", file=path)
+    if not path.exists():
         raise BodyMeshError("no such file", file=path)
+    data = read_bytes_capped(path, limit=_FILE_BYTES_PER_VERTEX * limits.body_vertices,
+                             error=BodyMeshError)
     try:
-        mesh = trimesh.load(path, force="mesh", process=False)
+        mesh = trimesh.load(io.BytesIO(data), file_type=fmt, force="mesh", process=False,
+                            resolver=trimesh.resolvers.FilePathResolver(path.parent))
     except Exception as exc:  # trimesh raises many kinds for unreadable files
-        raise BodyMeshError(f"cannot read the mesh: {exc}", file=path) from exc
+        raise BodyMeshError(f"cannot read the mesh: {exc}", file=path) from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise BodyMeshError("empty mesh: no triangles", file=path)
     return body_from_arrays(mesh.vertices, mesh.faces, units=units, up=up, name=path.stem,

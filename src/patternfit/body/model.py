@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .measure import LANDMARKS, MEASUREMENTS, LandmarkError
 from .sdf import DistanceField
 
 
@@ -22,9 +23,18 @@ class Body:
     name : str
         Short name (``"male_heavy"``, a file's stem, ...).
     measurements : dict of str to float
-        Girths, lengths and heights [m] (see :func:`patternfit.body.measure.measure`).
+        Girths, lengths and heights [m] (see :func:`patternfit.body.measure.measure`); every
+        name in :data:`~patternfit.body.measure.MEASUREMENTS` is required.
     landmarks : dict of str to array
-        Points (3,) and axes (2, 3) [m] used to place panels.
+        Points (3,) and axes (2, 3) [m] used to place panels; every name in
+        :data:`~patternfit.body.measure.LANDMARKS` is required.
+
+    Raises
+    ------
+    ValueError
+        Arrays of the wrong shape; :class:`~patternfit.body.measure.LandmarkError` (a
+        ``ValueError``) naming a required landmark or measurement that is missing or not
+        finite, since placement needs every one of them.
     meta : dict
         Provenance: source, licence, generator parameters.
     """
@@ -46,6 +56,14 @@ class Body:
         self.landmarks = {k: np.asanyarray(p, dtype=np.float64)
                           for k, p in self.landmarks.items()}
         self.measurements = {k: float(x) for k, x in self.measurements.items()}
+        for k in LANDMARKS:
+            p = self.landmarks.get(k)
+            if p is None or p.shape not in ((3,), (2, 3)) or not np.isfinite(p).all():
+                raise LandmarkError(k, f"landmarks: '{k}' is missing or not a finite point")
+        for k in MEASUREMENTS:
+            if not 0.0 < self.measurements.get(k, 0.0) < np.inf:
+                raise LandmarkError(k, f"measurements: '{k}' is missing or not a positive "
+                                       "length")
         self._fields: dict[tuple, DistanceField] = {}
 
     @property

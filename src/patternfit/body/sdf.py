@@ -243,9 +243,11 @@ class DistanceField:
         path = cache_dir() / f"sdf-{key.hexdigest()[:24]}.npz"
         if cache and path.exists():
             try:
-                with np.load(path) as z:
-                    return cls(z["origin"], float(z["spacing"]), z["values"])
-            except (OSError, ValueError, KeyError):
+                with np.load(path, allow_pickle=False) as z:
+                    field = cls(z["origin"], float(z["spacing"]), z["values"])
+                if field.spacing == spacing and np.isfinite(field.values).all():
+                    return field
+            except Exception:  # zipfile and numpy raise many kinds for a damaged file
                 pass  # a damaged cache file is recomputed and overwritten
 
         field = cls._build(v, f, spacing, padding, band)

@@ -1,26 +1,86 @@
-"""The Typer application every command module registers on."""
+"""The Typer application every command module registers on, and its one error boundary.
+
+Exit status of every command: 0 done; 1 the result failed its checks (a drape or fit that
+went wrong); 2 an input file or option was refused (``error: <message>`` on standard error);
+3 an internal error (one line; ``PATTERNFIT_DEBUG=1`` shows the traceback).
+"""
 
 from __future__ import annotations
 
-import json
+import math
+import os
 import sys
 
 import typer
 from rich.console import Console
+from rich.markup import escape
+from typer.core import TyperGroup
+from typer.exceptions import TyperException
 
-app = typer.Typer(name="patternfit", no_args_is_help=True, add_completion=False,
+from ..constants import limits
+from ..files import dumps_finite_json
+
+#: set (to anything but empty) to get the traceback of an error instead of one line
+DEBUG_ENV = "PATTERNFIT_DEBUG"
+
+#: exit status of a command whose result failed its checks
+CHECKS_FAILED = 1
+#: exit status of a refused input or option
+REFUSED = 2
+#: exit status of an internal error
+INTERNAL = 3
+
+
+class _Boundary(TyperGroup):
+    """The root command group. Every command (sub-groups included) runs inside
+    :meth:`invoke`, so ``CliRunner`` and the console script share one error boundary."""
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except (typer.Exit, typer.Abort, TyperException):
+            raise  # exits, usage errors: Typer prints these itself
+        except Exception as exc:
+            if os.environ.get(DEBUG_ENV):
+                raise
+            if isinstance(exc, ValueError):
+                # InputError (a file or option refused, naming it) and the argument checks
+                # of the library functions, whose messages name the argument
+                fail(str(exc))
+            first = (str(exc).strip().splitlines() or [""])[0]
+            fail(f"internal error: {type(exc).__name__}: {first} (rerun with {DEBUG_ENV}=1 "
+                 "for the traceback)", INTERNAL)
+
+
+app = typer.Typer(name="patternfit", cls=_Boundary, no_args_is_help=True, add_completion=False,
                   help="Virtual try-on for garment design: mesh, drape, evaluate the fit, "
-                       "edit the pattern. Lengths in metres unless an option says otherwise.")
+                       "edit the pattern. Lengths in metres unless an option says otherwise.",
+                  epilog="Exit status: 0 done, 1 the result failed its checks, 2 an input or "
+                         "option was refused, 3 an internal error (PATTERNFIT_DEBUG=1 shows "
+                         "its traceback).")
 
 console = Console(stderr=True)
 
 
 def print_json(data) -> None:
-    """Write ``data`` as JSON on standard output (for ``--json``)."""
-    sys.stdout.write(json.dumps(data, indent=1) + "\n")
+    """Write ``data`` as JSON on standard output (for ``--json``); never ``NaN``."""
+    sys.stdout.write(dumps_finite_json(data, indent=1) + "\n")
 
 
-def fail(message: str, code: int = 2) -> None:
+def fail(message: str, code: int = REFUSED) -> None:
     """Print an error in red on standard error and exit with ``code``."""
-    console.print(f"[bold red]error:[/] {message}", highlight=False, soft_wrap=True)
+    console.print(f"[bold red]error:[/] {escape(message)}", highlight=False, soft_wrap=True)
     raise typer.Exit(code)
+
+
+def finite(value):
+    """Option callback refusing NaN and infinity, which Typer's float type accepts."""
+    if value is not None and not math.isfinite(value):
+        raise typer.BadParameter(f"expected a finite number, got {value}")
+    return value
+
+
+def triangles_option(default, help: str = "Target triangle count."):
+    """The ``--triangles``/``-n`` option of every command that meshes: 1 to
+    ``limits.triangles``, so that a typo cannot ask for more memory than the machine has."""
+    return typer.Option(default, "--triangles", "-n", min=1, max=limits.triangles, help=help)

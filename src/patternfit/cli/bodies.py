@@ -7,7 +7,7 @@ from typing import Optional
 
 import typer
 
-from .app import app, console, fail, print_json
+from .app import app, console, fail, finite, print_json
 
 _MAIN = ("height", "bust", "waist", "hip", "arm_length", "inseam")
 
@@ -20,10 +20,7 @@ def _summary(body) -> dict:
 def _write(body, out: Path) -> None:
     from ..body import save_body_mesh
 
-    try:
-        path = save_body_mesh(body, out)
-    except ValueError as exc:
-        fail(str(exc))
+    path = save_body_mesh(body, out)
     console.print(f"wrote {path} ({len(body.vertices)} vertices, metres, Y up)")
 
 
@@ -53,10 +50,7 @@ def bodies(
         console.print(table)
         console.print("aliases: " + ", ".join(f"'{a}' = {n}" for a, n in ALIASES.items()))
         return
-    try:
-        body = load_body(name)
-    except ValueError as exc:
-        fail(str(exc))
+    body = load_body(name)
     if out is not None:
         _write(body, out)
     if json_:
@@ -70,11 +64,11 @@ def bodies(
 @app.command()
 def body(
     out: Path = typer.Option(..., "--out", help="Mesh file to write (.ply, .obj, .stl, .glb)."),
-    gender: float = typer.Option(0.5, help="0 = male, 1 = female."),
-    weight: float = typer.Option(0.5, help="0 = thin, 1 = heavy."),
-    muscle: float = typer.Option(0.5, help="0 = little, 1 = much muscle."),
+    gender: float = typer.Option(0.5, help="0 = male, 1 = female.", callback=finite),
+    weight: float = typer.Option(0.5, help="0 = thin, 1 = heavy.", callback=finite),
+    muscle: float = typer.Option(0.5, help="0 = little, 1 = much muscle.", callback=finite),
     height: Optional[float] = typer.Option(None, help="Standing height [m]; anny's average "
-                                           "when omitted."),
+                                           "when omitted.", callback=finite),
     json_: bool = typer.Option(False, "--json", help="Print the measurements as JSON."),
 ) -> None:
     """Make a custom body with the anny model and write it with its measurements (needs
@@ -84,9 +78,7 @@ def body(
 
         result = anny_body(gender=gender, weight=weight, muscle=muscle, stature=height,
                            name=out.stem)
-    except ImportError as exc:
-        fail(str(exc))
-    except ValueError as exc:
+    except ImportError as exc:  # anny is optional; the message says how to install it
         fail(str(exc))
     _write(result, out)
     if json_:

@@ -8,10 +8,16 @@ from typing import Optional
 
 import typer
 
-from .app import app, console, fail, print_json
+from .app import CHECKS_FAILED, app, console, fail, finite, print_json, triangles_option
 
 Out = typer.Option(..., "--out", "-o", help="Output folder (created if missing).")
 Json = typer.Option(False, "--json", help="Print machine-readable results on stdout.")
+
+
+def num(value, spec: str, scale: float = 1.0) -> str:
+    """``value * scale`` formatted with ``spec``, or ``n/a`` for a value the report could
+    not give (None: it was not finite)."""
+    return "n/a" if value is None else format(value * scale, spec)
 
 
 def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
@@ -21,38 +27,44 @@ def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
     for col in ("panel", "area 2D [m²]", "area 3D [m²]", "ϖ"):
         table.add_column(col, justify="right" if col != "panel" else "left")
     for p in report["panels"]:
-        table.add_row(p["name"], f"{p['area_2d_m2']:.4f}", f"{p['area_3d_m2']:.4f}",
-                      f"{p['fitting_ratio'] * 100:.2f}%")
+        table.add_row(p["name"], num(p["area_2d_m2"], ".4f"), num(p["area_3d_m2"], ".4f"),
+                      num(p["fitting_ratio"], ".2f", 100) + "%")
     console.print(table)
     fc = report["fit_classes"]
-    console.print(f"fitting ratio ϖ = [bold]{report['fitting_ratio'] * 100:.2f}%[/]  "
-                  f"(symmetric {report['fitting_ratio_symmetric'] * 100:.2f}%)  tight "
-                  f"{fc['tight'] * 100:.1f}% · fit {fc['fit'] * 100:.1f}% · loose "
-                  f"{fc['loose'] * 100:.1f}% of the area")
+    console.print(f"fitting ratio ϖ = [bold]{num(report['fitting_ratio'], '.2f', 100)}%[/]  "
+                  f"(symmetric {num(report['fitting_ratio_symmetric'], '.2f', 100)}%)  tight "
+                  f"{num(fc['tight'], '.1f', 100)}% · fit {num(fc['fit'], '.1f', 100)}% · loose "
+                  f"{num(fc['loose'], '.1f', 100)}% of the area")
     console.print(f"mesh: {report['mesh']['vertices']} vertices, {report['mesh']['triangles']} "
-                  f"triangles, min angle {report['mesh']['min_angle_deg']:.1f}°")
+                  f"triangles, min angle {num(report['mesh']['min_angle_deg'], '.1f')}°")
     console.print(f"wrote {out}/ in {seconds:.1f} s: "
                   + ", ".join(sorted(v for v in report["files"].values())))
 
 
 def load_pattern_arg(pattern: str, size: str):
     """A built-in garment name or a pattern file in any format patternfit reads."""
-    from ..pattern.errors import PatternError
     from ..pattern.formats import load_any_pattern
     from ..pattern.library import GARMENTS, build
 
     if pattern in GARMENTS:
-        try:
-            return build(pattern, size)
-        except ValueError as exc:
-            fail(str(exc))
+        return build(pattern, size)
     path = Path(pattern)
     if not path.exists():
         fail(f"'{pattern}' is neither a built-in garment ({', '.join(GARMENTS)}) nor a file")
-    try:
-        return load_any_pattern(path)
-    except PatternError as exc:
-        fail(str(exc))
+    return load_any_pattern(path)
+
+
+def exit_if_checks_failed(report: dict, out: Path) -> None:
+    """Exit with status 1, saying why, when the fit ``report`` (written to ``out``) did not
+    pass its checks: a drape check failed, or a value was not finite (``checks.non_finite``
+    names it; the report holds None there), so that no script takes it for a result."""
+    checks = report.get("checks") or {}
+    if checks.get("passed") is not False:
+        return
+    bad = checks.get("non_finite") or []
+    more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
+    why = f"not finite: {', '.join(bad[:5])}{more}" if bad else "see 'checks' in report.json"
+    fail(f"the fit in {out}/ failed its checks ({why})", CHECKS_FAILED)
 
 
 @app.command()
@@ -89,10 +101,7 @@ def patterns(
         return
     if name not in GARMENTS:
         fail(f"unknown garment '{name}' (built-in: {', '.join(GARMENTS)})")
-    try:
-        pattern = build(name, size)
-    except ValueError as exc:
-        fail(str(exc))
+    pattern = build(name, size)
     if out is None:
         fail("give --out FILE.json to write the pattern")
     save_pattern(pattern, out, units=units)
@@ -106,8 +115,9 @@ def patterns(
 @app.command()
 def mesh(
     pattern: str = typer.Argument(..., help="Pattern file (JSON) or built-in garment name."),
-    triangles: int = typer.Option(20000, "--triangles", "-n", help="Target triangle count."),
-    min_angle: float = typer.Option(25.0, help="Minimum triangle angle [degrees]."),
+    triangles: int = triangles_option(20000),
+    min_angle: float = typer.Option(25.0, help="Minimum triangle angle [degrees].",
+                                    callback=finite),
     size: str = typer.Option("M", "--size", "-s", help="Size of a built-in garment."),
     out: Path = Out,
     json_out: bool = Json,
@@ -119,10 +129,7 @@ def mesh(
 
     pat = load_pattern_arg(pattern, size)
     t0 = time.perf_counter()
-    try:
-        m = mesh_pattern(pat, triangles=triangles, min_angle=min_angle)
-    except ValueError as exc:
-        fail(str(exc))
+    m = mesh_pattern(pat, triangles=triangles, min_angle=min_angle)
     seconds = time.perf_counter() - t0
     save_garment(out, pat, m)
     info = {"garment": pat.name, "folder": str(out), "vertices": m.n_vertices,
@@ -142,22 +149,21 @@ def fit(
     garment: Path = typer.Option(..., "--garment", "-g",
                                  help="Saved garment folder with a 3D state (positions.npy)."),
     out: Path = Out,
-    tight: float = typer.Option(0.02, help="Area growth above which a triangle is tight."),
-    loose: float = typer.Option(0.02, help="Area loss above which a triangle is loose."),
+    tight: float = typer.Option(0.02, help="Area growth above which a triangle is tight.",
+                                callback=finite),
+    loose: float = typer.Option(0.02, help="Area loss above which a triangle is loose.",
+                                callback=finite),
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     json_out: bool = Json,
 ) -> None:
-    """Evaluate the fit of a saved 3D state: ϖ, colour maps, report.json."""
+    """Evaluate the fit of a saved 3D state: ϖ, colour maps, report.json. Exits with status 1
+    when the evaluation failed its checks (a value such as ϖ is not finite)."""
     from ..fit.metrics import FitEvaluator
     from ..fit.outputs import write_fit_outputs
     from ..mesh.store import load_garment
-    from ..pattern.errors import PatternError
 
     t0 = time.perf_counter()
-    try:
-        pat, m, x = load_garment(garment)
-    except PatternError as exc:
-        fail(str(exc))
+    pat, m, x = load_garment(garment)
     if x is None:
         fail(f"{garment} holds no 3D state (positions.npy): place or drape the garment first")
     try:
@@ -169,6 +175,7 @@ def fit(
         print_json(report)
     else:
         print_fit_summary(report, out, time.perf_counter() - t0)
+    exit_if_checks_failed(report, out)
 
 
 @app.command()
@@ -179,9 +186,8 @@ def demo(
     size: Optional[str] = typer.Option(None, "--size", "-s",
                                        help="Size: S, M, L or XL (default: the garment's "
                                             "Table 2 size, else M)."),
-    triangles: Optional[int] = typer.Option(None, "--triangles", "-n",
-                                            help="Target triangle count (default 3000; 22000 "
-                                                 "with --no-drape)."),
+    triangles: Optional[int] = triangles_option(None, "Target triangle count (default 3000; "
+                                                      "22000 with --no-drape)."),
     drape: bool = typer.Option(True, help="Run the design loop (drape, regions, automatic "
                                           "correction); --no-drape only places the garment."),
     json_out: bool = Json,
@@ -210,10 +216,7 @@ def demo(
         else ("female_average", 0.8, "stretch_knit", 1.0)
     size = size or (row.size if row else "M")
     t0 = time.perf_counter()
-    try:
-        pat = grade(build(garment, size), None, narrow, 1.0)
-    except ValueError as exc:
-        fail(str(exc))
+    pat = grade(build(garment, size), None, narrow, 1.0)
     console.print(f"[bold]{garment}[/] size {size.upper()} drafted too small (narrowed to "
                   f"{narrow:.0%} of its width) in {fabric}, on the body '{body}'")
     session = DesignSession(pat, load_body(body), fabric, triangles or 3000, 0.90,
@@ -244,10 +247,7 @@ def _demo_placed(out: Path, garment: str, size: str, triangles: int, json_out: b
 
     t0 = time.perf_counter()
     with console.status("meshing") as status:
-        try:
-            pat = build(garment, size)
-        except ValueError as exc:
-            fail(str(exc))
+        pat = build(garment, size)
         m = mesh_pattern(pat, triangles=triangles)
         status.update("placing (isometric roll onto cylinders)")
         x = place_on_cylinders(pat, m)

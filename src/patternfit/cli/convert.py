@@ -8,7 +8,7 @@ from typing import Optional
 
 import typer
 
-from .app import app, console, fail, print_json
+from .app import app, console, print_json
 
 
 @app.command()
@@ -26,16 +26,10 @@ def convert(
     json_out: bool = typer.Option(False, "--json", help="Print machine-readable results."),
 ) -> None:
     """Convert a sewing pattern between formats (lengths keep their true size)."""
-    from ..pattern.errors import PatternError
     from ..pattern.formats import load_any_pattern, save_any_pattern
 
-    try:
-        pattern = load_any_pattern(source)
-        written = save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
-    except PatternError as exc:
-        fail(str(exc))
-    except ValueError as exc:
-        fail(str(exc))
+    pattern = load_any_pattern(source)
+    written = save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
     suggested = pattern.meta.get("suggested_seams", [])
     warnings = pattern.meta.get("warnings", [])
     result = {"source": str(source), "source_format": pattern.meta.get("source_format"),

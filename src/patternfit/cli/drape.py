@@ -6,26 +6,40 @@ import time
 from pathlib import Path
 
 import typer
+from rich.markup import escape
 
-from .app import app, console, fail, print_json
-from .commands import load_pattern_arg, print_fit_summary
+from .app import app, console, fail, finite, print_json, triangles_option
+from .commands import exit_if_checks_failed, load_pattern_arg, num, print_fit_summary
 
 
 def load_body_arg(body: str, units: str | None = None):
-    """A built-in body name or a body mesh file."""
+    """A built-in body name or a body mesh file (``units`` of the file; guessed from the
+    body's height when None, and the guess printed)."""
     from ..body.builtin import list_bodies, load_body
-    from ..body.mesh_io import BodyMeshError, load_body_mesh
+    from ..body.mesh_io import load_body_mesh
 
     path = Path(body)
     if path.suffix and path.exists():
-        try:
-            return load_body_mesh(path, units=units)
-        except BodyMeshError as exc:
-            fail(str(exc))
+        b = load_body_mesh(path, units=units)
+        say_guessed_units(b, path)
+        return b
     try:
         return load_body(body)
-    except (KeyError, ValueError, FileNotFoundError):
+    except ValueError:
         fail(f"'{body}' is neither a built-in body ({', '.join(list_bodies())}) nor a mesh file")
+
+
+def say_guessed_units(body, path: Path) -> None:
+    """Print the unit a body mesh file was read in when it was guessed, not given: a wrong
+    guess (a child's body in inches read as centimetres) changes every result."""
+    import numpy as np
+
+    if not body.meta.get("units_guessed"):
+        return
+    unit = body.meta["units"]
+    console.print(f"[yellow]note:[/] {escape(str(path))}: units guessed as '{unit}' from the "
+                  f"body's height ({np.ptp(body.vertices[:, 1]):.2f} m); give --units if "
+                  "that is wrong", highlight=False)
 
 
 def drape_progress(console_, *, total: int):
@@ -52,10 +66,12 @@ def drape(
     size: str = typer.Option("M", "--size", "-s", help="Size of a built-in garment: S–XL."),
     fabric: str = typer.Option("cotton", "--fabric", "-f",
                                help="Fabric preset name or a fabric JSON file."),
-    triangles: int = typer.Option(3000, "--triangles", "-n", help="Target triangle count."),
-    clearance: float = typer.Option(0.03, help="Gap between body and panels at placement [m]."),
-    max_iterations: int = typer.Option(5000, help="Iteration limit of the drape."),
-    time_limit: float = typer.Option(300.0, help="Time limit of the drape [s]."),
+    triangles: int = triangles_option(3000),
+    clearance: float = typer.Option(0.03, help="Gap between body and panels at placement [m].",
+                                    callback=finite),
+    max_iterations: int = typer.Option(5000, min=0, help="Iteration limit of the drape."),
+    time_limit: float = typer.Option(300.0, help="Time limit of the drape [s].",
+                                     callback=finite),
     units: str = typer.Option(None, help="Units of a body mesh file (m, cm, mm, in); guessed "
                                          "from its height when not given."),
     engine: str = typer.Option("static", help="static (equilibrium, default) or newton "
@@ -78,7 +94,7 @@ def drape(
     from ..fit.metrics import FitEvaluator
     from ..fit.outputs import write_fit_outputs
     from ..mesh.triangulate import mesh_pattern
-    from ..sim.fabrics import FabricError, get_fabric
+    from ..sim.fabrics import get_fabric
     from ..sim.newton_engine import ENGINES, NewtonMissingError, drape_with
     from ..sim.solver import SolverSettings
 
@@ -87,14 +103,8 @@ def drape(
         fail(f"--engine: one of {', '.join(ENGINES)}; --device and --from-static need newton")
     b = load_body_arg(body, units)
     pat = load_pattern_arg(pattern, size)
-    try:
-        fab = get_fabric(fabric)
-    except FabricError as exc:
-        fail(str(exc))
-    try:
-        m = mesh_pattern(pat, triangles=triangles)
-    except ValueError as exc:
-        fail(str(exc))
+    fab = get_fabric(fabric)
+    m = mesh_pattern(pat, triangles=triangles)
     settings = SolverSettings(max_iterations=max_iterations, time_limit=time_limit)
     bar, callback = drape_progress(console, total=max_iterations)
     with bar:
@@ -117,10 +127,10 @@ def drape(
         c = report["checks"]
         verdict = "[green]passed[/]" if c["passed"] else "[bold red]FAILED[/]"
         console.print(f"checks {verdict}: {c['inside_vertices']} vertices inside the body "
-                      f"(deepest {c['max_depth_mm']:.2f} mm), seam gap {c['seam_gap_max_mm']:.2f}"
-                      f" mm, {c['self_intersections']} self-intersections, equilibrium "
-                      f"{c['equilibrium']} ({c['stop_reason']}); {report['timing']['iterations']}"
-                      f" iterations in {report['timing']['seconds']:.1f} s; ϖ after placement "
-                      f"{placed_ratio * 100:.2f}%")
-    if not report["checks"]["passed"]:
-        raise typer.Exit(1)
+                      f"(deepest {num(c['max_depth_mm'], '.2f')} mm), seam gap "
+                      f"{num(c['seam_gap_max_mm'], '.2f')} mm, {c['self_intersections']} "
+                      f"self-intersections, equilibrium {c['equilibrium']} "
+                      f"({c['stop_reason']}); {report['timing']['iterations']} iterations in "
+                      f"{num(report['timing']['seconds'], '.1f')} s; ϖ after placement "
+                      f"{num(report['fitting_ratio_placed'], '.2f', 100)}%")
+    exit_if_checks_failed(report, out)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Optional
 
@@ -106,7 +105,9 @@ def edit_command(
     quality requires it) and is written beside the new pattern.
     """
     from ..edit import update_mesh
+    from ..files import read_json_file
     from ..mesh import GarmentMesh, mesh_pattern
+    from ..mesh.store import replace_pattern_and_mesh
     from ..pattern import PatternError, load_pattern, save_pattern
 
     if operation not in OPERATIONS:
@@ -120,17 +121,14 @@ def edit_command(
         mesh_out = mesh_out or (mesh if in_place else out.with_suffix(".npz"))
         if mesh_out.resolve() == mesh.resolve() and not in_place:
             fail(f"--mesh-out is the input mesh {mesh}; pass --in-place to overwrite it")
-    try:
-        old = load_pattern(pattern_file)
-        units = json.loads(pattern_file.read_text(encoding="utf-8")).get("units", "m")
-        opts = dict(panel=panel, edge=edge, dx=dx, dy=dy, control=control, a=_pair(a, "--a"),
-                    b=_pair(b, "--b"), amount=amount, sx=sx, sy=sy,
-                    about=_pair(about, "--about"), dart=dart, centre=_pair(centre, "--centre"),
-                    length=length, width=width, axis=_pair(axis, "--axis"), shape=shape,
-                    partner=partner)
-        new = _apply(old, operation, opts)
-    except (PatternError, ValueError, KeyError) as exc:
-        fail(str(exc).strip("'\""))
+    old = load_pattern(pattern_file)
+    # the edited pattern is written in the units of the input (load_pattern checked them)
+    units = read_json_file(pattern_file, error=PatternError).get("units", "m")
+    opts = dict(panel=panel, edge=edge, dx=dx, dy=dy, control=control, a=_pair(a, "--a"),
+                b=_pair(b, "--b"), amount=amount, sx=sx, sy=sy, about=_pair(about, "--about"),
+                dart=dart, centre=_pair(centre, "--centre"), length=length, width=width,
+                axis=_pair(axis, "--axis"), shape=shape, partner=partner)
+    new = _apply(old, operation, opts)
     result = {"operation": operation, "pattern": str(out), "area_before_m2": old.area(),
               "area_after_m2": new.area()}
     if mesh is not None:
@@ -145,9 +143,10 @@ def edit_command(
             m2 = mesh_pattern(new, triangles=m.n_triangles)
             result["mesh"] = {"file": str(mesh_out), "remeshed_panels": "all",
                               "reason": exc.reason}
-    save_pattern(new, out, units=units)
-    if mesh is not None:
-        m2.save(mesh_out)
+    if mesh is None:
+        save_pattern(new, out, units=units)
+    else:  # one step: a crash never leaves the new pattern beside the old mesh
+        replace_pattern_and_mesh(out, new, mesh_out, m2, units=units)
     if json_out:
         print_json(result)
         return

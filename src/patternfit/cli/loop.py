@@ -8,7 +8,7 @@ from pathlib import Path
 
 import typer
 
-from .app import app, console, fail, print_json
+from .app import app, console, fail, finite, print_json, triangles_option
 from .commands import load_pattern_arg
 from .drape import load_body_arg
 
@@ -53,18 +53,21 @@ def run_correction(session, *, threshold: float, max_iterations: int, out: Path,
 @app.command("correct")
 def correct_command(
     body: str = typer.Option(..., "--body", "-b", help="Built-in body name or a mesh file."),
+    units: str = typer.Option(None, help="Units of a body mesh file (m, cm, mm, in); guessed "
+                                         "from its height when not given."),
     pattern: str = typer.Option(..., "--pattern", "-p",
                                 help="Built-in garment name or a pattern file."),
     size: str = typer.Option("M", "--size", "-s", help="Size of a built-in garment: S–XL."),
     fabric: str = typer.Option("cotton", "--fabric", "-f",
                                help="Fabric preset name or a fabric JSON file."),
-    triangles: int = typer.Option(3000, "--triangles", "-n", help="Target triangle count."),
+    triangles: int = triangles_option(3000),
     threshold: float = typer.Option(0.9, help="ϖ to reach (0.9 = 90%)."),
-    max_iterations: int = typer.Option(3, "--max-iterations", "-k",
+    max_iterations: int = typer.Option(3, "--max-iterations", "-k", min=0,
                                        help="Correction rounds (edit + re-drape) at most."),
     relax: float = typer.Option(1.0, help="Sew the first drape widened by this factor (>= 1), "
                                           "then restore the true width: for a garment "
-                                          "drafted too small to be sewn on the body."),
+                                          "drafted too small to be sewn on the body.",
+                                callback=finite),
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     out: Path = typer.Option(..., "--out", "-o", help="Output folder (new pattern, report)."),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
@@ -79,25 +82,17 @@ def correct_command(
     and after/ fit outputs and the regions outlined on the 2D pattern.
     """
     from ..loop.session import DesignSession
-    from ..sim.fabrics import FabricError, get_fabric
+    from ..sim.fabrics import get_fabric
 
     if not 0 < threshold <= 1.5:
         fail(f"--threshold: expected a fraction such as 0.9, got {threshold}")
-    if max_iterations < 0:
-        fail("--max-iterations: must be >= 0")
     pat = load_pattern_arg(pattern, size)
     if Path(pattern).exists() and (out / "pattern.json").resolve() == Path(pattern).resolve():
         fail("--out: would overwrite the input pattern; choose another folder")
-    b = load_body_arg(body)
-    try:
-        fab = get_fabric(fabric)
-    except FabricError as exc:
-        fail(str(exc))
+    b = load_body_arg(body, units)
+    fab = get_fabric(fabric)
     t0 = time.perf_counter()
-    try:
-        session = DesignSession(pat, b, fab, triangles, threshold, relax=relax)
-    except ValueError as exc:
-        fail(str(exc))
+    session = DesignSession(pat, b, fab, triangles, threshold, relax=relax)
     report = run_correction(session, threshold=threshold, max_iterations=max_iterations,
                             out=out, pictures=pictures)
     if json_out:
@@ -113,11 +108,11 @@ def correct_command(
 
 @reproduce.command("table2")
 def table2(
-    triangles: int = typer.Option(None, "--triangles", "-n",
-                                  help="Override the paper's triangle counts (for a quick run)."),
+    triangles: int = triangles_option(None, "Override the paper's triangle counts (for a "
+                                            "quick run)."),
     garments: str = typer.Option("coat,skirt,trousers", help="Comma-separated rows to run."),
     figures: Path = typer.Option(Path("docs/figures"), help="Where the colour maps go."),
-    max_iterations: int = typer.Option(3, "--max-iterations", "-k",
+    max_iterations: int = typer.Option(3, "--max-iterations", "-k", min=0,
                                        help="Correction rounds at most."),
     json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
 ) -> None:
@@ -149,7 +144,7 @@ def table2(
 
 @reproduce.command("variants")
 def variants(
-    triangles: int = typer.Option(3000, "--triangles", "-n", help="Target triangle count."),
+    triangles: int = triangles_option(3000),
     fabric: str = typer.Option("stretch_knit", "--fabric", "-f",
                                help="Fabric preset or JSON file."),
     figures: Path = typer.Option(Path("docs/figures"), help="Where the 3D maps go."),

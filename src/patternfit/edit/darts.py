@@ -11,8 +11,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..constants import limits, tol
 from ..pattern import Edge, Loop, Pattern, PatternError, Seam, SeamSide
-from .tools import _finish, _vec
+from .tools import _arg, _finish, _panel, _said
 
 SHAPES = ("diamond", "triangle")
 
@@ -45,20 +46,29 @@ def insert_dart(pattern: Pattern, panel: str, name: str, centre, *, length: floa
     """Insert a dart of ``length`` x ``width`` [m] centred at ``centre`` (2,), its long axis
     along ``axis`` (2,). Its legs become seams, so sewing closes it."""
     if shape not in SHAPES:
-        raise ValueError(f"shape: expected one of {SHAPES}, got {shape!r}")
-    if not (length > 0 and width > 0):
-        raise ValueError("length, width: must be positive [m]")
-    p = pattern.panel(panel)
+        raise PatternError(f"shape: expected one of {SHAPES}, got {shape!r}", panel=panel)
+    length, width = _size(length, "length", panel), _size(width, "width", panel)
+    centre = _arg(centre, "centre", panel, lo=-limits.extent, hi=limits.extent, vector=True)
+    axis = _arg(axis, "axis", panel, lo=-np.inf, hi=np.inf, vector=True)
+    if not np.linalg.norm(axis) > 0:
+        raise PatternError("axis: expected a direction, got (0, 0)", panel=panel)
+    p = _panel(pattern, panel)
     if any(lp.name == name for lp in p.loops):
         raise PatternError(f"a loop called '{name}' exists already", panel=panel)
-    pts = _dart_points(_vec(centre, "centre"), _vec(axis, "axis"), length, width, shape)
+    pts = _dart_points(centre, axis, length, width, shape)
     new = pattern.with_panel(replace(p, inner=(*p.inner, _dart_loop(name, pts))))
     new = replace(new, seams=(*new.seams, *_dart_seams(panel, name, shape)))
-    return _finish(pattern, new, set(), False)
+    return _finish(pattern, new, set(), False,
+                   f"{_said('length', length)}, {_said('width', width)}")
+
+
+def _size(x, name: str, panel: str) -> float:
+    """A dart's length or width [m]: at least an edge long, at most the pattern's reach."""
+    return _arg(x, name, panel, lo=tol.edge_length)
 
 
 def _dart(pattern, panel, name):
-    p = pattern.panel(panel)
+    p = _panel(pattern, panel)
     for li, lp in enumerate(p.inner, start=1):
         if lp.name == name:
             pts = [np.array(e.start) for e in lp.edges]
@@ -70,12 +80,13 @@ def _dart(pattern, panel, name):
 
 def move_dart(pattern: Pattern, panel: str, name: str, offset) -> Pattern:
     """Translate dart ``name`` by ``offset`` (2,) [m]; topology (and the mesh's) unchanged."""
-    d = _vec(offset, "offset")
+    d = _arg(offset, "offset", panel, vector=True)
     p, li, pts = _dart(pattern, panel, name)
     loop = _dart_loop(name, [q + d for q in pts])
     inner = list(p.inner)
     inner[li - 1] = loop
-    return _finish(pattern, pattern.with_panel(replace(p, inner=tuple(inner))), set(), False)
+    return _finish(pattern, pattern.with_panel(replace(p, inner=tuple(inner))), set(), False,
+                   _said("offset", d))
 
 
 def resize_dart(pattern: Pattern, panel: str, name: str, *, length: float | None = None,
@@ -92,10 +103,9 @@ def resize_dart(pattern: Pattern, panel: str, name: str, *, length: float | None
         base = 0.5 * (left + right)
         centre, axis = 0.5 * (apex + base), apex - base
         w0 = np.linalg.norm(right - left)
-    length = np.linalg.norm(axis) if length is None else float(length)
-    width = w0 if width is None else float(width)
-    if not (length > 0 and width > 0):
-        raise ValueError("length, width: must be positive [m]")
+    length = np.linalg.norm(axis) if length is None else _size(length, "length", panel)
+    width = w0 if width is None else _size(width, "width", panel)
     inner = list(p.inner)
     inner[li - 1] = _dart_loop(name, _dart_points(centre, axis, length, width, shape))
-    return _finish(pattern, pattern.with_panel(replace(p, inner=tuple(inner))), set(), False)
+    return _finish(pattern, pattern.with_panel(replace(p, inner=tuple(inner))), set(), False,
+                   f"{_said('length', length)}, {_said('width', width)}")

@@ -1,11 +1,14 @@
 """Pattern editing tools (paper Sec. 6.4): pure functions from a pattern to a new pattern.
 
 Boundary tools move a corner, an edge or a curve control point, lengthen or shorten a panel,
-or grade it; the internal tool inserts, moves and resizes darts. Every result is checked
-(``check_pattern``): an edit that makes a loop cross itself is refused, and one that leaves a
-seam's two sides of different length is refused unless ``partner=True``, which makes the
-matching edit on the partner edge (its far corner slides along the edge until the lengths
-agree). Offsets and lengths in metres, in the panel's flat frame.
+or grade it; the internal tool inserts, moves and resizes darts. Arguments are checked
+before any geometry is computed (finite, offsets within twice ``limits.extent``, scales
+within ``limits.edit_scale`` and its inverse), and every result is checked: a panel beyond
+``limits.extent``, turned inside out, collapsed or crossing itself is refused, and so is a
+seam whose two sides differ in length unless ``partner=True``, which makes the matching
+edit on the partner edge (its far corner slides along the edge until the lengths agree).
+Refusals are :class:`PatternError` naming the panel and the argument. Offsets and lengths
+in metres, in the panel's flat frame.
 """
 
 from __future__ import annotations
@@ -14,16 +17,45 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..constants import tol
+from ..constants import limits, tol
 from ..pattern import Edge, Loop, Panel, Pattern, PatternError
-from ..pattern.validate import check_pattern
+from ..pattern.validate import check_panel, check_seams
 
 
-def _vec(x, name: str) -> np.ndarray:
-    v = np.asanyarray(x, dtype=np.float64)
-    if v.shape != (2,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"{name}: expected a finite 2-vector [m], got {x!r}")
-    return v
+#: the largest move an edit may ask for, per coordinate [m]: any two points of a pattern
+#: within ``limits.extent`` of the origin are at most this far apart
+REACH = 2.0 * limits.extent
+
+
+def _arg(x, name: str, panel: str | None, *, lo: float = -REACH, hi: float = REACH,
+         vector: bool = False, unit: str = "m"):
+    """Check one edit argument: ``x`` as a float, or (``vector``) as a (2,) float array, each
+    value finite and within [``lo``, ``hi``] [``unit``]; anything else (a scale of 1e300,
+    an offset of 1e30, NaN) is refused with a :class:`PatternError` naming ``panel`` and the
+    argument ``name`` before any geometry is computed with it."""
+    try:
+        v = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        v = None
+    if v is None or v.shape != ((2,) if vector else ()) or not np.isfinite(v).all() \
+            or (v < lo).any() or (v > hi).any():
+        what = "a 2-vector 'x,y'" if vector else "a number"
+        if np.isinf(lo) and np.isinf(hi):
+            span = f"{what} of finite values"
+        else:
+            span = (f"{what} {'with both values ' if vector else ''}in [{lo:g}, {hi:g}]"
+                    f"{' ' + unit if unit else ''}")
+        raise PatternError(f"{name}: expected {span}, got {x!r}", panel=panel)
+    return v if vector else float(v)
+
+
+def _panel(pattern: Pattern, name: str) -> Panel:
+    """The panel called ``name``; a :class:`PatternError` listing the panels otherwise."""
+    for p in pattern.panels:
+        if p.name == name:
+            return p
+    raise PatternError(f"no such panel (panels: {', '.join(p.name for p in pattern.panels)})",
+                       panel=name)
 
 
 def _locate(panel: Panel, edge: str) -> tuple[int, int]:
@@ -116,17 +148,64 @@ def _slide_end(pattern: Pattern, panel: str, edge: str, length: float, *, at_sta
     return pattern.with_panel(p)
 
 
-def _finish(old: Pattern, new: Pattern, edited: set, partner: bool) -> Pattern:
-    """Check the result; with ``partner``, first make the matching partner edits."""
+def _said(name: str, value, unit: str = "m") -> str:
+    """``name=value unit`` for a message, a 2-vector as ``(x, y)``."""
+    v = np.atleast_1d(np.asarray(value, dtype=np.float64))
+    text = f"{v[0]:g}" if v.size == 1 else "(" + ", ".join(f"{c:g}" for c in v) + ")"
+    return f"{name}={text}{' ' + unit if unit else ''}"
+
+
+def _check_result(old: Pattern, new: Pattern) -> None:
+    """Refuse a result that is no garment. For each panel the edit changed, in the order
+    that names the cause rather than a symptom: a coordinate (of the outline or a curve's
+    control point) that is not finite or lies beyond ``limits.extent``; what ``check_panel`` refuses (a loop crossing itself, a
+    degenerate edge); a loop turned inside out (its signed area changes sign) or collapsed
+    to less than ``1 / limits.edit_scale**2`` of its area (more than the strongest grading
+    shrinks it). Then the seams of the whole pattern (``check_seams``). The panels the edit
+    left alone are not checked again."""
+    before = {p.name: p for p in old.panels}
+    for p in new.panels:
+        was = before[p.name]
+        if was is p:
+            continue
+        for lp in p.loops:
+            # Bézier controls as well as the curve: a reader refuses either beyond the extent
+            pts = np.concatenate([lp.polygon(), *(np.asarray(e.points) for e in lp.edges)])
+            if not np.isfinite(pts).all():
+                raise PatternError(f"loop '{lp.name}' has a NaN or infinite coordinate",
+                                   panel=p.name)
+            reach = float(np.abs(pts).max())
+            if reach > limits.extent:
+                raise PatternError(f"loop '{lp.name}' reaches {reach:.3g} m from the origin, "
+                                   f"beyond the limit of {limits.extent:g} m", panel=p.name)
+        check_panel(p)
+        loops = {lp.name: lp for lp in was.loops}
+        for lp in p.loops:
+            if lp.name not in loops:
+                continue
+            a0, a1 = loops[lp.name].signed_area(), lp.signed_area()
+            if a0 * a1 < 0:
+                raise PatternError(f"loop '{lp.name}' is turned inside out (its signed area "
+                                   f"goes from {a0:.4g} to {a1:.4g} m²)", panel=p.name)
+            # the slack lets the strongest allowed grading through despite rounding
+            if abs(a1) * limits.edit_scale ** 2 < abs(a0) * (1.0 - 1e-9):
+                raise PatternError(f"loop '{lp.name}' collapses (area {abs(a0):.4g} → "
+                                   f"{abs(a1):.3g} m²)", panel=p.name)
+    check_seams(new)
+
+
+def _finish(old: Pattern, new: Pattern, edited: set, partner: bool, cause: str) -> Pattern:
+    """Check the result of the edit ``cause`` (its arguments, for the message); with
+    ``partner``, first make the matching partner edits."""
     if partner:
         new = _match_partners(old, new, set(edited))
     try:
-        check_pattern(new)
+        _check_result(old, new)
     except PatternError as err:
         hint = ("" if partner or "different length" not in err.reason else
                 " (edit the partner edge to match: partner=True, --partner on the "
                 "command line)")
-        raise PatternError(f"edit refused: {err.reason}{hint}", panel=err.panel,
+        raise PatternError(f"edit refused ({cause}): {err.reason}{hint}", panel=err.panel,
                            edge=err.edge) from None
     return new
 
@@ -138,24 +217,26 @@ def _panel_edges(panel: Panel) -> set:
 def move_point(pattern: Pattern, panel: str, corner: str, offset, *,
                partner: bool = False) -> Pattern:
     """Move the corner where edge ``corner`` starts by ``offset`` (2,) [m]."""
-    p = _move_corner(pattern.panel(panel), corner, _vec(offset, "offset"))
+    d = _arg(offset, "offset", panel, vector=True)
+    p = _move_corner(_panel(pattern, panel), corner, d)
     li, k = _locate(p, corner)
     prev = p.loops[li].edges[k - 1].name
-    return _finish(pattern, pattern.with_panel(p), {(panel, corner), (panel, prev)}, partner)
+    return _finish(pattern, pattern.with_panel(p), {(panel, corner), (panel, prev)}, partner,
+                   _said("offset", d))
 
 
 def move_edge(pattern: Pattern, panel: str, edge: str, offset, *,
               partner: bool = False) -> Pattern:
     """Translate edge ``edge`` by ``offset`` (2,) [m]; its neighbours' ends follow."""
-    d = _vec(offset, "offset")
-    p = pattern.panel(panel)
+    d = _arg(offset, "offset", panel, vector=True)
+    p = _panel(pattern, panel)
     li, k = _locate(p, edge)
     edges = p.loops[li].edges
     p = _with_loop(p, li, replace(p.loops[li], edges=tuple(
         e.with_points(np.array(e.points) + d) if e.name == edge else e for e in edges)))
     p = _move_corner_neighbour(p, li, k, d)
     names = {(panel, edges[k - 1].name), (panel, edge), (panel, edges[(k + 1) % len(edges)].name)}
-    return _finish(pattern, pattern.with_panel(p), names, partner)
+    return _finish(pattern, pattern.with_panel(p), names, partner, _said("offset", d))
 
 
 def _move_corner_neighbour(p: Panel, li: int, k: int, d) -> Panel:
@@ -170,19 +251,21 @@ def edit_curve(pattern: Pattern, panel: str, edge: str, offset, *, control: int 
                partner: bool = False) -> Pattern:
     """Move Bézier control point ``control`` of ``edge`` by ``offset`` (2,) [m]; a straight
     edge becomes a quadratic Bézier whose control starts at the midpoint."""
-    d = _vec(offset, "offset")
-    p = pattern.panel(panel)
-    e = p.edge(edge)
+    d = _arg(offset, "offset", panel, vector=True)
+    p = _panel(pattern, panel)
+    li, k = _locate(p, edge)
+    e = p.loops[li].edges[k]
     if e.kind == "line":
         e = Edge.quadratic(e.name, e.start, 0.5 * (e.start + e.end), e.end)
     if e.kind == "arc":
         raise PatternError("an arc has no control points", panel=panel, edge=edge)
     if not 1 <= control <= len(e.points) - 2:
-        raise ValueError(f"control: a {e.kind} edge has control points 1..{len(e.points) - 2}")
+        raise PatternError(f"control: a {e.kind} edge has control points "
+                           f"1..{len(e.points) - 2}, got {control!r}", panel=panel, edge=edge)
     pts = np.array(e.points)
     pts[control] += d
     return _finish(pattern, pattern.with_panel(p.with_edge(e.with_points(pts))),
-                   {(panel, edge)}, partner)
+                   {(panel, edge)}, partner, _said("offset", d))
 
 
 def lengthen(pattern: Pattern, panel: str, a, b, amount: float, *,
@@ -192,14 +275,14 @@ def lengthen(pattern: Pattern, panel: str, a, b, amount: float, *,
     The panel is cut across the segment a–b at its midpoint; every outline point beyond the
     cut (on ``b``'s side) moves by ``amount`` along a→b, so edges crossing the cut stretch.
     """
-    a, b = _vec(a, "a"), _vec(b, "b")
+    a = _arg(a, "a", panel, lo=-limits.extent, hi=limits.extent, vector=True)
+    b = _arg(b, "b", panel, lo=-limits.extent, hi=limits.extent, vector=True)
+    amount = _arg(amount, "amount", panel)
     if np.linalg.norm(b - a) <= tol.merge:
-        raise ValueError("a, b: the two points coincide")
-    if not np.isfinite(amount):
-        raise ValueError("amount: must be finite [m]")
+        raise PatternError("a, b: the two points coincide", panel=panel)
     u = (b - a) / np.linalg.norm(b - a)
     mid = 0.5 * (a + b)
-    p = pattern.panel(panel)
+    p = _panel(pattern, panel)
     changed = set()
 
     def shift(e: Edge) -> Edge:
@@ -214,21 +297,24 @@ def lengthen(pattern: Pattern, panel: str, a, b, amount: float, *,
     p = replace(p, outline=replace(p.outline, edges=tuple(shift(e) for e in p.outline.edges)),
                 inner=tuple(replace(lp, edges=tuple(shift(e) for e in lp.edges))
                             for lp in p.inner))
-    return _finish(pattern, pattern.with_panel(p), changed, partner)
+    return _finish(pattern, pattern.with_panel(p), changed, partner, _said("amount", amount))
 
 
 def grade(pattern: Pattern, panel: str | None, sx: float, sy: float, *, about=None,
           partner: bool = False) -> Pattern:
     """Scale one panel (or all, ``panel=None``) by ``sx``, ``sy`` about ``about`` (2,) [m]
-    (default: each panel's outline centroid). Arcs allow only ``sx == sy``."""
-    if not (np.isfinite(sx) and np.isfinite(sy) and sx > 0 and sy > 0):
-        raise ValueError(f"sx, sy: must be positive, got {sx}, {sy}")
+    (default: each panel's outline centroid). Each factor lies within ``limits.edit_scale``
+    and its inverse; arcs allow only ``sx == sy``."""
+    sx, sy = (_arg(s, n, panel, lo=1.0 / limits.edit_scale, hi=limits.edit_scale, unit="")
+              for s, n in ((sx, "sx"), (sy, "sy")))
+    if about is not None:
+        about = _arg(about, "about", panel, lo=-limits.extent, hi=limits.extent, vector=True)
     m = np.diag([sx, sy])
     names = [panel] if panel is not None else [p.name for p in pattern.panels]
     new, changed = pattern, set()
     for name in names:
-        p = new.panel(name)
-        c = p.outline.polygon().mean(axis=0) if about is None else _vec(about, "about")
+        p = _panel(new, name)
+        c = p.outline.polygon().mean(axis=0) if about is None else about
         try:
             p = replace(p, outline=_transform(p.outline, m, c),
                         inner=tuple(_transform(lp, m, c) for lp in p.inner))
@@ -236,7 +322,8 @@ def grade(pattern: Pattern, panel: str | None, sx: float, sy: float, *, about=No
             raise PatternError(f"grading refused: {err}", panel=name) from None
         new = new.with_panel(p)
         changed |= _panel_edges(p)
-    return _finish(pattern, new, changed, partner)
+    return _finish(pattern, new, changed, partner,
+                   f"{_said('sx', sx, '')}, {_said('sy', sy, '')}")
 
 
 def _transform(loop: Loop, m: np.ndarray, c: np.ndarray) -> Loop:

@@ -20,11 +20,23 @@ def colored_mesh(positions, triangles, vertex_rgb) -> trimesh.Trimesh:
     triangles : (m, 3) int
     vertex_rgb : (n, 3) float
         Colours in [0, 1].
+
+    Raises ``ValueError`` for non-finite positions or colours, or triangles indexing beyond
+    the positions.
     """
-    rgba = np.concatenate([np.clip(np.asanyarray(vertex_rgb) * 255, 0, 255),
-                           np.full((len(positions), 1), 255)], axis=1).astype(np.uint8)
-    return trimesh.Trimesh(vertices=np.asanyarray(positions, dtype=np.float64),
-                           faces=np.asanyarray(triangles), vertex_colors=rgba, process=False)
+    x = np.asanyarray(positions, dtype=np.float64)
+    t = np.asanyarray(triangles)
+    rgb = np.asanyarray(vertex_rgb, dtype=np.float64)
+    # a mesh file would carry these on silently as "nan" text or as broken faces
+    if x.ndim != 2 or x.shape[1] != 3 or not np.isfinite(x).all():
+        raise ValueError(f"positions: expected finite (n, 3) positions, got shape {x.shape}")
+    if t.ndim != 2 or t.shape[1] != 3 or (t.size and (t.min() < 0 or t.max() >= len(x))):
+        raise ValueError("triangles: expected (m, 3) indices of the positions")
+    if rgb.shape != x.shape or not np.isfinite(rgb).all():
+        raise ValueError(f"vertex_rgb: expected finite ({len(x)}, 3) colours, got {rgb.shape}")
+    rgba = np.concatenate([np.clip(rgb * 255, 0, 255), np.full((len(x), 1), 255)],
+                          axis=1).astype(np.uint8)
+    return trimesh.Trimesh(vertices=x, faces=t, vertex_colors=rgba, process=False)
 
 
 def export_garment(positions, triangles, vertex_rgb, path) -> Path:

@@ -23,7 +23,12 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
 
     ``positions`` (n, 3) [m] is the garment's 3D state; ``body`` an optional
     (vertices (k, 3), faces (f, 3)) pair drawn in the 3D picture; ``progress`` an optional
-    callable taking a short message per file.
+    callable taking a short message per file. The garment folder is written as one step
+    (:func:`~patternfit.mesh.store.save_garment`).
+
+    The report (:func:`~patternfit.fit.report.fit_report`) holds no NaN or infinity: a value
+    that is not finite is None and ``report["checks"]["passed"]`` is False, and a front end
+    must then report a failed fit.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

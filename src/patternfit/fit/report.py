@@ -1,12 +1,19 @@
-"""``report.json``: the stable contract of a fit evaluation (keys are added, never renamed)."""
+"""``report.json``: the stable contract of a fit evaluation (keys are added, never renamed).
+
+A report never holds ``NaN`` or ``Infinity``: a value that is not finite (ϖ of a garment
+collapsed to zero area, say) is written as ``null`` and the report's ``checks`` fail
+(``fit_finite`` false, ``non_finite`` listing the values, ``passed`` false).
+"""
 
 from __future__ import annotations
 
-import json
+import math
 from pathlib import Path
 from typing import Any
 
-from ..files import atomic_write_text, json_default
+import numpy as np
+
+from ..files import atomic_write_text, dumps_finite_json
 from ..mesh.garment import GarmentMesh
 from ..mesh.quality import min_angle
 from .metrics import FitResult
@@ -22,8 +29,14 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
     Keys: ``fitting_ratio`` (eq. 2, a fraction, 1.0 = 100 %), ``fitting_ratio_symmetric``,
     ``panels`` (name, area_2d_m2, area_3d_m2, fitting_ratio), ``fit_classes`` (area fraction
     per class), ``fit_thresholds``, ``stretch``, ``mesh`` (vertices, triangles,
-    min_angle_deg, seams, seam_pairs, panels), ``state`` and ``units``. ``extra`` is merged
-    in at the top level (later stages add ``checks``, ``timing``...).
+    min_angle_deg, seams, seam_pairs, panels), ``state``, ``units`` and ``checks``.
+    ``extra`` is merged in at the top level (later stages add ``timing``...); its
+    ``checks`` (the drape's) are merged into the report's.
+
+    ``checks`` holds ``fit_finite`` (every number of the report is finite), ``passed``
+    (``fit_finite`` and the drape's ``passed`` where given) and, when a value is not finite,
+    ``non_finite``: where it was (``"fitting_ratio"``, ``"panels[0].area_3d_m2"``); the value
+    itself is ``None``. A report that did not pass is a failed fit.
     """
     panels = []
     for i, name in enumerate(mesh.panel_names):
@@ -51,11 +64,39 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
         "units": {"length": "m", "area": "m^2", "fitting_ratio": "fraction (1.0 = 100%)",
                   "area_change": "fraction (S3/S2 - 1)"},
     }
-    if extra:
-        report.update(extra)
+    extra = dict(extra or {})
+    drape_checks = extra.pop("checks", None) or {}
+    report.update(extra)
+    report["checks"] = dict(drape_checks)
+    non_finite: list[str] = []
+    report = _finite_or_none(report, "", non_finite)
+    checks = report["checks"]
+    checks["fit_finite"] = not non_finite
+    checks["passed"] = checks.get("passed", True) is not False and not non_finite
+    if non_finite:
+        checks["non_finite"] = non_finite
     return report
 
 
+def _finite_or_none(value, where: str, found: list[str]):
+    """``value`` made JSON-ready with every non-finite number replaced by None, its place
+    appended to ``found``."""
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    elif isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, dict):
+        return {k: _finite_or_none(v, f"{where}.{k}" if where else str(k), found)
+                for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite_or_none(v, f"{where}[{i}]", found) for i, v in enumerate(value)]
+    if isinstance(value, float) and not math.isfinite(value):
+        found.append(where)
+        return None
+    return value
+
+
 def write_report(report: dict[str, Any], path) -> Path:
-    """Write ``report`` as indented JSON, atomically."""
-    return atomic_write_text(path, json.dumps(report, indent=1, default=json_default) + "\n")
+    """Write ``report`` as indented JSON, atomically; ``ValueError`` if it holds a NaN or
+    an infinity (:func:`fit_report` replaces them, failing the checks)."""
+    return atomic_write_text(path, dumps_finite_json(report, indent=1) + "\n")

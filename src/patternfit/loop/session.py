@@ -2,16 +2,19 @@
 edit history (METHOD.md section 1: drape → evaluate → edit → re-drape).
 
 Every state of the history keeps its pattern, its mesh and, once draped, its 3D positions,
-so undo restores exactly what was there. Saving is atomic: a session folder holds complete
-snapshots and a ``current`` file naming the last one, replaced in one rename.
+so undo restores exactly what was there. A saved session is a folder of immutable files:
+each state written once into its own folder, a snapshot file listing the history, and a
+``current`` file naming the snapshot, replaced in one rename (see :meth:`DesignSession.save`).
 """
 
 from __future__ import annotations
 
 import io
-import json
+import os
+import re
 import shutil
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
@@ -19,7 +22,10 @@ from typing import Any, Callable
 import numpy as np
 
 from ..body.builtin import list_bodies, load_body, read_body, save_body
-from ..files import atomic_write_bytes, atomic_write_text, json_default
+from ..constants import limits
+from ..errors import InputError, SessionError
+from ..files import (atomic_write_bytes, atomic_write_text, dumps_finite_json, read_json_file,
+                     read_npy)
 from ..fit.metrics import FitEvaluator, FitResult
 from ..mesh.garment import GarmentMesh
 from ..mesh.triangulate import mesh_pattern
@@ -35,6 +41,19 @@ EDIT_OPS = ("move_point", "move_edge", "edit_curve", "lengthen", "grade", "inser
             "move_dart", "resize_dart")
 
 SNAPSHOT_FORMAT = "patternfit-session"
+#: the layout :meth:`DesignSession.save` writes; version 1 (a full copy of every state per
+#: snapshot) is still read
+SNAPSHOT_VERSION = 2
+#: the folder of a saved session that holds one folder per state
+STATES = "states"
+_SNAPSHOT = re.compile(r"snapshot-(\d+)(\.json)?")
+_KEY = re.compile(r"[0-9a-f]{32}")
+_POSITIONS = re.compile(r"positions-[0-9a-f]{32}\.npy")
+_BODY = re.compile(r"body-[0-9a-f]{32}\.npz")
+
+
+def _new_key() -> str:
+    return os.urandom(16).hex()
 
 #: largest motion of a flat vertex [m] between the stages of a warm re-drape
 STAGE_LENGTH = 0.03
@@ -61,6 +80,9 @@ class State:
         ϖ of ``positions``.
     checks : dict or None
         The drape's checks (``DrapeChecks.to_dict()`` plus ``passed``).
+    key : str
+        The name of the state's folder in a saved session (random, fixed for the state's
+        life: pattern and mesh are never replaced, so the folder is written once).
     """
 
     label: str
@@ -70,6 +92,10 @@ class State:
     positions: np.ndarray | None = None
     fitting_ratio: float | None = None
     checks: dict | None = None
+    key: str = field(default_factory=_new_key, repr=False)
+    # (positions array, its file name): a re-drape replaces the array (never edits it in
+    # place), so a new array object is what needs a new file
+    _stored_positions: tuple | None = field(default=None, repr=False)
 
 
 @dataclass(eq=False)
@@ -106,6 +132,7 @@ class DesignSession:
     position: int = 0
     _drape: Drape | None = field(default=None, repr=False)
     relax: float = 1.0
+    _stored_body: tuple | None = field(default=None, repr=False)  # (body, its file name)
 
     def __post_init__(self):
         self.fabric = get_fabric(self.fabric)
@@ -265,64 +292,202 @@ class DesignSession:
 
     # -- files ---------------------------------------------------------------------------
     def save(self, folder) -> Path:
-        """Save the whole session (every state) into ``folder``, atomically.
+        """Save the session into ``folder``; a save after an edit writes only what is new.
 
-        A new snapshot folder is written completely, then the ``current`` file is replaced
-        to name it (one rename), then older snapshots are removed: a save killed at any
-        point leaves the previous session loadable.
+        Each state is written once into ``states/<key>/`` (pattern and mesh, into a hidden
+        folder renamed into place when complete; each drape of it as its own positions
+        file), the body once as ``body-<key>.npz``; then a snapshot file lists the history,
+        then ``current`` is replaced to name it (one rename), then the files no longer named
+        are removed. A save killed at any point leaves the previous session loadable.
         """
         folder = Path(folder)
-        folder.mkdir(parents=True, exist_ok=True)
-        snap = folder / f"snapshot-{time.time_ns()}"
-        snap.mkdir()
-        body_ref = self.body.name if self.body.name in list_bodies() else "body.npz"
-        if body_ref == "body.npz":
-            save_body(self.body, snap / "body.npz")
-        states = []
-        for i, s in enumerate(self.history):
-            d = snap / f"state-{i:03d}"
-            save_pattern(s.pattern, d / "pattern.json")
-            s.mesh.save(d / "mesh.npz")
-            if s.positions is not None:
-                buf = io.BytesIO()
-                np.save(buf, s.positions)
-                atomic_write_bytes(d / "positions.npy", buf.getvalue())
-            states.append({"label": s.label, "edit": s.edit, "fitting_ratio": s.fitting_ratio,
-                           "checks": s.checks, "draped": s.positions is not None})
-        meta = {"format": SNAPSHOT_FORMAT, "version": 1, "body": body_ref,
-                "fabric": vars(self.fabric), "triangles": self.triangles,
-                "threshold": self.threshold, "relax": self.relax, "position": self.position,
-                "states": states}
-        atomic_write_text(snap / "session.json", json.dumps(meta, indent=1, default=json_default))
-        atomic_write_text(folder / "current", snap.name + "\n")
-        for old in folder.glob("snapshot-*"):
-            if old.name != snap.name:
-                shutil.rmtree(old, ignore_errors=True)
+        (folder / STATES).mkdir(parents=True, exist_ok=True)
+        if self._stored_body is None or self._stored_body[0] is not self.body:
+            self._stored_body = (self.body, f"body-{_new_key()}.npz")
+        if not (folder / self._stored_body[1]).is_file():
+            save_body(self.body, folder / self._stored_body[1])
+        meta = {"format": SNAPSHOT_FORMAT, "version": SNAPSHOT_VERSION,
+                "body": self._stored_body[1], "fabric": vars(self.fabric),
+                "triangles": self.triangles, "threshold": self.threshold, "relax": self.relax,
+                "position": self.position,
+                "states": [_store_state(folder / STATES, s) for s in self.history]}
+        name = f"snapshot-{time.time_ns()}.json"
+        atomic_write_text(folder / name, dumps_finite_json(meta, indent=1))
+        atomic_write_text(folder / "current", name + "\n")
+        _remove_unnamed(folder, name, meta)
         return folder
 
     @classmethod
     def load(cls, folder) -> "DesignSession":
-        """Load a session saved by :meth:`save`."""
+        """Load a session saved by :meth:`save`: the snapshot ``current`` names or, when
+        that is missing or does not load, the newest snapshot that loads completely.
+        Nothing is deleted. Raises :class:`~patternfit.errors.SessionError` naming the file
+        at fault when no snapshot loads."""
         folder = Path(folder)
+        snapshots = sorted((p.name for p in _snapshots(folder)),
+                           key=lambda n: int(_SNAPSHOT.fullmatch(n).group(1)), reverse=True)
         try:
-            snap = folder / (folder / "current").read_text().strip()
-            meta = json.loads((snap / "session.json").read_text())
-        except (OSError, json.JSONDecodeError) as exc:
-            raise PatternError(f"not a saved design session ({exc})", file=folder) from None
-        if meta.get("format") != SNAPSHOT_FORMAT:
-            raise PatternError("not a saved design session", file=folder)
-        body = read_body(snap / "body.npz") if meta["body"] == "body.npz" \
-            else load_body(meta["body"])
+            named = (folder / "current").read_text(encoding="utf-8").strip()
+        except (OSError, UnicodeDecodeError):
+            named = None
+        if named in snapshots:
+            snapshots.remove(named)
+            snapshots.insert(0, named)
+        if not snapshots:
+            raise SessionError("not a saved design session (no snapshot)", file=folder)
+        errors = []
+        for name in snapshots:
+            try:
+                return cls._load_snapshot(folder, name)
+            except SessionError as exc:
+                errors.append(exc)
+        raise errors[0]
+
+    @classmethod
+    def _load_snapshot(cls, folder: Path, name: str) -> "DesignSession":
+        v1 = (folder / name).is_dir()
+        meta_file = folder / name / "session.json" if v1 else folder / name
+        meta = read_json_file(meta_file, error=SessionError)
+        bad = _bad_meta(meta, v1)
+        if bad:
+            raise SessionError(bad, file=meta_file)
+        if v1:
+            body_file = folder / name / "body.npz" if meta["body"] == "body.npz" else None
+        else:
+            body_file = folder / meta["body"]
+        with _as_session_error(body_file or meta_file):
+            body = load_body(meta["body"]) if body_file is None else read_body(body_file)
+        with _as_session_error(meta_file):
+            fabric = Fabric(**meta["fabric"])
         history = []
-        for i, s in enumerate(meta["states"]):
-            d = snap / f"state-{i:03d}"
-            positions = np.load(d / "positions.npy") if s["draped"] else None
-            history.append(State(s["label"], s["edit"], load_pattern(d / "pattern.json"),
-                                 GarmentMesh.load(d / "mesh.npz"), positions,
-                                 s["fitting_ratio"], s["checks"]))
-        return cls(history[meta["position"]].pattern, body, Fabric(**meta["fabric"]),
-                   meta["triangles"], meta["threshold"], history, meta["position"],
-                   relax=meta.get("relax", 1.0))
+        for i, row in enumerate(meta["states"]):
+            d = folder / name / f"state-{i:03d}" if v1 else folder / STATES / row["key"]
+            with _as_session_error(d / "pattern.json"):
+                pattern = load_pattern(d / "pattern.json")
+            with _as_session_error(d / "mesh.npz"):
+                mesh = GarmentMesh.load(d / "mesh.npz")
+            file = ("positions.npy" if row["draped"] else None) if v1 else row["positions"]
+            positions = None if file is None else _load_positions(d / file, mesh.n_vertices)
+            st = State(row["label"], row["edit"], pattern, mesh, positions,
+                       row["fitting_ratio"], row["checks"])
+            if not v1:  # a version-1 state is copied into the new layout by the next save
+                st.key = row["key"]
+                st._stored_positions = None if file is None else (positions, file)
+            history.append(st)
+        with _as_session_error(meta_file):
+            session = cls(history[meta["position"]].pattern, body, fabric, meta["triangles"],
+                          meta["threshold"], history, meta["position"],
+                          relax=meta.get("relax", 1.0))
+        if not v1:
+            session._stored_body = (body, meta["body"])
+        return session
+
+
+def holds_session(folder) -> bool:
+    """Whether ``folder`` holds a saved session (complete or not): :meth:`DesignSession.load`
+    either loads it or says why not; starting a new one there would replace its history."""
+    folder = Path(folder)
+    return ((folder / "current").exists() or (folder / STATES).exists()
+            or any(True for _ in _snapshots(folder)))
+
+
+def _snapshots(folder: Path):
+    return (p for p in folder.glob("snapshot-*") if _SNAPSHOT.fullmatch(p.name))
+
+
+def _store_state(states: Path, s: State) -> dict:
+    """Write what of state ``s`` is not yet in ``states``; its row of the snapshot."""
+    d = states / s.key
+    if not d.is_dir():
+        part = states / f".{s.key}-{_new_key()}.part"
+        part.mkdir()
+        save_pattern(s.pattern, part / "pattern.json")
+        s.mesh.save(part / "mesh.npz")
+        os.rename(part, d)
+    file = None
+    if s.positions is not None:
+        if s._stored_positions is None or s._stored_positions[0] is not s.positions:
+            s._stored_positions = (s.positions, f"positions-{_new_key()}.npy")
+        file = s._stored_positions[1]
+        if not (d / file).is_file():
+            buf = io.BytesIO()
+            np.save(buf, np.asarray(s.positions, dtype=np.float64), allow_pickle=False)
+            atomic_write_bytes(d / file, buf.getvalue())
+    return {"key": s.key, "label": s.label, "edit": s.edit, "fitting_ratio": s.fitting_ratio,
+            "checks": s.checks, "positions": file}
+
+
+def _remove_unnamed(folder: Path, keep: str, meta: dict) -> None:
+    """Remove the snapshots other than ``keep`` and the files its ``meta`` does not name
+    (states dropped from the history, superseded drapes, parts of killed saves)."""
+    for p in _snapshots(folder):
+        if p.name != keep:
+            shutil.rmtree(p) if p.is_dir() else p.unlink(missing_ok=True)
+    for p in [*folder.glob("body-*.npz"), *folder.glob(".*.tmp")]:
+        if p.name != meta["body"]:
+            p.unlink(missing_ok=True)
+    named = {row["key"]: row["positions"] for row in meta["states"]}
+    for d in (folder / STATES).iterdir():
+        if d.name not in named:
+            shutil.rmtree(d, ignore_errors=True)
+            continue
+        for p in d.iterdir():
+            if p.name not in ("pattern.json", "mesh.npz", named[d.name]):
+                p.unlink(missing_ok=True)
+
+
+def _bad_meta(meta, v1: bool) -> str | None:
+    """What is wrong with a snapshot's record, or None."""
+    if not isinstance(meta, dict) or meta.get("format") != SNAPSHOT_FORMAT:
+        return "not a saved design session"
+    if meta.get("version") != (1 if v1 else SNAPSHOT_VERSION):
+        return f"unknown session version {meta.get('version')!r}"
+    kinds = {"body": str, "fabric": dict, "triangles": int, "threshold": (int, float),
+             "relax": (int, float), "position": int, "states": list}
+    for key, kind in kinds.items():
+        value = meta.get(key, 1.0) if key == "relax" else meta.get(key)
+        if isinstance(value, bool) or not isinstance(value, kind):
+            return f"field '{key}': missing or of the wrong type"
+    known = meta["body"] in [*list_bodies(), "body.npz"] if v1 else _BODY.fullmatch(meta["body"])
+    if not known:
+        return "field 'body': neither a built-in body nor a body file of this session"
+    if not 0 <= meta["position"] < len(meta["states"]):
+        return f"field 'position': {meta['position']} is outside the history"
+    for i, row in enumerate(meta["states"]):
+        if not isinstance(row, dict) or not isinstance(row.get("label"), str) \
+                or not isinstance(row.get("edit"), (dict, type(None))) \
+                or not isinstance(row.get("checks"), (dict, type(None))) \
+                or isinstance(row.get("fitting_ratio"), bool) \
+                or not isinstance(row.get("fitting_ratio"), (int, float, type(None))):
+            return f"state {i}: label, edit, fitting_ratio or checks missing or wrong"
+        if v1:
+            if not isinstance(row.get("draped"), bool):
+                return f"state {i}: field 'draped' missing or wrong"
+        elif not (isinstance(row.get("key"), str) and _KEY.fullmatch(row["key"])) or not (
+                row.get("positions") is None
+                or isinstance(row["positions"], str) and _POSITIONS.fullmatch(row["positions"])):
+            return f"state {i}: field 'key' or 'positions' missing or wrong"
+    return None
+
+
+@contextmanager
+def _as_session_error(file: Path):
+    """Turns the refusal of a saved file (by its reader, or by the class it makes) into a
+    SessionError naming it."""
+    try:
+        yield
+    except InputError as exc:
+        raise SessionError(exc.reason, file=exc.file or file, place=exc.place) from None
+    except (ValueError, TypeError) as exc:
+        raise SessionError(f"cannot be used ({exc})", file=file) from None
+
+
+def _load_positions(path: Path, n: int) -> np.ndarray:
+    x = read_npy(path, limit=limits.positions_bytes, error=SessionError)
+    if x.dtype.kind != "f" or x.shape != (n, 3) or not np.isfinite(x).all():
+        raise SessionError(f"expected finite ({n}, 3) positions, got {x.dtype} {x.shape}",
+                           file=path)
+    return x.astype(np.float64)
 
 
 def _widened(pattern: Pattern, mesh: GarmentMesh, factor: float):

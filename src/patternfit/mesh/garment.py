@@ -12,6 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..constants import limits
+from ..errors import GarmentFileError
+from ..files import read_npz
+
 
 @dataclass(frozen=True, eq=False)
 class GarmentMesh:
@@ -118,25 +122,103 @@ class GarmentMesh:
         return GarmentMesh(**fields)
 
     # -- files -----------------------------------------------------------------------------
-    def save(self, path) -> Path:
-        """Write the mesh to a compressed ``.npz`` file (atomically)."""
-        from ..files import atomic_write_bytes
+    def to_bytes(self) -> bytes:
+        """The mesh as the bytes of a compressed ``.npz`` file (what :meth:`save` writes)."""
         import io
+
         buf = io.BytesIO()
         arrays = {k: getattr(self, k) for k in self.__dataclass_fields__}
         arrays["edge_names"] = np.array(["\x1f".join(e) for e in self.edge_names], dtype=str)
         arrays["panel_names"] = np.array(self.panel_names, dtype=str)
         arrays["seam_names"] = np.array(self.seam_names, dtype=str)
         np.savez_compressed(buf, **arrays)
-        atomic_write_bytes(path, buf.getvalue())
-        return Path(path)
+        return buf.getvalue()
+
+    def save(self, path) -> Path:
+        """Write the mesh to a compressed ``.npz`` file (atomically)."""
+        from ..files import atomic_write_bytes
+
+        return atomic_write_bytes(path, self.to_bytes())
 
     @classmethod
     def load(cls, path) -> "GarmentMesh":
-        """Read a mesh written by :meth:`save`."""
-        with np.load(path, allow_pickle=False) as data:
-            fields = {k: data[k] for k in cls.__dataclass_fields__}
-        fields["edge_names"] = tuple(tuple(str(e).split("\x1f")) for e in fields["edge_names"])
+        """Read a mesh written by :meth:`save`, every array checked.
+
+        Raises :class:`~patternfit.errors.GarmentFileError` naming the file and the array when
+        the file is unreadable, damaged or truncated, holds Python objects, or an array is
+        missing, of the wrong kind or shape, not finite, beyond ``limits.extent`` [m] (flat
+        vertices), or indexes beyond what it refers to (triangle corners, panels, loops,
+        edges, seams).
+        """
+        arrays = read_npz(path, limit=limits.mesh_bytes, error=GarmentFileError)
+        sizes: dict[str, int] = {}
+        fields = {}
+        for key, (kind, size, cols) in _LAYOUT.items():
+            def bad(why, key=key):
+                return GarmentFileError(why, file=path, place=f"array '{key}'")
+
+            if key not in arrays:
+                raise bad("missing (not a garment mesh saved by patternfit)")
+            a = arrays[key]
+            if a.dtype.kind not in _KINDS[kind]:
+                raise bad(f"expected {_KIND_NAMES[kind]}, got {a.dtype}")
+            if a.ndim != (2 if cols else 1) or (cols and a.shape[1] != cols):
+                raise bad(f"expected shape ({size}{f', {cols}' if cols else ''}), got "
+                          f"{a.shape}")
+            if len(a) != sizes.setdefault(size, len(a)):
+                raise bad(f"{len(a)} rows for {sizes[size]} {size}")
+            if kind == "f":
+                a = a.astype(np.float64)
+                if not np.isfinite(a).all():
+                    raise bad("holds NaN or infinite values")
+            elif kind == "i":
+                a = a.astype(np.int64)
+            fields[key] = a
+        if sizes["triangles"] > limits.triangles:
+            raise GarmentFileError(f"{sizes['triangles']} triangles, more than the limit of "
+                                   f"{limits.triangles}", file=path, place="array 'triangles'")
+        for key, size in _INDEXES.items():
+            a = fields[key]
+            if a.size and (a.min() < 0 or a.max() >= sizes[size]):
+                raise GarmentFileError(f"index {int(a.min() if a.min() < 0 else a.max())} out "
+                                       f"of range: there are {sizes[size]} {size}", file=path,
+                                       place=f"array '{key}'")
+        param = fields["boundary_param"]
+        checks = (("vertices", np.abs(fields["vertices"]).max(initial=0.0) <= limits.extent,
+                   f"coordinates beyond {limits.extent} m"),
+                  ("boundary_param", ((param >= 0) & (param <= 1)).all(),
+                   "fractions outside [0, 1]"),
+                  ("grain", np.allclose(np.linalg.norm(fields["grain"], axis=1), 1.0,
+                                        atol=1e-6), "not unit directions"))
+        for key, ok, why in checks:
+            if not ok:
+                raise GarmentFileError(why, file=path, place=f"array '{key}'")
+        edges = tuple(tuple(str(e).split("\x1f")) for e in fields["edge_names"])
+        if any(len(e) != 2 for e in edges):
+            raise GarmentFileError("expected 'panel<US>edge' names", file=path,
+                                   place="array 'edge_names'")
+        fields["edge_names"] = edges
         fields["panel_names"] = tuple(str(s) for s in fields["panel_names"])
         fields["seam_names"] = tuple(str(s) for s in fields["seam_names"])
         return cls(**fields)
+
+
+#: what :meth:`GarmentMesh.load` expects of each array: kind (f float, i integer, U text),
+#: what its rows count (arrays counting the same must agree) and its columns
+_LAYOUT = {
+    "vertices": ("f", "vertices", 2), "triangles": ("i", "triangles", 3),
+    "triangle_panel": ("i", "triangles", None), "vertex_panel": ("i", "vertices", None),
+    "panel_names": ("U", "panels", None), "grain": ("f", "panels", 2),
+    "edge_names": ("U", "edges", None), "boundary_vertices": ("i", "boundary vertices", None),
+    "boundary_edge": ("i", "boundary vertices", None),
+    "boundary_param": ("f", "boundary vertices", None),
+    "boundary_loop": ("i", "boundary vertices", None), "loop_panel": ("i", "loops", None),
+    "seam_pairs": ("i", "seam pairs", 2), "seam_index": ("i", "seam pairs", None),
+    "seam_names": ("U", "seams", None),
+}
+#: integer arrays and what their values index
+_INDEXES = {"triangles": "vertices", "triangle_panel": "panels", "vertex_panel": "panels",
+            "boundary_vertices": "vertices", "boundary_edge": "edges", "boundary_loop": "loops",
+            "loop_panel": "panels", "seam_pairs": "vertices", "seam_index": "seams"}
+_KINDS = {"f": "f", "i": "iu", "U": "U"}
+_KIND_NAMES = {"f": "floats", "i": "integers", "U": "text"}

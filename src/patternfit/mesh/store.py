@@ -1,5 +1,12 @@
 """A saved garment: a folder holding ``pattern.json``, ``mesh.npz`` and, once placed or
-draped, ``positions.npy`` (the 3D state, (n, 3) float [m])."""
+draped, ``positions.npy`` (the 3D state, (n, 3) float [m]).
+
+The files are written as one step (:func:`patternfit.files.atomic_write_group`): after a
+crash a reader sees the old garment or the new one, never a new pattern beside an old mesh.
+Reading checks every array; anything damaged is a :class:`~patternfit.errors.GarmentFileError`
+naming the file and the array. :func:`read_npz` and :func:`read_npy` are the checked NumPy
+readers every saved-array format uses.
+"""
 
 from __future__ import annotations
 
@@ -8,45 +15,86 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_write_bytes
-from ..pattern.errors import PatternError
-from ..pattern.io import load_pattern, save_pattern
+from ..constants import limits
+from ..errors import GarmentFileError
+from ..files import atomic_write_group, dumps_finite_json, read_npy
+from ..pattern.io import load_pattern, pattern_to_dict
 from ..pattern.model import Pattern
+from ..pattern.validate import check_pattern
 from .garment import GarmentMesh
 
 PATTERN, MESH, POSITIONS = "pattern.json", "mesh.npz", "positions.npy"
 
+def _pattern_bytes(pattern: Pattern, units: str) -> bytes:
+    check_pattern(pattern)
+    return (dumps_finite_json(pattern_to_dict(pattern, units=units), indent=1)
+            + "\n").encode("utf-8")
+
+
+def _positions_bytes(positions, mesh: GarmentMesh) -> bytes:
+    x = np.asanyarray(positions, dtype=np.float64)
+    if x.shape != (mesh.n_vertices, 3):
+        raise ValueError(f"positions: expected shape ({mesh.n_vertices}, 3), got {x.shape}")
+    buf = io.BytesIO()
+    np.save(buf, x)
+    return buf.getvalue()
+
 
 def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None) -> Path:
-    """Write the pattern, its mesh and optionally a 3D state (n, 3) [m] into ``folder``."""
+    """Write the pattern, its mesh and optionally a 3D state (n, 3) [m] into ``folder``, as
+    one step. Without ``positions`` an older ``positions.npy`` is removed (it belongs to the
+    old mesh)."""
     folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    save_pattern(pattern, folder / PATTERN)
-    mesh.save(folder / MESH)
+    files = {folder / PATTERN: _pattern_bytes(pattern, "m"), folder / MESH: mesh.to_bytes()}
     if positions is not None:
-        x = np.asanyarray(positions, dtype=np.float64)
-        if x.shape != (mesh.n_vertices, 3):
-            raise ValueError(f"positions: expected shape ({mesh.n_vertices}, 3), got {x.shape}")
-        buf = io.BytesIO()
-        np.save(buf, x)
-        atomic_write_bytes(folder / POSITIONS, buf.getvalue())
+        files[folder / POSITIONS] = _positions_bytes(positions, mesh)
+    else:
+        # removed first: a crash then leaves the old garment without a state, never the new
+        # garment with the old one's
+        (folder / POSITIONS).unlink(missing_ok=True)
+    atomic_write_group(files)
     return folder
 
 
+def replace_pattern_and_mesh(pattern_path, pattern: Pattern, mesh_path, mesh: GarmentMesh, *,
+                             units: str = "m") -> list[Path]:
+    """Write ``pattern`` (lengths in ``units``) to ``pattern_path`` and its ``mesh`` to
+    ``mesh_path`` (any two paths) as one step: after a crash at any point the next read of
+    either sees both old files or both new ones. The pattern is validated first, so a
+    refused pattern changes neither file. Returns the two paths."""
+    return atomic_write_group({Path(pattern_path): _pattern_bytes(pattern, units),
+                               Path(mesh_path): mesh.to_bytes()})
+
+
 def load_garment(folder) -> tuple[Pattern, GarmentMesh, np.ndarray | None]:
-    """Read a folder written by :func:`save_garment`: (pattern, mesh, positions or None)."""
+    """Read a folder written by :func:`save_garment`: (pattern, mesh, positions (n, 3) [m] or
+    None).
+
+    Raises :class:`~patternfit.errors.GarmentFileError` naming the file and the array for a
+    missing, damaged or inconsistent ``mesh.npz`` or ``positions.npy`` (see
+    :meth:`GarmentMesh.load`; positions must be finite and within ``limits.extent`` of the
+    origin), and :class:`~patternfit.pattern.errors.PatternError` for the pattern.
+    """
     folder = Path(folder)
     if not (folder / MESH).is_file():
-        raise PatternError(f"no {MESH} here: not a saved garment folder", file=folder)
-    pattern = load_pattern(folder / PATTERN)
+        raise GarmentFileError(f"no {MESH} here: not a saved garment folder", file=folder)
     mesh = GarmentMesh.load(folder / MESH)
+    pattern = load_pattern(folder / PATTERN)
     positions = None
-    if (folder / POSITIONS).is_file():
-        positions = np.load(folder / POSITIONS, allow_pickle=False)
-        if positions.shape != (mesh.n_vertices, 3):
-            raise PatternError(f"{POSITIONS} has shape {positions.shape}, the mesh has "
-                               f"{mesh.n_vertices} vertices", file=folder / POSITIONS)
+    if (folder / POSITIONS).exists():
+        file = folder / POSITIONS
+        positions = read_npy(file, limit=limits.positions_bytes, error=GarmentFileError)
+        if positions.dtype.kind != "f" or positions.shape != (mesh.n_vertices, 3):
+            raise GarmentFileError(f"expected ({mesh.n_vertices}, 3) floats for the mesh's "
+                                   f"vertices, got {positions.shape} of {positions.dtype}",
+                                   file=file)
+        positions = positions.astype(np.float64)
+        if not np.isfinite(positions).all():
+            raise GarmentFileError("holds NaN or infinite positions", file=file)
+        if np.abs(positions).max(initial=0.0) > limits.extent:
+            raise GarmentFileError(f"positions beyond {limits.extent} m from the origin",
+                                   file=file)
     if tuple(p.name for p in pattern.panels) != mesh.panel_names:
-        raise PatternError(f"{PATTERN} and {MESH} do not belong together (panels differ)",
-                           file=folder)
+        raise GarmentFileError(f"{PATTERN} and {MESH} do not belong together (panels differ)",
+                               file=folder)
     return pattern, mesh, positions

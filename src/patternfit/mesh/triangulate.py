@@ -12,8 +12,10 @@ import math
 import numpy as np
 import triangle as tr
 
+from ..constants import limits, tol
+from ..pattern.errors import PatternError
 from ..pattern.model import Loop, Pattern
-from ..pattern.validate import check_pattern
+from ..pattern.validate import check_pattern, check_polygons
 from .garment import GarmentMesh
 
 # Fraction keys are rounded to this many digits to find shared breakpoints.
@@ -97,6 +99,14 @@ def _mesh_panel(panel, pieces, counts, max_area: float, min_angle: float):
     loops = []
     for loop in panel.loops:
         loops.append(_sample_loop(panel.name, loop, pieces, counts))
+    # Triangle crashes on boundaries that cross, touch or fold back: check the very
+    # polylines it gets (the panel's own check samples curves differently)
+    try:
+        check_polygons([lp[0] for lp in loops], [[k[1] for k in lp[1]] for lp in loops],
+                       [lp.name for lp in panel.loops], panel=panel.name)
+    except PatternError as exc:
+        raise PatternError(f"cannot be meshed at this resolution: {exc.reason}",
+                           panel=exc.panel, edge=exc.edge) from None
     verts = np.concatenate([lp[0] for lp in loops])
     segs, start = [], 0
     for lp in loops:
@@ -118,9 +128,17 @@ def _mesh_panel(panel, pieces, counts, max_area: float, min_angle: float):
 
 
 def _mesh_all(pattern: Pattern, h: float, min_angle: float) -> GarmentMesh:
+    max_area = math.sqrt(3) / 4 * h * h
+    if max_area < tol.area:
+        raise ValueError(f"mesh too fine: an edge length of {h:.3g} m makes triangles "
+                         f"smaller than {tol.area:g} m^2")
     pieces = _edge_breaks(pattern)
     counts = _segment_counts(pattern, pieces, h)
-    max_area = math.sqrt(3) / 4 * h * h
+    boundary = sum(sum(ns) for ns in counts.values())
+    if boundary > limits.triangles:
+        raise ValueError(f"mesh too fine: an edge length of {h:.3g} m needs {boundary} "
+                         f"boundary segments, more than the limit of {limits.triangles} "
+                         "triangles")
     edge_names = [(p.name, e.name) for p in pattern.panels for e in p.edges().values()]
     edge_id = {k: i for i, k in enumerate(edge_names)}
     V, T, tpan, vpan = [], [], [], []
@@ -181,6 +199,10 @@ def _mesh_all(pattern: Pattern, h: float, min_angle: float) -> GarmentMesh:
         seam_names=tuple(s.name for s in pattern.seams))
 
 
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, bool)
+
+
 def mesh_pattern(pattern: Pattern, *, triangles: int = 20000, min_angle: float = 25.0,
                  edge_length: float | None = None) -> GarmentMesh:
     """Triangulate every panel of ``pattern`` into one :class:`GarmentMesh`.
@@ -190,24 +212,38 @@ def mesh_pattern(pattern: Pattern, *, triangles: int = 20000, min_angle: float =
     pattern : Pattern
         A valid pattern (checked first).
     triangles : int
-        Target triangle count for the whole garment; met within a few percent.
+        Target triangle count for the whole garment; met within a few percent. At most
+        ``limits.triangles``.
     min_angle : float
         Minimum triangle angle [degrees] (Triangle's quality bound; at most about 33).
     edge_length : float, optional
-        Target edge length [m]; when given, ``triangles`` is ignored.
+        Target edge length [m]; when given, ``triangles`` is ignored. Refused when it would
+        make more than ``limits.triangles`` triangles.
 
     Returns
     -------
     GarmentMesh
         Flat meshes with seam sides sampled alike: ``seam_pairs`` pairs them one to one.
+
+    Raises :class:`PatternError` for a pattern ``check_pattern`` refuses, or whose sampled
+    boundary crosses or touches itself, before Triangle sees it; ``ValueError`` naming the
+    argument for a bad ``triangles``, ``edge_length`` or ``min_angle``.
     """
     if not 0 < min_angle <= 34:
         raise ValueError(f"min_angle: must be in (0, 34] degrees, got {min_angle}")
     check_pattern(pattern)
     if edge_length is not None:
-        if not edge_length > 0:
-            raise ValueError(f"edge_length: must be positive, got {edge_length}")
-        return _mesh_all(pattern, float(edge_length), min_angle)
+        if not (_is_number(edge_length) and 0 < edge_length < math.inf):
+            raise ValueError(f"edge_length: must be a positive number, got {edge_length!r}")
+        h = float(edge_length)
+        estimate = pattern.area() / (math.sqrt(3) / 4 * h * h)
+        if estimate > limits.triangles:
+            raise ValueError(f"edge_length: {h:.3g} m makes about {estimate:.3g} triangles, "
+                             f"more than the limit of {limits.triangles}")
+        return _mesh_all(pattern, h, min_angle)
+    if not (_is_number(triangles) and 1 <= triangles <= limits.triangles):
+        raise ValueError(f"triangles: must be a number from 1 to {limits.triangles}, "
+                         f"got {triangles!r}")
     if int(triangles) < 2 * len(pattern.panels):
         raise ValueError(f"triangles: at least {2 * len(pattern.panels)} needed, got {triangles}")
     # Triangle's refinement makes triangles smaller than the area bound: calibrate the edge

@@ -29,17 +29,20 @@ import io
 import json
 import math
 import re
+from dataclasses import replace
+from itertools import islice
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..constants import tol
-from ..files import atomic_write_text
+from ..constants import UNITS, limits, tol
+from ..files import atomic_write_text, read_bytes_capped, read_json_file
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
 from .formats import check_imported
+from .io import json_field, json_point, json_vec3, seams_from_json, shown
 from .validate import check_pattern
 
 __all__ = ["LAYERS", "load_dxf", "notch_marks", "save_dxf", "sidecar_path", "suggest_seams"]
@@ -50,10 +53,15 @@ LAYERS = {"boundary": 1, "turn_points": 2, "curve_points": 3, "notches": 4,
           "plaid": 10, "cutout": 11, "drill_holes": 13, "sew": 14, "annotation": 15}
 
 SIDE_FORMAT = "patternfit-dxf-sidecar"
-#: how far a re-fitted edge may stray from the file's points [m]
-FIT_TOL = 5e-5
-#: how far an exported polyline may stray from the curve [m]
-SAMPLE_TOL = 2e-5
+#: how many edges next in length :func:`suggest_seams` compares each edge with [-]
+SEAM_WINDOW = 64
+# below this determinant of the arc fit's 2 x 2 system its three points lie on a line [m^2]
+_COLLINEAR = 1e-18
+# the cubic fit stops when its squared error improves by less than this fraction, or falls
+# below the absolute value [m^2]
+_FIT_STALL, _FIT_EXACT = 1e-14, 1e-24
+_PIECE_LAYERS = (LAYERS["boundary"], LAYERS["sew"])
+_BINARY_DXF = b"AutoCAD Binary DXF\r\n\x1a\x00"
 _NOTCH = 0.006  # notch slit length [m]
 _UNIT = {"METRIC": 0.001, "ENGLISH": 0.0254}
 _INSUNITS = {1: 0.0254, 2: 0.3048, 4: 0.001, 5: 0.01, 6: 1.0}
@@ -67,7 +75,7 @@ def sidecar_path(path) -> Path:
 
 # -- export ------------------------------------------------------------------------------------
 def _sample(edge: Edge) -> np.ndarray:
-    """Points along an edge, the polyline within ``SAMPLE_TOL`` of the curve: (k, 2) [m]."""
+    """Points along an edge, the polyline within ``tol.dxf_sample`` of the curve: (k, 2) [m]."""
     if edge.kind == "line":
         return np.array(edge.points)
     n = 8
@@ -75,7 +83,7 @@ def _sample(edge: Edge) -> np.ndarray:
         f = np.linspace(0.0, 1.0, 2 * n + 1)
         p = edge.point_at(f)
         chord_mid = 0.5 * (p[0:-1:2] + p[2::2])
-        if np.max(np.linalg.norm(p[1::2] - chord_mid, axis=1)) < SAMPLE_TOL or n >= 1024:
+        if np.max(np.linalg.norm(p[1::2] - chord_mid, axis=1)) < tol.dxf_sample or n >= 1024:
             return p[::2]
         n *= 2
 
@@ -226,7 +234,7 @@ def _fit_arc(name: str, p: np.ndarray) -> tuple[Edge, float] | None:
     a, b, c = p[0], p[len(p) // 2], p[-1]
     m = np.array([b - a, c - a]) * 2
     det = np.linalg.det(m)
-    if abs(det) < 1e-18:
+    if abs(det) < _COLLINEAR:
         return None
     centre = np.linalg.solve(m, [b @ b - a @ a, c @ c - a @ a])
     r = float(np.linalg.norm(a - centre))
@@ -289,7 +297,7 @@ def _fit_cubic(name: str, p: np.ndarray, iterations: int = 100) -> tuple[Edge, f
         t_new[1:-1] = np.clip(t[1:-1] + dt, 0.0, 1.0)
         new = cost(c_new, t_new)
         if new < now:
-            done = now - new < 1e-14 * max(now, 1e-300) or new < 1e-24
+            done = now - new < _FIT_STALL * max(now, 1e-300) or new < _FIT_EXACT
             c, t, now, lam = c_new, t_new, new, lam / 3
             if done:
                 break
@@ -300,21 +308,21 @@ def _fit_cubic(name: str, p: np.ndarray, iterations: int = 100) -> tuple[Edge, f
 
 
 def _fit_one(name: str, p: np.ndarray) -> Edge | None:
-    """The simplest edge (line, quadratic or cubic Bézier, arc) within ``FIT_TOL`` of all of
+    """The simplest edge (line, quadratic or cubic Bézier, arc) within ``tol.dxf_fit`` of all of
     ``p`` (k, 2) [m], or None. Between an arc and a cubic the closer one wins."""
-    if len(p) == 2 or _line_dev(p) < FIT_TOL:
+    if len(p) == 2 or _line_dev(p) < tol.dxf_fit:
         return Edge.line(name, p[0], p[-1])
     if len(p) < 4:
         return None
     cubic, dev = _fit_cubic(name, p)
     arc = _fit_arc(name, p)
-    if arc is not None and arc[1] < min(dev, FIT_TOL):
+    if arc is not None and arc[1] < min(dev, tol.dxf_fit):
         return arc[0]
-    if dev >= FIT_TOL:
+    if dev >= tol.dxf_fit:
         return None
     c = np.asarray(cubic.points)
     q1, q2 = (3 * c[1] - c[0]) / 2, (3 * c[2] - c[3]) / 2  # a raised quadratic has q1 == q2
-    if np.linalg.norm(q1 - q2) < FIT_TOL:
+    if np.linalg.norm(q1 - q2) < tol.dxf_fit:
         return Edge.quadratic(name, c[0], 0.5 * (q1 + q2), c[3])
     return cubic
 
@@ -345,9 +353,13 @@ def _corners(p: np.ndarray, angle: float = 25.0) -> list[int]:
 
 
 def _loop_from_points(p: np.ndarray, turns: np.ndarray, name: str, prefix: str) -> Loop:
-    """Split a closed polygon (k, 2) at its turn points and fit every run."""
-    d = np.linalg.norm(p[:, None] - turns[None], axis=2) if len(turns) else np.zeros((len(p), 0))
-    breaks = sorted(np.flatnonzero(d.min(axis=1) < 5e-5).tolist()) if len(turns) else []
+    """Split a closed polygon (k, 2) at its turn points (t, 2) and fit every run [m]."""
+    from scipy.spatial import cKDTree
+
+    breaks = []
+    if len(turns):
+        near, _ = cKDTree(turns).query(p, distance_upper_bound=tol.dxf_fit)
+        breaks = np.flatnonzero(near < tol.dxf_fit).tolist()
     if not breaks:
         breaks = _corners(p) or [0]
     p = np.roll(p, -breaks[0], axis=0)
@@ -361,8 +373,7 @@ def _loop_from_points(p: np.ndarray, turns: np.ndarray, name: str, prefix: str) 
         half = len(p) // 2
         names = []
         edges = _fit_run(closed[: half + 1], names) + _fit_run(closed[half:], names)
-    renamed = tuple(Edge(f"{prefix}{k}", e.kind, e.points, e.radius, e.large_arc, e.sweep)
-                    for k, e in enumerate(edges))
+    renamed = tuple(replace(e, name=f"{prefix}{k}") for k, e in enumerate(edges))
     return Loop(name, renamed)
 
 
@@ -372,53 +383,136 @@ def _layer(entity) -> int | None:
     return int(name) if name.isdigit() else None
 
 
-def _entity_points(entity, scale: float) -> tuple[np.ndarray, bool] | None:
-    """Points [m] of a curve entity and whether it is closed; None for other entities."""
+def _why(exc: Exception) -> str:
+    """An exception from ezdxf as message text, its kind named once."""
+    text, kind = str(exc), type(exc).__name__
+    return text if text.startswith(kind) else f"{kind}: {text}"
+
+
+def _entity_name(entity) -> str:
+    return f"{entity.dxftype()} entity (handle {entity.dxf.get('handle', '?')})"
+
+
+def _within_extent(pts: np.ndarray, entity, where: dict) -> np.ndarray:
+    """``pts`` (k, 2) [m], refused when a point is not finite or lies beyond
+    ``limits.extent``: checked on a curve's control points, before it is sampled."""
+    if len(pts) and not np.isfinite(pts).all():
+        raise PatternError(f"{_entity_name(entity)} has a coordinate that is NaN or infinite",
+                           **where)
+    far = float(np.max(np.abs(pts))) if len(pts) else 0.0
+    if far > limits.extent:
+        raise PatternError(f"{_entity_name(entity)} reaches {far:.3g} m from the origin, "
+                           f"beyond the limit of {limits.extent:g} m", **where)
+    return pts
+
+
+def _entity_points(entity, scale: float, budget: int, where: dict
+                   ) -> tuple[np.ndarray, bool] | None:
+    """Points [m] of a curve entity and whether it is closed; None for other entities.
+
+    At most ``budget`` points: more (a curve of very many segments) is refused, as is
+    geometry beyond ``limits.extent``, before sampling. Repeated points are dropped.
+    """
     from ezdxf import path as dxfpath
 
     kind = entity.dxftype()
     if kind == "LINE":
-        return np.array([tuple(entity.dxf.start)[:2], tuple(entity.dxf.end)[:2]]) * scale, False
+        pts = np.array([tuple(entity.dxf.start)[:2], tuple(entity.dxf.end)[:2]]) * scale
+        return _within_extent(pts, entity, where), False
     if kind not in ("POLYLINE", "LWPOLYLINE", "ARC", "CIRCLE", "SPLINE", "ELLIPSE"):
         return None
     try:
         pth = dxfpath.make_path(entity)
     except (TypeError, ValueError):
         return None
-    has_curves = any(cmd.type != dxfpath.Command.LINE_TO for cmd in pth.commands())
-    pts = np.array([(v.x, v.y) for v in (pth.flattening(SAMPLE_TOL / scale / 4)
-                                         if has_curves else pth.control_vertices())])
+    control = np.array([(v.x, v.y) for v in pth.control_vertices()]).reshape(-1, 2)
+    _within_extent(control * scale, entity, where)
+    if any(cmd.type != dxfpath.Command.LINE_TO for cmd in pth.commands()):
+        flat = islice(pth.flattening(tol.dxf_sample / scale / 4), budget + 1)
+        pts = np.array([(v.x, v.y) for v in flat]).reshape(-1, 2) * scale
+    else:
+        pts = control * scale
+    if len(pts) > budget:
+        raise PatternError(f"{_entity_name(entity)}: the piece's curves make more than "
+                           f"{limits.segments_per_panel} points (the segment limit)", **where)
+    # CAD tools write repeated vertices; a zero-length segment has no direction to fit
+    keep = np.ones(len(pts), dtype=bool)
+    keep[1:] = np.linalg.norm(np.diff(pts, axis=0), axis=1) >= tol.merge
+    pts = pts[keep]
     if len(pts) < 2:
         return None
-    closed = bool(getattr(entity, "is_closed", False)) or kind == "CIRCLE" or \
-        np.linalg.norm(pts[0] - pts[-1]) * scale < 1e-6
-    if np.linalg.norm(pts[0] - pts[-1]) * scale < 1e-6 and len(pts) > 2:
+    ends_meet = np.linalg.norm(pts[0] - pts[-1]) < tol.merge
+    closed = bool(getattr(entity, "is_closed", False)) or kind == "CIRCLE" or ends_meet
+    if ends_meet and len(pts) > 2:
         pts = pts[:-1]
-    return pts * scale, closed
+    return pts, closed
+
+
+def _clusters(points: np.ndarray) -> np.ndarray:
+    """A cluster number for each point (n, 2) [m]: points within ``tol.merge`` of each other
+    (and some up to three times that) share one. Linear time, however many coincide."""
+    cells = np.floor(points / tol.merge).astype(np.int64)
+    keys, index = np.unique(cells, axis=0, return_inverse=True)
+    index = index.reshape(-1)
+    parent = list(range(len(keys)))
+
+    def root(k):
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+
+    where = {tuple(k): n for n, k in enumerate(keys.tolist())}
+    for n, (x, y) in enumerate(keys.tolist()):
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                m = where.get((x + dx, y + dy))
+                if m is not None:
+                    parent[root(m)] = root(n)
+    return np.array([root(k) for k in index], dtype=np.int64)
 
 
 def _chain(pieces: list[tuple[np.ndarray, bool]]) -> list[np.ndarray]:
-    """Closed loops from closed entities and from open ones joined end to end."""
+    """Closed loops from closed entities and from open ones joined end to end.
+
+    Open pieces are taken in file order; each grows at its end by the first free piece
+    (in file order) that starts or ends there, until it closes or nothing fits.
+    """
     loops = [p for p, closed in pieces if closed and len(p) >= 3]
     open_ = [p for p, closed in pieces if not closed]
-    while open_:
-        cur = open_.pop(0)
-        grown = True
-        while grown:
-            grown = False
-            if np.linalg.norm(cur[0] - cur[-1]) < 1e-6 and len(cur) > 3:
-                loops.append(cur[:-1])
+    if not open_:
+        return loops
+    node = _clusters(np.array([[p[0], p[-1]] for p in open_]).reshape(-1, 2))
+    at: dict[int, list[int]] = {}  # cluster -> piece ends there (2k: start, 2k + 1: end)
+    for end, c in enumerate(node.tolist()):
+        at.setdefault(c, []).append(end)
+    head = dict.fromkeys(at, 0)
+    free = [True] * len(open_)
+
+    def first_free(c: int) -> int | None:
+        ends, h = at[c], head[c]
+        while h < len(ends) and not free[ends[h] // 2]:
+            h += 1
+        head[c] = h
+        return ends[h] if h < len(ends) else None
+
+    for k, piece in enumerate(open_):
+        if not free[k]:
+            continue
+        free[k] = False
+        parts, start, tip, count = [piece], node[2 * k], node[2 * k + 1], len(piece)
+        while True:
+            if start == tip and count > 3:
+                loops.append(np.concatenate(parts)[:-1])
                 break
-            for i, q in enumerate(open_):
-                if np.linalg.norm(cur[-1] - q[0]) < 1e-6:
-                    cur = np.vstack([cur, q[1:]])
-                elif np.linalg.norm(cur[-1] - q[-1]) < 1e-6:
-                    cur = np.vstack([cur, q[::-1][1:]])
-                else:
-                    continue
-                open_.pop(i)
-                grown = True
+            end = first_free(int(tip))
+            if end is None:
                 break
+            q = open_[end // 2]
+            free[end // 2] = False
+            parts.append(q[1:] if end % 2 == 0 else q[::-1][1:])
+            tip = node[end + 1] if end % 2 == 0 else node[end - 1]
+            count += len(q) - 1
     return loops
 
 
@@ -444,17 +538,34 @@ def _field(texts: list[str], key: str) -> str | None:
 
 
 def _read_piece(block, scale: float, prefer_sew: bool):
-    """A piece block's outline, inner loops, grain line, notches and name, or None."""
+    """A piece block's outline, inner loops, grain line, notches and name, or None.
+
+    Every entity is read inside this function's error boundary: whatever ezdxf raises on a
+    damaged entity becomes a :class:`PatternError` naming the block and the entity.
+    """
+    where = {"panel": block.name}
+    if len(block) > limits.segments_per_panel:
+        raise PatternError(f"the block has {len(block)} entities, more than the limit of "
+                           f"{limits.segments_per_panel} (the segment limit)", **where)
     by_layer: dict[int, list] = {}
     points: dict[int, list] = {}
+    budget = limits.segments_per_panel
     for e in block:
-        layer = _layer(e)
-        if e.dxftype() == "POINT":
-            points.setdefault(layer, []).append(np.array(tuple(e.dxf.location)[:2]) * scale)
-            continue
-        got = _entity_points(e, scale)
+        try:
+            layer = _layer(e)
+            if e.dxftype() == "POINT":
+                at = np.array(tuple(e.dxf.location)[:2]).reshape(1, 2) * scale
+                points.setdefault(layer, []).append(_within_extent(at, e, where)[0])
+                continue
+            got = _entity_points(e, scale, budget, where)
+        except PatternError:
+            raise
+        except Exception as exc:  # ezdxf raises many kinds on a damaged entity
+            raise PatternError(f"{_entity_name(e)} cannot be read: {_why(exc)}",
+                               **where) from exc
         if got is not None:
             by_layer.setdefault(layer, []).append(got)
+            budget -= len(got[0])
     cut = _chain(by_layer.get(LAYERS["boundary"], []))
     sew = _chain(by_layer.get(LAYERS["sew"], []))
     loops = sew if (prefer_sew and sew) else cut
@@ -479,18 +590,21 @@ def _read_piece(block, scale: float, prefer_sew: bool):
 
 
 def _notch_fractions(panel: Panel, notches: list[np.ndarray]) -> dict[str, list[float]]:
-    """Arc-length fractions of the notches on each outline edge they lie on (within 1 mm)."""
+    """Arc-length fractions of the notches on each outline edge they lie on (within
+    ``tol.notch_reach``), read off 401 samples of every edge."""
+    from scipy.spatial import cKDTree
+
     out: dict[str, list[float]] = {}
-    for q in notches:
-        best = None
-        for e in panel.outline.edges:
-            f = np.linspace(0, 1, 401)
-            d = np.linalg.norm(e.point_at(f) - q, axis=1)
-            k = int(np.argmin(d))
-            if d[k] < 1e-3 and (best is None or d[k] < best[0]):
-                best = (d[k], e.name, float(f[k]))
-        if best is not None and 0.0 < best[2] < 1.0:
-            out.setdefault(best[1], []).append(best[2])
+    if not notches:
+        return out
+    f = np.linspace(0, 1, 401)
+    edges = panel.outline.edges
+    dist, idx = cKDTree(np.concatenate([e.point_at(f) for e in edges])).query(
+        np.asarray(notches).reshape(-1, 2))
+    for d, k in zip(dist, idx):
+        frac = float(f[k % len(f)])
+        if d < tol.notch_reach and 0.0 < frac < 1.0:
+            out.setdefault(edges[k // len(f)].name, []).append(frac)
     return out
 
 
@@ -500,23 +614,29 @@ def suggest_seams(pattern: Pattern, notches: dict[str, dict[str, list[float]]] |
     (``tol.seam_length`` or ``tol.seam_length_rel``) on different panels, notched alike.
 
     notches : {panel: {edge: [arc-length fractions]}}. Pairs whose notches match (mirrored,
-    as on two pieces sewn right side to right side) are offered; when the pattern has notches
-    at all, unnotched pairs are not. Each edge is used once; ``reverse`` is always True.
+    as on two pieces sewn right side to right side, within ``tol.notch_match``) are offered;
+    when the pattern has notches at all, unnotched pairs are not. Each edge is used once;
+    ``reverse`` is always True. Each edge is compared with the ``SEAM_WINDOW`` edges next to
+    it in length, which keeps the work linear in the number of edges.
     """
     notches = notches or {}
     notched = any(f for per_panel in notches.values() for f in per_panel.values())
     edges = [(p.name, e) for p in pattern.panels for e in p.outline.edges]
+    lengths = [e.length for _, e in edges]
+    order = sorted(range(len(edges)), key=lengths.__getitem__)
     cands = []
-    for i, (pa, ea) in enumerate(edges):
-        for pb, eb in edges[i + 1:]:
-            if pa == pb:
-                continue
-            la, lb = ea.length, eb.length
+    for pos, i in enumerate(order):
+        for j in order[pos + 1:pos + 1 + SEAM_WINDOW]:
+            la, lb = lengths[i], lengths[j]
             if abs(la - lb) > max(tol.seam_length, tol.seam_length_rel * 0.5 * (la + lb)):
+                break  # sorted by length: every later edge differs more
+            (pa, ea), (pb, eb) = edges[min(i, j)], edges[max(i, j)]
+            if pa == pb:
                 continue
             na = sorted(notches.get(pa, {}).get(ea.name, []))
             nb = sorted(1.0 - f for f in notches.get(pb, {}).get(eb.name, []))
-            if len(na) != len(nb) or not np.allclose(na, nb, atol=0.02) or (notched and not na):
+            if len(na) != len(nb) or (notched and not na) or \
+                    (na and not np.allclose(na, nb, atol=tol.notch_match)):
                 continue
             cands.append((abs(la - lb), pa, ea.name, pb, eb.name))
     cands.sort()
@@ -530,108 +650,99 @@ def suggest_seams(pattern: Pattern, notches: dict[str, dict[str, list[float]]] |
     return seams
 
 
-def _apply_sidecar(pattern: Pattern, side: Any, file) -> Pattern:
-    if not isinstance(side, dict) or side.get("format") != SIDE_FORMAT:
-        raise PatternError(f"not a patternfit DXF side file (format {side.get('format')!r})"
-                           if isinstance(side, dict) else "side file must be a JSON object",
-                           file=file)
-    info = side.get("panels", {})
+def _renamed(loop: Loop, name: str, names, where: dict) -> Loop:
+    """``loop`` called ``name``, its edges renamed by the side file's list ``names`` (None:
+    keep them)."""
+    if names is None:
+        return replace(loop, name=name)
+    if len(names) != len(loop.edges):
+        raise PatternError(f"side file names {len(names)} edges for loop '{loop.name}' "
+                           f"but the DXF piece has {len(loop.edges)}",
+                           edge=loop.edges[0].name, **where)
+    for k, n in enumerate(names):
+        if not isinstance(n, str) or not n:
+            raise PatternError(f"side file: edge name #{k} of loop '{loop.name}' must be a "
+                               f"non-empty string, got {shown(n)}", **where)
+    return Loop(name, tuple(replace(e, name=n) for n, e in zip(names, loop.edges)))
+
+
+def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
+    """``pattern`` with the side file's edge names, placement, grain line and seams."""
+    if not isinstance(side, dict):
+        raise PatternError("side file must be a JSON object")
+    if side.get("format") != SIDE_FORMAT:
+        raise PatternError(f"not a patternfit DXF side file (format "
+                           f"{shown(side.get('format'))})")
+    info = json_field(side, "panels", dict, "side file", {})
     panels = []
     for p in pattern.panels:
-        d = info.get(p.name, {})
-        loops = [p.outline, *p.inner]
-        wanted = [d.get("edges")] + [lp.get("edges") if isinstance(lp, dict) else None
-                                     for lp in d.get("inner", [])]
-        new_loops = []
-        for k, loop in enumerate(loops):
-            names = wanted[k] if k < len(wanted) else None
-            if names is None:
-                new_loops.append(loop)
-                continue
-            if len(names) != len(loop.edges):
-                raise PatternError(f"side file names {len(names)} edges for loop '{loop.name}' "
-                                   f"but the DXF piece has {len(loop.edges)}", file=file,
-                                   panel=p.name, edge=loop.edges[0].name)
-            lname = loop.name if k == 0 else d["inner"][k - 1].get("name", loop.name)
-            new_loops.append(Loop(lname, tuple(
-                Edge(str(n), e.kind, e.points, e.radius, e.large_arc, e.sweep)
-                for n, e in zip(names, loop.edges))))
-        pl = d.get("placement", {})
+        where = {"panel": p.name}
+        d = json_field(info, p.name, dict, "side file 'panels'", {}, **where)
+        inner = json_field(d, "inner", list, "side file panel", [], **where)
+        loops = [_renamed(p.outline, p.outline.name,
+                          json_field(d, "edges", list, "side file panel", None, **where), where)]
+        for k, loop in enumerate(p.inner):
+            lp = inner[k] if k < len(inner) else {}
+            what = f"side file inner loop #{k}"
+            loops.append(_renamed(loop, json_field(lp, "name", str, what, loop.name, **where),
+                                  json_field(lp, "edges", list, what, None, **where), where))
+        pl = json_field(d, "placement", dict, "side file panel", {}, **where)
         placement = Placement(
-            part=str(pl.get("part", p.placement.part)), side=str(pl.get("side", p.placement.side)),
-            translation=tuple(pl["translation"]) if pl.get("translation") else None,
-            rotation=tuple(pl["rotation"]) if pl.get("rotation") else None)
-        grain = tuple(d.get("grainline", p.grainline))
-        panels.append(Panel(p.name, new_loops[0], tuple(new_loops[1:]), grain, placement))
-    out = Pattern(str(side.get("name", pattern.name)), tuple(panels), (), dict(pattern.meta))
-    seams = []
-    for i, s in enumerate(side.get("seams", [])):
-        sides = []
-        for key in ("a", "b"):
-            d = s.get(key, {}) if isinstance(s, dict) else {}
-            pname, edge = d.get("panel"), d.get("edge")
-            try:
-                panel = out.panel(str(pname))
-            except KeyError:
-                raise PatternError(f"side file seam #{i} names missing panel {pname!r}",
-                                   file=file, panel=str(pname)) from None
-            if isinstance(edge, int) and not isinstance(edge, bool):
-                if not 0 <= edge < len(panel.outline.edges):
-                    raise PatternError(f"side file seam #{i}: edge index {edge} out of range",
-                                       file=file, panel=panel.name, edge=str(edge))
-                edge = panel.outline.edges[edge].name
-            rng = d.get("range", [0.0, 1.0])
-            sides.append(SeamSide(panel.name, str(edge), float(rng[0]), float(rng[1])))
-        seams.append(Seam(str(s.get("name", f"s{i}")), sides[0], sides[1],
-                          bool(s.get("reverse", True))))
-    out = Pattern(out.name, out.panels, tuple(seams), out.meta)
-    try:
-        warnings = check_imported(out)
-    except PatternError as exc:
-        raise exc.located(file) from None
-    if warnings:
-        out.meta["warnings"] = warnings
-    return out
+            part=json_field(pl, "part", str, "placement", p.placement.part, **where),
+            side=json_field(pl, "side", str, "placement", p.placement.side, **where),
+            translation=json_vec3(pl.get("translation"), 1.0, "placement translation", **where),
+            rotation=json_vec3(pl.get("rotation"), 1.0, "placement rotation", **where))
+        grain = json_point(d.get("grainline", p.grainline), 1.0, "grainline", **where)
+        panels.append(Panel(p.name, loops[0], tuple(loops[1:]), grain, placement))
+    outline_edges = {p.name: [e.name for e in p.outline.edges] for p in panels}
+    seams = seams_from_json(json_field(side, "seams", list, "side file", []), prefix="s",
+                            outline_edges=outline_edges)
+    return Pattern(json_field(side, "name", str, "side file", pattern.name), tuple(panels),
+                   seams, dict(pattern.meta))
 
 
-def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool = True
-             ) -> Pattern:
-    """Read a DXF-AAMA file into a :class:`Pattern` [m].
+def _document(data: bytes):
+    """The ezdxf document in a DXF file's bytes (ASCII in its own code page, or binary)."""
+    from ezdxf.document import Drawing
+    from ezdxf.filemanagement import dxf_stream_info
+    from ezdxf.lldxf.tagger import binary_tags_loader
+    from ezdxf.lldxf.validator import is_dxf_stream
 
-    sidecar : side file with seams, edge names and placement; by default ``<name>.seams.json``
-        beside the DXF when it exists. Without one, ``meta["suggested_seams"]`` lists seams
-        offered by :func:`suggest_seams` and the pattern has none.
-    units : ``"mm"``, ``"cm"``, ``"in"`` or ``"m"`` to override the file's (``Units:`` style
-        text, else ``$INSUNITS``, else millimetres).
-    Raises :class:`PatternError` naming the file (and piece) for a file that cannot be read or
-    has no pieces.
-    """
-    import ezdxf
+    if data.startswith(_BINARY_DXF):
+        return Drawing.load(binary_tags_loader(data, errors="surrogateescape"))
+    text = data.decode("utf-8", errors="ignore")  # the header's code page is plain ASCII
+    if not is_dxf_stream(io.StringIO(text)):
+        raise PatternError("not a DXF file (it does not start with a DXF section)")
+    encoding = dxf_stream_info(io.StringIO(text)).encoding
+    return Drawing.read(io.StringIO(data.decode(encoding, errors="surrogateescape"),
+                                    newline=None))
 
-    from ..constants import UNITS
 
-    path = Path(path)
-    try:
-        doc = ezdxf.readfile(str(path))
-    except (OSError, ezdxf.DXFError) as exc:
-        raise PatternError(f"cannot read DXF: {exc}", file=path) from None
+def _read_dxf(path: Path, units: str | None, prefer_sew: bool):
+    """The pattern (no seams) and notch fractions of a DXF file; errors without the file."""
+    doc = _document(read_bytes_capped(path, limit=limits.dxf_bytes, error=PatternError))
     msp_texts = _texts(doc.modelspace())
     if units is not None:
-        if units not in UNITS:
-            raise ValueError(f"units: expected one of {sorted(UNITS)}, got {units!r}")
         scale = UNITS[units]
     else:
         word = (_field(msp_texts, "Units") or "").upper()
-        scale = _UNIT.get(word) or _INSUNITS.get(doc.header.get("$INSUNITS", 4), 0.001)
+        # R12 has no $INSUNITS: ezdxf makes one up (metres) for a file without a header
+        insunits = doc.header.get("$INSUNITS", 4) if doc.dxfversion > "AC1009" else 4
+        scale = _UNIT.get(word) or _INSUNITS.get(insunits, 0.001)
+    blocks = [b for b in doc.blocks if not b.name.startswith("*")]
+    # count the blocks that can be pieces before fitting any
+    drawn = sum(any(_layer(e) in _PIECE_LAYERS for e in b) for b in blocks)
+    if drawn > limits.panels:
+        raise PatternError(f"the DXF has {drawn} blocks with a boundary, more than the limit "
+                           f"of {limits.panels} panels")
     panels, notch_map, names = [], {}, set()
-    for block in doc.blocks:
-        if block.name.startswith("*"):
-            continue
+    for block in blocks:
         try:
             piece = _read_piece(block, scale, prefer_sew)
-        except (PatternError, ValueError, np.linalg.LinAlgError) as exc:
-            raise PatternError(f"piece cannot be read: {exc}", file=path,
-                               panel=block.name) from None
+        except PatternError:
+            raise
+        except Exception as exc:  # a fit that fails on damaged geometry, of whatever kind
+            raise PatternError(f"piece cannot be read: {_why(exc)}", panel=block.name) from exc
         if piece is None:
             continue
         outline, inner, grain, notches, pname = piece
@@ -644,24 +755,54 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
         notch_map[name] = _notch_fractions(panel, notches)
     if not panels:
         raise PatternError("the DXF has no pattern pieces (no block with a closed boundary "
-                           "on layer 1)", file=path)
+                           "on layer 1)")
     style = _field(msp_texts, "Style Name") or path.stem
     meta: dict[str, Any] = {"source_format": "dxf-aama"}
     size = _field(msp_texts, "Sample Size")
     if size:
         meta["size"] = size
     pattern = Pattern(style, tuple(panels), (), meta)
+    check_pattern(pattern)
+    return pattern, notch_map
+
+
+def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool = True
+             ) -> Pattern:
+    """Read a DXF-AAMA file into a :class:`Pattern` [m].
+
+    sidecar : side file with seams, edge names and placement; by default ``<name>.seams.json``
+        beside the DXF when it exists. Without one, ``meta["suggested_seams"]`` lists seams
+        offered by :func:`suggest_seams` and the pattern has none.
+    units : ``"mm"``, ``"cm"``, ``"in"`` or ``"m"`` to override the file's (``Units:`` style
+        text, else ``$INSUNITS``, else millimetres).
+
+    Every problem with the file is a :class:`PatternError` naming the file (the DXF or the
+    side file) and where known the piece, the entity or the side file's key: a file that is
+    not DXF, damaged or larger than ``limits.dxf_bytes``; geometry beyond ``limits.extent``
+    (refused before any curve is sampled), more entities or points in a piece than
+    ``limits.segments_per_panel``, more pieces than ``limits.panels``; no pieces; whatever
+    :func:`~patternfit.pattern.check_pattern` refuses.
+    """
+    if units is not None and units not in UNITS:
+        raise ValueError(f"units: expected one of {sorted(UNITS)}, got {units!r}")
+    path = Path(path)
     try:
-        check_pattern(pattern)
+        pattern, notch_map = _read_dxf(path, units, prefer_sew)
     except PatternError as exc:
         raise exc.located(path) from None
+    except Exception as exc:  # ezdxf raises many kinds on a damaged file
+        raise PatternError(f"cannot read DXF: {_why(exc)}", file=path) from exc
     side_path = Path(sidecar) if sidecar is not None else sidecar_path(path)
     if sidecar is not None or side_path.exists():
+        side = read_json_file(side_path, error=PatternError)
         try:
-            side = json.loads(side_path.read_text(encoding="utf-8"))
-        except (OSError, json.JSONDecodeError) as exc:
-            raise PatternError(f"cannot read side file: {exc}", file=side_path) from None
-        return _apply_sidecar(pattern, side, side_path)
+            out = _with_sidecar(pattern, side)
+            warnings = check_imported(out)
+        except PatternError as exc:
+            raise exc.located(side_path) from None
+        if warnings:
+            out.meta["warnings"] = warnings
+        return out
     pattern.meta["notches"] = notch_map
     pattern.meta["suggested_seams"] = [
         {"name": s.name, "reverse": s.reverse,

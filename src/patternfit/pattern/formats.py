@@ -40,8 +40,9 @@ def sniff_format(path) -> str:
 
     Raises :class:`PatternError` naming the file for an unknown ending or JSON content.
     """
+    from ..files import read_json_file
     from .garmentcode import is_garmentcode
-    from .io import FORMAT, read_json
+    from .io import FORMAT
 
     path = Path(path)
     suffix = path.suffix.lower()
@@ -50,7 +51,7 @@ def sniff_format(path) -> str:
     if suffix != ".json":
         raise PatternError(f"cannot read '{suffix or path.name}' files (readable: "
                            f"{', '.join(READ_SUFFIXES)})", file=path)
-    data = read_json(path)
+    data = read_json_file(path, error=PatternError)
     if isinstance(data, dict) and data.get("format") == FORMAT:
         return "patternfit"
     if is_garmentcode(data):

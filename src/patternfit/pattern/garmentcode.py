@@ -35,17 +35,19 @@ from __future__ import annotations
 import json
 import math
 import re
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..files import atomic_write_text
+from ..files import atomic_write_text, read_json_file
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
 from .formats import check_imported
-from .io import read_json
+from .io import json_field, json_number, shown
+from .validate import check_size
 
 __all__ = ["euler_xyz_matrix", "garmentcode_from_dict", "garmentcode_to_dict", "is_garmentcode",
            "load_garmentcode", "panel_points_3d", "save_garmentcode"]
@@ -92,16 +94,10 @@ def is_garmentcode(data: Any) -> bool:
 
 
 # -- import ------------------------------------------------------------------------------------
-def _number(value, what: str, **where) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise PatternError(f"{what} must be a finite number, got {value!r}", **where)
-    return float(value)
-
-
 def _pair(value, what: str, **where) -> np.ndarray:
     if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise PatternError(f"{what} must be a pair [a, b], got {value!r}", **where)
-    return np.array([_number(v, what, **where) for v in value])
+        raise PatternError(f"{what} must be a pair [a, b], got {shown(value)}", **where)
+    return np.array([json_number(v, what, **where) for v in value])
 
 
 def _edge_names(edges: list) -> list[str]:
@@ -109,11 +105,12 @@ def _edge_names(edges: list) -> list[str]:
     ``label_i``, else ``e{i}``."""
     labels = [e.get("label") if isinstance(e, dict) else None for e in edges]
     labels = [lb if isinstance(lb, str) and lb.strip() else None for lb in labels]
+    count = Counter(labels)
     names = []
     for i, lb in enumerate(labels):
         if lb is None:
             names.append(f"e{i}")
-        elif labels.count(lb) == 1 and not _AUTO_NAME.match(lb):
+        elif count[lb] == 1 and not _AUTO_NAME.match(lb):
             names.append(lb)
         else:
             names.append(f"{lb}_{i}")
@@ -137,11 +134,12 @@ def _edge_from_gc(e: Any, verts: np.ndarray, scale: float, relative: bool, name:
                   index: int, where: dict) -> Edge:
     if not isinstance(e, dict):
         raise PatternError(f"edge #{index} must be an object", **where)
+    json_field(e, "label", (str, type(None)), f"edge #{index}", None, **where)
     ends = e.get("endpoints")
     if (not isinstance(ends, (list, tuple)) or len(ends) != 2
             or not all(isinstance(k, int) and not isinstance(k, bool) for k in ends)):
         raise PatternError(f"edge #{index}: 'endpoints' must be two vertex indices, "
-                           f"got {ends!r}", **where)
+                           f"got {shown(ends)}", **where)
     for k in ends:
         if not 0 <= k < len(verts):
             raise PatternError(f"edge #{index}: vertex index {k} out of range "
@@ -163,35 +161,36 @@ def _edge_from_gc(e: Any, verts: np.ndarray, scale: float, relative: bool, name:
             params = [params]  # a single pair written flat
         if not isinstance(params, list) or len(params) != need:
             raise PatternError(f"edge #{index}: a {kind} curve needs {need} control point(s), "
-                               f"got {params!r}", **where)
+                               f"got {shown(params)}", **where)
         ctrl = [_control(start, end, _pair(p, "control point", **where), relative) * scale
                 for p in params]
         return Edge(name, kind, [start * scale, *ctrl, end * scale])
     if kind == "circle":
         if not isinstance(params, list) or len(params) != 3:
             raise PatternError(f"edge #{index}: a circle needs [radius, large_arc, sweep], "
-                               f"got {params!r}", **where)
-        radius = _number(params[0], "circle radius", **where)
+                               f"got {shown(params)}", **where)
+        radius = json_number(params[0], "circle radius", **where)
         if radius <= 0:
             raise PatternError(f"edge #{index}: circle radius must be positive", **where)
-        flags = [bool(_number(f, "circle flag", **where)) for f in params[1:]]
+        flags = [bool(json_number(f, "circle flag", **where)) for f in params[1:]]
         return Edge.arc(name, start * scale, end * scale, radius * scale,
                         large_arc=flags[0], sweep=flags[1])
-    raise PatternError(f"edge #{index}: unknown curvature type {kind!r} "
+    raise PatternError(f"edge #{index}: unknown curvature type {shown(kind)} "
                        "(expected 'quadratic', 'cubic' or 'circle')", **where)
 
 
 def _vec3(panel: dict, key: str, where: dict) -> tuple[float, float, float]:
     v = panel.get(key, [0.0, 0.0, 0.0])
     if not isinstance(v, (list, tuple)) or len(v) != 3:
-        raise PatternError(f"'{key}' must be [x, y, z], got {v!r}", **where)
-    return tuple(_number(c, key, **where) for c in v)
+        raise PatternError(f"'{key}' must be [x, y, z], got {shown(v)}", **where)
+    return tuple(json_number(c, key, **where) for c in v)
 
 
 def _panel_from_gc(name: str, p: Any, scale: float, relative: bool):
     where = {"panel": name}
     if not isinstance(p, dict):
         raise PatternError("panel must be an object", **where)
+    json_field(p, "label", (str, type(None)), "panel", None, **where)
     raw = p.get("vertices")
     if not isinstance(raw, list) or len(raw) < 2:
         raise PatternError("panel needs a list of at least two 'vertices'", **where)
@@ -204,10 +203,11 @@ def _panel_from_gc(name: str, p: Any, scale: float, relative: bool):
              for i, (e, n) in enumerate(zip(edges_raw, names))]
     t = _vec3(p, "translation", where)
     r = _vec3(p, "rotation", where)
-    hint = p.get(_HINT) if isinstance(p.get(_HINT), dict) else {}
-    part = str(hint.get("part", "torso"))
-    side = str(hint.get("side", "back" if t[2] < 0 else "front"))
-    if hint.get("explicit") is False and not any(t) and not any(r):
+    hint = json_field(p, _HINT, dict, "panel", {}, **where)
+    part = json_field(hint, "part", str, _HINT, "torso", **where)
+    side = json_field(hint, "side", str, _HINT, "back" if t[2] < 0 else "front", **where)
+    explicit = json_field(hint, "explicit", bool, _HINT, True, **where)
+    if not explicit and not any(t) and not any(r):
         placement = Placement(part=part, side=side)  # written by us without a 3D placement
     else:
         placement = Placement(part=part, side=side, translation=tuple(c * scale for c in t),
@@ -219,16 +219,31 @@ def _panel_from_gc(name: str, p: Any, scale: float, relative: bool):
     return panel, names, labels
 
 
+def _edge_count(panels: dict) -> int:
+    """Edges or vertices of the raw panels, whichever are more (a closed outline has as many
+    of each), counted before any panel is built."""
+    def size(p, key):
+        v = p.get(key) if isinstance(p, dict) else None
+        return len(v) if isinstance(v, list) else 0
+    return max(sum(size(p, "edges") for p in panels.values()),
+               sum(size(p, "vertices") for p in panels.values()))
+
+
+def _place(edge) -> str:
+    """An edge reference from a stitch as the error's place."""
+    return edge if isinstance(edge, str) else shown(edge)
+
+
 def _stitch_side(side: Any, i: int, k: int, names: dict[str, list[str]]) -> SeamSide:
     if not isinstance(side, dict):
         raise PatternError(f"stitch #{i}: side {k} must be {{'panel': ..., 'edge': ...}}")
-    panel, edge = side.get("panel"), side.get("edge")
+    panel, edge = json_field(side, "panel", str, f"stitch #{i} side {k}"), side.get("edge")
     if panel not in names:
-        raise PatternError(f"stitch #{i} names missing panel {panel!r}", panel=str(panel),
-                           edge=None if edge is None else str(edge))
+        raise PatternError(f"stitch #{i} names missing panel {panel!r}", panel=panel,
+                           edge=None if edge is None else _place(edge))
     if isinstance(edge, bool) or not isinstance(edge, int) or not 0 <= edge < len(names[panel]):
-        raise PatternError(f"stitch #{i}: edge index {edge!r} out of range (panel has "
-                           f"{len(names[panel])} edges)", panel=panel, edge=str(edge))
+        raise PatternError(f"stitch #{i}: edge index {shown(edge)} out of range (panel has "
+                           f"{len(names[panel])} edges)", panel=panel, edge=_place(edge))
     return SeamSide(panel, names[panel][edge])
 
 
@@ -248,15 +263,20 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
     if (isinstance(units, bool) or not isinstance(units, (int, float))
             or not math.isfinite(units) or units <= 0):
         raise PatternError(f"bad units: 'units_in_meter' must be a positive number, "
-                           f"got {units!r}")
+                           f"got {shown(units)}")
     coords = props.get("curvature_coords", "relative")
     if coords not in ("relative", "absolute"):
-        raise PatternError(f"bad 'curvature_coords' {coords!r} (expected 'relative' or "
+        raise PatternError(f"bad 'curvature_coords' {shown(coords)} (expected 'relative' or "
                            "'absolute')")
     scale = 1.0 / float(units)
     spec = data["pattern"]
     if not spec["panels"]:
         raise PatternError("the pattern has no panels")
+    check_size(len(spec["panels"]), _edge_count(spec["panels"]))
+    order = spec.get("panel_order")
+    if order is not None and not (isinstance(order, list)
+                                  and all(isinstance(n, str) for n in order)):
+        raise PatternError(f"'panel_order' must be a list of panel names, got {shown(order)}")
     panels, names, labels = [], {}, {}
     for pname, p in spec["panels"].items():
         panel, names[pname], labels[pname] = _panel_from_gc(str(pname), p, scale,
@@ -275,7 +295,10 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
         if not isinstance(s, (list, tuple)) or len(s) < 2:
             raise PatternError(f"stitch #{i} must be a list of two sides")
         a, b = _stitch_side(s[0], i, 0, names), _stitch_side(s[1], i, 1, names)
-        extra = [str(x) for x in s[2:]]
+        extra = list(s[2:])
+        if not all(isinstance(x, str) for x in extra):
+            raise PatternError(f"stitch #{i}: entries after the two sides must be strings "
+                               f"(tags such as '{_RIGHT_WRONG}'), got {shown(extra)}")
         seam_name = seam_names[i]
         seams.append(Seam(seam_name, a, b, reverse=_RIGHT_WRONG not in extra))
         if extra:
@@ -303,7 +326,7 @@ def load_garmentcode(path) -> Pattern:
     The pattern is named after the file (``x_specification.json`` gives ``x``).
     """
     path = Path(path)
-    data = read_json(path)
+    data = read_json_file(path, error=PatternError)
     name = path.stem.removesuffix("_specification") or "pattern"
     try:
         return garmentcode_from_dict(data, name=name)

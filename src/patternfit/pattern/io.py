@@ -9,41 +9,78 @@ from __future__ import annotations
 
 import json
 import math
+import reprlib
 from pathlib import Path
 from typing import Any
 
 from ..constants import UNITS
-from ..files import atomic_write_text
+from ..files import atomic_write_text, read_json_file
 from .edges import KINDS, Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
-from .validate import check_pattern
+from .validate import check_pattern, check_size
 
 FORMAT = "patternfit-pattern"
 VERSION = 1
 
 
-def _num(value, what: str, **where) -> float:
+_MISSING = object()
+# how messages name the JSON types wanted
+_JSON_NAMES = {bool: "true or false", str: "a string", list: "a list", dict: "an object",
+               int: "an integer", float: "a number"}
+
+
+def shown(value, width: int = 60) -> str:
+    """``repr(value)`` cut to about ``width`` characters, for a message (a file may hold a
+    list of a million numbers where one was expected)."""
+    short = reprlib.Repr()
+    short.maxlevel, short.maxlist, short.maxdict = 2, 4, 4
+    short.maxstring = short.maxother = width
+    return short.repr(value)
+
+
+def json_number(value, what: str, **where) -> float:
+    """``value`` as a float; :class:`PatternError` (at ``where``: panel, edge) unless it is a
+    finite JSON number (booleans are not numbers)."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise PatternError(f"{what} must be a number, got {value!r}", **where)
+        raise PatternError(f"{what} must be a number, got {shown(value)}", **where)
     if not math.isfinite(value):
         raise PatternError(f"{what} is NaN or infinite", **where)
     return float(value)
 
 
-def _point(value, scale: float, what: str, **where) -> tuple[float, float]:
+def json_point(value, scale: float, what: str, **where) -> tuple[float, float]:
+    """``[x, y]`` times ``scale`` (file unit length [m]) as a pair of floats."""
     if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise PatternError(f"{what} must be a pair [x, y], got {value!r}", **where)
-    return (_num(value[0], what, **where) * scale, _num(value[1], what, **where) * scale)
+        raise PatternError(f"{what} must be a pair [x, y], got {shown(value)}", **where)
+    return (json_number(value[0], what, **where) * scale,
+            json_number(value[1], what, **where) * scale)
 
 
-def _require(obj, key: str, kind, what: str, **where):
-    if not isinstance(obj, dict) or key not in obj:
-        raise PatternError(f"{what} is missing '{key}'", **where)
-    if not isinstance(obj[key], kind):
-        raise PatternError(f"{what}: '{key}' has the wrong type ({type(obj[key]).__name__})",
-                           **where)
-    return obj[key]
+def json_vec3(value, scale: float, what: str, **where) -> tuple[float, float, float] | None:
+    """``[x, y, z]`` times ``scale`` as three floats; ``None`` stays ``None``."""
+    if value is None:
+        return None
+    if not isinstance(value, (list, tuple)) or len(value) != 3:
+        raise PatternError(f"{what} must be [x, y, z], got {shown(value)}", **where)
+    return tuple(json_number(c, what, **where) * scale for c in value)
+
+
+def json_field(obj, key: str, kind, what: str, default=_MISSING, **where):
+    """``obj[key]``, which must be of type ``kind`` (``bool`` must be a real boolean, ``str``
+    a real string); ``default`` when the key is missing, an error when there is none."""
+    if not isinstance(obj, dict):
+        raise PatternError(f"{what} must be an object", **where)
+    if key not in obj:
+        if default is _MISSING:
+            raise PatternError(f"{what} is missing '{key}'", **where)
+        return default
+    value = obj[key]
+    kinds = kind if isinstance(kind, tuple) else (kind,)
+    if not isinstance(value, kinds) or (isinstance(value, bool) and bool not in kinds):
+        names = " or ".join(_JSON_NAMES.get(k, k.__name__) for k in kinds)
+        raise PatternError(f"{what}: '{key}' must be {names}, got {shown(value)}", **where)
+    return value
 
 
 def _edge_from_dict(d: Any, scale: float, panel: str, index: int) -> Edge:
@@ -54,101 +91,133 @@ def _edge_from_dict(d: Any, scale: float, panel: str, index: int) -> Edge:
     if not isinstance(name, str) or not name:
         raise PatternError(f"edge #{index} has no valid name", **where)
     where["edge"] = name
-    kind = _require(d, "type", str, f"edge #{index}", **where)
+    kind = json_field(d, "type", str, f"edge #{index}", **where)
     if kind not in KINDS:
         raise PatternError(f"unknown edge type '{kind}' (expected one of {sorted(KINDS)})",
                            **where)
-    pts = _require(d, "points", list, f"edge #{index}", **where)
+    pts = json_field(d, "points", list, f"edge #{index}", **where)
     if len(pts) != KINDS[kind]:
         raise PatternError(f"a {kind} edge needs {KINDS[kind]} points, got {len(pts)}", **where)
-    points = [_point(p, scale, "point", **where) for p in pts]
+    points = [json_point(p, scale, "point", **where) for p in pts]
     if kind != "arc":
         return Edge(name, kind, points)
-    radius = _num(_require(d, "radius", (int, float), "arc", **where), "radius", **where)
+    radius = json_number(json_field(d, "radius", (int, float), "arc", **where), "radius",
+                         **where)
     if radius <= 0:
         raise PatternError("arc radius must be positive", **where)
     return Edge(name, "arc", points, radius=radius * scale,
-                large_arc=bool(d.get("large_arc", False)), sweep=bool(d.get("sweep", True)))
+                large_arc=json_field(d, "large_arc", bool, "arc", False, **where),
+                sweep=json_field(d, "sweep", bool, "arc", True, **where))
 
 
 def _loop_from_dict(d: Any, scale: float, panel: str, default_name: str) -> Loop:
     if not isinstance(d, dict):
         raise PatternError(f"loop '{default_name}' must be an object", panel=panel)
-    name = d.get("name", default_name)
-    edges = _require(d, "edges", list, f"loop '{name}'", panel=panel)
+    name = json_field(d, "name", str, f"loop '{default_name}'", default_name, panel=panel)
+    edges = json_field(d, "edges", list, f"loop '{name}'", panel=panel)
     return Loop(name, tuple(_edge_from_dict(e, scale, panel, i) for i, e in enumerate(edges)))
 
 
 def _panel_from_dict(d: Any, scale: float, index: int) -> Panel:
     if not isinstance(d, dict):
         raise PatternError(f"panel #{index} must be an object")
-    name = _require(d, "name", str, f"panel #{index}")
-    outline = _loop_from_dict(_require(d, "outline", dict, "panel", panel=name), scale, name,
+    name = json_field(d, "name", str, f"panel #{index}")
+    outline = _loop_from_dict(json_field(d, "outline", dict, "panel", panel=name), scale, name,
                               "outline")
-    inner_raw = d.get("inner", [])
-    if not isinstance(inner_raw, list):
-        raise PatternError("'inner' must be a list of loops", panel=name)
     inner = tuple(_loop_from_dict(lp, scale, name, f"inner{i}")
-                  for i, lp in enumerate(inner_raw))
-    grain = _point(d.get("grainline", [0.0, 1.0]), 1.0, "grainline", panel=name)
-    pl = d.get("placement") or {}
-    if not isinstance(pl, dict):
-        raise PatternError("'placement' must be an object", panel=name)
-    def vec3(key, s):
-        v = pl.get(key)
-        if v is None:
-            return None
-        if not isinstance(v, list) or len(v) != 3:
-            raise PatternError(f"placement '{key}' must be [x, y, z]", panel=name)
-        return tuple(_num(c, f"placement {key}", panel=name) * s for c in v)
-    placement = Placement(part=str(pl.get("part", "torso")), side=str(pl.get("side", "front")),
-                          translation=vec3("translation", scale), rotation=vec3("rotation", 1.0))
+                  for i, lp in enumerate(json_field(d, "inner", list, "panel", [], panel=name)))
+    grain = json_point(d.get("grainline", [0.0, 1.0]), 1.0, "grainline", panel=name)
+    pl = json_field(d, "placement", dict, "panel", {}, panel=name)
+    placement = Placement(
+        part=json_field(pl, "part", str, "placement", "torso", panel=name),
+        side=json_field(pl, "side", str, "placement", "front", panel=name),
+        translation=json_vec3(pl.get("translation"), scale, "placement translation",
+                              panel=name),
+        rotation=json_vec3(pl.get("rotation"), 1.0, "placement rotation", panel=name))
     return Panel(name, outline, inner, grain, placement)
 
 
-def _side_from_dict(d: Any, seam: str) -> SeamSide:
+def _side_from_dict(d: Any, seam: str, outline_edges) -> SeamSide:
     if not isinstance(d, dict):
         raise PatternError(f"seam '{seam}': each side must be an object")
-    panel = _require(d, "panel", str, f"seam '{seam}' side")
-    edge = _require(d, "edge", str, f"seam '{seam}' side", panel=panel)
+    panel = json_field(d, "panel", str, f"seam '{seam}' side")
+    edge = d.get("edge")
+    if outline_edges is not None and isinstance(edge, int) and not isinstance(edge, bool):
+        if panel not in outline_edges:
+            raise PatternError(f"seam '{seam}' names missing panel '{panel}'", panel=panel)
+        if not 0 <= edge < len(outline_edges[panel]):
+            raise PatternError(f"seam '{seam}': edge index {edge} out of range (the outline "
+                               f"has {len(outline_edges[panel])} edges)", panel=panel,
+                               edge=str(edge))
+        edge = outline_edges[panel][edge]
+    if not isinstance(edge, str):
+        raise PatternError(f"seam '{seam}' side: 'edge' must be an edge name, got {shown(edge)}",
+                           panel=panel)
     rng = d.get("range", [0.0, 1.0])
     if not isinstance(rng, list) or len(rng) != 2:
         raise PatternError(f"seam '{seam}': range must be [start, end]", panel=panel, edge=edge)
-    start = _num(rng[0], "range", panel=panel, edge=edge)
-    end = _num(rng[1], "range", panel=panel, edge=edge)
+    start = json_number(rng[0], "range", panel=panel, edge=edge)
+    end = json_number(rng[1], "range", panel=panel, edge=edge)
     return SeamSide(panel, edge, start, end)
 
 
-def pattern_from_dict(data: Any) -> Pattern:
-    """Build and validate a :class:`Pattern` from the parsed JSON document.
+def seams_from_json(raw: list, *, prefix: str = "seam", outline_edges=None) -> tuple[Seam, ...]:
+    """Seams from their JSON list (the pattern file's ``seams``, also the DXF side file's).
 
-    Raises :class:`PatternError` naming the panel and edge at fault.
+    Unnamed seams are called ``{prefix}{i}``. With ``outline_edges`` ({panel: [outline edge
+    names]}) a side's ``edge`` may also be an index into its panel's outline.
+    """
+    seams = []
+    for i, s in enumerate(raw):
+        if not isinstance(s, dict):
+            raise PatternError(f"seam #{i} must be an object")
+        name = json_field(s, "name", str, f"seam #{i}", f"{prefix}{i}")
+        seams.append(Seam(name, _side_from_dict(s.get("a"), name, outline_edges),
+                          _side_from_dict(s.get("b"), name, outline_edges),
+                          json_field(s, "reverse", bool, f"seam '{name}'", True)))
+    return tuple(seams)
+
+
+def _edge_count(panels: list) -> int:
+    """Edges in the raw panels, counted before any is built (malformed parts count 0)."""
+    def edges(loop):
+        e = loop.get("edges") if isinstance(loop, dict) else None
+        return len(e) if isinstance(e, list) else 0
+    total = 0
+    for p in panels:
+        if isinstance(p, dict):
+            inner = p.get("inner")
+            total += edges(p.get("outline")) + sum(
+                edges(lp) for lp in (inner if isinstance(inner, list) else []))
+    return total
+
+
+def pattern_from_dict(data: Any) -> Pattern:
+    """Build and validate a :class:`Pattern` [m] from the parsed JSON document.
+
+    Raises :class:`PatternError` naming the panel and edge at fault; sizes beyond
+    :data:`~patternfit.constants.limits` are refused before anything is built.
     """
     if not isinstance(data, dict):
         raise PatternError("the document must be a JSON object")
     if data.get("format") != FORMAT:
-        raise PatternError(f"not a patternfit pattern (format is {data.get('format')!r}, "
+        raise PatternError(f"not a patternfit pattern (format is {shown(data.get('format'))}, "
                            f"expected '{FORMAT}')")
     version = data.get("version")
-    if version != VERSION:
-        raise PatternError(f"unsupported format version {version!r} (this build reads "
+    if isinstance(version, bool) or version != VERSION:
+        raise PatternError(f"unsupported format version {shown(version)} (this build reads "
                            f"version {VERSION})")
-    units = data.get("units", "m")
+    units = json_field(data, "units", str, "pattern", "m")
     if units not in UNITS:
-        raise PatternError(f"unknown units {units!r} (expected one of {sorted(UNITS)})")
+        raise PatternError(f"unknown units {shown(units)} (expected one of {sorted(UNITS)})")
     scale = UNITS[units]
-    panels_raw = _require(data, "panels", list, "pattern")
+    name = json_field(data, "name", str, "pattern", "pattern")
+    meta = json_field(data, "meta", dict, "pattern", {})
+    panels_raw = json_field(data, "panels", list, "pattern")
+    seams_raw = json_field(data, "seams", list, "pattern", [])
+    check_size(len(panels_raw), _edge_count(panels_raw))
     panels = tuple(_panel_from_dict(p, scale, i) for i, p in enumerate(panels_raw))
-    seams = []
-    for i, s in enumerate(data.get("seams", [])):
-        if not isinstance(s, dict):
-            raise PatternError(f"seam #{i} must be an object")
-        name = s.get("name", f"seam{i}")
-        seams.append(Seam(name, _side_from_dict(s.get("a"), name), _side_from_dict(s.get("b"), name),
-                          bool(s.get("reverse", True))))
-    meta = data.get("meta", {})
-    pattern = Pattern(str(data.get("name", "pattern")), panels, tuple(seams),
-                      meta if isinstance(meta, dict) else {})
+    pattern = Pattern(name, panels, seams_from_json(seams_raw), dict(meta))
     check_pattern(pattern)
     return pattern
 
@@ -189,25 +258,11 @@ def pattern_to_dict(pattern: Pattern, *, units: str = "m") -> dict:
             "meta": pattern.meta, "panels": panels, "seams": seams}
 
 
-def read_json(path) -> Any:
-    """The parsed JSON document in ``path``; :class:`PatternError` naming the file when it
-    cannot be read or parsed."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise PatternError(f"cannot read file: {exc.strerror}", file=path) from None
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise PatternError(f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})",
-                           file=path) from None
-
-
 def load_pattern(path) -> Pattern:
-    """Read and validate a pattern JSON file; errors name the file, panel and edge."""
+    """Read and validate a pattern JSON file; every error is a :class:`PatternError` naming
+    the file and, where it applies, the line and column or the panel and edge."""
     path = Path(path)
-    data = read_json(path)
+    data = read_json_file(path, error=PatternError)
     try:
         return pattern_from_dict(data)
     except PatternError as exc:

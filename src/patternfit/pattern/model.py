@@ -78,7 +78,12 @@ class Panel:
     def __post_init__(self):
         object.__setattr__(self, "inner", tuple(self.inner))
         g = np.asarray(self.grainline, dtype=np.float64)
-        n = float(np.linalg.norm(g))
+        with np.errstate(over="ignore"):
+            n = float(np.linalg.norm(g))
+        big = float(np.max(np.abs(g)))
+        if not (n > 0 and np.isfinite(n)) and big > 0 and np.isfinite(big):
+            g = g / big  # the norm of (1e300, 1e300) overflows, that of (1e-320, 0) is 0
+            n = float(np.linalg.norm(g))
         if n > 0 and np.isfinite(n):
             g = g / n
         object.__setattr__(self, "grainline", (float(g[0]), float(g[1])))

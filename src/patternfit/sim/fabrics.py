@@ -6,17 +6,19 @@ is a JSON object with the same fields and units, e.g.::
     {"name": "my poplin", "density": 0.115, "stretch_warp": 6000, "stretch_weft": 4000,
      "shear": 40, "bending": 6e-6, "friction": 0.4, "thickness": 0.00025}
 
-``bending`` may be one value or ``bending_warp`` and ``bending_weft`` separately.
+``bending`` may be one value or ``bending_warp`` and ``bending_weft`` separately. Every
+value must lie in its plausible range (:data:`RANGES`); errors are :class:`FabricError`
+naming the file (``file``) and the field (``place``).
 """
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from ..errors import InputError
+from ..files import read_json_file
 
 
 class FabricError(InputError):
@@ -71,22 +73,37 @@ class Fabric:
         return asdict(self)
 
 
-_POSITIVE = ("density", "stretch_warp", "stretch_weft", "shear", "bending_warp",
-             "bending_weft", "thickness")
+#: plausible range of each field, (low, high, unit): from chiffon to leather, from a loose
+#: knit to a technical weave, around the presets and the sources in docs/fabrics.md; a value
+#: outside is a typo or a wrong unit (grams for kilograms, millimetres for metres)
+RANGES = {
+    "density": (0.01, 3.0, "kg/m^2"),
+    "stretch_warp": (1.0, 1e6, "N/m"), "stretch_weft": (1.0, 1e6, "N/m"),
+    "shear": (0.01, 1e5, "N/m"),
+    "bending_warp": (1e-9, 1e-2, "N m"), "bending_weft": (1e-9, 1e-2, "N m"),
+    "friction": (0.0, 2.0, "-"),
+    "thickness": (1e-5, 0.02, "m"),
+}
+#: the longest fabric name [characters]
+_NAME_LENGTH = 200
 
 
 def _check_values(values: dict, source) -> None:
-    where = f"{source}: " if source else ""
-    for key in _POSITIVE + ("friction",):
+    """Refuse a missing, non-numeric, non-finite or implausible field with a
+    :class:`FabricError` naming ``source`` (a file, or None) and the field."""
+    for key, (lo, hi, unit) in RANGES.items():
         v = values.get(key)
+        place = f"field '{key}'"
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise FabricError(f"{where}field '{key}': expected a finite number, got {v!r}")
-        if key in _POSITIVE and not v > 0:
-            raise FabricError(f"{where}field '{key}': must be positive, got {v!r}")
-        if key == "friction" and v < 0:
-            raise FabricError(f"{where}field 'friction': must be >= 0, got {v!r}")
-    if not isinstance(values.get("name"), str) or not values["name"]:
-        raise FabricError(f"{where}field 'name': expected a non-empty string")
+            raise FabricError(f"expected a finite number [{unit}], got {v!r:.40}",
+                              file=source, place=place)
+        if not lo <= v <= hi:
+            raise FabricError(f"{v!r} {unit} is outside the plausible range {lo:g} to {hi:g} "
+                              f"{unit}", file=source, place=place)
+    name = values.get("name")
+    if not isinstance(name, str) or not name.strip() or len(name) > _NAME_LENGTH:
+        raise FabricError(f"expected a non-empty string of at most {_NAME_LENGTH} characters",
+                          file=source, place="field 'name'")
 
 
 #: Continuum bending rigidity B [N m] per unit of ARCSim's hinge stiffness ``ke`` (the
@@ -127,28 +144,32 @@ _ALIASES = {"cotton": "cotton_shirting", "shirting": "cotton_shirting", "wool": 
 
 
 def load_fabric(path) -> Fabric:
-    """Read a user fabric from a JSON file (SI units, fields as in :class:`Fabric`)."""
+    """Read a user fabric from a JSON file (SI units, fields as in :class:`Fabric`, each
+    within :data:`RANGES`; ``name`` defaults to the file's stem).
+
+    Raises :class:`FabricError` with ``file`` the path and ``place`` the field (or the line):
+    unreadable, not a regular file (``/dev/zero``), too large, not UTF-8 JSON, not an
+    object, a field unknown, missing, of the wrong type or outside its plausible range.
+    """
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as exc:
-        raise FabricError(f"{path}: cannot read a JSON fabric ({exc})") from exc
+    data = read_json_file(path, error=FabricError)
     if not isinstance(data, dict):
-        raise FabricError(f"{path}: expected a JSON object")
+        raise FabricError(f"expected a JSON object, got {type(data).__name__}", file=path)
     data = dict(data)
     data.setdefault("name", path.stem)
     if "bending" in data:
         if "bending_warp" in data or "bending_weft" in data:
-            raise FabricError(f"{path}: field 'bending': give it or bending_warp/bending_weft, "
-                              "not both")
+            raise FabricError("give it or bending_warp/bending_weft, not both", file=path,
+                              place="field 'bending'")
         data["bending_warp"] = data["bending_weft"] = data.pop("bending")
     known = set(Fabric.__dataclass_fields__)
     for key in data:
         if key not in known:
-            raise FabricError(f"{path}: field '{key}': unknown (expected {sorted(known)})")
-    for key in known:
+            raise FabricError(f"unknown (expected {sorted(known)})", file=path,
+                              place=f"field {key!r:.80}")
+    for key in sorted(known):
         if key not in data:
-            raise FabricError(f"{path}: field '{key}': missing")
+            raise FabricError("missing", file=path, place=f"field '{key}'")
     _check_values(data, source=path)
     return Fabric(**data)
 
@@ -165,5 +186,5 @@ def get_fabric(name_or_path) -> Fabric:
     path = Path(str(name_or_path))
     if path.suffix.lower() == ".json" or path.exists():
         return load_fabric(path)
-    raise FabricError(f"fabric: unknown preset {name_or_path!r} (presets: "
-                      f"{', '.join(FABRICS)}; or a .json file)")
+    raise FabricError(f"unknown preset {name_or_path!r} (presets: {', '.join(FABRICS)}; or a "
+                      ".json file)", place="fabric")

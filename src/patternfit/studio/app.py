@@ -1,33 +1,53 @@
 """The studio's web application: a JSON API over one design session plus the static page.
 
 Lengths in the API are metres, like everywhere in patternfit; the page shows centimetres.
-No path from the client is ever opened: uploads are written under fixed names inside the
-session folder, exports are produced under fixed names and sent back.
+No path from the client is ever opened: bodies and fabrics are chosen by preset name or
+uploaded, uploads are read under names of the studio's choosing inside the session folder,
+and each export is written to a fresh folder of its own and sent back.
+
+No other web page can drive the studio: every request must name the studio's own address
+in ``Host`` (and in ``Origin``, where the browser sends one), and every request that changes
+something, and every export, must carry the random token the page was served with in the
+``X-Patternfit-Token`` header. JSON bodies must be sent as ``application/json``, uploads as
+``multipart/form-data``. Heavy work (meshing, edits, exports, reading uploads) runs in
+worker threads, so the server keeps answering ``GET /api/state`` meanwhile.
 """
 
 from __future__ import annotations
 
+import mimetypes
+import secrets
+import tempfile
 from pathlib import Path
 
+import anyio
 import numpy as np
-from fastapi import FastAPI, File, HTTPException, Request, UploadFile
-from fastapi.responses import FileResponse, JSONResponse, Response
+from fastapi import FastAPI, HTTPException, Request
+from fastapi.responses import HTMLResponse, JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
+from starlette.datastructures import Headers, UploadFile
+from starlette.formparsers import MultiPartException, MultiPartParser
 
+from ..constants import limits
+from ..errors import InputError
+from ..files import parse_json_text
 from ..fit.colormap import FitScale
-from .state import DRAG_OPS, STRETCH_SCALE, Studio, describe_error
+from .state import DRAG_OPS, STRETCH_SCALE, UPLOAD_SUFFIXES, Studio, describe_error
 
 STATIC = Path(__file__).parent / "static"
-#: largest pattern file the page may upload [bytes]
-MAX_UPLOAD = 5 * 1024 * 1024
-#: hosts the server answers to (a page from another site reaching 127.0.0.1 through DNS
+#: the names the studio answers to (a page from another site reaching 127.0.0.1 through DNS
 #: rebinding carries its own host name and is refused)
-LOCAL_HOSTS = ("127.0.0.1", "localhost", "testserver")
+LOCAL_HOSTS = ("127.0.0.1", "localhost")
+#: the header every state-changing request carries the page's token in
+TOKEN_HEADER = "X-Patternfit-Token"
+#: room for the multipart framing (boundaries, part headers) around an upload [bytes]
+MULTIPART_SLACK = 64 * 1024
 EXPORTS = {
     "pattern.json": "pattern", "pattern.dxf": "pattern", "pattern.svg": "pattern",
     "pattern.pdf": "pattern", "garment.glb": "garment", "garment.obj": "garment",
     "report.json": "report",
 }
+_TOKEN_SLOT = "__PATTERNFIT_TOKEN__"
 
 
 def _correct_available() -> bool:
@@ -38,37 +58,158 @@ def _correct_available() -> bool:
     return True
 
 
-def create_app(session_dir, *, max_upload: int = MAX_UPLOAD) -> FastAPI:
+class _Guard:
+    """ASGI middleware refusing what no page of the studio's own sends: a foreign ``Host``
+    (403), a foreign ``Origin`` (403), a request that changes something (or exports) without
+    the token (403), and a body of the wrong type (415)."""
+
+    def __init__(self, app, *, hosts, token: str):
+        self.app = app
+        self.hosts = tuple(hosts)
+        self.token = token
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] == "http":
+            refusal = self.refusal(scope)
+            if refusal is not None:
+                await JSONResponse({"error": refusal[1]}, refusal[0])(scope, receive, send)
+                return
+        await self.app(scope, receive, send)
+
+    def refusal(self, scope) -> tuple[int, str] | None:
+        """``(status, message)`` for a request to refuse, None to let it through."""
+        headers = Headers(scope=scope)
+        port = (scope.get("server") or (None, None))[1]
+        name, _, given = (headers.get("host") or "").partition(":")
+        if port is None or name not in self.hosts or (given or "80") != str(port):
+            return 403, f"the studio answers only on {self.hosts[0]}"
+        # an exact match: a page on another port of this machine is another site
+        own = {f"http://{h}:{port}" for h in self.hosts}
+        if port == 80:
+            own |= {f"http://{h}" for h in self.hosts}
+        origin = headers.get("origin")
+        if origin is not None and origin not in own:
+            return 403, "requests from other sites are refused"
+        path, method = scope["path"], scope["method"]
+        if method in ("GET", "HEAD") and not path.startswith("/api/export/"):
+            return None
+        if not secrets.compare_digest(headers.get(TOKEN_HEADER, "").encode(),
+                                      self.token.encode()):
+            return 403, (f"missing or wrong {TOKEN_HEADER} header (reload the page: the studio "
+                         "may have been restarted)")
+        if method in ("GET", "HEAD"):
+            return None
+        kind = headers.get("content-type", "").split(";")[0].strip().lower()
+        wanted = "multipart/form-data" if path == "/api/upload" else "application/json"
+        # a request without a body (POST /api/drape) needs no type
+        if kind != wanted and not (kind == "" and headers.get("content-length") == "0"
+                                   and wanted == "application/json"):
+            return 415, f"expected a {wanted} body"
+        return None
+
+
+async def _read_capped(request: Request, limit: int, what: str) -> bytes:
+    """The request body, refused with 413 once it is found larger than ``limit`` bytes: from
+    ``Content-Length`` before reading, else while it arrives (nothing beyond is read)."""
+    declared = request.headers.get("content-length")
+    if declared is not None:
+        if not declared.isdigit():
+            raise HTTPException(400, "Content-Length: not a number")
+        if int(declared) > limit:
+            raise HTTPException(413, f"{what}: larger than {limit // 1024} KiB")
+    body = bytearray()
+    async for chunk in request.stream():
+        body += chunk
+        if len(body) > limit:
+            raise HTTPException(413, f"{what}: larger than {limit // 1024} KiB")
+    return bytes(body)
+
+
+def _json_object(raw: bytes) -> dict:
+    """The JSON object of a request body (an empty body is ``{}``); InputError otherwise."""
+    if not raw:
+        return {}
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InputError("not UTF-8 text", file="request body") from None
+    body = parse_json_text(text, file="request body")
+    if not isinstance(body, dict):
+        raise InputError("expected a JSON object", file="request body")
+    return body
+
+
+def _edit_request(body: dict) -> tuple[str, dict]:
+    """``op`` and ``args`` of an edit or drag request, checked for their JSON types."""
+    op, args = body.get("op"), body.get("args", {})
+    if not isinstance(op, str):
+        raise ValueError("op: expected the name of an editing tool")
+    if not isinstance(args, dict):
+        raise ValueError("args: expected an object of the tool's arguments")
+    if "label" in args:  # the label is the studio's own description of the edit
+        raise ValueError("args: 'label' is not an argument of an editing tool")
+    return op, args
+
+
+def _revision(body: dict) -> int | None:
+    rev = body.get("revision")
+    if rev is not None and (isinstance(rev, bool) or not isinstance(rev, int)):
+        raise ValueError("revision: expected a whole number")
+    return rev
+
+
+def create_app(session_dir, *, max_upload: int | None = None,
+               allowed_hosts=LOCAL_HOSTS) -> FastAPI:
     """The studio app over the design session kept in ``session_dir`` (created if missing,
-    continued if it holds one). ``max_upload``: upload size limit [bytes]."""
+    continued if it holds one; a saved session that does not load raises
+    :class:`~patternfit.errors.SessionError`). ``max_upload``: upload size limit [bytes]
+    (default ``limits.upload_bytes``). ``allowed_hosts``: the host names requests may address
+    (tests add the test client's ``"testserver"``). The page's token is ``app.state.token``.
+    """
     studio = Studio(session_dir)
-    app = FastAPI(title="patternfit studio", docs_url=None, redoc_url=None)
+    max_upload = limits.upload_bytes if max_upload is None else int(max_upload)
+    token = secrets.token_urlsafe(32)
+    page = (STATIC / "index.html").read_text(encoding="utf-8").replace(_TOKEN_SLOT, token)
+    app = FastAPI(title="patternfit studio", docs_url=None, redoc_url=None, openapi_url=None)
     app.state.studio = studio
-
-    @app.middleware("http")
-    async def local_only(request: Request, call_next):
-        host = (request.headers.get("host") or "").rsplit(":", 1)[0].strip("[]")
-        if host not in LOCAL_HOSTS:
-            return JSONResponse({"error": "the studio answers only on 127.0.0.1"}, 403)
-        return await call_next(request)
-
-    def refuse(exc: Exception, code: int = 400):
-        raise HTTPException(code, describe_error(exc)) from None
+    app.state.token = token
+    app.add_middleware(_Guard, hosts=allowed_hosts, token=token)
 
     @app.exception_handler(HTTPException)
     async def http_error(request, exc: HTTPException):
         return JSONResponse({"error": exc.detail}, exc.status_code)
 
-    def checked_revision(body: dict) -> str | None:
-        rev = body.get("revision")
-        if rev is not None and rev != studio.revision:
+    @app.exception_handler(Exception)
+    async def server_error(request, exc: Exception):
+        return JSONResponse({"error": f"internal error: {describe_error(exc)}"}, 500)
+
+    async def in_worker(fn, *args, code: int = 400):
+        """``fn(*args)`` in a worker thread, so the server keeps answering meanwhile. Its
+        refusals answer ``code``; past ``limits.request_seconds`` the client gets 503 (the
+        work itself cannot be interrupted: it finishes in the background)."""
+        try:
+            with anyio.fail_after(limits.request_seconds):
+                return await anyio.to_thread.run_sync(fn, *args, abandon_on_cancel=True)
+        except TimeoutError:
+            raise HTTPException(503, f"the request took longer than {limits.request_seconds:g} s"
+                                     "; it finishes in the background (reload to see it)"
+                                ) from None
+        except (ValueError, TypeError, KeyError, IndexError, RuntimeError) as exc:
+            raise HTTPException(code, describe_error(exc)) from None
+
+    def stale(revision: int | None) -> str | None:
+        if revision is not None and revision != studio.revision:
             return ("the session was changed in another tab; this change was applied on top "
                     "of it (last write wins)")
         return None
 
     @app.get("/", include_in_schema=False)
     def index():
-        return FileResponse(STATIC / "index.html")
+        # never cached: a page kept from before a restart would carry a stale token; never
+        # framed: a foreign page could otherwise lay its own buttons over the studio's
+        return HTMLResponse(page, headers={"Cache-Control": "no-store",
+                                           "X-Frame-Options": "DENY",
+                                           "Content-Security-Policy": "frame-ancestors 'none'"})
 
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
 
@@ -82,121 +223,117 @@ def create_app(session_dir, *, max_upload: int = MAX_UPLOAD) -> FastAPI:
         return {"garments": {k: v[2] for k, v in GARMENTS.items()}, "sizes": list(SIZE_NAMES),
                 "bodies": list_bodies(), "fabrics": list(FABRICS),
                 "engines": ["default"], "correct_available": _correct_available(),
-                "max_upload": max_upload, "exports": list(EXPORTS), "drag_ops": DRAG_OPS}
+                "max_upload": max_upload, "exports": list(EXPORTS), "drag_ops": DRAG_OPS,
+                "uploads": {k: list(v) for k, v in UPLOAD_SUFFIXES.items()}}
 
     @app.get("/api/state")
-    def state():
-        try:
-            s = studio.ensure()
-        except Exception as exc:
-            refuse(exc, 500)
+    async def state():
+        if studio.summary is None:  # the first request of a new folder makes its session
+            await in_worker(studio.ensure, code=500)
+        return {**studio.summary, "drape": studio.job.as_dict()}
+
+    def read_geometry():
         with studio.lock:
-            return {"revision": studio.revision, "info": studio.info,
-                    "fabric": s.fabric.name, "triangles": s.triangles,
-                    "threshold": s.threshold, "position": s.position,
-                    "history": [{k: r[k] for k in ("index", "label", "fitting_ratio", "current")}
-                                for r in s.summary()],
-                    "fitting_ratio": s.state.fitting_ratio, "draped": s.positions is not None,
-                    "checks": s.state.checks, "drape": studio.job.as_dict(),
-                    "can_undo": s.position > 0, "can_redo": s.position + 1 < len(s.history)}
+            return _geometry(studio.ensure())
 
     @app.get("/api/geometry")
-    def geometry():
-        with studio.lock:
-            s = studio.ensure()
-            return _geometry(s)
+    async def geometry():
+        return await in_worker(read_geometry)
 
-    @app.get("/api/garment3d")
-    def garment3d():
+    def read_garment3d():
         with studio.lock:
             s = studio.ensure()
             if s.positions is None:
                 raise HTTPException(409, "nothing draped yet")
             return _garment3d(s)
 
-    @app.get("/api/body")
-    def body():
+    @app.get("/api/garment3d")
+    async def garment3d():
+        return await in_worker(read_garment3d)
+
+    def read_body():
         b = studio.ensure().body
         return {"name": b.name, "vertices": np.round(b.vertices, 5).ravel().tolist(),
                 "faces": b.faces.ravel().tolist()}
 
+    @app.get("/api/body")
+    async def body():
+        return await in_worker(read_body)
+
+    async def json_body(request: Request) -> bytes:
+        return await _read_capped(request, limits.json_body_bytes, "request body")
+
+    def do_new(raw: bytes):
+        body = _json_object(raw)
+        studio.new(**{k: body[k] for k in ("garment", "size", "body", "fabric", "triangles")
+                      if k in body})
+        return {"ok": True, "revision": studio.revision}
+
     @app.post("/api/new")
     async def new(request: Request):
-        body = await request.json()
-        try:
-            studio.new(**{k: body[k] for k in ("garment", "size", "body", "fabric", "triangles")
-                          if k in body})
-        except Exception as exc:
-            refuse(exc)
-        return {"ok": True, "revision": studio.revision}
+        return await in_worker(do_new, await json_body(request))
+
+    def do_edit(raw: bytes):
+        body = _json_object(raw)
+        op, args = _edit_request(body)
+        revision = _revision(body)
+        with studio.lock:
+            warning = stale(revision)
+            result = studio.apply(op, args)
+            return {"ok": True, "warning": warning, "revision": studio.revision, **result}
 
     @app.post("/api/edit")
     async def edit(request: Request):
-        body = await request.json()
-        warning = checked_revision(body)
-        try:
-            result = studio.apply(str(body.get("op")), dict(body.get("args") or {}))
-        except Exception as exc:
-            refuse(exc)
-        return {"ok": True, "warning": warning, "revision": studio.revision, **result}
+        return await in_worker(do_edit, await json_body(request))
 
-    @app.post("/api/drag")
-    async def drag(request: Request):
-        body = await request.json()
-        try:
-            vertices, moved = studio.drag(str(body.get("op")), dict(body.get("args") or {}))
-        except Exception as exc:
-            refuse(exc)
+    def do_drag(raw: bytes):
+        vertices, moved = studio.drag(*_edit_request(_json_object(raw)))
         # the preview travels as raw float32 (n, 2): the page maps it straight onto its mesh
         return Response(np.ascontiguousarray(vertices, dtype="<f4").tobytes(),
                         media_type="application/octet-stream",
                         headers={"X-Moved": ",".join(moved)})
 
-    @app.post("/api/drag/basis")
-    async def drag_basis(request: Request):
-        body = await request.json()
-        try:
-            basis = studio.drag_basis(str(body.get("op")), dict(body.get("args") or {}))
-        except Exception as exc:
-            refuse(exc)
+    @app.post("/api/drag")
+    async def drag(request: Request):
+        return await in_worker(do_drag, await json_body(request))
+
+    def do_drag_basis(raw: bytes):
+        basis = studio.drag_basis(*_edit_request(_json_object(raw)))
         return Response(np.ascontiguousarray(basis, dtype="<f4").tobytes(),
                         media_type="application/octet-stream")
 
+    @app.post("/api/drag/basis")
+    async def drag_basis(request: Request):
+        return await in_worker(do_drag_basis, await json_body(request))
+
+    def step(move):
+        def run(raw: bytes):
+            revision = _revision(_json_object(raw))
+            with studio.lock:
+                warning = stale(revision)
+                move()
+                return {"ok": True, "warning": warning, "revision": studio.revision}
+        return run
+
     @app.post("/api/undo")
     async def undo(request: Request):
-        body = await request.json() if await request.body() else {}
-        warning = checked_revision(body)
-        try:
-            studio.undo()
-        except Exception as exc:
-            refuse(exc)
-        return {"ok": True, "warning": warning, "revision": studio.revision}
+        return await in_worker(step(studio.undo), await json_body(request))
 
     @app.post("/api/redo")
     async def redo(request: Request):
-        body = await request.json() if await request.body() else {}
-        warning = checked_revision(body)
-        try:
-            studio.redo()
-        except Exception as exc:
-            refuse(exc)
-        return {"ok": True, "warning": warning, "revision": studio.revision}
+        return await in_worker(step(studio.redo), await json_body(request))
+
+    def start(kind: str):
+        studio.start_drape(kind=kind)
+        return studio.job.as_dict()
 
     @app.post("/api/drape")
-    def drape():
-        try:
-            studio.start_drape()
-        except Exception as exc:
-            refuse(exc, 409)
-        return studio.job.as_dict()
+    async def drape():
+        return await in_worker(start, "drape", code=409)
 
     @app.post("/api/correct")
-    def correct():
-        try:
-            studio.start_drape(kind="correct")
-        except Exception as exc:
-            refuse(exc, 409)
-        return studio.job.as_dict()
+    async def correct():
+        return await in_worker(start, "correct", code=409)
 
     @app.get("/api/drape")
     def drape_progress():
@@ -208,40 +345,42 @@ def create_app(session_dir, *, max_upload: int = MAX_UPLOAD) -> FastAPI:
         return studio.job.as_dict()
 
     @app.post("/api/upload")
-    async def upload(file: UploadFile = File(...)):
-        from ..pattern.formats import READ_SUFFIXES, load_any_pattern
-
-        # only the ending of the client's file name is used, to pick the reader
-        suffix = Path(file.filename or "").suffix.lower()
-        if suffix not in READ_SUFFIXES:
-            raise HTTPException(400, f"upload: expected a {' or '.join(READ_SUFFIXES)} file")
+    async def upload(request: Request, kind: str = "pattern"):
+        raw = await _read_capped(request, max_upload + MULTIPART_SLACK, "upload")
+        file = await _multipart_file(request.headers, raw)
         data = await file.read(max_upload + 1)
         if len(data) > max_upload:
             raise HTTPException(413, f"upload: larger than {max_upload // 1024} KiB")
-        from ..files import atomic_write_bytes
-
-        target = studio.folder / "uploads" / f"upload{suffix}"
-        atomic_write_bytes(target, data)
-        try:
-            pattern = load_any_pattern(target)
-            studio.start_from(pattern, source=f"uploaded {Path(file.filename).name}")
-        except Exception as exc:
-            # the message names the client's file, not the server's folder
-            raise HTTPException(400, describe_error(exc).replace(
-                str(target), Path(file.filename).name)) from None
-        return {"ok": True, "revision": studio.revision, "panels": len(pattern.panels)}
+        result = await in_worker(studio.upload, kind, file.filename or "", data)
+        return {"ok": True, "revision": studio.revision, **result}
 
     @app.get("/api/export/{name}")
-    def export(name: str):
+    async def export(name: str):
         if name not in EXPORTS:
             raise HTTPException(404, f"export: one of {', '.join(EXPORTS)}")
-        try:
-            path = _export(studio, name)
-        except Exception as exc:
-            refuse(exc, 409)
-        return FileResponse(path, filename=path.name)
+        data = await in_worker(_export, studio, name, code=409)
+        return Response(data, media_type=mimetypes.guess_type(name)[0] or
+                        "application/octet-stream",
+                        headers={"Content-Disposition": f'attachment; filename="{name}"'})
 
     return app
+
+
+async def _multipart_file(headers, raw: bytes) -> UploadFile:
+    """The one file field ``file`` of the multipart body ``raw`` (already size-capped)."""
+    async def stream():
+        yield raw
+
+    parser = MultiPartParser(headers, stream(), max_files=1, max_fields=4)
+    parser.spool_max_size = len(raw)  # the body is in memory already: no copy on disk
+    try:
+        form = await parser.parse()
+    except MultiPartException as exc:
+        raise HTTPException(400, f"upload: {exc.message}") from None
+    file = form.get("file")
+    if not isinstance(file, UploadFile):
+        raise HTTPException(400, "upload: expected a multipart field 'file' with the file")
+    return file
 
 
 def _geometry(s) -> dict:
@@ -288,18 +427,19 @@ def _garment3d(s) -> dict:
                      for k, (v, sc) in maps.items()}}
 
 
-def _export(studio: Studio, name: str) -> Path:
-    """Write export ``name`` (a key of ``EXPORTS``) into the session's export folder."""
+def _export(studio: Studio, name: str) -> bytes:
+    """The bytes of export ``name`` (a key of ``EXPORTS``), written into a folder of its own
+    under the session's ``exports/`` (removed again): an export running while another one,
+    or an edit, writes can never hand out a half-written file."""
     from ..fit.colormap import vertex_values
     from ..fit.export import export_garment
     from ..fit.report import fit_report, write_report
     from ..pattern.formats import save_any_pattern
 
-    with studio.lock:
+    (studio.folder / "exports").mkdir(exist_ok=True)
+    with studio.lock, tempfile.TemporaryDirectory(dir=studio.folder / "exports") as tmp:
         s = studio.ensure()
-        folder = studio.folder / "exports"
-        folder.mkdir(exist_ok=True)
-        path = folder / name
+        path = Path(tmp) / name
         kind = EXPORTS[name]
         if kind == "pattern":
             fit = s.evaluate() if s.positions is not None and path.suffix in (".svg", ".pdf") \
@@ -308,14 +448,15 @@ def _export(studio: Studio, name: str) -> Path:
                                                 FitScale().colors(fit.area_change),
                                                 s.mesh.triangle_panel)
             save_any_pattern(s.pattern, path, fit=colours)
-            return path
-        if s.positions is None:
+        elif s.positions is None:
             raise RuntimeError("drape the garment first")
-        fit = s.evaluate()
-        if kind == "garment":
+        elif kind == "garment":
+            fit = s.evaluate()
             rgb = FitScale().colors(vertex_values(s.mesh.triangles, fit.area_change,
                                                   s.mesh.n_vertices, weights=fit.area_2d))
-            return export_garment(s.positions, s.mesh.triangles, rgb, path)
-        return write_report(fit_report(s.mesh, fit, state="draped",
-                                       extra={"checks": s.state.checks,
-                                              "history": s.summary()}), path)
+            path = export_garment(s.positions, s.mesh.triangles, rgb, path)
+        else:
+            path = write_report(fit_report(s.mesh, s.evaluate(), state="draped",
+                                           extra={"checks": s.state.checks,
+                                                  "history": s.summary()}), path)
+        return Path(path).read_bytes()

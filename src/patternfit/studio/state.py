@@ -4,25 +4,35 @@ the background and the live-drag coordinate cache.
 Every change goes through :class:`Studio` under one lock, so two browser tabs on the same
 session cannot interleave half-done edits; the session's ``revision`` counts changes and
 lets a tab notice that another one wrote in between (last write wins, with a warning).
+Body and fabric are chosen by preset name or by an uploaded file, never by a path.
 """
 
 from __future__ import annotations
 
 import math
+import os
+import shutil
+import tempfile
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..edit import CoordinateCache, update_mesh
+from ..errors import InputError, SessionError
+from ..files import atomic_write_text, dumps_finite_json, read_json_file
 from ..fit.colormap import FitScale
 from ..loop import DesignSession
-from ..pattern.errors import PatternError
+from ..loop.session import holds_session
 
 #: triangle count of a new session's garment mesh unless asked otherwise
 DEFAULT_TRIANGLES = 1500
+#: what an upload may be, with the file endings each kind is read from
+UPLOAD_SUFFIXES = {"pattern": (".json", ".dxf"),
+                   "body": (".obj", ".ply", ".stl", ".glb", ".off", ".npz"),
+                   "fabric": (".json",)}
 #: the editing tools the live drag preview accepts (they keep the mesh topology)
 DRAG_OPS = ("move_point", "move_edge", "edit_curve", "move_dart")
 #: relative stretch at which the warp/weft colours saturate [-]
@@ -62,6 +72,10 @@ def _finite(x):
 class Studio:
     """One design session kept in ``folder`` (created, or continued when it holds one).
 
+    A folder whose saved session does not load (every snapshot damaged) is refused with a
+    :class:`~patternfit.errors.SessionError` rather than started afresh: a new session would
+    replace its history.
+
     Parameters
     ----------
     folder : path
@@ -78,26 +92,41 @@ class Studio:
         self._drag: tuple | None = None  # (state object, CoordinateCache)
         self.info: dict = {}
         self.session: DesignSession | None = None
-        if (self.folder / "session" / "current").exists():
+        #: what ``GET /api/state`` answers, rebuilt after every change so that reading it
+        #: never waits for the lock a long change holds
+        self.summary: dict | None = None
+        if holds_session(self.folder / "session"):
             self.session = DesignSession.load(self.folder / "session")
             self.info = self._read_info()
+            self._publish()
 
     # -- session life --------------------------------------------------------------------
     def _read_info(self) -> dict:
-        import json
-
         p = self.folder / "studio.json"
-        return json.loads(p.read_text()) if p.exists() else {}
+        if not p.exists():
+            return {}
+        info = read_json_file(p, error=SessionError)
+        if not isinstance(info, dict):
+            raise SessionError("expected a JSON object", file=p)
+        return info
 
     def _save(self) -> None:
-        """Write the session (atomic snapshot) and count the change."""
-        import json
-
-        from ..files import atomic_write_text
-
+        """Write the session (only its new states) and count the change."""
         self.session.save(self.folder / "session")
-        atomic_write_text(self.folder / "studio.json", json.dumps(self.info))
+        atomic_write_text(self.folder / "studio.json", dumps_finite_json(self.info))
         self.revision += 1
+        self._publish()
+
+    def _publish(self) -> None:
+        s = self.session
+        self.summary = {
+            "revision": self.revision, "info": dict(self.info), "fabric": s.fabric.name,
+            "triangles": s.triangles, "threshold": s.threshold, "position": s.position,
+            "history": [{k: r[k] for k in ("index", "label", "fitting_ratio", "current")}
+                        for r in s.summary()],
+            "fitting_ratio": s.state.fitting_ratio, "draped": s.positions is not None,
+            "checks": s.state.checks, "can_undo": s.position > 0,
+            "can_redo": s.position + 1 < len(s.history)}
 
     def ensure(self) -> DesignSession:
         """The session, starting the default one (built-in skirt) when there is none."""
@@ -107,30 +136,80 @@ class Studio:
             return self.session
 
     def new(self, *, garment: str = "skirt", size: str = "M", body: str = "female_average",
-            fabric: str = "cotton", triangles: int = DEFAULT_TRIANGLES) -> None:
-        """Start a new session on a built-in garment (replaces the current one)."""
-        triangles = int(triangles)
-        if not 100 <= triangles <= 60000:
-            raise ValueError("triangles: expected 100..60000")
+            fabric: str = "cotton_shirting", triangles: int = DEFAULT_TRIANGLES) -> None:
+        """Start a new session on a built-in garment, body and fabric, each named as in
+        ``/api/options`` (replaces the current session)."""
+        from ..body.builtin import list_bodies
+        from ..pattern.library import GARMENTS
+        from ..pattern.sizes import SIZE_NAMES
+        from ..sim.fabrics import FABRICS
+
+        for what, value, known in (("garment", garment, GARMENTS), ("size", size, SIZE_NAMES),
+                                   ("body", body, list_bodies()), ("fabric", fabric, FABRICS)):
+            if not isinstance(value, str) or value not in known:
+                raise ValueError(f"{what}: expected one of {', '.join(known)}")
+        if isinstance(triangles, bool) or not isinstance(triangles, int) \
+                or not 100 <= triangles <= 60000:
+            raise ValueError("triangles: expected a whole number in 100..60000")
+        self._refuse_while_draping()
+        session = DesignSession.new(garment=garment, size=size, body=body, fabric=fabric,
+                                    triangles=triangles)
         with self.lock:
             self._refuse_while_draping()
-            self.session = DesignSession.new(garment=garment, size=size, body=body,
-                                             fabric=fabric, triangles=triangles)
+            self.session = session
             self.info = {"garment": garment, "size": size, "body": body, "fabric": fabric,
                          "source": f"built-in {garment} {size}"}
             self._save()
 
-    def start_from(self, pattern, *, source: str) -> None:
-        """Start a new session on an uploaded pattern, keeping body, fabric and mesh size."""
-        from ..body.builtin import load_body
+    def upload(self, kind: str, filename: str, data: bytes) -> dict:
+        """Start a new session on an uploaded pattern, body or fabric (``kind``), keeping the
+        rest of the current one. The file is read from the session folder under a name of
+        the studio's choosing (``uploads/<kind><ending>``); only the ending of the client's
+        ``filename`` is used, to pick the reader, and its last part names it in messages."""
+        shown = filename.replace("\\", "/").rsplit("/", 1)[-1][:100] or kind
+        suffix = Path(shown).suffix.lower()
+        if kind not in UPLOAD_SUFFIXES:
+            raise ValueError(f"kind: expected one of {', '.join(UPLOAD_SUFFIXES)}")
+        if suffix not in UPLOAD_SUFFIXES[kind]:
+            raise ValueError(f"upload: expected a {' or '.join(UPLOAD_SUFFIXES[kind])} file")
+        uploads = self.folder / "uploads"
+        uploads.mkdir(exist_ok=True)
+        # each upload is read in a folder of its own: two at once never share a file
+        part = Path(tempfile.mkdtemp(prefix=".incoming-", dir=uploads))
+        target = part / f"{kind}{suffix}"
+        try:
+            target.write_bytes(data)
+            read = _read_upload(kind, target, Path(shown).stem)
+            os.replace(target, uploads / target.name)
+        except Exception as exc:
+            # the readers (trimesh, NumPy's zip) raise many kinds for a bad file, and every
+            # one means the upload cannot be used; the message names the client's file, not
+            # the server's folder
+            raise InputError(describe_error(exc).replace(str(target), shown)) from None
+        finally:
+            shutil.rmtree(part, ignore_errors=True)
+        if kind == "pattern":
+            self.start_from(pattern=read, labels={"garment": read.name,
+                                                  "source": f"uploaded {shown}"})
+            return {"panels": len(read.panels)}
+        self.start_from(**{kind: read}, labels={kind: read.name})
+        return {"name": read.name}
 
+    def start_from(self, *, labels: dict, pattern=None, body=None, fabric=None) -> None:
+        """Start a new session on ``pattern``, ``body`` or ``fabric`` (uploaded), keeping the
+        rest of the current session (its pattern, body, fabric, mesh size, threshold);
+        ``labels`` update what the page shows of the session (``info``)."""
+        self._refuse_while_draping()
+        with self.lock:
+            old = self.ensure()
+        session = DesignSession(old.pattern if pattern is None else pattern,
+                                old.body if body is None else body,
+                                old.fabric if fabric is None else fabric,
+                                old.triangles, old.threshold)
         with self.lock:
             self._refuse_while_draping()
-            old = self.ensure()
-            self.session = DesignSession(pattern, load_body(self.info.get("body",
-                                                                          "female_average")),
-                                         old.fabric, old.triangles, old.threshold)
-            self.info = {**self.info, "garment": pattern.name, "source": source}
+            self.session = session
+            self.info = {**self.info, **labels}
             self._save()
 
     def _refuse_while_draping(self) -> None:
@@ -272,10 +351,31 @@ class Studio:
                 self._save()
 
 
+def _read_upload(kind: str, path: Path, stem: str):
+    """The pattern, body or fabric in the uploaded file ``path``, named after ``stem`` (the
+    client's file name) where the file gives no name of its own."""
+    if kind == "pattern":
+        from ..pattern.formats import load_any_pattern
+
+        return load_any_pattern(path)
+    if kind == "fabric":
+        from ..sim.fabrics import load_fabric
+
+        fabric = load_fabric(path)
+        return replace(fabric, name=stem) if fabric.name == path.stem else fabric
+    from ..body.builtin import read_body
+    from ..body.mesh_io import load_body_mesh
+
+    body = read_body(path) if path.suffix == ".npz" else load_body_mesh(path)
+    body.name = stem
+    body.meta = {**body.meta, "source": f"uploaded {stem}{path.suffix}"}
+    return body
+
+
 def describe_error(exc: Exception) -> str:
     """The message shown in the page for a refused request."""
-    if isinstance(exc, PatternError):
-        return str(exc)
-    if isinstance(exc, (ValueError, KeyError, IndexError, RuntimeError, TypeError)):
-        return str(exc).strip("'\"") or type(exc).__name__
+    if isinstance(exc, KeyError) and exc.args:  # str() of a KeyError is the key's repr
+        return str(exc.args[0])
+    if isinstance(exc, (ValueError, IndexError, RuntimeError, TypeError)):
+        return str(exc) or type(exc).__name__
     return f"{type(exc).__name__}: {exc}"

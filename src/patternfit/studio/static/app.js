@@ -12,10 +12,18 @@ function message(text, kind = "error") {
   m.textContent = text || ""; m.className = text ? kind : "hidden";
 }
 
+// The token the server embedded in this page: every request that changes something (and
+// every export) carries it, so that no other site's page can drive the studio.
+const TOKEN = document.querySelector('meta[name="patternfit-token"]').content;
+const TOKEN_HEADERS = { "X-Patternfit-Token": TOKEN };
+const JSON_HEADERS = { ...TOKEN_HEADERS, "Content-Type": "application/json" };
+
 async function api(path, { method = "GET", json, form } = {}) {
   const opts = { method };
-  if (json !== undefined) { opts.body = JSON.stringify(json); opts.headers = { "Content-Type": "application/json" }; }
-  if (form) opts.body = form;
+  if (method !== "GET") {
+    opts.headers = form ? TOKEN_HEADERS : JSON_HEADERS;
+    opts.body = form || JSON.stringify(json === undefined ? {} : json);
+  }
   const r = await fetch(path, opts);
   const body = r.headers.get("content-type")?.includes("json") ? await r.json() : null;
   if (!r.ok) throw new Error((body && body.error) || `${r.status} ${r.statusText}`);
@@ -103,7 +111,6 @@ function dragArgs(h, offset) {
 // and, between them, the mesh moved on the page by the drag's linear basis (how every vertex
 // moves per metre of offset), redrawn once per animation frame.
 let live = null;
-const JSON_HEADERS = { "Content-Type": "application/json" };
 
 function dragPreview(h, offset) {
   if (!live || live.h !== h) startLive(h);
@@ -252,14 +259,36 @@ $("new-btn").onclick = async () => {
   } catch (e) { message(e.message); }
   await refresh(); view.setBody(await api("/api/body"));
 };
-$("upload").onchange = async () => {
-  const f = $("upload").files[0];
-  if (!f) return;
-  const form = new FormData(); form.append("file", f);
-  try { await api("/api/upload", { method: "POST", form }); await refresh(); message(`opened ${f.name}`, "warning"); }
-  catch (e) { message(`could not open ${f.name}: ${e.message}`); }
-  $("upload").value = "";
-};
+for (const [id, kind] of [["upload", "pattern"], ["upload-body", "body"], ["upload-fabric", "fabric"]]) {
+  $(id).onchange = async () => {
+    const f = $(id).files[0];
+    if (!f) return;
+    const form = new FormData(); form.append("file", f);
+    try {
+      await api(`/api/upload?kind=${kind}`, { method: "POST", form });
+      await refresh();
+      if (kind === "body") view.setBody(await api("/api/body"));
+      message(`opened ${f.name}`, "warning");
+    } catch (e) { message(`could not open ${f.name}: ${e.message}`); }
+    $(id).value = "";
+  };
+}
+
+// exports need the token too (they do heavy work), which a plain link cannot send: fetch the
+// file and hand it to the browser as a download
+async function download(event) {
+  event.preventDefault();
+  const a = event.currentTarget;
+  try {
+    const r = await fetch(a.getAttribute("href"), { headers: TOKEN_HEADERS });
+    if (!r.ok) throw new Error((await r.json()).error);
+    const url = URL.createObjectURL(await r.blob());
+    const link = document.createElement("a");
+    link.href = url; link.download = a.getAttribute("download");
+    document.body.appendChild(link); link.click(); link.remove();
+    setTimeout(() => URL.revokeObjectURL(url), 10000);
+  } catch (e) { message(`could not export ${a.getAttribute("download")}: ${e.message}`); }
+}
 
 // another tab may write the same session: notice it and reload (last write wins)
 setInterval(async () => {
@@ -280,11 +309,15 @@ async function start() {
   fill("fabric", o.fabrics); fill("engine", o.engines);
   $("size").value = "M";
   $("exports").innerHTML = o.exports.map((n) => `<a href="/api/export/${n}" download="${n}">${n}</a>`).join("");
+  for (const a of $("exports").querySelectorAll("a")) a.onclick = download;
   $("correct-btn").disabled = !o.correct_available;
   $("correct-btn").title = o.correct_available ? "" : "automatic correction is not available in this version";
   await refresh();
   const s = studio.state;
-  for (const k of ["garment", "size", "body"]) if (s.info[k]) $(k).value = s.info[k];
+  // an uploaded body or fabric is not among the presets: the list keeps its first entry
+  for (const k of ["garment", "size", "body", "fabric"]) {
+    if ([...$(k).options].some((opt) => opt.value === s.info[k])) $(k).value = s.info[k];
+  }
   view.setBody(await api("/api/body"));
   document.body.dataset.ready = "1";
 }

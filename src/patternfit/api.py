@@ -1,0 +1,227 @@
+"""The public application layer: the few calls a user scripts with, and that every front end
+(the CLI, the studio, ``demo``, ``reproduce``) calls.
+
+A drape in one call::
+
+    import patternfit as pf
+    outcome = pf.drape_and_evaluate("skirt", "female_average", "cotton", triangles=1500)
+    assert outcome.passed and 0.9 < outcome.fitting_ratio < 1.1
+    outcome.write("out/")            # report.json, colour maps, GLB/OBJ, garment/
+
+Lengths are metres, times seconds inside; pattern files state their own units.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from .body.builtin import list_bodies, load_body
+from .body.mesh_io import BodyMeshError, load_body_mesh
+from .body.model import Body
+from .defaults import DEFAULTS, Defaults
+from .errors import InputError
+from .fit.metrics import FitEvaluator, FitResult
+from .fit.outputs import write_fit_outputs
+from .loop.correct import CorrectionSettings, correct
+from .loop.session import DesignSession
+from .mesh.garment import GarmentMesh
+from .mesh.store import load_garment, save_garment
+from .mesh.triangulate import mesh_pattern
+from .pattern.errors import PatternError
+from .pattern.formats import load_any_pattern, save_any_pattern
+from .pattern.library import GARMENTS, build
+from .pattern.model import Pattern
+from .sim.drape import Drape
+from .sim.fabrics import FABRICS, Fabric, FabricError, get_fabric
+from .sim.newton_engine import drape_with
+from .sim.solver import SolverSettings
+
+__all__ = ["DEFAULTS", "Defaults", "DesignSession", "FitOutcome", "InputError", "PatternError",
+           "BodyMeshError", "FabricError", "CorrectionSettings", "correct", "drape_and_evaluate",
+           "evaluate_saved", "list_bodies", "list_fabrics", "list_garments", "mesh",
+           "read_body", "read_fabric", "read_pattern", "save_garment", "save_any_pattern"]
+
+
+def list_garments() -> list[str]:
+    """Names of the built-in garments."""
+    return list(GARMENTS)
+
+
+def list_fabrics() -> list[str]:
+    """Names of the fabric presets."""
+    return list(FABRICS)
+
+
+def read_pattern(source: Pattern | str | Path, *, size: str = DEFAULTS.size) -> Pattern:
+    """A pattern: a :class:`Pattern` as is, a built-in garment name (in ``size``), or a file
+    in any format patternfit reads (patternfit JSON, GarmentCode JSON, DXF-AAMA).
+
+    Raises :class:`PatternError` naming the file and the place."""
+    if isinstance(source, Pattern):
+        return source
+    name = str(source)
+    if name in GARMENTS:
+        return build(name, size)
+    path = Path(name)
+    if not path.exists():
+        raise PatternError(f"neither a built-in garment ({', '.join(GARMENTS)}) nor a file",
+                           file=name)
+    return load_any_pattern(path)
+
+
+def read_body(source: Body | str | Path, *, units: str | None = None) -> Body:
+    """A body: a :class:`Body` as is, a built-in body name or alias, or a body mesh file
+    (OBJ, PLY, STL, GLB, ...; ``units`` m, cm, mm or in, guessed from its height when None).
+
+    Raises :class:`BodyMeshError` naming the file."""
+    if isinstance(source, Body):
+        return source
+    path = Path(str(source))
+    if path.suffix and path.exists():
+        return load_body_mesh(path, units=units)
+    try:
+        return load_body(str(source))
+    except ValueError:
+        raise BodyMeshError(f"neither a built-in body ({', '.join(list_bodies())}) nor a "
+                            "mesh file", file=str(source)) from None
+
+
+def read_fabric(source: Fabric | str | Path) -> Fabric:
+    """A fabric: a :class:`Fabric` as is, a preset name, or a fabric JSON file (SI units).
+
+    Raises :class:`FabricError` naming the file and the field."""
+    return get_fabric(source)
+
+
+def mesh(pattern: Pattern | str, *, triangles: int = DEFAULTS.triangles,
+         size: str = DEFAULTS.size, **options) -> GarmentMesh:
+    """The garment mesh of ``pattern`` (a pattern, built-in name or file): every panel
+    triangulated to about ``triangles`` triangles in all, seams matched."""
+    return mesh_pattern(read_pattern(pattern, size=size), triangles=triangles, **options)
+
+
+@dataclass(eq=False)
+class FitOutcome:
+    """A drape and its fit evaluation.
+
+    Attributes
+    ----------
+    pattern : Pattern
+    mesh : GarmentMesh
+    body : Body
+    fabric : Fabric
+    positions : (n, 3) float
+        3D state of every flat vertex [m].
+    fit : FitResult
+        Per-triangle area change, ϖ, stretch.
+    drape : Drape or None
+        The drape (solver, checks, timing); None for a saved state read back.
+    extra : dict
+        Report entries the drape adds (``checks``, ``timing``, ``fitting_ratio_placed``...).
+    seconds : float
+        Wall time of meshing, draping and evaluating [s].
+    """
+
+    pattern: Pattern
+    mesh: GarmentMesh
+    body: Body | None
+    fabric: Fabric | None
+    positions: np.ndarray
+    fit: FitResult
+    drape: Drape | None = None
+    extra: dict = field(default_factory=dict)
+    seconds: float = 0.0
+    state: str = "draped"
+
+    @property
+    def fitting_ratio(self) -> float:
+        """ϖ = ΣS2 / ΣS3 (eq. 2) [-]."""
+        return float(self.fit.fitting_ratio)
+
+    @property
+    def checks(self) -> dict:
+        """The drape's checks (``passed``, vertices inside, seam gap, crossings, equilibrium);
+        empty for a saved state read back."""
+        return self.extra.get("checks", {})
+
+    @property
+    def passed(self) -> bool:
+        """Whether the result is a fit at all: the drape's checks passed and ϖ is finite."""
+        ok = bool(self.checks.get("passed", True))
+        return ok and bool(np.isfinite(self.fit.fitting_ratio))
+
+    def write(self, folder, *, pictures: bool = True, progress: Callable | None = None) -> dict:
+        """Write every output into ``folder`` (report.json, fit_2d.png/.svg, fit_3d.png,
+        garment.glb/.obj, garment/) and return the report."""
+        body = None if self.body is None else (self.body.vertices, self.body.faces)
+        extra = dict(self.extra)
+        if self.body is not None:
+            extra["body"] = self.body.name
+        if self.fabric is not None:
+            extra["fabric"] = self.fabric.name
+        return write_fit_outputs(folder, self.pattern, self.mesh, self.positions, self.fit,
+                                 state=self.state, body=body, pictures=pictures, extra=extra,
+                                 progress=progress)
+
+
+def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
+                       body: Body | str | Path = DEFAULTS.body,
+                       fabric: Fabric | str | Path = DEFAULTS.fabric, *,
+                       triangles: int = DEFAULTS.triangles, size: str = DEFAULTS.size,
+                       units: str | None = None, engine: str = "static",
+                       settings: SolverSettings | None = None,
+                       clearance: float = DEFAULTS.clearance, device: str | None = None,
+                       from_static: bool = False, tight: float = DEFAULTS.tight,
+                       loose: float = DEFAULTS.loose,
+                       progress: Callable | None = None) -> FitOutcome:
+    """Mesh ``pattern``, place it around ``body``, sew and drape it in ``fabric`` to rest,
+    and evaluate the fit.
+
+    Parameters
+    ----------
+    pattern, body, fabric
+        Objects, built-in names or files (see :func:`read_pattern`, :func:`read_body`,
+        :func:`read_fabric`).
+    triangles : int
+        Target triangle count of the garment mesh.
+    engine : str
+        ``"static"`` (equilibrium, default) or ``"newton"`` (dynamic; optional extra).
+    settings : SolverSettings, optional
+        Iteration and time limits [s] of the drape.
+    clearance : float
+        Gap between body and panels at placement [m].
+    tight, loose : float
+        Area change beyond which a triangle counts as tight / loose [-].
+    progress : callable, optional
+        ``progress(iteration, energy [J], step [m], elapsed [s])``; raising
+        KeyboardInterrupt in it stops cleanly with the last state.
+    """
+    t0 = time.perf_counter()
+    pat = read_pattern(pattern, size=size)
+    b = read_body(body, units=units)
+    fab = read_fabric(fabric)
+    m = mesh_pattern(pat, triangles=triangles)
+    d = drape_with(engine, pat, m, b, fab, settings=settings, device=device,
+                   from_static=from_static, clearance=clearance, progress=progress)
+    evaluator = FitEvaluator(m, tight=tight, loose=loose)
+    extra = d.report_extra()
+    extra["fitting_ratio_placed"] = evaluator.metrics(d.placed)[1]
+    return FitOutcome(pat, m, b, fab, d.positions, evaluator(d.positions), drape=d,
+                      extra=extra, seconds=time.perf_counter() - t0)
+
+
+def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
+                   loose: float = DEFAULTS.loose) -> FitOutcome:
+    """The fit of a saved garment folder's 3D state (``pattern.json``, ``mesh.npz``,
+    ``positions.npy``); :class:`InputError` when the folder holds no 3D state."""
+    pat, m, x = load_garment(folder)
+    if x is None:
+        raise InputError("holds no 3D state (positions.npy): place or drape the garment first",
+                         file=folder)
+    return FitOutcome(pat, m, None, None, x, FitEvaluator(m, tight=tight, loose=loose)(x),
+                      state="saved")

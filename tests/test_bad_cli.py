@@ -1,0 +1,209 @@
+"""Bad command-line inputs end in one clean line on standard error (the CLI's one error
+boundary), never a traceback, an exhausted memory or an accepted garment that is no garment."""
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from patternfit.cli.main import app
+from patternfit.files import read_json_file
+from patternfit.mesh import GarmentMesh, mesh_pattern
+from patternfit.mesh.store import save_garment
+from patternfit.pattern import load_pattern, save_pattern
+
+from test_edit import two_panels
+
+runner = CliRunner()
+
+
+def refused(r, *names, code=2):
+    """``r`` failed with ``code``, one clean message naming each of ``names``."""
+    assert r.exit_code == code, r.output
+    assert "Traceback" not in r.output, r.output
+    assert r.exception is None or isinstance(r.exception, SystemExit), repr(r.exception)
+    for n in names:
+        assert n in r.output, (n, r.output)
+
+
+@pytest.fixture
+def pattern_file(tmp_path):
+    path = tmp_path / "p.json"
+    save_pattern(two_panels(), path, units="cm")
+    return path
+
+
+def test_missing_files_are_named(tmp_path):
+    missing = str(tmp_path / "nowhere.json")
+    refused(runner.invoke(app, ["mesh", missing, "-o", str(tmp_path / "m")]), "nowhere.json")
+    refused(runner.invoke(app, ["convert", missing, str(tmp_path / "x.svg")]), "nowhere.json")
+    refused(runner.invoke(app, ["fit", "-g", str(tmp_path / "gone"), "-o", str(tmp_path / "f")]),
+            "gone")
+    refused(runner.invoke(app, ["edit", missing, "grade", "--sx", "2", "-o",
+                                str(tmp_path / "q.json")]), "nowhere.json")
+
+
+def test_non_utf8_pattern_is_named(tmp_path):
+    bad = tmp_path / "latin1.json"
+    bad.write_bytes(b'{"format": "patternfit-pattern", "name": "caf\xe9"}')
+    refused(runner.invoke(app, ["mesh", str(bad), "-o", str(tmp_path / "m")]), "latin1.json")
+    refused(runner.invoke(app, ["convert", str(bad), str(tmp_path / "x.svg")]), "latin1.json")
+
+
+def test_device_as_fabric_is_refused_before_reading_it(tmp_path):
+    r = runner.invoke(app, ["drape", "-f", "/dev/zero", "-n", "200", "-o", str(tmp_path / "d")])
+    refused(r, "/dev/zero")
+
+
+@pytest.mark.parametrize("value", ["1e23", "100000000000000000000000", "0", "-5"])
+@pytest.mark.parametrize("command", [["mesh", "skirt"], ["drape"], ["demo"],
+                                     ["correct", "-b", "female_thin", "-p", "skirt"],
+                                     ["reproduce", "variants"], ["reproduce", "table2"]])
+def test_absurd_triangle_counts_are_refused_by_every_command(tmp_path, command, value):
+    r = runner.invoke(app, [*command, "--triangles", value, "-o", str(tmp_path / "o")]
+                      if command[0] != "reproduce" else [*command, "--triangles", value])
+    refused(r, "--triangles")
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("args, names", [
+    (["grade", "--sx", "1e300"], ["sx", "[0.1, 10]"]),
+    (["grade", "--panel", "A", "--sy", "0"], ["sy", "panel 'A'"]),
+    (["grade", "--sx", "-1"], ["sx"]),
+    (["grade", "--sx", "nan"], ["sx"]),
+    (["lengthen", "--panel", "A", "--a", "0.2,0", "--b", "0.2,0.6", "--amount", "-10"],
+     ["panel 'A'", "amount=-10", "inside out"]),
+    (["lengthen", "--panel", "A", "--a", "0.2,0", "--b", "0.2,0.6", "--amount", "-10",
+      "--partner"], ["panel 'A'", "amount=-10", "inside out"]),
+    (["lengthen", "--panel", "A", "--a", "0.2,0", "--b", "0.2,0.6", "--amount", "1e30"],
+     ["panel 'A'", "amount"]),
+    (["move-edge", "--panel", "A", "--edge", "top", "--dy", "1e30", "--partner"],
+     ["panel 'A'", "offset"]),
+    (["move-point", "--panel", "A", "--edge", "left", "--dx", "1e30"], ["panel 'A'", "offset"]),
+    (["edit-curve", "--panel", "A", "--edge", "top", "--dy", "-1e30"], ["panel 'A'", "offset"]),
+    (["move-edge", "--panel", "A", "--edge", "left", "--dx", "25"],
+     ["panel 'A'", "offset=(25, 0) m", "beyond the limit of 20 m"]),
+    (["move-edge", "--panel", "Z", "--edge", "top", "--dy", "0.1"], ["panel 'Z'", "A, B"]),
+    (["move-edge", "--panel", "A", "--edge", "hem", "--dy", "0.1"], ["edge 'hem'"]),
+    (["insert-dart", "--panel", "A", "--dart", "d", "--centre", "0.2,0.3", "--length", "1e30",
+      "--width", "0.02"], ["panel 'A'", "length"]),
+    (["insert-dart", "--panel", "A", "--dart", "d", "--centre", "0.2,0.3", "--length", "0.1",
+      "--width", "0"], ["panel 'A'", "width"]),
+])
+def test_edits_that_are_no_garment_are_refused(tmp_path, pattern_file, args, names):
+    out = tmp_path / "q.json"
+    before = pattern_file.read_bytes()
+    refused(runner.invoke(app, ["edit", str(pattern_file), *args, "-o", str(out)]), *names)
+    assert not out.exists() and pattern_file.read_bytes() == before
+
+
+def test_fit_of_a_collapsed_state_fails_with_a_message(tmp_path):
+    p = two_panels()
+    m = mesh_pattern(p, triangles=200)
+    save_garment(tmp_path / "g", p, m, np.zeros((m.n_vertices, 3)))
+    out = tmp_path / "f"
+    r = runner.invoke(app, ["fit", "-g", str(tmp_path / "g"), "-o", str(out), "--no-pictures",
+                            "--json"])
+    refused(r, "failed its checks", "not finite", "fitting_ratio", code=1)
+    text = (out / "report.json").read_text()
+    assert "NaN" not in text and "Infinity" not in text
+    assert json.loads(text)["checks"]["passed"] is False
+
+
+def test_unexpected_error_is_one_line_with_a_debug_hint(tmp_path, monkeypatch):
+    def boom(*args, **kwargs):
+        raise RuntimeError("kaboom\nsecond line")
+
+    monkeypatch.setattr("patternfit.pattern.library.build", boom)
+    r = runner.invoke(app, ["mesh", "skirt", "-o", str(tmp_path / "m")])
+    refused(r, "internal error: RuntimeError: kaboom", "PATTERNFIT_DEBUG=1", code=3)
+    assert "second line" not in r.output
+    monkeypatch.setenv("PATTERNFIT_DEBUG", "1")
+    r = runner.invoke(app, ["mesh", "skirt", "-o", str(tmp_path / "m")])
+    assert isinstance(r.exception, RuntimeError)
+
+
+def test_entry_point_has_the_same_boundary(tmp_path):
+    env = {**os.environ, "PATTERNFIT_DEBUG": ""}
+    r = subprocess.run([sys.executable, "-m", "patternfit.cli.main", "edit", str(tmp_path),
+                        "grade"], capture_output=True, text=True, env=env, timeout=60)
+    assert r.returncode == 2 and "Traceback" not in r.stderr + r.stdout
+    bad = tmp_path / "bad.json"
+    bad.write_text("{ not json")
+    r = subprocess.run([sys.executable, "-m", "patternfit.cli.main", "convert", str(bad),
+                        str(tmp_path / "x.svg")], capture_output=True, text=True, env=env,
+                       timeout=60)
+    assert r.returncode == 2 and r.stderr.startswith("error:") and "bad.json" in r.stderr
+    assert "Traceback" not in r.stderr + r.stdout
+
+
+def test_guessed_body_units_are_printed(tmp_path):
+    import trimesh
+
+    from patternfit.body import load_body
+
+    b = load_body("female_average")
+    mesh_file = tmp_path / "body_cm.ply"
+    trimesh.Trimesh(b.vertices * 100, b.faces, process=False).export(mesh_file)
+    # the fabric is refused after the body is read: the note comes without a drape
+    r = runner.invoke(app, ["drape", "-b", str(mesh_file), "-f", "/dev/zero", "-o",
+                            str(tmp_path / "d")])
+    refused(r, "units guessed as 'cm'", "body_cm.ply", "/dev/zero")
+    r = runner.invoke(app, ["drape", "-b", str(mesh_file), "--units", "cm", "-f", "/dev/zero",
+                            "-o", str(tmp_path / "d")])
+    refused(r, "/dev/zero")
+    assert "guessed" not in r.output
+
+
+def _fail_at_mesh_rename(monkeypatch, mesh_path):
+    """Make the group write stop (as a kill would) just before the mesh is renamed."""
+    real = os.replace
+
+    def replace(src, dst):
+        if os.path.realpath(dst) == os.path.realpath(mesh_path):
+            raise OSError("killed")
+        real(src, dst)
+
+    monkeypatch.setattr("patternfit.files.os.replace", replace)
+
+
+def test_in_place_edit_replaces_pattern_and_mesh_as_one_step(tmp_path, monkeypatch):
+    src = tmp_path / "p.json"
+    save_pattern(two_panels(), src, units="cm")
+    mesh = tmp_path / "p.npz"
+    mesh_pattern(two_panels(), triangles=300).save(mesh)
+    _fail_at_mesh_rename(monkeypatch, mesh)
+    r = runner.invoke(app, ["edit", str(src), "edit-curve", "--panel", "A", "--edge", "top",
+                            "--dy", "0.05", "--in-place", "--mesh", str(mesh)])
+    assert r.exit_code == 3 and "Traceback" not in r.output     # the "kill"
+    monkeypatch.undo()
+    # the next read finishes the replacement from the journal: both files are new
+    assert read_json_file(src)["units"] == "cm"
+    assert load_pattern(src).panel("A").edge("top").kind == "quadratic"
+    m = GarmentMesh.load(mesh)
+    top = [i for i, e in enumerate(m.edge_names) if e == ("A", "top")][0]
+    on_top = m.vertices[m.boundary_vertices[m.boundary_edge == top]]
+    assert on_top[:, 1].max() > 0.6 + 0.01      # the mesh followed the curve
+    assert not [n for n in os.listdir(tmp_path) if n.startswith(".")]
+
+
+def test_edit_writes_nothing_when_the_write_fails_before_the_journal(tmp_path, monkeypatch):
+    src = tmp_path / "p.json"
+    save_pattern(two_panels(), src, units="cm")
+    mesh = tmp_path / "p.npz"
+    mesh_pattern(two_panels(), triangles=300).save(mesh)
+    before = src.read_bytes(), mesh.read_bytes()
+
+    def no_journal(path, data):
+        raise OSError("disk full")
+
+    monkeypatch.setattr("patternfit.files.atomic_write_bytes", no_journal)
+    r = runner.invoke(app, ["edit", str(src), "edit-curve", "--panel", "A", "--edge", "top",
+                            "--dy", "0.05", "--in-place", "--mesh", str(mesh)])
+    assert r.exit_code == 3 and "OSError: disk full" in r.output
+    monkeypatch.undo()
+    assert (src.read_bytes(), mesh.read_bytes()) == before
