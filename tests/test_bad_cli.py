@@ -118,7 +118,7 @@ def test_unexpected_error_is_one_line_with_a_debug_hint(tmp_path, monkeypatch):
     def boom(*args, **kwargs):
         raise RuntimeError("kaboom\nsecond line")
 
-    monkeypatch.setattr("patternfit.pattern.library.build", boom)
+    monkeypatch.setattr("patternfit.api.read_pattern", boom)
     r = runner.invoke(app, ["mesh", "skirt", "-o", str(tmp_path / "m")])
     refused(r, "internal error: RuntimeError: kaboom", "PATTERNFIT_DEBUG=1", code=3)
     assert "second line" not in r.output

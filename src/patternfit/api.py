@@ -27,8 +27,11 @@ from .defaults import DEFAULTS, Defaults
 from .errors import InputError
 from .fit.metrics import FitEvaluator, FitResult
 from .fit.outputs import write_fit_outputs
-from .loop.correct import CorrectionSettings, correct
+from .edit import grade
+from .loop.correct import Correction, CorrectionSettings, correct
+from .loop.outputs import write_correction_outputs
 from .loop.session import DesignSession
+from .loop.table2 import ROWS
 from .mesh.garment import GarmentMesh
 from .mesh.store import load_garment, save_garment
 from .mesh.triangulate import mesh_pattern
@@ -39,12 +42,15 @@ from .pattern.model import Pattern
 from .sim.drape import Drape
 from .sim.fabrics import FABRICS, Fabric, FabricError, get_fabric
 from .sim.newton_engine import drape_with
+from .sim.placement import place_on_body, place_on_cylinders
 from .sim.solver import SolverSettings
 
-__all__ = ["DEFAULTS", "Defaults", "DesignSession", "FitOutcome", "InputError", "PatternError",
-           "BodyMeshError", "FabricError", "CorrectionSettings", "correct", "drape_and_evaluate",
-           "evaluate_saved", "list_bodies", "list_fabrics", "list_garments", "mesh",
-           "read_body", "read_fabric", "read_pattern", "save_garment", "save_any_pattern"]
+__all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
+           "DesignSession", "FabricError", "FitOutcome", "InputError", "PatternError",
+           "correct", "correct_design", "design_session", "drafted_too_small",
+           "drape_and_evaluate", "evaluate_saved", "list_bodies", "list_fabrics",
+           "list_garments", "mesh", "place_and_evaluate", "placed_fitting_ratio", "read_body",
+           "read_fabric", "read_pattern", "save_any_pattern", "save_garment"]
 
 
 def list_garments() -> list[str]:
@@ -225,3 +231,77 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
                          file=folder)
     return FitOutcome(pat, m, None, None, x, FitEvaluator(m, tight=tight, loose=loose)(x),
                       state="saved")
+
+
+def place_and_evaluate(pattern: Pattern | str | Path = "coat", *, triangles: int = 22000,
+                       size: str = DEFAULTS.size, tight: float = DEFAULTS.tight,
+                       loose: float = DEFAULTS.loose) -> FitOutcome:
+    """Mesh ``pattern`` and place it isometrically (every panel rolled onto a cylinder), with
+    its fit: ϖ is 100% and the map one neutral colour (the paper's Fig. 8(b))."""
+    t0 = time.perf_counter()
+    pat = read_pattern(pattern, size=size)
+    m = mesh_pattern(pat, triangles=triangles)
+    x = place_on_cylinders(pat, m)
+    return FitOutcome(pat, m, None, None, x, FitEvaluator(m, tight=tight, loose=loose)(x),
+                      seconds=time.perf_counter() - t0, state="placed")
+
+
+def placed_fitting_ratio(session: DesignSession) -> float:
+    """ϖ of the session's current mesh placed around its body before any drape [-]
+    (about 1.0: the placement is isometric)."""
+    placed = place_on_body(session.pattern, session.mesh, session.body)
+    return float(FitEvaluator(session.mesh).metrics(placed)[1])
+
+
+def design_session(pattern: Pattern | str | Path = DEFAULTS.garment,
+                   body: Body | str | Path = DEFAULTS.body,
+                   fabric: Fabric | str | Path = DEFAULTS.fabric, *,
+                   triangles: int = DEFAULTS.triangles, threshold: float = DEFAULTS.threshold,
+                   size: str = DEFAULTS.size, units: str | None = None,
+                   relax: float = 1.0) -> DesignSession:
+    """A :class:`DesignSession` (edits with the mesh following, undo/redo, drapes, save)
+    of ``pattern`` on ``body`` in ``fabric``; see :func:`read_pattern`, :func:`read_body`,
+    :func:`read_fabric` for what each may be. ``threshold`` is the ϖ at which the design
+    fits [-]; ``relax`` (>= 1) sews the first drape that much wider, then restores the true
+    width (for a garment drafted too small to be sewn on the body)."""
+    if not (isinstance(threshold, (int, float)) and 0 < threshold <= 1.5):
+        raise ValueError(f"threshold: expected a fraction such as 0.9, got {threshold!r}")
+    return DesignSession(read_pattern(pattern, size=size), read_body(body, units=units),
+                         read_fabric(fabric), triangles, float(threshold), relax=relax)
+
+
+def drafted_too_small(garment: str = DEFAULTS.garment, size: str | None = None) -> dict:
+    """The demo's setup: a built-in garment drafted too small for a body, as in the paper's
+    Table 2 row for it (every panel narrowed across the grain; the body, the fabric and the
+    sewing width of that row), or narrowed to 80% in a stretch knit on the average woman for
+    a garment without a row.
+
+    Returns ``{"pattern", "body", "fabric", "narrow", "relax", "size"}``."""
+    row = {r.garment: r for r in ROWS}.get(garment)
+    body, narrow, fabric, relax = (row.body, row.narrow, row.fabric, row.relax) if row \
+        else (DEFAULTS.body, 0.8, "stretch_knit", 1.0)
+    size = size or (row.size if row else DEFAULTS.size)
+    pattern = grade(build(garment, size), None, narrow, 1.0)
+    return {"pattern": pattern, "body": body, "fabric": fabric, "narrow": narrow,
+            "relax": relax, "size": size.upper()}
+
+
+def correct_design(session: DesignSession, out, *, threshold: float | None = None,
+                   max_iterations: int = DEFAULTS.correction_rounds, pictures: bool = True,
+                   extra: dict | None = None, progress: Callable | None = None,
+                   drape_progress: Callable | None = None,
+                   write_progress: Callable | None = None) -> dict:
+    """Correct the session's pattern automatically (drape, find the tight regions, move the
+    seam corners, re-drape, until ϖ reaches ``threshold`` — the session's when None — or
+    ``max_iterations`` rounds) and write the outputs into ``out``: ``pattern.json`` (the
+    corrected pattern), ``report.json``, ``before/`` and ``after/`` fit outputs and the
+    regions pictures. Returns the report.
+
+    ``progress(iteration)`` is called after each drape is evaluated, ``drape_progress`` goes
+    to the solver, ``write_progress(message)`` is called per output written."""
+    settings = CorrectionSettings(threshold=session.threshold if threshold is None
+                                  else threshold, max_iterations=max_iterations)
+    result = correct(session, settings=settings, drape_progress=drape_progress,
+                     progress=progress)
+    return write_correction_outputs(out, session, result, extra=extra, pictures=pictures,
+                                    progress=write_progress)

@@ -8,46 +8,13 @@ from pathlib import Path
 
 import typer
 
+from ..defaults import DEFAULTS
 from .app import app, console, fail, finite, print_json, triangles_option
-from .commands import load_pattern_arg
-from .drape import load_body_arg
+from .show import run_correction, say_guessed_units, show_iteration
 
 reproduce = typer.Typer(name="reproduce", no_args_is_help=True,
                         help="Reproduce the paper's experiments.")
 app.add_typer(reproduce)
-
-
-def show_iteration(it) -> None:
-    """One line per loop iteration, its regions and edits (for the console)."""
-    what = "first drape" if it.index == 0 else f"after round {it.index}"
-    ok = "" if not it.checks or it.checks.get("passed") else "  [yellow](drape checks failed)[/]"
-    console.print(f"[bold]{what}[/]: ϖ = {it.fitting_ratio * 100:.2f}%  "
-                  f"({it.seconds:.1f} s){ok}")
-    for r in it.regions[:6]:
-        console.print(f"   {'▲' if r.kind == 'tight' else '▽'} {r.describe()}", highlight=False)
-    if len(it.regions) > 6:
-        console.print(f"   … and {len(it.regions) - 6} smaller region(s)")
-    if it.edits:
-        moves = ", ".join(f"{e.panel}/{e.edge} {e.to_dict()['cm']:.1f}" for e in it.edits)
-        console.print(f"   edits (corner moves, cm): {moves}", highlight=False)
-
-
-def run_correction(session, *, threshold: float, max_iterations: int, out: Path,
-                   extra: dict | None = None, pictures: bool = True):
-    """Drape, correct with a progress display, write the outputs; returns the report."""
-    from ..loop.correct import CorrectionSettings, correct
-    from ..loop.outputs import write_correction_outputs
-    from .drape import drape_progress
-
-    settings = CorrectionSettings(threshold=threshold, max_iterations=max_iterations)
-    bar, callback = drape_progress(console, total=5000)
-    with bar:
-        result = correct(session, settings=settings, drape_progress=callback,
-                         progress=lambda it: bar.console.print() or show_iteration(it))
-    with console.status("writing outputs") as status:
-        report = write_correction_outputs(out, session, result, extra=extra, pictures=pictures,
-                                          progress=lambda s: status.update(f"writing {s}"))
-    return report
 
 
 @app.command("correct")
@@ -57,12 +24,14 @@ def correct_command(
                                          "from its height when not given."),
     pattern: str = typer.Option(..., "--pattern", "-p",
                                 help="Built-in garment name or a pattern file."),
-    size: str = typer.Option("M", "--size", "-s", help="Size of a built-in garment: S–XL."),
-    fabric: str = typer.Option("cotton", "--fabric", "-f",
+    size: str = typer.Option(DEFAULTS.size, "--size", "-s",
+                             help="Size of a built-in garment: S–XL."),
+    fabric: str = typer.Option(DEFAULTS.fabric, "--fabric", "-f",
                                help="Fabric preset name or a fabric JSON file."),
-    triangles: int = triangles_option(3000),
-    threshold: float = typer.Option(0.9, help="ϖ to reach (0.9 = 90%)."),
-    max_iterations: int = typer.Option(3, "--max-iterations", "-k", min=0,
+    triangles: int = triangles_option(DEFAULTS.triangles),
+    threshold: float = typer.Option(DEFAULTS.threshold, help="ϖ to reach (0.9 = 90%)."),
+    max_iterations: int = typer.Option(DEFAULTS.correction_rounds, "--max-iterations", "-k",
+                                       min=0,
                                        help="Correction rounds (edit + re-drape) at most."),
     relax: float = typer.Option(1.0, help="Sew the first drape widened by this factor (>= 1), "
                                           "then restore the true width: for a garment "
@@ -81,20 +50,19 @@ def correct_command(
     OUT/pattern.json (the corrected pattern; never the input), OUT/report.json, before/
     and after/ fit outputs and the regions outlined on the 2D pattern.
     """
-    from ..loop.session import DesignSession
-    from ..sim.fabrics import get_fabric
+    from .. import api
 
     if not 0 < threshold <= 1.5:
         fail(f"--threshold: expected a fraction such as 0.9, got {threshold}")
-    pat = load_pattern_arg(pattern, size)
     if Path(pattern).exists() and (out / "pattern.json").resolve() == Path(pattern).resolve():
         fail("--out: would overwrite the input pattern; choose another folder")
-    b = load_body_arg(body, units)
-    fab = get_fabric(fabric)
     t0 = time.perf_counter()
-    session = DesignSession(pat, b, fab, triangles, threshold, relax=relax)
-    report = run_correction(session, threshold=threshold, max_iterations=max_iterations,
-                            out=out, pictures=pictures)
+    b = api.read_body(body, units=units)
+    say_guessed_units(b, body)
+    session = api.design_session(pattern, b, fabric, triangles=triangles, threshold=threshold,
+                                 size=size, relax=relax)
+    report = run_correction(session, out, threshold=threshold, max_iterations=max_iterations,
+                            pictures=pictures)
     if json_out:
         print_json(report)
         return
@@ -112,8 +80,8 @@ def table2(
                                             "quick run)."),
     garments: str = typer.Option("coat,skirt,trousers", help="Comma-separated rows to run."),
     figures: Path = typer.Option(Path("docs/figures"), help="Where the colour maps go."),
-    max_iterations: int = typer.Option(3, "--max-iterations", "-k", min=0,
-                                       help="Correction rounds at most."),
+    max_iterations: int = typer.Option(DEFAULTS.correction_rounds, "--max-iterations", "-k",
+                                       min=0, help="Correction rounds at most."),
     json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
 ) -> None:
     """The paper's Table 2: coat on the heavy male body, skirt on the thin female body,
@@ -144,7 +112,7 @@ def table2(
 
 @reproduce.command("variants")
 def variants(
-    triangles: int = triangles_option(3000),
+    triangles: int = triangles_option(DEFAULTS.triangles),
     fabric: str = typer.Option("stretch_knit", "--fabric", "-f",
                                help="Fabric preset or JSON file."),
     figures: Path = typer.Option(Path("docs/figures"), help="Where the 3D maps go."),

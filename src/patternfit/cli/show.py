@@ -1,0 +1,118 @@
+"""What the commands print: fit summaries, drape progress, loop iterations, failed checks.
+Every command module imports these from here (and ``app``), never from another command."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from rich.markup import escape
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from .app import CHECKS_FAILED, console, fail
+
+
+def num(value, spec: str, scale: float = 1.0) -> str:
+    """``value * scale`` formatted with ``spec``, or ``n/a`` for a value the report could
+    not give (None: it was not finite)."""
+    return "n/a" if value is None else format(value * scale, spec)
+
+
+def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
+    """The per-panel table, ϖ, fit classes and mesh of a fit ``report`` written to ``out``."""
+    table = Table(title=f"fit of '{report.get('garment')}' ({report['state']})", show_lines=False)
+    for col in ("panel", "area 2D [m²]", "area 3D [m²]", "ϖ"):
+        table.add_column(col, justify="right" if col != "panel" else "left")
+    for p in report["panels"]:
+        table.add_row(p["name"], num(p["area_2d_m2"], ".4f"), num(p["area_3d_m2"], ".4f"),
+                      num(p["fitting_ratio"], ".2f", 100) + "%")
+    console.print(table)
+    fc = report["fit_classes"]
+    console.print(f"fitting ratio ϖ = [bold]{num(report['fitting_ratio'], '.2f', 100)}%[/]  "
+                  f"(symmetric {num(report['fitting_ratio_symmetric'], '.2f', 100)}%)  tight "
+                  f"{num(fc['tight'], '.1f', 100)}% · fit {num(fc['fit'], '.1f', 100)}% · loose "
+                  f"{num(fc['loose'], '.1f', 100)}% of the area")
+    console.print(f"mesh: {report['mesh']['vertices']} vertices, {report['mesh']['triangles']} "
+                  f"triangles, min angle {num(report['mesh']['min_angle_deg'], '.1f')}°")
+    console.print(f"wrote {out}/ in {seconds:.1f} s: "
+                  + ", ".join(sorted(v for v in report["files"].values())))
+
+
+def print_drape_checks(report: dict) -> None:
+    """One line: the drape's checks, iterations and time, and ϖ after placement."""
+    c = report["checks"]
+    verdict = "[green]passed[/]" if c["passed"] else "[bold red]FAILED[/]"
+    console.print(f"checks {verdict}: {c['inside_vertices']} vertices inside the body "
+                  f"(deepest {num(c['max_depth_mm'], '.2f')} mm), seam gap "
+                  f"{num(c['seam_gap_max_mm'], '.2f')} mm, {c['self_intersections']} "
+                  f"self-intersections, equilibrium {c['equilibrium']} "
+                  f"({c['stop_reason']}); {report['timing']['iterations']} iterations in "
+                  f"{num(report['timing']['seconds'], '.1f')} s; ϖ after placement "
+                  f"{num(report['fitting_ratio_placed'], '.2f', 100)}%")
+
+
+def exit_if_checks_failed(report: dict, out: Path) -> None:
+    """Exit with status 1, saying why, when the fit ``report`` (written to ``out``) did not
+    pass its checks: a drape check failed, or a value was not finite (``checks.non_finite``
+    names it; the report holds None there), so that no script takes it for a result."""
+    checks = report.get("checks") or {}
+    if checks.get("passed") is not False:
+        return
+    bad = checks.get("non_finite") or []
+    more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
+    why = f"not finite: {', '.join(bad[:5])}{more}" if bad else "see 'checks' in report.json"
+    fail(f"the fit in {out}/ failed its checks ({why})", CHECKS_FAILED)
+
+
+def say_guessed_units(body, source) -> None:
+    """Print the unit a body mesh file was read in when it was guessed, not given: a wrong
+    guess (a child's body in inches read as centimetres) changes every result."""
+    if not body.meta.get("units_guessed"):
+        return
+    unit = body.meta["units"]
+    console.print(f"[yellow]note:[/] {escape(str(source))}: units guessed as '{unit}' from the "
+                  f"body's height ({np.ptp(body.vertices[:, 1]):.2f} m); give --units if "
+                  "that is wrong", highlight=False)
+
+
+def drape_progress(*, total: int):
+    """A rich progress bar and the solver callback that feeds it (iteration, energy, step)."""
+    bar = Progress(TextColumn("[bold]draping"), BarColumn(), TextColumn("{task.fields[info]}"),
+                   TimeElapsedColumn(), console=console, transient=True)
+    task = bar.add_task("drape", total=total, info="")
+
+    def callback(it, energy, step, elapsed):
+        bar.update(task, completed=min(it, total),
+                   info=f"it {it}  E {energy:.4g} J  step {step * 1000:.3f} mm")
+    return bar, callback
+
+
+def show_iteration(it) -> None:
+    """One line per loop iteration, its regions and edits (for the console)."""
+    what = "first drape" if it.index == 0 else f"after round {it.index}"
+    ok = "" if not it.checks or it.checks.get("passed") else "  [yellow](drape checks failed)[/]"
+    console.print(f"[bold]{what}[/]: ϖ = {it.fitting_ratio * 100:.2f}%  "
+                  f"({it.seconds:.1f} s){ok}")
+    for r in it.regions[:6]:
+        console.print(f"   {'▲' if r.kind == 'tight' else '▽'} {r.describe()}", highlight=False)
+    if len(it.regions) > 6:
+        console.print(f"   … and {len(it.regions) - 6} smaller region(s)")
+    if it.edits:
+        moves = ", ".join(f"{e.panel}/{e.edge} {e.to_dict()['cm']:.1f}" for e in it.edits)
+        console.print(f"   edits (corner moves, cm): {moves}", highlight=False)
+
+
+def run_correction(session, out: Path, *, threshold: float, max_iterations: int,
+                   extra: dict | None = None, pictures: bool = True) -> dict:
+    """:func:`patternfit.api.correct_design` with a progress bar and a line per iteration;
+    returns the report."""
+    from .. import api  # the API pulls in the solver: loaded when a command runs, not at --help
+
+    bar, callback = drape_progress(total=5000)
+    with bar:
+        return api.correct_design(
+            session, out, threshold=threshold, max_iterations=max_iterations,
+            pictures=pictures, extra=extra, drape_progress=callback,
+            progress=lambda it: bar.console.print() or show_iteration(it),
+            write_progress=lambda s: bar.update(bar.task_ids[0], info=f"writing {s}"))
