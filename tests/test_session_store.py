@@ -222,11 +222,11 @@ from patternfit.loop import session as sm
 from patternfit.loop import DesignSession
 s = DesignSession.load({str(folder)!r})
 s.apply("move_edge", panel="front", edge="hem", offset=(0.0, -0.004), partner=True)
-real = sm.save_pattern
+real = sm.save_garment
 def dying(*a, **k):
     real(*a, **k)
     os.kill(os.getpid(), signal.SIGKILL)
-sm.save_pattern = dying
+sm.save_garment = dying
 s.save({str(folder)!r})
 """
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True)

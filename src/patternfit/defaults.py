@@ -21,6 +21,9 @@ class Defaults:
         Fabric preset name.
     triangles : int
         Target triangle count of a garment mesh for a drape [-] (laptop-sized).
+    studio_triangles : int
+        Target triangle count of a studio session [-]: fewer than a drape's, so that a drag
+        previews at the pointer's pace and a re-drape takes about a second.
     mesh_triangles : int
         Target triangle count of ``patternfit mesh`` (a mesh for export, not a drape) [-].
     threshold : float
@@ -40,8 +43,9 @@ class Defaults:
     body: str = "female_average"
     garment: str = "skirt"
     size: str = "M"
-    fabric: str = "cotton"
+    fabric: str = "cotton_shirting"
     triangles: int = 3000
+    studio_triangles: int = 1500
     mesh_triangles: int = 20000
     threshold: float = 0.90
     tight: float = 0.02

@@ -23,14 +23,16 @@ import numpy as np
 
 from ..body.builtin import list_bodies, load_body, read_body, save_body
 from ..constants import limits
+from ..defaults import DEFAULTS
 from ..errors import InputError, SessionError
 from ..files import (atomic_write_bytes, atomic_write_text, dumps_finite_json, read_json_file,
                      read_npy)
 from ..fit.metrics import FitEvaluator, FitResult
 from ..mesh.garment import GarmentMesh
+from ..mesh.store import save_garment
 from ..mesh.triangulate import mesh_pattern
 from ..pattern.errors import PatternError
-from ..pattern.io import load_pattern, save_pattern
+from ..pattern.io import load_pattern
 from ..pattern.library import build
 from ..pattern.model import Pattern
 from ..sim.drape import Drape, drape, redrape
@@ -111,7 +113,7 @@ class DesignSession:
     triangles : int
         Target triangle count of the garment mesh.
     threshold : float
-        ϖ at which the design counts as fitting (METHOD.md section 1; default 0.90).
+        ϖ at which the design counts as fitting (METHOD.md section 1; ``DEFAULTS.threshold``).
     relax : float
         Width factor (>= 1) of the cold drape of the starting pattern (the history's first
         state): the garment is sewn and draped with every panel widened across by
@@ -125,9 +127,9 @@ class DesignSession:
 
     pattern: Pattern
     body: Any
-    fabric: Fabric | str = "cotton"
-    triangles: int = 3000
-    threshold: float = 0.90
+    fabric: Fabric | str = DEFAULTS.fabric
+    triangles: int = DEFAULTS.triangles
+    threshold: float = DEFAULTS.threshold
     history: list[State] = field(default_factory=list)
     position: int = 0
     _drape: Drape | None = field(default=None, repr=False)
@@ -144,8 +146,9 @@ class DesignSession:
         self.pattern = self.history[self.position].pattern
 
     @classmethod
-    def new(cls, *, garment: str = "skirt", size: str = "M", body: str = "female_average",
-            fabric: str = "cotton", triangles: int = 3000, threshold: float = 0.90,
+    def new(cls, *, garment: str = DEFAULTS.garment, size: str = DEFAULTS.size,
+            body: str = DEFAULTS.body, fabric: str = DEFAULTS.fabric,
+            triangles: int = DEFAULTS.triangles, threshold: float = DEFAULTS.threshold,
             relax: float = 1.0, **options) -> "DesignSession":
         """A session on a built-in garment (``options`` go to its drafting function) and a
         built-in body."""
@@ -400,9 +403,7 @@ def _store_state(states: Path, s: State) -> dict:
     d = states / s.key
     if not d.is_dir():
         part = states / f".{s.key}-{_new_key()}.part"
-        part.mkdir()
-        save_pattern(s.pattern, part / "pattern.json")
-        s.mesh.save(part / "mesh.npz")
+        save_garment(part, s.pattern, s.mesh)  # the garment folder's own checks and layout
         os.rename(part, d)
     file = None
     if s.positions is not None:

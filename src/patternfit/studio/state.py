@@ -20,15 +20,15 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import api
+from ..defaults import DEFAULTS
 from ..edit import CoordinateCache, update_mesh
 from ..errors import InputError, SessionError
 from ..files import atomic_write_text, dumps_finite_json, read_json_file
 from ..fit.colormap import FitScale
-from ..loop import DesignSession
 from ..loop.session import holds_session
 
 #: triangle count of a new session's garment mesh unless asked otherwise
-DEFAULT_TRIANGLES = 1500
 #: what an upload may be, with the file endings each kind is read from
 UPLOAD_SUFFIXES = {"pattern": (".json", ".dxf"),
                    "body": (".obj", ".ply", ".stl", ".glb", ".off", ".npz"),
@@ -91,12 +91,12 @@ class Studio:
         self._thread: threading.Thread | None = None
         self._drag: tuple | None = None  # (state object, CoordinateCache)
         self.info: dict = {}
-        self.session: DesignSession | None = None
+        self.session: api.DesignSession | None = None
         #: what ``GET /api/state`` answers, rebuilt after every change so that reading it
         #: never waits for the lock a long change holds
         self.summary: dict | None = None
         if holds_session(self.folder / "session"):
-            self.session = DesignSession.load(self.folder / "session")
+            self.session = api.DesignSession.load(self.folder / "session")
             self.info = self._read_info()
             self._publish()
 
@@ -128,15 +128,16 @@ class Studio:
             "checks": s.state.checks, "can_undo": s.position > 0,
             "can_redo": s.position + 1 < len(s.history)}
 
-    def ensure(self) -> DesignSession:
+    def ensure(self) -> api.DesignSession:
         """The session, starting the default one (built-in skirt) when there is none."""
         with self.lock:
             if self.session is None:
                 self.new()
             return self.session
 
-    def new(self, *, garment: str = "skirt", size: str = "M", body: str = "female_average",
-            fabric: str = "cotton_shirting", triangles: int = DEFAULT_TRIANGLES) -> None:
+    def new(self, *, garment: str = DEFAULTS.garment, size: str = DEFAULTS.size,
+            body: str = DEFAULTS.body, fabric: str = DEFAULTS.fabric,
+            triangles: int = DEFAULTS.studio_triangles) -> None:
         """Start a new session on a built-in garment, body and fabric, each named as in
         ``/api/options`` (replaces the current session)."""
         from ..body.builtin import list_bodies
@@ -152,8 +153,7 @@ class Studio:
                 or not 100 <= triangles <= 60000:
             raise ValueError("triangles: expected a whole number in 100..60000")
         self._refuse_while_draping()
-        session = DesignSession.new(garment=garment, size=size, body=body, fabric=fabric,
-                                    triangles=triangles)
+        session = api.design_session(garment, body, fabric, size=size, triangles=triangles)
         with self.lock:
             self._refuse_while_draping()
             self.session = session
@@ -202,10 +202,10 @@ class Studio:
         self._refuse_while_draping()
         with self.lock:
             old = self.ensure()
-        session = DesignSession(old.pattern if pattern is None else pattern,
-                                old.body if body is None else body,
-                                old.fabric if fabric is None else fabric,
-                                old.triangles, old.threshold)
+        session = api.design_session(old.pattern if pattern is None else pattern,
+                                     old.body if body is None else body,
+                                     old.fabric if fabric is None else fabric,
+                                     triangles=old.triangles, threshold=old.threshold)
         with self.lock:
             self._refuse_while_draping()
             self.session = session
@@ -330,8 +330,6 @@ class Studio:
     def _run_correction(self, job: DrapeJob, session, progress) -> None:
         """The automatic correction; each round's ϖ and edits go to ``job.rounds`` and the
         session is saved after each round, so the page can follow and a reload keeps it."""
-        from ..loop import CorrectionSettings, correct
-
         def round_done(it):
             job.rounds.append({"iteration": it.index, "fitting_ratio": it.fitting_ratio,
                                "edits": len(it.edits), "seconds": it.seconds})
@@ -343,8 +341,8 @@ class Studio:
             if job.stop:
                 raise KeyboardInterrupt
 
-        result = correct(session, settings=CorrectionSettings(threshold=session.threshold),
-                         progress=round_done, drape_progress=progress)
+        result = api.correct(session, settings=api.CorrectionSettings(
+            threshold=session.threshold), progress=round_done, drape_progress=progress)
         job.result = {"reached": result.reached, "fitting_ratio": result.fitting_ratio}
         with self.lock:
             if self.session is session:
@@ -355,18 +353,11 @@ def _read_upload(kind: str, path: Path, stem: str):
     """The pattern, body or fabric in the uploaded file ``path``, named after ``stem`` (the
     client's file name) where the file gives no name of its own."""
     if kind == "pattern":
-        from ..pattern.formats import load_any_pattern
-
-        return load_any_pattern(path)
+        return api.read_pattern(path)
     if kind == "fabric":
-        from ..sim.fabrics import load_fabric
-
-        fabric = load_fabric(path)
+        fabric = api.read_fabric(path)
         return replace(fabric, name=stem) if fabric.name == path.stem else fabric
-    from ..body.builtin import read_body
-    from ..body.mesh_io import load_body_mesh
-
-    body = read_body(path) if path.suffix == ".npz" else load_body_mesh(path)
+    body = api.read_body(path)
     body.name = stem
     body.meta = {**body.meta, "source": f"uploaded {stem}{path.suffix}"}
     return body
