@@ -49,8 +49,8 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "DesignSession", "FabricError", "FitOutcome", "InputError", "PatternError",
            "correct", "correct_design", "design_session", "drafted_too_small",
            "drape_and_evaluate", "evaluate_saved", "list_bodies", "list_fabrics",
-           "list_garments", "mesh", "place_and_evaluate", "placed_fitting_ratio", "read_body",
-           "read_fabric", "read_pattern", "save_any_pattern", "save_garment"]
+           "list_garments", "mesh_garment", "place_and_evaluate", "placed_fitting_ratio",
+           "read_body", "read_fabric", "read_pattern", "save_any_pattern", "save_garment"]
 
 
 def list_garments() -> list[str]:
@@ -74,7 +74,7 @@ def read_pattern(source: Pattern | str | Path, *, size: str = DEFAULTS.size) -> 
     if name in GARMENTS:
         return build(name, size)
     path = Path(name)
-    if not path.exists():
+    if not (path.suffix or path.exists()):
         raise PatternError(f"neither a built-in garment ({', '.join(GARMENTS)}) nor a file",
                            file=name)
     return load_any_pattern(path)
@@ -88,7 +88,7 @@ def read_body(source: Body | str | Path, *, units: str | None = None) -> Body:
     if isinstance(source, Body):
         return source
     path = Path(str(source))
-    if path.suffix and path.exists():
+    if path.suffix or path.exists():
         return load_body_mesh(path, units=units)
     try:
         return load_body(str(source))
@@ -104,8 +104,8 @@ def read_fabric(source: Fabric | str | Path) -> Fabric:
     return get_fabric(source)
 
 
-def mesh(pattern: Pattern | str, *, triangles: int = DEFAULTS.triangles,
-         size: str = DEFAULTS.size, **options) -> GarmentMesh:
+def mesh_garment(pattern: Pattern | str, *, triangles: int = DEFAULTS.triangles,
+                 size: str = DEFAULTS.size, **options) -> GarmentMesh:
     """The garment mesh of ``pattern`` (a pattern, built-in name or file): every panel
     triangulated to about ``triangles`` triangles in all, seams matched."""
     return mesh_pattern(read_pattern(pattern, size=size), triangles=triangles, **options)

@@ -26,10 +26,10 @@ def convert(
     json_out: bool = typer.Option(False, "--json", help="Print machine-readable results."),
 ) -> None:
     """Convert a sewing pattern between formats (lengths keep their true size)."""
-    from ..pattern.formats import load_any_pattern, save_any_pattern
+    from .. import api
 
-    pattern = load_any_pattern(source)
-    written = save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
+    pattern = api.read_pattern(source)
+    written = api.save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
     suggested = pattern.meta.get("suggested_seams", [])
     warnings = pattern.meta.get("warnings", [])
     result = {"source": str(source), "source_format": pattern.meta.get("source_format"),

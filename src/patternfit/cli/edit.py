@@ -104,9 +104,10 @@ def edit_command(
     With --mesh, the panel mesh follows the edit smoothly (coordinates, no re-meshing unless
     quality requires it) and is written beside the new pattern.
     """
+    from .. import api
     from ..edit import update_mesh
     from ..files import read_json_file
-    from ..mesh import GarmentMesh, mesh_pattern
+    from ..mesh import GarmentMesh
     from ..mesh.store import replace_pattern_and_mesh
     from ..pattern import PatternError, load_pattern, save_pattern
 
@@ -140,7 +141,7 @@ def edit_command(
                               "inverted_triangles": rep.inverted,
                               "min_angle_deg": rep.min_angle}
         except PatternError as exc:   # the edit changed the panels' edges (a new dart)
-            m2 = mesh_pattern(new, triangles=m.n_triangles)
+            m2 = api.mesh_garment(new, triangles=m.n_triangles)
             result["mesh"] = {"file": str(mesh_out), "remeshed_panels": "all",
                               "reason": exc.reason}
     if mesh is None:
