@@ -22,6 +22,8 @@ import sys
 import tempfile
 import time
 
+import _path  # noqa: F401  (tests/ on sys.path)
+
 #: garment -> (body, triangles) as in the paper's Table 2
 CASES = {"coat": ("male_heavy", 22000), "skirt": ("female_thin", 15000),
          "trousers": ("male_thin", 20000)}
@@ -40,15 +42,13 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
     from patternfit.body.builtin import load_body
     from patternfit.edit import move_edge, update_mesh
     from patternfit.fit import FitEvaluator
-    from patternfit.mesh import mesh_pattern
-    from patternfit.pattern.library import build
     from patternfit.sim.drape import drape, redrape
     from patternfit.sim.solver import SolverSettings
+    from scenes import garment as meshed
 
     body_name, triangles = CASES[garment]
     body = load_body(body_name)
-    pattern = build(garment, "M")
-    mesh = mesh_pattern(pattern, triangles=triangles)
+    pattern, mesh = meshed(garment, triangles)
     rows = []
     t0 = time.perf_counter()
     first = drape(pattern, mesh, body, "cotton", settings=SolverSettings(**(knobs or {})))

@@ -17,20 +17,13 @@ import time
 
 import numpy as np
 
+import _path  # noqa: F401  (tests/ on sys.path)
 from _table import print_table
 from patternfit.body.builtin import load_body
 from patternfit.fit import FitEvaluator
-from patternfit.mesh import mesh_pattern
-from patternfit.pattern.library import build
 from patternfit.sim.drape import drape
 from patternfit.sim.newton_engine import mean_dihedral, newton_drape
-
-
-def _welded(d):
-    vmap = d.result.vertex_map
-    x = np.zeros((vmap.max() + 1, 3))
-    x[vmap] = d.positions
-    return x, vmap
+from scenes import garment, welded
 
 
 def _checks(d) -> str:
@@ -56,16 +49,14 @@ def main():
     body = load_body(args.body)
     body.distance_field(0.005)
     # compile / load Warp's kernels outside the timings
-    warm_p = build("skirt", "M")
-    warm_m = mesh_pattern(warm_p, triangles=300)
+    warm_p, warm_m = garment("skirt", 300)
     t0 = time.perf_counter()
     newton_drape(warm_p, warm_m, body, args.fabric, device=args.device)
     print(f"Warp kernels ready in {time.perf_counter() - t0:.1f} s (compile or cache)")
     rows = []
     for item in args.sizes:
         name, n = item.split("=")
-        pattern = build(name, "M")
-        mesh = mesh_pattern(pattern, triangles=int(n))
+        pattern, mesh = garment(name, int(n))
         fe = FitEvaluator(mesh)
         runs = {}
         try:
@@ -79,7 +70,7 @@ def main():
         ref = runs["static"].positions
         for engine, d in runs.items():
             r = fe(d.positions)
-            x, vmap = _welded(d)
+            x, vmap = welded(d), d.result.vertex_map
             steps = (f"{d.result.iterations + d.timing.get('sewing_iterations', 0)} it"
                      if engine == "static" else
                      f"{d.timing.get('sewing_iterations', 0)} it+{d.result.iterations} fr")

@@ -8,19 +8,19 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
 
+import _path  # noqa: E402, F401  (tests/ on sys.path)
 from _table import median_time, print_table  # noqa: E402
 
 from patternfit.fit import FitEvaluator, FitScale, vertex_values  # noqa: E402
 from patternfit.mesh import mesh_pattern  # noqa: E402
-from patternfit.pattern.library import build  # noqa: E402
 from patternfit.sim.placement import place_on_cylinders  # noqa: E402
+from scenes import garment  # noqa: E402
 
 
 def main() -> None:
     rows = []
     for name, n in (("coat", 22000), ("skirt", 15000), ("trousers", 20000), ("dress", 20000)):
-        pattern = build(name, "M")
-        mesh = mesh_pattern(pattern, triangles=n)
+        pattern, mesh = garment(name, n)
         t_mesh = median_time(lambda: mesh_pattern(pattern, triangles=n), repeat=5)
         x = place_on_cylinders(pattern, mesh)
         ev = FitEvaluator(mesh)

@@ -11,24 +11,10 @@ import resource
 import time
 
 import numpy as np
-import triangle
 
-from patternfit.body.sdf import DistanceField
+import _path  # noqa: F401  (tests/ on sys.path)
 from patternfit.sim.solver import GarmentSolver
-
-
-def square(side, triangles):
-    pts = np.array([[0, 0], [side, 0], [side, side], [0, side]], float) - side / 2
-    area = side * side / triangles * 1.58  # Triangle's quality meshes come out finer
-    out = triangle.triangulate({"vertices": pts, "segments": [[0, 1], [1, 2], [2, 3], [3, 0]]},
-                               f"pq30a{area:.10f}Q")
-    return out["vertices"].astype(float), out["triangles"].astype(np.int64)
-
-
-def sphere(radius, half=0.6, h=0.005):
-    ax = np.arange(-half, half + 1e-9, h)
-    X, Y, Z = np.meshgrid(ax, ax, ax, indexing="ij")
-    return DistanceField((-half,) * 3, h, np.sqrt(X**2 + Y**2 + Z**2) - radius)
+from scenes import grain_at, sphere_field, square_mesh
 
 
 def main():
@@ -37,18 +23,18 @@ def main():
     ap.add_argument("--fabric", default="cotton_shirting")
     ap.add_argument("--side", type=float, default=0.8, help="cloth side [m]")
     args = ap.parse_args()
-    body = sphere(0.2)
+    body = sphere_field(0.2, half=0.6)
     # compile the kernels once, outside the timings
-    v, t = square(0.3, 200)
-    GarmentSolver(v, t, np.tile([1.0, 0.0], (len(t), 1)), args.fabric, body=body).solve(
+    v, t = square_mesh(0.3, 200)
+    GarmentSolver(v, t, grain_at(0, len(t)), args.fabric, body=body).solve(
         np.c_[v[:, 0], np.full(len(v), 0.21), v[:, 1]])
     print(f"cloth {args.side} m square on a 0.2 m sphere, 5 mm distance field, "
           f"{args.fabric}; 2-core CPU")
     print(f"{'triangles':>9} {'run':>8} {'iters':>6} {'seconds':>8} {'factor':>6} "
           f"{'inside':>6} {'clear mm':>8} {'crossing':>8} {'conv':>5} {'peak MB':>8}")
     for m in args.triangles:
-        v, t = square(args.side, m)
-        grain = np.tile([1.0, 0.0], (len(t), 1))
+        v, t = square_mesh(args.side, m)
+        grain = grain_at(0, len(t))
         x0 = np.c_[v[:, 0], np.full(len(v), 0.21), v[:, 1]]
         solver = GarmentSolver(v, t, grain, args.fabric, body=body)
         runs = [("first", x0)]

@@ -16,7 +16,7 @@ from patternfit.mesh import GarmentMesh, mesh_pattern
 from patternfit.mesh.store import save_garment
 from patternfit.pattern import load_pattern, save_pattern
 
-from test_edit import two_panels
+from scenes import two_panels
 
 runner = CliRunner()
 

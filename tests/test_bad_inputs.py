@@ -36,7 +36,7 @@ from patternfit.mesh.store import (MESH, POSITIONS, load_garment, replace_patter
 from patternfit.pattern import Pattern, PatternError, load_pattern
 from patternfit.sim.fabrics import FABRICS, RANGES, Fabric, FabricError, get_fabric, load_fabric
 
-from conftest import rectangle_panel
+from scenes import rectangle_panel
 
 BAD = Path(__file__).parent / "data" / "bad"
 BODIES = sorted((BAD / "body").iterdir())

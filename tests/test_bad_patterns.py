@@ -36,7 +36,7 @@ from patternfit.pattern.formats import load_any_pattern
 from patternfit.pattern.garmentcode import garmentcode_from_dict, garmentcode_to_dict
 from patternfit.pattern.validate import check_polygons
 
-from conftest import rectangle_panel
+from scenes import rectangle_panel
 
 BAD = Path(__file__).parent / "data" / "bad"
 CORPUS = sorted(p for d in ("pattern", "dxf", "garmentcode") for p in (BAD / d).iterdir()

@@ -11,6 +11,8 @@ from patternfit.pattern.library import build
 from patternfit.sim.drape import drape, redrape
 from patternfit.sim.placement import place_on_body
 
+from scenes import draped
+
 
 @pytest.fixture(scope="module")
 def thin_woman():
@@ -74,17 +76,11 @@ def test_redrape_after_a_hem_edit_starts_from_the_state_moved_with_it(thin_woman
     assert 0.02 < first.positions[:, 1].min() - hem < 0.04
 
 
-def _drape(garment, body, triangles, *, size="M", fabric="cotton", **kw):
-    p = build(garment, size)
-    m = mesh_pattern(p, triangles=triangles)
-    return m, drape(p, m, load_body(body), fabric, **kw)
-
-
 @pytest.mark.parametrize("garment,body,triangles", [("coat", "male_heavy", 2000),
                                                     ("trousers", "male_thin", 1200),
                                                     ("dress", "female_average", 2000)])
 def test_garment_drapes_and_passes_checks(garment, body, triangles):
-    m, d = _drape(garment, body, triangles)
+    m, d = draped(garment, body, triangles)
     c = d.checks
     assert c.inside_vertices == 0 and c.seam_gap_max_mm < 0.5 and c.equilibrium, c
     assert c.self_intersections == 0 and c.passed, c
@@ -116,14 +112,14 @@ def test_garment_drapes_and_passes_checks(garment, body, triangles):
 def test_trousers_crotch_does_not_cross_itself():
     # the sewn fork folds flat between the legs; vertex-triangle repulsion alone let edges
     # slip through each other there (1-13 crossed pairs at 1.5K-2.5K triangles)
-    _, d = _drape("trousers", "male_thin", 2000)
+    _, d = draped("trousers", "male_thin", 2000)
     assert d.checks.self_intersections == 0
 
 
 def test_larger_size_fits_looser():
     # a too-small dress in a stretch knit is stretched (ϖ < 1); a larger one less so
-    m_s, small = _drape("dress", "female_heavy", 1200, size="S", fabric="stretch_knit")
-    m_l, large = _drape("dress", "female_heavy", 1200, size="L", fabric="stretch_knit")
+    m_s, small = draped("dress", "female_heavy", 1200, size="S", fabric="stretch_knit")
+    m_l, large = draped("dress", "female_heavy", 1200, size="L", fabric="stretch_knit")
     assert small.checks.passed and large.checks.passed
     r_s = FitEvaluator(m_s)(small.positions).fitting_ratio
     r_l = FitEvaluator(m_l)(large.positions).fitting_ratio
@@ -131,8 +127,8 @@ def test_larger_size_fits_looser():
 
 
 def test_placement_clearance_does_not_decide_the_fit():
-    m, near = _drape("skirt", "female_thin", 1200, clearance=0.02)
-    _, far = _drape("skirt", "female_thin", 1200, clearance=0.05)
+    m, near = draped("skirt", "female_thin", 1200, clearance=0.02)
+    _, far = draped("skirt", "female_thin", 1200, clearance=0.05)
     assert near.checks.passed and far.checks.passed
     ev = FitEvaluator(m)
     assert ev(near.positions).fitting_ratio == pytest.approx(ev(far.positions).fitting_ratio,
@@ -140,8 +136,8 @@ def test_placement_clearance_does_not_decide_the_fit():
 
 
 def test_same_run_twice_gives_the_same_result():
-    _, a = _drape("skirt", "female_thin", 800)
-    _, b = _drape("skirt", "female_thin", 800)
+    _, a = draped("skirt", "female_thin", 800)
+    _, b = draped("skirt", "female_thin", 800)
     assert a.result.iterations == b.result.iterations
     assert np.array_equal(a.positions, b.positions)
 

@@ -5,22 +5,10 @@ import pytest
 
 from patternfit.edit import (edit_curve, grade, insert_dart, lengthen, move_dart, move_edge,
                              move_point, resize_dart)
-from patternfit.pattern import Edge, Loop, Panel, Pattern, PatternError, Seam, SeamSide
+from patternfit.pattern import PatternError
 from patternfit.pattern.validate import check_pattern
 
-
-def rect_panel(name, w=0.4, h=0.6, arc=False):
-    top = (Edge.arc("top", (w, h), (0, h), radius=w, sweep=True) if arc
-           else Edge.line("top", (w, h), (0, h)))
-    return Panel(name, Loop("outline", (Edge.line("bottom", (0, 0), (w, 0)),
-                                        Edge.line("right", (w, 0), (w, h)), top,
-                                        Edge.line("left", (0, h), (0, 0)))))
-
-
-def two_panels(arc=False):
-    """Panels A and B side by side: A's right edge sewn to B's left edge (bottom to bottom)."""
-    return Pattern("test", (rect_panel("A", arc=arc), rect_panel("B")),
-                   (Seam("side", SeamSide("A", "right"), SeamSide("B", "left"), reverse=True),))
+from scenes import two_panels
 
 
 def corner(p, panel, edge):

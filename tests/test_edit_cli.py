@@ -9,7 +9,7 @@ from patternfit.cli.main import app
 from patternfit.mesh import GarmentMesh, mesh_pattern
 from patternfit.pattern import load_pattern, save_pattern
 
-from test_edit import two_panels
+from scenes import two_panels
 
 runner = CliRunner()
 

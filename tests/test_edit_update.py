@@ -10,7 +10,7 @@ from patternfit.edit.remesh import remesh_panels
 from patternfit.mesh import mesh_pattern, signed_areas
 from patternfit.pattern import Edge, Loop, Panel, Pattern, PatternError
 
-from test_edit import two_panels
+from scenes import two_panels
 
 
 @pytest.fixture(scope="module")

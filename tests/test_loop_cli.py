@@ -2,6 +2,7 @@
 
 import json
 
+import pytest
 from typer.testing import CliRunner
 
 from patternfit.cli.main import app
@@ -45,6 +46,7 @@ def test_bad_threshold_is_refused(tmp_path):
     assert res.exit_code != 0 and "threshold" in res.output
 
 
+@pytest.mark.slow  # an acceptance run: drape, automatic correction, re-drape, pictures (~3.5 s)
 def test_demo_runs_the_loop(tmp_path):
     out = tmp_path / "demo"
     res = runner.invoke(app, ["demo", "--out", str(out), "--triangles", "900", "--json"])

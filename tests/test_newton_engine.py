@@ -11,11 +11,12 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import end_line_load
 
 from patternfit.sim.newton_engine import (
     BENDING_SCALE, NewtonMissingError, NewtonSettings, edge_bending, import_newton, mean_dihedral,
     panel_rest)
+
+from scenes import end_line_load, garment, rect_mesh, welded
 
 
 def test_mean_dihedral_of_a_flat_and_a_folded_pair():
@@ -72,19 +73,18 @@ def test_panel_rest_turns_the_grain_onto_u_and_bending_follows_it():
     assert fabric.bending_weft * BENDING_SCALE <= got[0] <= fabric.bending_warp * BENDING_SCALE
 
 
+# the engine comparison (static, Newton, Newton from static on one 1.5K skirt: ~12 s on 2
+# cores) is an acceptance run: its tests are marked slow (pytest --slow runs them)
 @pytest.fixture(scope="module")
 def skirt():
     pytest.importorskip("newton", reason="newton not installed: pip install \"patternfit[newton]\"")
     from patternfit.body.builtin import load_body
     from patternfit.fit import FitEvaluator
-    from patternfit.mesh import mesh_pattern
-    from patternfit.pattern.library import build
     from patternfit.sim.drape import drape
     from patternfit.sim.newton_engine import newton_drape
 
     body = load_body("female_thin")
-    pattern = build("skirt", "M")
-    mesh = mesh_pattern(pattern, triangles=1500)
+    pattern, mesh = garment("skirt", 1500)
     static = drape(pattern, mesh, body, "cotton")
     cold = newton_drape(pattern, mesh, body, "cotton", device="cpu")
     warm = newton_drape(pattern, mesh, body, "cotton", device="cpu", from_static=static)
@@ -94,6 +94,7 @@ def skirt():
                        for k, d in (("static", static), ("cold", cold), ("warm", warm))})
 
 
+@pytest.mark.slow
 def test_newton_skirt_drapes_inside_nothing_sewn(skirt):
     d = skirt["cold"]
     c = d.checks
@@ -110,6 +111,7 @@ def test_newton_skirt_drapes_inside_nothing_sewn(skirt):
     assert extra["timing"]["engine"] == "newton" and not extra["checks"]["passed"]
 
 
+@pytest.mark.slow
 @pytest.mark.xfail(strict=True, reason="Style3D (projective dynamics, constant matrix with the "
                                        "full stretch stiffness) creeps on bending modes: the 1.5K "
                                        "skirt still drifts ~1 mm/s after 300 frames, 1.5 mm/s "
@@ -118,33 +120,26 @@ def test_newton_skirt_reaches_equilibrium(skirt):
     assert skirt["cold"].checks.equilibrium
 
 
+@pytest.mark.slow
 def test_newton_fitting_ratio_agrees_with_the_static_engine(skirt):
     assert skirt["ratio"]["cold"] == pytest.approx(skirt["ratio"]["static"], rel=0.01)
 
 
+@pytest.mark.slow
 def test_from_static_forms_folds_and_keeps_the_fit(skirt):
     mesh, static, warm = skirt["mesh"], skirt["static"], skirt["warm"]
     tris = static.result.vertex_map[mesh.triangles]
-    folds_static = mean_dihedral(_welded(static), tris)
-    folds_warm = mean_dihedral(_welded(warm), tris)
+    folds_static = mean_dihedral(welded(static), tris)
+    folds_warm = mean_dihedral(welded(warm), tris)
     assert folds_warm > folds_static
     assert warm.checks.inside_vertices == 0
     assert skirt["ratio"]["warm"] == pytest.approx(skirt["ratio"]["static"], rel=0.01)
-
-
-def _welded(d):
-    vmap = d.result.vertex_map
-    x = np.zeros((vmap.max() + 1, 3))
-    x[vmap] = d.positions
-    return x
 
 
 # ---------------------------------------------------------------- calibration (as the static
 # engine's: tests/test_sim_solver.py), on strips with pinned ends, no body in reach
 def _strip(length, width, max_area, angle, fabric, pinned, *, gravity, **settings):
     from types import SimpleNamespace
-
-    from tests.test_sim_solver import rect_mesh
 
     _, wp = import_newton()
     from newton import ParticleFlags

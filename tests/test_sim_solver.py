@@ -6,30 +6,11 @@ import numpy as np
 import pytest
 import triangle
 
-from conftest import end_line_load
-
 from patternfit.body.sdf import DistanceField
 from patternfit.sim.fabrics import get_fabric
 from patternfit.sim.solver import GarmentSolver, SolverSettings
 
-
-def rect_mesh(length, width, max_area):
-    """Constrained-Delaunay mesh of the rectangle [0, length] x [0, width] [m]."""
-    pts = np.array([[0, 0], [length, 0], [length, width], [0, width]], float)
-    seg = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
-    out = triangle.triangulate({"vertices": pts, "segments": seg}, f"pq30a{max_area:.12f}Q")
-    return out["vertices"].astype(float), out["triangles"].astype(np.int64)
-
-
-def grain_at(angle_deg, m):
-    a = np.radians(angle_deg)
-    return np.tile([np.cos(a), np.sin(a)], (m, 1))
-
-
-def sphere_field(radius, half=0.3, h=0.005):
-    ax = np.arange(-half, half + 1e-9, h)
-    X, Y, Z = np.meshgrid(ax, ax, ax, indexing="ij")
-    return DistanceField((-half, -half, -half), h, np.sqrt(X**2 + Y**2 + Z**2) - radius)
+from scenes import end_line_load, grain_at, rect_mesh, sphere_field
 
 
 @pytest.mark.parametrize("fabric", ["cotton_shirting", "denim", "stretch_knit"])

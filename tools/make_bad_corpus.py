@@ -332,7 +332,7 @@ def _square_garment(folder: Path):
     """A valid garment folder written by the package: (pattern.json, mesh.npz,
     positions.npy) bytes and the mesh arrays in their file order."""
     sys.path.insert(0, str(ROOT / "tests"))
-    from conftest import rectangle_panel
+    from scenes import rectangle_panel
 
     from patternfit.mesh import mesh_pattern
     from patternfit.mesh.store import MESH, PATTERN, POSITIONS, save_garment

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..arguments import number
+from ..geometry import rotation_between
 from .measure import measure
 from .model import Body
 
@@ -31,24 +33,12 @@ _MISSING = ("the anny body model is not installed: install it with "
 
 
 def _model():
-    try:
+    try:  # the optional extra, imported only when a body is generated
         import anny
         import torch
     except ImportError as exc:
         raise ImportError(_MISSING) from exc
     return anny.Anny(topology="anny-noeyes-notongue"), torch
-
-
-def _rotation_between(a, b) -> np.ndarray:
-    """(3, 3) rotation turning direction ``a`` onto direction ``b``."""
-    a = a / np.linalg.norm(a)
-    b = b / np.linalg.norm(b)
-    axis = np.cross(a, b)
-    s, c = np.linalg.norm(axis), float(a @ b)
-    if s < 1e-12:
-        return np.eye(3)
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    return np.eye(3) + k + k @ k * ((1 - c) / s**2)
 
 
 def _posed(model, torch, phenotype: dict):
@@ -61,7 +51,7 @@ def _posed(model, torch, phenotype: dict):
         shoulder, elbow, wrist = (heads[labels.index(f"{b}.{side}")]
                                   for b in ("upperarm01", "lowerarm01", "wrist"))
         # local-ref pose parameters rotate about world-aligned axes at the bone's head
-        rot = _rotation_between(wrist - elbow, elbow - shoulder)
+        rot = rotation_between(wrist - elbow, elbow - shoulder)
         pose[0, labels.index(f"lowerarm01.{side}"), :3, :3] = torch.tensor(rot)
     out = model(pose_parameters=pose, phenotype_kwargs=phenotype)
     verts = out["vertices"][0].detach().numpy().astype(np.float64)
@@ -100,10 +90,10 @@ def anny_body(*, gender: float = 0.5, weight: float = 0.5, muscle: float = 0.5,
     values = dict(gender=gender, weight=weight, muscle=muscle, height=height,
                   proportions=proportions, age=age)
     for key, x in values.items():
-        if not 0.0 <= x <= 1.0:
-            raise ValueError(f"{key}: must be in [0, 1], got {x}")
-    if stature is not None and not 0.5 < stature < 2.6:
-        raise ValueError(f"stature: expected a height in metres, got {stature}")
+        number(x, key, low=0.0, high=1.0)
+    if stature is not None:
+        number(stature, "stature", low=0.5, low_open=True, high=2.6, high_open=True, unit="m",
+               rule="expected a height in metres")
     model, torch = _model()
     model.eval()
     with torch.no_grad():
@@ -122,7 +112,7 @@ def anny_body(*, gender: float = 0.5, weight: float = 0.5, muscle: float = 0.5,
     v = v.astype(np.float32).astype(np.float64)
     faces = model.faces.numpy().astype(np.int64)
     meas, lm = measure(v, faces)
-    import anny
+    import anny  # optional extra, imported when a body is generated (see _model)
 
     meta = dict(source=f"anny {anny.__version__} (NAVER Corp., Apache-2.0) on MakeHuman "
                        "assets (CC0)", phenotype=values, pose="A-pose, straight elbows",

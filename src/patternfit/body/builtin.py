@@ -15,8 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from ..constants import limits
-from ..files import atomic_write_bytes, parse_json_text
+from ..files import atomic_write_bytes, parse_json_text, read_npz
 from .measure import LandmarkError
+from .mesh_io import BodyMeshError
 from .model import Body
 
 #: the paper's body names (Table 2) and friendly spellings
@@ -68,9 +69,6 @@ def read_body(path, *, name: str | None = None) -> Body:
     wrong kind or shape, NaN, a face index out of range, more than ``limits.body_vertices``
     vertices) or lacks a landmark or measurement.
     """
-    from ..files import read_npz
-    from .mesh_io import BodyMeshError
-
     z = read_npz(path, limit=_BODY_BYTES, error=BodyMeshError)
 
     def bad(key, why):

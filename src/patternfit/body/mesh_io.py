@@ -18,10 +18,14 @@ import math
 from pathlib import Path
 
 import numpy as np
+import trimesh
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from ..constants import UNITS, limits
 from ..errors import InputError
 from ..files import atomic_write_bytes, read_bytes_capped
+from ..geometry import rotation_between
 from .measure import LandmarkError, measure
 from .model import Body
 
@@ -77,14 +81,7 @@ def _up_rotation(vertices, up: str | None) -> np.ndarray:
         axis = _AXES[key]
     src = np.zeros(3)
     src[axis] = sign
-    dst = np.array([0.0, 1.0, 0.0])
-    if np.allclose(src, dst):
-        return np.eye(3)
-    if np.allclose(src, -dst):
-        return np.diag([1.0, -1.0, -1.0])
-    k = np.cross(src, dst)
-    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + kx + kx @ kx / (1.0 + src @ dst)
+    return rotation_between(src, (0.0, 1.0, 0.0))  # -y up: the half turn about x
 
 
 def _consistent_winding(faces) -> np.ndarray:
@@ -94,10 +91,6 @@ def _consistent_winding(faces) -> np.ndarray:
     face adjacency instead: each face is flipped when the faces on its path to the patch's
     first face disagree an odd number of times.
     """
-    import trimesh
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import breadth_first_order, connected_components
-
     f = np.asarray(faces, dtype=np.int64)
     m = len(f)
     pairs, edges = trimesh.graph.face_adjacency(f, return_edges=True)
@@ -137,8 +130,6 @@ def _hole_fans(faces) -> np.ndarray:
     trimesh.repair.fill_holes needs networkx; the loops are found here from trimesh's edge
     grouping and scipy's connected components.
     """
-    import trimesh
-
     edges = trimesh.geometry.faces_to_edges(faces)
     boundary = edges[trimesh.grouping.group_rows(np.sort(edges, axis=1), require_count=1)]
     fans = []
@@ -188,8 +179,6 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
     holes, or is no standing human in an A-pose (a sphere, a box: the first landmark that
     cannot be found is named).
     """
-    import trimesh
-
     v = np.asanyarray(vertices)
     f = np.asanyarray(faces)
     if v.ndim != 2 or v.shape[1] != 3 or len(v) == 0 or f.ndim != 2 or len(f) == 0:
@@ -271,12 +260,10 @@ def load_body_mesh(path, *, units: str | None = None, up: str | None = None) -> 
     checks; the file may take at most 200 bytes per allowed vertex. Errors are
     :class:`BodyMeshError` naming the file.
     """
-    import trimesh
-
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".")
     if fmt == "npz":
-        from .builtin import read_body
+        from .builtin import read_body  # builtin imports this module for BodyMeshError
 
         if units not in (None, "m") or up not in (None, "y"):
             raise ValueError("units, up: a saved body (.npz) is in metres with Y up")

@@ -5,7 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+import trimesh
 
+from ..arguments import array
 from .measure import LANDMARKS, MEASUREMENTS, LandmarkError
 from .sdf import DistanceField
 
@@ -47,12 +49,8 @@ class Body:
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
-        self.vertices = np.asanyarray(self.vertices, dtype=np.float64)
-        self.faces = np.asanyarray(self.faces).astype(np.int64, copy=False)
-        if self.vertices.ndim != 2 or self.vertices.shape[1] != 3:
-            raise ValueError(f"vertices: expected shape (n, 3), got {self.vertices.shape}")
-        if self.faces.ndim != 2 or self.faces.shape[1] != 3:
-            raise ValueError(f"faces: expected shape (m, 3), got {self.faces.shape}")
+        self.vertices = array(self.vertices, "vertices", shape=(None, 3))
+        self.faces = array(self.faces, "faces", shape=(None, 3), dtype=np.int64)
         self.landmarks = {k: np.asanyarray(p, dtype=np.float64)
                           for k, p in self.landmarks.items()}
         self.measurements = {k: float(x) for k, x in self.measurements.items()}
@@ -83,6 +81,4 @@ class Body:
 
     def to_trimesh(self):
         """The body as a :class:`trimesh.Trimesh` (no processing)."""
-        import trimesh
-
         return trimesh.Trimesh(self.vertices, self.faces, process=False)

@@ -17,8 +17,10 @@ import io
 import os
 from pathlib import Path
 
+import igl
 import numba
 import numpy as np
+import platformdirs
 
 from ..files import atomic_write_bytes
 
@@ -34,8 +36,6 @@ def cache_dir() -> Path:
     env = os.environ.get("PATTERNFIT_CACHE")
     if env:
         return Path(env)
-    import platformdirs
-
     return Path(platformdirs.user_cache_dir("patternfit"))
 
 
@@ -130,8 +130,6 @@ def signed_distance(points, vertices, faces) -> np.ndarray:
     The sign comes from the fast winding number, so it is right for closed meshes and robust
     to small holes and self-intersections. Returns (n,) float [m].
     """
-    import igl
-
     p = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3)
     v = np.ascontiguousarray(vertices, dtype=np.float64)
     f = np.ascontiguousarray(faces, dtype=np.int64)

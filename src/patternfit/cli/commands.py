@@ -81,7 +81,7 @@ def mesh(
 
     pat = api.read_pattern(pattern, size=size)
     t0 = time.perf_counter()
-    m = api.mesh(pat, triangles=triangles, min_angle=min_angle)
+    m = api.mesh_garment(pat, triangles=triangles, min_angle=min_angle)
     seconds = time.perf_counter() - t0
     api.save_garment(out, pat, m)
     info = {"garment": pat.name, "folder": str(out), "vertices": m.n_vertices,

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from ..arguments import number
 from ..constants import tol
 from .polygon import as_loops, as_points, boundary_weights, diameter, oriented
 from .priors import PRIORS, log_prior
@@ -171,8 +172,8 @@ def max_entropy_coordinates(outline, points, *, prior="bisector", beta=None,
     diam = diameter(nodes)
     if beta is None:
         beta = 4.0 / diam**2
-    elif not (np.isfinite(beta) and beta > 0):
-        raise ValueError(f"beta: expected a positive number [1/m^2], got {beta!r}")
+    else:
+        number(beta, "beta", low=0.0, low_open=True, rule="expected a positive number [1/m^2]")
     on, wb = boundary_weights(nodes, nxt, pts, eps=tol.merge)
     w = np.empty((len(pts), len(nodes)))
     w[on] = wb

@@ -9,23 +9,16 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ..arguments import array
+from ..geometry import polygon_area
+
 
 def as_points(points, name: str) -> np.ndarray:
-    """``points`` coerced to a finite (q, 2) float64 array; ``ValueError`` naming ``name``."""
-    p = np.asanyarray(points, dtype=np.float64)
-    if p.ndim == 1 and p.shape == (2,):
-        p = p[None]
-    if p.ndim != 2 or p.shape[1] != 2:
-        raise ValueError(f"{name}: expected an (n, 2) array, got shape {p.shape}")
-    if not np.all(np.isfinite(p)):
-        raise ValueError(f"{name}: coordinates must be finite")
-    return p
-
-
-def signed_area(poly: np.ndarray) -> float:
-    """Signed area of a closed polygon (k, 2), positive counter-clockwise."""
-    q = np.roll(poly, -1, axis=0)
-    return 0.5 * float(np.sum(poly[:, 0] * q[:, 1] - q[:, 0] * poly[:, 1]))
+    """``points`` coerced to a finite (q, 2) float64 array (one point (2,) as (1, 2));
+    ``ValueError`` naming ``name`` (:func:`patternfit.arguments.array`)."""
+    if np.shape(points) == (2,):
+        points = np.asanyarray(points, dtype=np.float64)[None]
+    return array(points, name, shape=(None, 2), finite=True)
 
 
 def as_loops(loops, name: str = "loops") -> list[np.ndarray]:
@@ -41,7 +34,7 @@ def as_loops(loops, name: str = "loops") -> list[np.ndarray]:
         gap = np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1)
         if np.any(gap <= 1e-12 * diameter(p)):
             raise ValueError(f"{name}[{k}]: two consecutive nodes coincide")
-        if abs(signed_area(p)) <= 0.0:
+        if abs(polygon_area(p)) <= 0.0:
             raise ValueError(f"{name}[{k}]: loop encloses no area")
         out.append(p)
     if not out:
@@ -66,7 +59,7 @@ def oriented(loops: list[np.ndarray]):
         n = len(p)
         idx = np.arange(n)
         want_ccw = k == 0
-        if (signed_area(p) > 0) != want_ccw:
+        if (polygon_area(p) > 0) != want_ccw:
             idx = idx[::-1]
         nodes.append(p[idx])
         order.append(start + idx)

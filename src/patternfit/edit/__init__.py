@@ -1,13 +1,15 @@
 """Pattern editing tools and the smooth mesh update that follows them (paper Sec. 5, 6.4).
 
 Tools are pure functions ``Pattern -> Pattern`` that refuse invalid results with
-``PatternError``; :func:`update_mesh` carries a panel mesh over to the edited pattern.
+``PatternError``; :func:`move_corner` (one panel's corner, unchecked) and
+:func:`close_seams` (equal seam sides by the smallest corner moves) are their building
+blocks; :func:`update_mesh` carries a panel mesh over to the edited pattern.
 """
 
 from .darts import insert_dart, move_dart, resize_dart
-from .tools import edit_curve, grade, lengthen, move_edge, move_point
+from .tools import close_seams, edit_curve, grade, lengthen, move_corner, move_edge, move_point
 from .update import CoordinateCache, UpdateReport, panel_coordinates, update_mesh
 
-__all__ = ["CoordinateCache", "UpdateReport", "edit_curve", "grade", "insert_dart",
-           "lengthen", "move_dart", "move_edge", "move_point", "panel_coordinates",
-           "resize_dart", "update_mesh"]
+__all__ = ["CoordinateCache", "UpdateReport", "close_seams", "edit_curve", "grade",
+           "insert_dart", "lengthen", "move_corner", "move_dart", "move_edge", "move_point",
+           "panel_coordinates", "resize_dart", "update_mesh"]

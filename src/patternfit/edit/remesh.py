@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 import triangle as tr
 
-from ..mesh import GarmentMesh, signed_areas
-from ..mesh.triangulate import _inside_point
+from ..geometry import counter_clockwise, triangle_areas
+from ..mesh import GarmentMesh, inside_point
 
 #: quality bound of the re-triangulation [degrees] (the mesher's default)
 REMESH_ANGLE = 25.0
@@ -28,14 +28,11 @@ def _triangulate(mesh: GarmentMesh, panel: int):
         start += len(lp)
     data = {"vertices": mesh.vertices[ids], "segments": np.concatenate(segs)}
     if len(loops) > 1:
-        data["holes"] = np.array([_inside_point(mesh.vertices[lp]) for lp in loops[1:]])
-    area = np.abs(signed_areas(mesh.vertices, mesh.triangles[mesh.triangle_panel == panel])).mean()
+        data["holes"] = np.array([inside_point(mesh.vertices[lp]) for lp in loops[1:]])
+    area = triangle_areas(mesh.vertices, mesh.triangles[mesh.triangle_panel == panel]).mean()
     out = tr.triangulate(data, f"pq{REMESH_ANGLE:.6f}a{1.5 * area:.12f}YQ")
-    v, t = out["vertices"], out["triangles"].astype(np.int64)
-    e1, e2 = v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]
-    cw = (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) < 0
-    t[cw] = t[cw][:, [0, 2, 1]]
-    return ids, v[len(ids):], t
+    v = out["vertices"]
+    return ids, v[len(ids):], counter_clockwise(v, out["triangles"].astype(np.int64))
 
 
 def remesh_panels(mesh: GarmentMesh, panels) -> GarmentMesh:

@@ -17,6 +17,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..arguments import array
 from ..constants import limits, tol
 from ..pattern import Edge, Loop, Panel, Pattern, PatternError
 from ..pattern.validate import check_panel, check_seams
@@ -29,23 +30,16 @@ REACH = 2.0 * limits.extent
 
 def _arg(x, name: str, panel: str | None, *, lo: float = -REACH, hi: float = REACH,
          vector: bool = False, unit: str = "m"):
-    """Check one edit argument: ``x`` as a float, or (``vector``) as a (2,) float array, each
-    value finite and within [``lo``, ``hi``] [``unit``]; anything else (a scale of 1e300,
-    an offset of 1e30, NaN) is refused with a :class:`PatternError` naming ``panel`` and the
-    argument ``name`` before any geometry is computed with it."""
+    """Check one edit argument (:func:`patternfit.arguments.array`): ``x`` as a float, or
+    (``vector``) as a (2,) float array, each value finite and within [``lo``, ``hi``]
+    [``unit``]; anything else (a scale of 1e300, an offset of 1e30, NaN) is refused with a
+    :class:`PatternError` naming ``panel`` and the argument ``name`` before any geometry is
+    computed with it."""
     try:
-        v = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError):
-        v = None
-    if v is None or v.shape != ((2,) if vector else ()) or not np.isfinite(v).all() \
-            or (v < lo).any() or (v > hi).any():
-        what = "a 2-vector 'x,y'" if vector else "a number"
-        if np.isinf(lo) and np.isinf(hi):
-            span = f"{what} of finite values"
-        else:
-            span = (f"{what} {'with both values ' if vector else ''}in [{lo:g}, {hi:g}]"
-                    f"{' ' + unit if unit else ''}")
-        raise PatternError(f"{name}: expected {span}, got {x!r}", panel=panel)
+        v = array(x, name, shape=(2,) if vector else (), low=lo, high=hi, unit=unit,
+                  what="a 2-vector 'x,y'" if vector else "a number")
+    except ValueError as err:
+        raise PatternError(str(err), panel=panel) from None
     return v if vector else float(v)
 
 
@@ -56,15 +50,6 @@ def _panel(pattern: Pattern, name: str) -> Panel:
             return p
     raise PatternError(f"no such panel (panels: {', '.join(p.name for p in pattern.panels)})",
                        panel=name)
-
-
-def _locate(panel: Panel, edge: str) -> tuple[int, int]:
-    """(loop number, position in the loop) of edge ``edge``."""
-    for li, loop in enumerate(panel.loops):
-        for k, e in enumerate(loop.edges):
-            if e.name == edge:
-                return li, k
-    raise PatternError(f"no edge '{edge}'", panel=panel.name, edge=edge)
 
 
 def _with_loop(panel: Panel, li: int, loop: Loop) -> Panel:
@@ -87,21 +72,17 @@ def _move_end(edge: Edge, end: int, d: np.ndarray) -> Edge:
     return edge.with_points(p)
 
 
-def _move_corner(panel: Panel, edge: str, d: np.ndarray) -> Panel:
-    """Move the corner where ``edge`` starts (and where its predecessor ends)."""
-    li, k = _locate(panel, edge)
+def move_corner(panel: Panel, edge: str, offset) -> Panel:
+    """``panel`` with the corner where edge ``edge`` starts (and its predecessor ends) moved
+    by ``offset`` (2,) [m]; the adjacent Bézier controls follow. Unchecked: the building
+    block of :func:`move_point` and of the automatic correction, whose callers check the
+    result (``check_pattern``)."""
+    d = np.asarray(offset, dtype=np.float64)
+    li, k = panel.locate(edge)
     edges = list(panel.loops[li].edges)
     edges[k] = _move_end(edges[k], 0, d)
     edges[k - 1] = _move_end(edges[k - 1], -1, d)
     return _with_loop(panel, li, replace(panel.loops[li], edges=tuple(edges)))
-
-
-def _seams_on(pattern: Pattern, panel: str, edge: str):
-    """(seam, this side, other side) for every seam on one edge."""
-    for s in pattern.seams:
-        for mine, other in ((s.a, s.b), (s.b, s.a)):
-            if mine.panel == panel and mine.edge == edge:
-                yield s, mine, other
 
 
 def _match_partners(old: Pattern, new: Pattern, edited: set) -> Pattern:
@@ -141,9 +122,9 @@ def _slide_end(pattern: Pattern, panel: str, edge: str, length: float, *, at_sta
         f = np.array([0.0, 1e-3]) if at_start else np.array([1.0, 1.0 - 1e-3])
         a, b = e.point_at(f)
         tangent = (a - b) / np.linalg.norm(a - b)  # pointing out of the edge
-        li, k = _locate(p, edge)
+        li, k = p.locate(edge)
         corner = edge if at_start else p.loops[li].edges[(k + 1) % len(p.loops[li].edges)].name
-        p = _move_corner(p, corner, (length - cur) * tangent)
+        p = move_corner(p, corner, (length - cur) * tangent)
         e = p.edge(edge)
     return pattern.with_panel(p)
 
@@ -210,6 +191,46 @@ def _finish(old: Pattern, new: Pattern, edited: set, partner: bool, cause: str) 
     return new
 
 
+def close_seams(pattern: Pattern, *, iterations: int = 12) -> Pattern:
+    """Make every seam's two sides equally long by the smallest moves (least squares) of
+    the corners at the ends of each seam's side ``b``: Gauss–Newton with minimum-norm
+    steps on the length differences [m], Jacobian by finite differences."""
+    corners = []
+    for s in pattern.seams:
+        p = pattern.panel(s.b.panel)
+        li, k = p.locate(s.b.edge)
+        edges = p.loops[li].edges
+        for key in ((s.b.panel, s.b.edge), (s.b.panel, edges[(k + 1) % len(edges)].name)):
+            if key not in corners:
+                corners.append(key)
+
+    def moved(x):
+        out = pattern
+        for (pname, ename), d in zip(corners, x.reshape(-1, 2)):
+            if d.any():
+                out = out.with_panel(move_corner(out.panel(pname), ename, d))
+        return out
+
+    def residual(pat):
+        return np.array([pat.seam_side_length(s.b) - pat.seam_side_length(s.a)
+                         for s in pat.seams])
+
+    x = np.zeros(2 * len(corners))
+    r = residual(pattern)
+    h = 1e-5
+    for _ in range(iterations):
+        if np.abs(r).max(initial=0.0) <= 0.1 * tol.merge:
+            break
+        J = np.empty((len(r), len(x)))
+        for j in range(len(x)):
+            e = np.zeros_like(x)
+            e[j] = h
+            J[:, j] = (residual(moved(x + e)) - r) / h
+        x = x - np.linalg.lstsq(J, r, rcond=None)[0]
+        r = residual(moved(x))
+    return moved(x)
+
+
 def _panel_edges(panel: Panel) -> set:
     return {(panel.name, e.name) for lp in panel.loops for e in lp.edges}
 
@@ -218,8 +239,8 @@ def move_point(pattern: Pattern, panel: str, corner: str, offset, *,
                partner: bool = False) -> Pattern:
     """Move the corner where edge ``corner`` starts by ``offset`` (2,) [m]."""
     d = _arg(offset, "offset", panel, vector=True)
-    p = _move_corner(_panel(pattern, panel), corner, d)
-    li, k = _locate(p, corner)
+    p = move_corner(_panel(pattern, panel), corner, d)
+    li, k = p.locate(corner)
     prev = p.loops[li].edges[k - 1].name
     return _finish(pattern, pattern.with_panel(p), {(panel, corner), (panel, prev)}, partner,
                    _said("offset", d))
@@ -230,7 +251,7 @@ def move_edge(pattern: Pattern, panel: str, edge: str, offset, *,
     """Translate edge ``edge`` by ``offset`` (2,) [m]; its neighbours' ends follow."""
     d = _arg(offset, "offset", panel, vector=True)
     p = _panel(pattern, panel)
-    li, k = _locate(p, edge)
+    li, k = p.locate(edge)
     edges = p.loops[li].edges
     p = _with_loop(p, li, replace(p.loops[li], edges=tuple(
         e.with_points(np.array(e.points) + d) if e.name == edge else e for e in edges)))
@@ -253,7 +274,7 @@ def edit_curve(pattern: Pattern, panel: str, edge: str, offset, *, control: int 
     edge becomes a quadratic Bézier whose control starts at the midpoint."""
     d = _arg(offset, "offset", panel, vector=True)
     p = _panel(pattern, panel)
-    li, k = _locate(p, edge)
+    li, k = p.locate(edge)
     e = p.loops[li].edges[k]
     if e.kind == "line":
         e = Edge.quadratic(e.name, e.start, 0.5 * (e.start + e.end), e.end)

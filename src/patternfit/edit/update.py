@@ -18,6 +18,7 @@ from ..constants import tol
 from ..coords import max_entropy_coordinates, mean_value_coordinates
 from ..mesh import GarmentMesh
 from ..pattern import Pattern, PatternError
+from .remesh import remesh_panels
 
 #: a panel whose minimum angle falls below this after an edit is re-meshed [degrees]
 MIN_ANGLE = 15.0
@@ -264,7 +265,6 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
     out = mesh.with_vertices(vertices)
     inverted = 0
     if bad:
-        from .remesh import remesh_panels
         out = remesh_panels(out, bad)
         for pi in bad:
             flips, angles[pi] = _quality(out.vertices, _panel_triangles(out, pi), tol.area)

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from ..arguments import array
 from ..files import atomic_write_bytes
 
 
@@ -24,16 +25,12 @@ def colored_mesh(positions, triangles, vertex_rgb) -> trimesh.Trimesh:
     Raises ``ValueError`` for non-finite positions or colours, or triangles indexing beyond
     the positions.
     """
-    x = np.asanyarray(positions, dtype=np.float64)
-    t = np.asanyarray(triangles)
-    rgb = np.asanyarray(vertex_rgb, dtype=np.float64)
     # a mesh file would carry these on silently as "nan" text or as broken faces
-    if x.ndim != 2 or x.shape[1] != 3 or not np.isfinite(x).all():
-        raise ValueError(f"positions: expected finite (n, 3) positions, got shape {x.shape}")
+    x = array(positions, "positions", shape=(None, 3), finite=True)
+    t = np.asanyarray(triangles)
     if t.ndim != 2 or t.shape[1] != 3 or (t.size and (t.min() < 0 or t.max() >= len(x))):
         raise ValueError("triangles: expected (m, 3) indices of the positions")
-    if rgb.shape != x.shape or not np.isfinite(rgb).all():
-        raise ValueError(f"vertex_rgb: expected finite ({len(x)}, 3) colours, got {rgb.shape}")
+    rgb = array(vertex_rgb, "vertex_rgb", shape=(len(x), 3), finite=True)
     rgba = np.concatenate([np.clip(rgb * 255, 0, 255), np.full((len(x), 1), 255)],
                           axis=1).astype(np.uint8)
     return trimesh.Trimesh(vertices=x, faces=t, vertex_colors=rgba, process=False)

@@ -10,39 +10,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..arguments import array
+from ..geometry import triangle_areas
 from ..mesh.garment import GarmentMesh
-from ..mesh.quality import signed_areas
 
 #: fit classes, stored per triangle as these integers
 LOOSE, FIT, TIGHT = -1, 0, 1
 CLASS_NAMES = {LOOSE: "loose", FIT: "fit", TIGHT: "tight"}
-
-
-def triangle_areas(vertices, triangles) -> np.ndarray:
-    """Areas of triangles in 2D or 3D.
-
-    Parameters
-    ----------
-    vertices : (n, 2) or (n, 3) float
-        Positions [m].
-    triangles : (m, 3) int
-        Vertex indices.
-
-    Returns
-    -------
-    (m,) float
-        Areas [m^2] (unsigned).
-    """
-    v = np.asanyarray(vertices, dtype=np.float64)
-    t = np.asanyarray(triangles)
-    if v.shape[1] == 2:
-        return np.abs(signed_areas(v, t))
-    e1 = v[t[:, 1]] - v[t[:, 0]]
-    e2 = v[t[:, 2]] - v[t[:, 0]]
-    cx = e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1]
-    cy = e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2]
-    cz = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-    return 0.5 * np.sqrt(cx * cx + cy * cy + cz * cz)
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,12 +108,7 @@ class FitEvaluator:
 
     def __call__(self, positions) -> FitResult:
         """Evaluate the fit of the 3D state ``positions`` (n, 3) [m]."""
-        x = np.asanyarray(positions, dtype=np.float64)
-        if x.shape != (self.mesh.n_vertices, 3):
-            raise ValueError(f"positions: expected shape ({self.mesh.n_vertices}, 3), "
-                             f"got {x.shape}")
-        if not np.all(np.isfinite(x)):
-            raise ValueError("positions: contains NaN or infinite values")
+        x = array(positions, "positions", shape=(self.mesh.n_vertices, 3), finite=True)
         t = self.tri
         a2 = self.area_2d
         a3, ratio = self.metrics(x)

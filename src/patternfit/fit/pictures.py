@@ -13,6 +13,9 @@ from .metrics import FitResult
 
 _GAP = 0.08  # space between panels in the flat layout [m]
 
+# matplotlib and pyvista/VTK are imported inside the functions that draw: they are heavy
+# (and matplotlib's backend is chosen first), and only pictures need them
+
 
 def flat_layout(mesh: GarmentMesh) -> np.ndarray:
     """Panels side by side, left to right, bottoms aligned: (n, 2) float [m]."""

@@ -18,9 +18,10 @@ from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
+from scipy.optimize import nnls
 
 from ..constants import tol
-from ..edit.tools import _locate, _move_corner
+from ..edit import close_seams, move_corner
 from ..fit.metrics import FitResult
 from ..mesh.garment import GarmentMesh
 from ..pattern.errors import PatternError
@@ -185,8 +186,6 @@ def _across_moves(mesh: GarmentMesh, pi: int, panel, fit: FitResult, tris, centr
     arc-length fraction; the outward sizes of the corners off the axis (≥ 0: nothing is
     taken in) are fitted to D over all outline vertices by non-negative least squares.
     """
-    from scipy.optimize import nnls
-
     excess = fit.area_2d[tris] * np.clip(fit.weft[tris] - 1.0, 0.0, None)
     h_t, x_t = centroid @ g, centroid @ c - axis
     loop = mesh.loops(pi)[0]
@@ -227,7 +226,7 @@ def _across_moves(mesh: GarmentMesh, pi: int, panel, fit: FitResult, tris, centr
 def _corner_partner(pattern: Pattern, panel: str, edge: str):
     """(panel, edge whose start is the same sewn point) across each full-length seam."""
     p = pattern.panel(panel)
-    li, k = _locate(p, edge)
+    li, k = p.locate(edge)
     loop = p.loops[li].edges
     prev = loop[k - 1].name
     for s in pattern.seams:
@@ -236,7 +235,7 @@ def _corner_partner(pattern: Pattern, panel: str, edge: str):
                     or (other.start, other.end) != (0.0, 1.0):
                 continue
             op = pattern.panel(other.panel)
-            oli, ok = _locate(op, other.edge)
+            oli, ok = op.locate(other.edge)
             onext = op.loops[oli].edges[(ok + 1) % len(op.loops[oli].edges)].name
             if mine.edge == edge:       # our corner is the start of this seam side
                 yield other.panel, (onext if s.reverse else other.edge)
@@ -316,50 +315,10 @@ def apply_moves(pattern: Pattern, moves: list[CornerMove]) -> Pattern:
     that fails ``check_pattern``."""
     new = pattern
     for mv in moves:
-        new = new.with_panel(_move_corner(new.panel(mv.panel), mv.edge, np.asarray(mv.offset)))
+        new = new.with_panel(move_corner(new.panel(mv.panel), mv.edge, np.asarray(mv.offset)))
     new = close_seams(new)
     check_pattern(new)
     return new
-
-
-def close_seams(pattern: Pattern, *, iterations: int = 12) -> Pattern:
-    """Make every seam's two sides equally long by the smallest moves (least squares) of
-    the corners at the ends of each seam's side ``b``: Gauss–Newton with minimum-norm
-    steps on the length differences [m], Jacobian by finite differences."""
-    corners = []
-    for s in pattern.seams:
-        p = pattern.panel(s.b.panel)
-        li, k = _locate(p, s.b.edge)
-        edges = p.loops[li].edges
-        for key in ((s.b.panel, s.b.edge), (s.b.panel, edges[(k + 1) % len(edges)].name)):
-            if key not in corners:
-                corners.append(key)
-
-    def moved(x):
-        out = pattern
-        for (pname, ename), d in zip(corners, x.reshape(-1, 2)):
-            if d.any():
-                out = out.with_panel(_move_corner(out.panel(pname), ename, d))
-        return out
-
-    def residual(pat):
-        return np.array([pat.seam_side_length(s.b) - pat.seam_side_length(s.a)
-                         for s in pat.seams])
-
-    x = np.zeros(2 * len(corners))
-    r = residual(pattern)
-    h = 1e-5
-    for _ in range(iterations):
-        if np.abs(r).max(initial=0.0) <= 0.1 * tol.merge:
-            break
-        J = np.empty((len(r), len(x)))
-        for j in range(len(x)):
-            e = np.zeros_like(x)
-            e[j] = h
-            J[:, j] = (residual(moved(x + e)) - r) / h
-        x = x - np.linalg.lstsq(J, r, rcond=None)[0]
-        r = residual(moved(x))
-    return moved(x)
 
 
 def fit_reached(fit: FitResult, regions, settings: CorrectionSettings) -> bool:

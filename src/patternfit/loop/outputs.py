@@ -4,17 +4,17 @@ outlined on the 2D pattern, and ``report.json`` with every iteration."""
 from __future__ import annotations
 
 import io
-import json
 from pathlib import Path
 
 import numpy as np
 from PIL import Image
 
-from ..files import atomic_write_text, json_default
+from ..files import atomic_write_text, dumps_finite_json
 from ..fit.colormap import FitScale
 from ..fit.metrics import FitEvaluator, FitResult
 from ..fit.outputs import write_fit_outputs
 from ..fit.pictures import flat_layout
+from ..geometry import boundary_edges
 from ..mesh.garment import GarmentMesh
 from ..pattern.io import save_pattern
 from .correct import Correction
@@ -23,10 +23,7 @@ from .regions import Region
 
 def region_outline(mesh: GarmentMesh, triangles) -> np.ndarray:
     """Boundary edges of a set of triangles (edges used by exactly one of them): (k, 2) int."""
-    t = mesh.triangles[np.asanyarray(triangles)]
-    e = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
-    edges, count = np.unique(e, axis=0, return_counts=True)
-    return edges[count == 1]
+    return boundary_edges(mesh.triangles[np.asanyarray(triangles)])
 
 
 def plot_regions(mesh: GarmentMesh, fit: FitResult, regions: list[Region], path, *,
@@ -121,6 +118,6 @@ def write_correction_outputs(folder, session, correction: Correction, *, start: 
               "fabric": session.fabric.name, "triangles": int(session.mesh.n_triangles),
               "threshold": session.threshold, "relax": session.relax, "files": files,
               **(extra or {})}
-    atomic_write_text(folder / "report.json", json.dumps(report, indent=1, default=json_default))
+    atomic_write_text(folder / "report.json", dumps_finite_json(report, indent=1))
     return report
 

@@ -16,6 +16,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..fit.metrics import LOOSE, TIGHT, FitResult
+from ..geometry import face_adjacency
 from ..mesh.garment import GarmentMesh
 
 
@@ -79,16 +80,10 @@ class Region:
 
 
 def triangle_adjacency(triangles) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs of triangles sharing an edge: two (k,) int arrays."""
-    t = np.asanyarray(triangles)
-    m = len(t)
-    e = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
-    e.sort(axis=1)
-    owner = np.tile(np.arange(m), 3)
-    order = np.lexsort((e[:, 1], e[:, 0]))
-    e, owner = e[order], owner[order]
-    same = np.all(e[1:] == e[:-1], axis=1)
-    return owner[:-1][same], owner[1:][same]
+    """Pairs of triangles sharing an edge (:func:`patternfit.geometry.face_adjacency`): two
+    (k,) int arrays."""
+    pairs = face_adjacency(triangles)
+    return pairs[:, 0], pairs[:, 1]
 
 
 def find_regions(mesh: GarmentMesh, fit: FitResult, *, min_area: float = 2e-3,

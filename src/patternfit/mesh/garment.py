@@ -7,14 +7,17 @@ vertices (a seam's two sides are two sets of vertices, paired in ``seam_pairs``)
 
 from __future__ import annotations
 
+import io
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..arguments import array
 from ..constants import limits
 from ..errors import GarmentFileError
-from ..files import read_npz
+from ..files import atomic_write_bytes, read_npz
+from ..geometry import triangle_areas
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,7 +86,6 @@ class GarmentMesh:
 
     def triangle_areas(self) -> np.ndarray:
         """(m,) float: flat (rest) area of every triangle [m^2]."""
-        from ..fit.metrics import triangle_areas
         return triangle_areas(self.vertices, self.triangles)
 
     def panel_vertices(self, panel: int) -> np.ndarray:
@@ -114,9 +116,7 @@ class GarmentMesh:
 
     def with_vertices(self, vertices) -> "GarmentMesh":
         """The same topology with new rest positions ``vertices`` (n, 2) [m]."""
-        v = np.asanyarray(vertices, dtype=np.float64)
-        if v.shape != self.vertices.shape:
-            raise ValueError(f"vertices: expected shape {self.vertices.shape}, got {v.shape}")
+        v = array(vertices, "vertices", shape=self.vertices.shape)
         fields = {k: getattr(self, k) for k in self.__dataclass_fields__}
         fields["vertices"] = v
         return GarmentMesh(**fields)
@@ -124,8 +124,6 @@ class GarmentMesh:
     # -- files -----------------------------------------------------------------------------
     def to_bytes(self) -> bytes:
         """The mesh as the bytes of a compressed ``.npz`` file (what :meth:`save` writes)."""
-        import io
-
         buf = io.BytesIO()
         arrays = {k: getattr(self, k) for k in self.__dataclass_fields__}
         arrays["edge_names"] = np.array(["\x1f".join(e) for e in self.edge_names], dtype=str)
@@ -136,8 +134,6 @@ class GarmentMesh:
 
     def save(self, path) -> Path:
         """Write the mesh to a compressed ``.npz`` file (atomically)."""
-        from ..files import atomic_write_bytes
-
         return atomic_write_bytes(path, self.to_bytes())
 
     @classmethod

@@ -35,12 +35,3 @@ def triangle_angles(vertices, triangles) -> np.ndarray:
 def min_angle(vertices, triangles) -> float:
     """Smallest interior angle over all triangles [degrees]."""
     return float(triangle_angles(vertices, triangles).min())
-
-
-def signed_areas(vertices, triangles) -> np.ndarray:
-    """(m,) float: signed flat areas [m^2], negative for inverted (clockwise) triangles."""
-    v = np.asanyarray(vertices, dtype=np.float64)
-    t = np.asanyarray(triangles)
-    e1 = v[t[:, 1]] - v[t[:, 0]]
-    e2 = v[t[:, 2]] - v[t[:, 0]]
-    return 0.5 * (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..constants import limits
 from ..errors import GarmentFileError
+from ..arguments import array
 from ..files import atomic_write_group, dumps_finite_json, read_npy
 from ..pattern.io import load_pattern, pattern_to_dict
 from ..pattern.model import Pattern
@@ -32,9 +33,7 @@ def _pattern_bytes(pattern: Pattern, units: str) -> bytes:
 
 
 def _positions_bytes(positions, mesh: GarmentMesh) -> bytes:
-    x = np.asanyarray(positions, dtype=np.float64)
-    if x.shape != (mesh.n_vertices, 3):
-        raise ValueError(f"positions: expected shape ({mesh.n_vertices}, 3), got {x.shape}")
+    x = array(positions, "positions", shape=(mesh.n_vertices, 3))
     buf = io.BytesIO()
     np.save(buf, x)
     return buf.getvalue()

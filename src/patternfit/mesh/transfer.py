@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..arguments import array
 from .garment import GarmentMesh
 
 #: candidate triangles tried per point (nearest centroids)
@@ -53,9 +54,7 @@ def locate(mesh: GarmentMesh, panel: int, points) -> tuple[np.ndarray, np.ndarra
         Barycentric coordinates; they sum to 1 and are all >= 0 inside the panel's mesh,
         slightly negative (a linear extension) outside it.
     """
-    points = np.asanyarray(points, dtype=np.float64)
-    if points.ndim != 2 or points.shape[1] != 2:
-        raise ValueError(f"points: expected shape (k, 2), got {points.shape}")
+    points = array(points, "points", shape=(None, 2))
     tris = np.flatnonzero(mesh.triangle_panel == panel)
     if not len(tris):
         raise ValueError(f"panel: mesh has no triangles in panel {panel}")
@@ -86,9 +85,7 @@ def transfer(source: GarmentMesh, values, target: GarmentMesh) -> np.ndarray:
     -------
     (n_target, d) float
     """
-    values = np.asanyarray(values, dtype=np.float64)
-    if values.ndim != 2 or len(values) != source.n_vertices:
-        raise ValueError(f"values: expected shape ({source.n_vertices}, d), got {values.shape}")
+    values = array(values, "values", shape=(source.n_vertices, None))
     names = {name: i for i, name in enumerate(source.panel_names)}
     out = np.empty((target.n_vertices, values.shape[1]))
     for p, name in enumerate(target.panel_names):
@@ -156,8 +153,7 @@ def follow_edit(old_flat, new_flat, triangles, positions) -> np.ndarray:
     if old.shape != (n, 2) or new.shape != (n, 2):
         raise ValueError(f"old_flat, new_flat: expected two ({n}, 2) arrays, got {old.shape} "
                          f"and {new.shape}")
-    if x.shape != (n, 3):
-        raise ValueError(f"positions: expected shape ({n}, 3), got {x.shape}")
+    array(x, "positions", shape=(n, 3))
     if tris.ndim != 2 or tris.shape[1] != 3 or (len(tris) and (tris.min() < 0 or tris.max() >= n)):
         raise ValueError(f"triangles: expected (m, 3) indices in [0, {n})")
     flat = np.stack([old[tris[:, 1]] - old[tris[:, 0]], old[tris[:, 2]] - old[tris[:, 0]]], 2)

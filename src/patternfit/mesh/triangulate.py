@@ -12,7 +12,9 @@ import math
 import numpy as np
 import triangle as tr
 
+from ..arguments import number
 from ..constants import limits, tol
+from ..geometry import counter_clockwise, triangle_areas
 from ..pattern.errors import PatternError
 from ..pattern.model import Loop, Pattern
 from ..pattern.validate import check_pattern, check_polygons
@@ -84,15 +86,15 @@ def _sample_loop(panel_name: str, loop: Loop, pieces, counts):
     return np.concatenate(pts), keys, np.concatenate(fracs)
 
 
-def _inside_point(poly: np.ndarray) -> np.ndarray:
-    """A point strictly inside a simple polygon (k, 2): centroid of its largest triangle."""
+def inside_point(poly) -> np.ndarray:
+    """A point strictly inside a simple polygon ``poly`` (k, 2) [m], e.g. to mark a hole for
+    Triangle: the centroid of the largest triangle of its constrained triangulation."""
+    poly = np.asarray(poly, dtype=np.float64)
     n = len(poly)
     seg = np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1)
     t = tr.triangulate({"vertices": poly, "segments": seg}, "pQ")
-    tri = t["vertices"][t["triangles"]]
-    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
-    a = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-    return tri[int(np.argmax(a))].mean(axis=0)
+    a = triangle_areas(t["vertices"], t["triangles"])
+    return t["vertices"][t["triangles"][int(np.argmax(a))]].mean(axis=0)
 
 
 def _mesh_panel(panel, pieces, counts, max_area: float, min_angle: float):
@@ -116,15 +118,12 @@ def _mesh_panel(panel, pieces, counts, max_area: float, min_angle: float):
         start += k
     data = {"vertices": verts, "segments": np.concatenate(segs)}
     if panel.inner:
-        data["holes"] = np.array([_inside_point(lp[0]) for lp in loops[1:]])
+        data["holes"] = np.array([inside_point(lp[0]) for lp in loops[1:]])
     out = tr.triangulate(data, f"pq{min_angle:.6f}a{max_area:.12f}YQ")
     v, t = out["vertices"], out["triangles"].astype(np.int64)
     if len(v) < len(verts) or not np.allclose(v[: len(verts)], verts, atol=1e-12, rtol=0):
         raise RuntimeError(f"panel '{panel.name}': the triangulator moved boundary vertices")
-    e1, e2 = v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]
-    cw = (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) < 0
-    t[cw] = t[cw][:, [0, 2, 1]]
-    return v, t, loops
+    return v, counter_clockwise(v, t), loops
 
 
 def _mesh_all(pattern: Pattern, h: float, min_angle: float) -> GarmentMesh:
@@ -199,10 +198,6 @@ def _mesh_all(pattern: Pattern, h: float, min_angle: float) -> GarmentMesh:
         seam_names=tuple(s.name for s in pattern.seams))
 
 
-def _is_number(x) -> bool:
-    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, bool)
-
-
 def mesh_pattern(pattern: Pattern, *, triangles: int = 20000, min_angle: float = 25.0,
                  edge_length: float | None = None) -> GarmentMesh:
     """Triangulate every panel of ``pattern`` into one :class:`GarmentMesh`.
@@ -229,21 +224,19 @@ def mesh_pattern(pattern: Pattern, *, triangles: int = 20000, min_angle: float =
     boundary crosses or touches itself, before Triangle sees it; ``ValueError`` naming the
     argument for a bad ``triangles``, ``edge_length`` or ``min_angle``.
     """
-    if not 0 < min_angle <= 34:
-        raise ValueError(f"min_angle: must be in (0, 34] degrees, got {min_angle}")
+    number(min_angle, "min_angle", low=0.0, low_open=True, high=34.0,
+           rule="must be in (0, 34] degrees")
     check_pattern(pattern)
     if edge_length is not None:
-        if not (_is_number(edge_length) and 0 < edge_length < math.inf):
-            raise ValueError(f"edge_length: must be a positive number, got {edge_length!r}")
-        h = float(edge_length)
+        h = number(edge_length, "edge_length", low=0.0, low_open=True,
+                   rule="must be a positive number")
         estimate = pattern.area() / (math.sqrt(3) / 4 * h * h)
         if estimate > limits.triangles:
             raise ValueError(f"edge_length: {h:.3g} m makes about {estimate:.3g} triangles, "
                              f"more than the limit of {limits.triangles}")
         return _mesh_all(pattern, h, min_angle)
-    if not (_is_number(triangles) and 1 <= triangles <= limits.triangles):
-        raise ValueError(f"triangles: must be a number from 1 to {limits.triangles}, "
-                         f"got {triangles!r}")
+    number(triangles, "triangles", low=1, high=limits.triangles,
+           rule=f"must be a number from 1 to {limits.triangles}")
     if int(triangles) < 2 * len(pattern.panels):
         raise ValueError(f"triangles: at least {2 * len(pattern.panels)} needed, got {triangles}")
     # Triangle's refinement makes triangles smaller than the area bound: calibrate the edge

@@ -41,7 +41,9 @@ from typing import Any
 
 import numpy as np
 
+from ..arguments import number
 from ..files import atomic_write_text, read_json_file
+from ..geometry import euler_xyz_matrix
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
@@ -59,32 +61,10 @@ _SEAM_NAMES = "patternfit_seam_names"  # likewise at the top level, one per stit
 _AUTO_NAME = re.compile(r"e\d+(_\d+)?$")
 
 
-def euler_xyz_matrix(angles) -> np.ndarray:
-    """Rotation matrix of XYZ Euler angles in degrees, GarmentCode's (Maya's) convention.
-
-    angles : (3,) float, degrees. Returns (3, 3) float ``Rz @ Ry @ Rx``.
-    """
-    ax, ay, az = np.deg2rad(np.asarray(angles, dtype=np.float64).reshape(3))
-    cx, sx, cy, sy, cz, sz = math.cos(ax), math.sin(ax), math.cos(ay), math.sin(ay), \
-        math.cos(az), math.sin(az)
-    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
-    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
-    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
-    return rz @ ry @ rx
-
-
 def panel_points_3d(placement: Placement, points) -> np.ndarray:
-    """Panel-frame points placed in 3D by an explicit placement.
-
-    points : (n, 2) float [m]. Returns (n, 3) float [m]: ``R @ (x, y, 0) + translation``.
-    Raises ``ValueError`` when the placement has no explicit translation or rotation.
-    """
-    if placement.translation is None and placement.rotation is None:
-        raise ValueError("placement: no explicit translation or rotation")
-    pts = np.asanyarray(points, dtype=np.float64).reshape(-1, 2)
-    rot = euler_xyz_matrix(placement.rotation or (0.0, 0.0, 0.0))
-    shift = np.asarray(placement.translation or (0.0, 0.0, 0.0), dtype=np.float64)
-    return np.column_stack([pts, np.zeros(len(pts))]) @ rot.T + shift
+    """Panel-frame points placed in 3D by an explicit placement: ``placement.transform``
+    (:meth:`~patternfit.pattern.model.Placement.transform`)."""
+    return placement.transform(points)
 
 
 def is_garmentcode(data: Any) -> bool:
@@ -383,8 +363,8 @@ def garmentcode_to_dict(pattern: Pattern, *, units_in_meter: float = 100.0) -> d
     edges). Raises :class:`PatternError` for a panel with inner loops, which GarmentCode cannot
     express, and ``ValueError`` for a non-positive ``units_in_meter``.
     """
-    if not (isinstance(units_in_meter, (int, float)) and units_in_meter > 0):
-        raise ValueError(f"units_in_meter: expected a positive number, got {units_in_meter!r}")
+    number(units_in_meter, "units_in_meter", low=0.0, low_open=True,
+           rule="expected a positive number")
     scale = 1.0 / units_in_meter
     gc = pattern.meta.get("garmentcode", {}) if isinstance(pattern.meta, dict) else {}
     breaks: dict[tuple[str, str], set[float]] = {}
@@ -422,7 +402,7 @@ def garmentcode_to_dict(pattern: Pattern, *, units_in_meter: float = 100.0) -> d
         if p.name in gc.get("panel_labels", {}):
             entry["label"] = gc["panel_labels"][p.name]
         entry[_HINT] = {"part": pl.part, "side": pl.side, "grainline": list(p.grainline),
-                        "explicit": pl.translation is not None or pl.rotation is not None}
+                        "explicit": pl.explicit}
         panels[p.name] = entry
     tags = gc.get("stitch_tags", {})
     stitches = []

@@ -13,7 +13,9 @@ from typing import Any
 
 import numpy as np
 
+from ..geometry import euler_xyz_matrix, polygon_area
 from .edges import Edge
+from .errors import PatternError
 
 
 @dataclass(frozen=True)
@@ -36,9 +38,7 @@ class Loop:
 
     def signed_area(self) -> float:
         """Area enclosed [m^2], positive when the loop runs counter-clockwise."""
-        p = self.polygon(64)
-        q = np.roll(p, -1, axis=0)
-        return 0.5 * float(np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]))
+        return polygon_area(self.polygon(64))
 
     @property
     def length(self) -> float:
@@ -60,6 +60,28 @@ class Placement:
     side: str = "front"
     translation: tuple[float, float, float] | None = None
     rotation: tuple[float, float, float] | None = None
+
+    @property
+    def explicit(self) -> bool:
+        """Whether the placement gives a 3D translation or rotation (an imported file's)."""
+        return self.translation is not None or self.rotation is not None
+
+    def rotation_matrix(self) -> np.ndarray:
+        """(3, 3) float: the rotation of ``rotation`` (XYZ Euler angles in degrees,
+        ``Rz @ Ry @ Rx`` as GarmentCode and Maya read them; the identity when None)."""
+        return euler_xyz_matrix(self.rotation or (0.0, 0.0, 0.0))
+
+    def transform(self, points) -> np.ndarray:
+        """Panel-frame points placed in 3D by the explicit placement.
+
+        points : (n, 2) float [m]. Returns (n, 3) float [m]: ``R @ (x, y, 0) + translation``.
+        Raises ``ValueError`` when the placement has no explicit translation or rotation.
+        """
+        if not self.explicit:
+            raise ValueError("placement: no explicit translation or rotation")
+        pts = np.asanyarray(points, dtype=np.float64).reshape(-1, 2)
+        shift = np.asarray(self.translation or (0.0, 0.0, 0.0), dtype=np.float64)
+        return np.column_stack([pts, np.zeros(len(pts))]) @ self.rotation_matrix().T + shift
 
 
 @dataclass(frozen=True)
@@ -103,6 +125,15 @@ class Panel:
             return self.edges()[name]
         except KeyError:
             raise KeyError(f"panel '{self.name}' has no edge '{name}'") from None
+
+    def locate(self, edge: str) -> tuple[int, int]:
+        """(loop number, position in that loop) of the edge called ``edge`` (loop 0 is the
+        outline); a :class:`PatternError` naming the panel and the edge when there is none."""
+        for li, loop in enumerate(self.loops):
+            for k, e in enumerate(loop.edges):
+                if e.name == edge:
+                    return li, k
+        raise PatternError(f"no edge '{edge}'", panel=self.name, edge=edge)
 
     def area(self) -> float:
         """Fabric area [m^2]: the outline's minus the inner loops'."""

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..geometry import interior_edges
 
 #: hinge weight: B theta^2 l^2 / (A1 + A2) times this gives the energy of a fold. The
 #: per-edge mean-curvature reading gives 1.5; measured against the exact isometric bending
@@ -73,22 +74,6 @@ def _grain_frames(rest, tris, grain):
     return np.stack([u, v], axis=2)
 
 
-def _hinges(sim_tris, n3):
-    """Interior edges shared by exactly two triangles: (edge a, edge b, tri 1, tri 2, local)."""
-    m = len(sim_tris)
-    a = sim_tris[:, [0, 1, 2]].ravel()
-    b = sim_tris[:, [1, 2, 0]].ravel()
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    key = lo.astype(np.int64) * n3 + hi
-    order = np.argsort(key, kind="stable")
-    ks = key[order]
-    start = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
-    counts = np.diff(np.r_[start, len(ks)])
-    two = start[counts == 2]
-    h1, h2 = order[two], order[two + 1]
-    return h1 // 3, h1 % 3, h2 // 3, h2 % 3, m
-
-
 def build_terms(rest, tris, grain, vertex_map, n3, *, bend_warp, bend_weft,
                 k_warp, k_weft, k_shear) -> MeshTerms:
     """Membrane coefficients, bending matrix and preconditioner stiffness of a flat mesh.
@@ -132,7 +117,8 @@ def build_terms(rest, tris, grain, vertex_map, n3, *, bend_warp, bend_weft,
         + (k_weft + 0.5 * k_shear) * np.einsum("mi,mj->mij", cv, cv)
     membrane_pd = sp.csr_matrix(((cc * area[:, None, None]).ravel(), (rows, cols)), shape=(n3, n3))
 
-    t1, l1, t2, l2, _ = _hinges(sim_tris, n3)
+    faces, corners = interior_edges(sim_tris)
+    t1, l1, t2, l2 = faces[:, 0], corners[:, 0], faces[:, 1], corners[:, 1]
     # hinge in triangle 1's flat frame: edge p0 -> p1, opposite p2; triangle 2 unfolded across
     i0 = tris[t1, l1]
     i1 = tris[t1, (l1 + 1) % 3]

@@ -13,10 +13,11 @@ naming the file (``file``) and the field (``place``).
 
 from __future__ import annotations
 
-import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+from ..arguments import number
+from ..constants import GRAVITY
 from ..errors import InputError
 from ..files import read_json_file
 
@@ -64,8 +65,6 @@ class Fabric:
     @property
     def bending_length(self) -> float:
         """Peirce's bending length along the warp, ``(B / (density g))^(1/3)`` [m]."""
-        from ..constants import GRAVITY
-
         return (self.bending_warp / (self.density * GRAVITY)) ** (1.0 / 3.0)
 
     def to_dict(self) -> dict:
@@ -94,9 +93,11 @@ def _check_values(values: dict, source) -> None:
     for key, (lo, hi, unit) in RANGES.items():
         v = values.get(key)
         place = f"field '{key}'"
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        try:
+            number(v, key)
+        except ValueError:
             raise FabricError(f"expected a finite number [{unit}], got {v!r:.40}",
-                              file=source, place=place)
+                              file=source, place=place) from None
         if not lo <= v <= hi:
             raise FabricError(f"{v!r} {unit} is outside the plausible range {lo:g} to {hi:g} "
                               f"{unit}", file=source, place=place)

@@ -21,9 +21,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..geometry import face_adjacency, face_cross
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
-from .drape import Drape
+from .drape import Drape, drape
 from .fabrics import Fabric, get_fabric
 from .placement import place_on_body
 from .solver import DrapeResult, GarmentSolver, SolverSettings
@@ -49,7 +50,7 @@ class NewtonMissingError(ImportError):
 
 def import_newton():
     """``(newton, warp)``, or :class:`NewtonMissingError` with the install command."""
-    try:
+    try:  # the optional extra, imported only when a Newton drape is asked for
         import warp as wp
 
         wp.config.quiet = True  # before newton initialises Warp: no per-module load lines
@@ -157,7 +158,7 @@ def edge_bending(rest: np.ndarray, tri_flat: np.ndarray, vertex_map: np.ndarray,
 
 def _vertex_normals(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
     n = np.zeros_like(x)
-    fn = np.cross(x[tris[:, 1]] - x[tris[:, 0]], x[tris[:, 2]] - x[tris[:, 0]])
+    fn = face_cross(x, tris)
     for k in range(3):
         np.add.at(n, tris[:, k], fn)
     return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
@@ -169,18 +170,10 @@ def mean_dihedral(x, triangles) -> float:
 
     x : (n, 3) float [m]; triangles : (m, 3) int (shared vertices = shared edges).
     """
-    x = np.asanyarray(x, dtype=np.float64)
     tris = np.asanyarray(triangles, dtype=np.int64)
-    fn = np.cross(x[tris[:, 1]] - x[tris[:, 0]], x[tris[:, 2]] - x[tris[:, 0]])
+    fn = face_cross(x, tris)
     fn /= np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-300)
-    a = tris.ravel()
-    b = np.roll(tris, -1, axis=1).ravel()
-    face = np.repeat(np.arange(len(tris)), 3)
-    key = np.minimum(a, b) * (int(tris.max()) + 1) + np.maximum(a, b)
-    order = np.argsort(key, kind="stable")
-    k = key[order]
-    same = np.flatnonzero(k[1:] == k[:-1])
-    f0, f1 = face[order[same]], face[order[same + 1]]
+    f0, f1 = face_adjacency(tris).T
     cos = np.clip((fn[f0] * fn[f1]).sum(axis=1), -1.0, 1.0)
     return float(np.arccos(cos).mean()) if len(cos) else 0.0
 
@@ -493,8 +486,6 @@ def drape_with(engine: str, pattern: Pattern, mesh: GarmentMesh, body, fabric, *
     """Drape with ``engine`` (``"static"`` or ``"newton"``); ``from_static`` (newton only)
     drapes statically first and starts Newton there. ``settings`` are the static solver's
     (their ``time_limit`` [s] also bounds Newton's run)."""
-    from .drape import drape
-
     if engine not in ENGINES:
         raise ValueError(f"engine: expected one of {', '.join(ENGINES)}, got {engine!r}")
     if engine == "static":

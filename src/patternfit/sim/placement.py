@@ -16,8 +16,9 @@ import math
 
 import numpy as np
 
+from ..arguments import array
+from ..geometry import rotation_between
 from ..mesh.garment import GarmentMesh
-from ..pattern.garmentcode import panel_points_3d
 from ..pattern.model import Panel, Pattern
 
 #: default axis position (x, z) [m] and radius [m] of each body part, for a body-free placement
@@ -137,9 +138,7 @@ def roll_panel(uv, ellipse, *, s0: float = 0.0, height: float = 0.0) -> np.ndarr
     (k, 3) float
         Positions [m].
     """
-    p = np.asanyarray(uv, dtype=np.float64)
-    if p.ndim != 2 or p.shape[1] != 2:
-        raise ValueError(f"uv: expected shape (k, 2), got {p.shape}")
+    p = array(uv, "uv", shape=(None, 2))
     xz = ellipse.point(s0 + p[:, 0])
     return np.stack([xz[:, 0], p[:, 1] + height, xz[:, 1]], axis=1)
 
@@ -176,15 +175,6 @@ def _vertical_offset(pattern: Pattern, mesh: GarmentMesh, body) -> float:
     if pattern.meta.get("anchor", "waist") == "neck":
         return m["neck_base_height"] + 0.01 - top
     return m["waist_height"] + 0.01 - top
-
-
-def _rotation_to(direction) -> np.ndarray:
-    """Rotation (3, 3) that turns straight down (0, -1, 0) into unit ``direction``."""
-    a = np.array([0.0, -1.0, 0.0])
-    b = np.asarray(direction, dtype=np.float64) / np.linalg.norm(direction)
-    v, c = np.cross(a, b), float(a @ b)
-    k = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
-    return np.eye(3) + k + k @ k / (1.0 + c)
 
 
 def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, float]:
@@ -255,8 +245,8 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
         part = panel.placement.part
         ids = mesh.panel_vertices(pi)
         uv = mesh.vertices[ids]
-        if panel.placement.translation is not None or panel.placement.rotation is not None:
-            x[ids] = panel_points_3d(panel.placement, uv)  # an imported file's own placement
+        if panel.placement.explicit:
+            x[ids] = panel.placement.transform(uv)  # an imported file's own placement
         elif part.startswith("leg"):
             legs.setdefault(part, []).append(pi)
         elif part.startswith("arm"):
@@ -273,7 +263,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
         top, bottom = np.asarray(lm[f"leg_axis_{side}"])
         axis = top[[0, 2]]
         # the cylinder follows the leg's slant (legs apart): a rotation, so still isometric
-        turn = _rotation_to(bottom - top)
+        turn = rotation_between((0.0, -1.0, 0.0), bottom - top)
         pivot = np.array([top[0], top[1], top[2]])
         d = abs(axis[0] - torso[0])
         width = sum(np.ptp(mesh.vertices[mesh.panel_vertices(p)][:, 0]) for p in panels)

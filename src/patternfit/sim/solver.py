@@ -17,7 +17,9 @@ import numpy as np
 import scipy.sparse as sp
 from cholespy import CholeskySolverD, MatrixType
 
+from ..arguments import array
 from ..constants import GRAVITY
+from ..geometry import unique_edges
 from . import kernels
 from .energies import MeshTerms, build_terms, spring_matrix
 from .fabrics import Fabric, get_fabric
@@ -217,18 +219,6 @@ def _drift(x, it, marks, window) -> float:
     return float(np.sqrt(((x - old[-1]) ** 2).sum(axis=1).max()))
 
 
-def _as_array(value, name, dtype, shape_tail):
-    try:
-        arr = np.asanyarray(value, dtype=dtype)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name}: cannot read as {np.dtype(dtype).name} array ({exc})") from exc
-    if arr.ndim != 1 + len(shape_tail) or tuple(arr.shape[1:]) != shape_tail:
-        raise ValueError(f"{name}: expected shape (k, {', '.join(map(str, shape_tail))}) "
-                         f"got {arr.shape}" if shape_tail else
-                         f"{name}: expected a 1-D array, got shape {arr.shape}")
-    return np.ascontiguousarray(arr)
-
-
 class GarmentSolver:
     """Static equilibrium of a garment from its flat pattern mesh.
 
@@ -262,9 +252,10 @@ class GarmentSolver:
                  body=None, pinned=None, settings: SolverSettings | None = None):
         self.fabric: Fabric = get_fabric(fabric)
         self.settings = settings or SolverSettings()
-        self.rest = _as_array(rest, "rest", np.float64, (2,))
-        self.triangles = _as_array(triangles, "triangles", np.int64, (3,))
-        self.grain = _as_array(grain, "grain", np.float64, (2,))
+        self.rest = array(rest, "rest", shape=(None, 2), contiguous=True)
+        self.triangles = array(triangles, "triangles", shape=(None, 3), dtype=np.int64,
+                               contiguous=True)
+        self.grain = array(grain, "grain", shape=(None, 2), contiguous=True)
         n, m = len(self.rest), len(self.triangles)
         if len(self.grain) != m:
             raise ValueError(f"grain: expected {m} rows (one per triangle), got {len(self.grain)}")
@@ -272,19 +263,22 @@ class GarmentSolver:
             raise ValueError(f"triangles: indices must lie in [0, {n})")
         if vertex_map is None:
             vertex_map = np.arange(n)
-        vmap = _as_array(vertex_map, "vertex_map", np.int64, ())
+        vmap = array(vertex_map, "vertex_map", shape=(None,), dtype=np.int64,
+                     contiguous=True)
         if len(vmap) != n or vmap.min() < 0:
             raise ValueError(f"vertex_map: expected {n} non-negative indices")
         self.vertex_map = vmap
         self.n3 = int(vmap.max()) + 1
         self.seam_pairs = (np.zeros((0, 2), np.int64) if seam_pairs is None
-                           else _as_array(seam_pairs, "seam_pairs", np.int64, (2,)))
+                           else array(seam_pairs, "seam_pairs", shape=(None, 2), dtype=np.int64,
+                                      contiguous=True))
         if len(self.seam_pairs) and (self.seam_pairs.min() < 0
                                      or self.seam_pairs.max() >= self.n3):
             raise ValueError(f"seam_pairs: indices must lie in [0, {self.n3})")
         self.body = body
         self.pinned = (np.zeros(0, np.int64) if pinned is None
-                       else _as_array(pinned, "pinned", np.int64, ()))
+                       else array(pinned, "pinned", shape=(None,), dtype=np.int64,
+                                  contiguous=True))
         # simulated vertex -> solved ("reduced") vertex; welding merges entries
         self._group = np.arange(self.n3)
         self._welded = len(self.seam_pairs) == 0
@@ -310,14 +304,12 @@ class GarmentSolver:
                       else self._seam_roots())
         self._free = np.ones(self._n, bool)
         self._free[self._pinned] = False
-        t = self.terms.tris
-        edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
-        self._edges = np.ascontiguousarray(np.unique(edges, axis=0))
+        self._edges = np.ascontiguousarray(unique_edges(self.terms.tris))
 
     def set_rest(self, rest) -> None:
         """New rest shapes (same topology), e.g. after a pattern edit; then ``solve`` from
         the previous state. The factorisation is kept while the matrix is unchanged."""
-        rest = _as_array(rest, "rest", np.float64, (2,))
+        rest = array(rest, "rest", shape=(None, 2), contiguous=True)
         if rest.shape != self.rest.shape:
             raise ValueError(f"rest: expected shape {self.rest.shape}, got {rest.shape}")
         self.rest = rest
@@ -574,11 +566,11 @@ class GarmentSolver:
         """
         t_start = time.perf_counter()
         s = self.settings
-        x_full = _as_array(x0, "x0", np.float64, (3,))
+        x_full = array(x0, "x0", shape=(None, 3), contiguous=True)
         if len(x_full) != self.n3:
             raise ValueError(f"x0: expected {self.n3} rows, got {len(x_full)}")
-        f_ext = np.zeros((self.n3, 3)) if forces is None else _as_array(forces, "forces",
-                                                                         np.float64, (3,))
+        f_ext = np.zeros((self.n3, 3)) if forces is None else \
+            array(forces, "forces", shape=(None, 3), contiguous=True)
         if len(f_ext) != self.n3:
             raise ValueError(f"forces: expected {self.n3} rows, got {len(f_ext)}")
         sewing = not self._welded
@@ -741,14 +733,14 @@ class GarmentSolver:
     def crossings(self, x) -> int:
         """Triangle pairs (sharing no vertex once welded) that cross each other at simulated
         positions ``x`` (n3, 3) [m]."""
-        x = _as_array(x, "x", np.float64, (3,))
+        x = array(x, "x", shape=(None, 3), contiguous=True)
         # welded pairs are one vertex here, so triangles meeting across a seam are neighbours
         return int(kernels.intersecting_pairs(self._reduce(x), self.terms.tris,
                                               self.terms.edge_length))
 
     def checks(self, x, *, converged: bool = False) -> DrapeChecks:
         """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`."""
-        x = _as_array(x, "x", np.float64, (3,))
+        x = array(x, "x", shape=(None, 3), contiguous=True)
         if self.body is not None:
             d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
             inside = int((d < 0).sum())

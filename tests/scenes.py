@@ -1,0 +1,136 @@
+"""Scenes shared by the tests and the benchmarks: small patterns, flat meshes, distance fields,
+meshed and draped built-in garments. Plain functions (fixtures live in ``conftest.py``); units
+are metres, newtons and seconds throughout.
+
+Tests import it as ``from scenes import ...`` (pytest puts ``tests/`` on ``sys.path``: the
+folder has no ``__init__.py``); the benchmarks do ``import _path`` first
+(``benchmarks/_path.py`` puts ``tests/`` there). Everything heavy is imported inside the
+functions, so importing this module costs nothing and needs no optional dependency.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+# ------------------------------------------------------------------------------- patterns
+
+
+def rectangle_panel(name, w, h, *, origin=(0.0, 0.0), arc=False):
+    """A ``w`` x ``h`` [m] rectangular panel with its lower left corner at ``origin``; edges
+    ``bottom``, ``right``, ``top`` (from right to left), ``left``, counter-clockwise. With
+    ``arc`` the top edge is a circular arc of radius ``w`` (bulging up) instead of a line."""
+    from patternfit.pattern import Edge, Loop, Panel
+
+    x0, y0 = origin
+    pts = [(x0, y0), (x0 + w, y0), (x0 + w, y0 + h), (x0, y0 + h)]
+    names = ["bottom", "right", "top", "left"]
+    edges = [Edge.line(n, pts[i], pts[(i + 1) % 4]) for i, n in enumerate(names)]
+    if arc:
+        edges[2] = Edge.arc("top", pts[2], pts[3], radius=w, sweep=True)
+    return Panel(name, Loop("outline", edges))
+
+
+def two_rectangles():
+    """Pattern ``tube``: two 0.5 x 0.8 m rectangles A and B sewn along one side (A right to B
+    left) and half of another (the lower half of A's left to the upper half of B's right)."""
+    from patternfit.pattern import Pattern, Seam, SeamSide
+
+    a = rectangle_panel("A", 0.5, 0.8)
+    b = rectangle_panel("B", 0.5, 0.8)
+    return Pattern("tube", (a, b), (
+        Seam("s1", SeamSide("A", "right"), SeamSide("B", "left")),
+        Seam("s2", SeamSide("A", "left", 0.0, 0.5), SeamSide("B", "right", 0.5, 1.0))))
+
+
+def two_panels(arc=False):
+    """Pattern ``test``: 0.4 x 0.6 m panels A and B side by side, A's right edge sewn to B's
+    left edge (bottom to bottom, seam ``side``). With ``arc`` A's top edge is an arc."""
+    from patternfit.pattern import Pattern, Seam, SeamSide
+
+    return Pattern("test", (rectangle_panel("A", 0.4, 0.6, arc=arc),
+                            rectangle_panel("B", 0.4, 0.6)),
+                   (Seam("side", SeamSide("A", "right"), SeamSide("B", "left"), reverse=True),))
+
+
+# ---------------------------------------------------------------- flat cloth and simple bodies
+
+
+def rect_mesh(length, width, max_area, *, origin=(0.0, 0.0)):
+    """Constrained-Delaunay quality mesh (angles >= 30 degrees, triangles <= ``max_area``
+    [m^2]) of the rectangle ``origin + [0, length] x [0, width]`` [m]: (vertices (n, 2)
+    float, triangles (m, 3) int64)."""
+    import triangle
+
+    pts = np.array([[0, 0], [length, 0], [length, width], [0, width]], float) + origin
+    seg = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+    out = triangle.triangulate({"vertices": pts, "segments": seg}, f"pq30a{max_area:.12f}Q")
+    return out["vertices"].astype(float), out["triangles"].astype(np.int64)
+
+
+def square_mesh(side, triangles):
+    """A ``side`` x ``side`` [m] square centred on the origin, meshed by :func:`rect_mesh` to
+    about ``triangles`` triangles (Triangle's quality meshes come out finer than the area
+    bound says, hence the factor 1.58)."""
+    return rect_mesh(side, side, side * side / triangles * 1.58, origin=(-side / 2, -side / 2))
+
+
+def grain_at(angle_deg, m):
+    """(m, 2) unit grain directions at ``angle_deg`` degrees from the flat x axis."""
+    a = np.radians(angle_deg)
+    return np.tile([np.cos(a), np.sin(a)], (m, 1))
+
+
+def sphere_field(radius, half=0.3, h=0.005):
+    """Exact distance field [m] of a sphere of ``radius`` [m] at the origin on the grid
+    [-half, half]^3 of spacing ``h`` [m]."""
+    from patternfit.body.sdf import DistanceField
+
+    ax = np.arange(-half, half + 1e-9, h)
+    X, Y, Z = np.meshgrid(ax, ax, ax, indexing="ij")
+    return DistanceField((-half, -half, -half), h, np.sqrt(X**2 + Y**2 + Z**2) - radius)
+
+
+def end_line_load(v, ids, tension):
+    """Forces (n, 3) [N] of a uniform line load ``tension`` [N/m] along +x on the strip end
+    ``ids`` (vertices on a line x = const): each end vertex takes half its two segments."""
+    order = np.argsort(v[ids, 1])
+    seg = np.diff(v[ids[order], 1])
+    share = np.zeros(len(ids))
+    share[order[:-1]] += seg / 2
+    share[order[1:]] += seg / 2
+    forces = np.zeros((len(v), 3))
+    forces[ids, 0] = tension * share
+    return forces
+
+
+# ------------------------------------------------------------------------- built-in garments
+
+
+def garment(name, triangles, size="M"):
+    """Built-in garment ``name`` in ``size`` meshed at about ``triangles`` triangles:
+    (pattern, mesh)."""
+    from patternfit.mesh import mesh_pattern
+    from patternfit.pattern.library import build
+
+    pattern = build(name, size)
+    return pattern, mesh_pattern(pattern, triangles=triangles)
+
+
+def draped(name, body, triangles, *, size="M", fabric="cotton", **kw):
+    """Built-in garment ``name`` (``size``, about ``triangles`` triangles) draped by the static
+    engine on built-in ``body`` in ``fabric``; ``kw`` go to ``sim.drape.drape``:
+    (mesh, drape result)."""
+    from patternfit.body.builtin import load_body
+    from patternfit.sim.drape import drape
+
+    pattern, mesh = garment(name, triangles, size)
+    return mesh, drape(pattern, mesh, load_body(body), fabric, **kw)
+
+
+def welded(d):
+    """Positions (k, 3) [m] of a drape result ``d`` with its sewn vertex copies welded: one
+    row per welded vertex (``d.result.vertex_map`` maps mesh vertices to rows)."""
+    vmap = d.result.vertex_map
+    x = np.zeros((vmap.max() + 1, 3))
+    x[vmap] = d.positions
+    return x
