@@ -84,6 +84,9 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
                     "peak_mb": _peak_mb(), "inside": c.inside_vertices,
                     "clear_mm": c.min_clearance_mm, "seam_mm": c.seam_gap_max_mm,
                     "crossing": c.self_intersections, "equilibrium": c.equilibrium,
+                    "rms": c.residual_rms if c.residual_rms is not None else float("nan"),
+                    "p99": c.residual_p99 if c.residual_p99 is not None else float("nan"),
+                    "compressed": d.solver.compressed_share(d.result.x),
                     "start": str(d.timing.get("start", "-")),
                     "ratio": ratio})
     return out
@@ -98,11 +101,20 @@ def main():
     ap.add_argument("--edits", type=int, default=1,
                     help="successive hem edits re-draped after the first drape (HEM_STEPS)")
     ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE",
-                    help="SolverSettings fields to change, e.g. refresh=50 (numbers only)")
+                    help="SolverSettings fields to change, e.g. refresh=50 or, for the "
+                    "earlier solver, stop=kinematic method=lbfgs compression=0.05")
     ap.add_argument("--one", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
-    knobs = {k: float(v) if "." in v or "e" in v else int(v)
-             for k, v in (item.split("=", 1) for item in args.set)}
+    def value(v):
+        try:
+            return int(v)
+        except ValueError:
+            try:
+                return float(v)
+            except ValueError:
+                return v
+
+    knobs = {k: value(v) for k, v in (item.split("=", 1) for item in args.set)}
     if args.one:
         print(json.dumps(run_one(args.one, args.figures, args.edits, knobs)))
         return
@@ -111,10 +123,12 @@ def main():
           "its seam partner; -3 cm = 3 cm longer), each from the last equilibrium; "
           "2-core CPU")
     print("iters and seconds of the whole run; coarse: iterations/seconds of the whole "
-          "coarse drape (2K triangles: placement, sewing, drape) that starts the fine one")
+          "coarse drape (2K triangles: placement, sewing, drape) that starts the fine one; "
+          "rms / p99: residual |F_i| / (m_i g) at the end (rest: <= 0.01 / 0.1); compr: share "
+          "of the area compressed by more than 1 %")
     print(f"{'garment':>8} {'tri':>6} {'run':>10} {'iters':>6} {'seconds':>8} {'sdf s':>6} "
           f"{'coarse':>9} {'peak MB':>8} {'inside':>6} {'clear mm':>8} {'seam mm':>7} {'cross':>5} "
-          f"{'equil':>5} {'ratio':>7} {'start':>8}")
+          f"{'equil':>5} {'rms':>7} {'p99':>7} {'compr':>6} {'ratio':>7} {'start':>8}")
     for garment in args.garments:
         runs = [("warm", None)]
         if args.cold:
@@ -139,7 +153,8 @@ def main():
                       f"{r['seconds']:>8.2f} {r['sdf_seconds']:>6.2f} {r['coarse']:>9} "
                       f"{r['peak_mb']:>8.0f} "
                       f"{r['inside']:>6} {r['clear_mm']:>8.3f} {r['seam_mm']:>7.3f} "
-                      f"{r['crossing']:>5} {str(r['equilibrium']):>5} {r['ratio']:>7.4f} "
+                      f"{r['crossing']:>5} {str(r['equilibrium']):>5} {r['rms']:>7.4f} "
+                      f"{r['p99']:>7.4f} {r['compressed']:>6.3f} {r['ratio']:>7.4f} "
                       f"{r['start']:>8}",
                       flush=True)
 

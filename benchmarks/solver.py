@@ -31,7 +31,8 @@ def main():
     print(f"cloth {args.side} m square on a 0.2 m sphere, 5 mm distance field, "
           f"{args.fabric}; 2-core CPU")
     print(f"{'triangles':>9} {'run':>8} {'iters':>6} {'seconds':>8} {'factor':>6} "
-          f"{'inside':>6} {'clear mm':>8} {'crossing':>8} {'conv':>5} {'peak MB':>8}")
+          f"{'inside':>6} {'clear mm':>8} {'crossing':>8} {'conv':>5} {'rms':>7} {'p99':>7} "
+          f"{'peak MB':>8}")
     for m in args.triangles:
         v, t = square_mesh(args.side, m)
         grain = grain_at(0, len(t))
@@ -46,7 +47,8 @@ def main():
             peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
             print(f"{len(t):>9} {name:>8} {res.iterations:>6} {wall:>8.2f} "
                   f"{res.factorizations:>6} {c.inside_vertices:>6} {c.min_clearance_mm:>8.3f} "
-                  f"{c.self_intersections:>8} {str(res.converged):>5} {peak:>8.0f}")
+                  f"{c.self_intersections:>8} {str(res.converged):>5} {c.residual_rms:>7.4f} "
+                  f"{c.residual_p99:>7.4f} {peak:>8.0f}")
             if name == "first":
                 solver.set_rest(v * 1.01)
                 runs.append(("re-drape", res.x))

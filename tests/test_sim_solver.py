@@ -194,3 +194,37 @@ def test_contact_stiffens_until_nothing_is_inside():
     assert res.converged
     assert res.checks.inside_vertices == 0
     assert -0.25 < res.checks.min_clearance_mm < 0.25
+
+
+#: the force-balance solver (issue 19): Newton on the projected Hessian, the force stop, full
+#: stretch stiffness in compression
+AT_REST = SolverSettings(stop="force", method="newton", compression=1.0)
+
+
+def test_force_rule_drape_is_at_rest_and_a_warm_start_stays_put():
+    from scenes import draped
+
+    from patternfit.sim.drape import redrape
+
+    m, d = draped("skirt", "female_thin", 1500, settings=AT_REST)
+    c = d.checks
+    assert c.equilibrium and c.residual_rms <= 0.01 and c.residual_p99 <= 0.1, c
+    assert c.inside_vertices == 0 and c.self_intersections == 0
+    again = redrape(d, m)
+    assert again.result.iterations <= 5 and again.checks.equilibrium, again.checks
+    assert np.abs(again.positions - d.positions).max() < 1e-3
+
+
+def test_kinematic_rule_reports_the_residual_it_leaves():
+    """The earlier (default) rule's rest is not a force balance; the checks say how far."""
+    v, t = rect_mesh(0.1, 0.1, 4e-4)
+    pinned = np.flatnonzero(v[:, 0] < 1e-9)
+    x0 = np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]]
+    for settings in (SolverSettings(self_collision=False),
+                     SolverSettings(self_collision=False, stop="force", method="newton")):
+        res = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", pinned=pinned,
+                            settings=settings).solve(x0)
+        assert res.converged and res.checks.residual_rms is not None
+        if settings.stop == "force":
+            assert res.checks.residual_rms <= 0.01 and res.checks.residual_p99 <= 0.1
+            assert res.checks.equilibrium

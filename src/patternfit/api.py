@@ -39,7 +39,7 @@ from .pattern.errors import PatternError
 from .pattern.formats import load_any_pattern, save_any_pattern
 from .pattern.library import GARMENTS, build
 from .pattern.model import Pattern
-from .sim.drape import Drape
+from .sim.drape import Drape, drape
 from .sim.fabrics import FABRICS, Fabric, FabricError, get_fabric
 from .sim.newton_engine import drape_with
 from .sim.placement import place_on_body, place_on_cylinders
@@ -151,8 +151,9 @@ class FitOutcome:
 
     @property
     def checks(self) -> dict:
-        """The drape's checks (``passed``, vertices inside, seam gap, crossings, equilibrium);
-        empty for a saved state read back."""
+        """The drape's checks (``passed``, vertices inside, seam gap, crossings, equilibrium,
+        and whether it rests on the body where its pattern says: ``on_body``; ``reasons``
+        says why not); empty for a saved state read back."""
         return self.extra.get("checks", {})
 
     @property
@@ -183,7 +184,7 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                        settings: SolverSettings | None = None,
                        clearance: float = DEFAULTS.clearance, device: str | None = None,
                        from_static: bool = False, tight: float = DEFAULTS.tight,
-                       loose: float = DEFAULTS.loose,
+                       loose: float = DEFAULTS.loose, start=None,
                        progress: Callable | None = None) -> FitOutcome:
     """Mesh ``pattern``, place it around ``body``, sew and drape it in ``fabric`` to rest,
     and evaluate the fit.
@@ -203,22 +204,69 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
         Gap between body and panels at placement [m].
     tight, loose : float
         Area change beyond which a triangle counts as tight / loose [-].
+    start : path or (n, 3) float, optional
+        Continue from a saved drape instead of placing and sewing: a garment folder as the
+        drape writes it (``garment/``: ``pattern.json``, ``mesh.npz``, ``positions.npy``)
+        of this same pattern and mesh (:class:`InputError` otherwise), or positions (n, 3)
+        [m] of this mesh. The solve starts there with the seams welded (static engine).
     progress : callable, optional
         ``progress(iteration, energy [J], step [m], elapsed [s])``; raising
         KeyboardInterrupt in it stops cleanly with the last state.
+
+    Every drape gets the on-body checks (:mod:`patternfit.sim.onbody`); ``passed`` is
+    False and ``checks["reasons"]`` says why when the garment is not on the body where its
+    pattern says, whatever ϖ reads.
     """
     t0 = time.perf_counter()
     pat = read_pattern(pattern, size=size)
     b = read_body(body, units=units)
     fab = read_fabric(fabric)
     m = mesh_pattern(pat, triangles=triangles)
-    d = drape_with(engine, pat, m, b, fab, settings=settings, device=device,
-                   from_static=from_static, clearance=clearance, progress=progress)
+    if start is not None:
+        if engine != "static":
+            raise ValueError("start: a saved drape is continued by the static engine only")
+        d = drape(pat, m, b, fab, settings=settings, clearance=clearance,
+                  start=_start_state(start, pat, m), progress=progress)
+    else:
+        d = drape_with(engine, pat, m, b, fab, settings=settings, device=device,
+                       from_static=from_static, clearance=clearance, progress=progress)
+    if d.onbody is None:  # an engine that does not run them itself
+        d.check_on_body(pat, m, b)
     evaluator = FitEvaluator(m, tight=tight, loose=loose)
     extra = d.report_extra()
     extra["fitting_ratio_placed"] = evaluator.metrics(d.placed)[1]
     return FitOutcome(pat, m, b, fab, d.positions, evaluator(d.positions), drape=d,
                       extra=extra, seconds=time.perf_counter() - t0)
+
+
+def _start_state(start, pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:
+    """Positions (n, 3) [m] of ``mesh`` to start a drape from: ``start`` as is, or read
+    from a saved garment folder that must hold a drape of this same pattern and mesh."""
+    if not isinstance(start, (str, Path)):
+        x = np.asanyarray(start, dtype=np.float64)
+        if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
+            raise ValueError(f"start: expected finite positions ({mesh.n_vertices}, 3) of the "
+                             f"mesh, got {x.shape}")
+        return x
+    saved, saved_mesh, x = load_garment(start)
+    if x is None:
+        raise InputError("holds no 3D state (positions.npy): drape the garment first",
+                         file=start)
+    if saved != pattern:
+        raise InputError(f"holds a drape of another pattern ('{saved.name}', panels "
+                         f"{', '.join(p.name for p in saved.panels)}), not of this "
+                         f"'{pattern.name}': start from a drape of the same pattern",
+                         file=start)
+    same = (saved_mesh.vertices.shape == mesh.vertices.shape
+            and np.array_equal(saved_mesh.triangles, mesh.triangles)
+            and np.array_equal(saved_mesh.seam_pairs, mesh.seam_pairs)
+            and np.allclose(saved_mesh.vertices, mesh.vertices, rtol=0.0, atol=1e-9))
+    if not same:
+        raise InputError(f"holds a mesh of {saved_mesh.n_triangles} triangles "
+                         f"({saved_mesh.n_vertices} vertices) that is not this drape's "
+                         f"({mesh.n_triangles} triangles): give the triangle count it was "
+                         "draped with", file=start)
+    return x
 
 
 def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,

@@ -14,6 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import InputError
+
 _UMASK = os.umask(0)
 os.umask(_UMASK)
 
@@ -123,8 +125,6 @@ def read_bytes_capped(path, *, limit: int, error=None) -> bytes:
     """The bytes of the regular file ``path``, refused with ``error`` (an
     :class:`~patternfit.errors.InputError` class) when it cannot be read, is not a regular
     file (a device, a pipe, a folder) or is larger than ``limit`` bytes."""
-    from .errors import InputError
-
     error = error or InputError
     path = Path(path)
     recover_group_writes(path.parent)
@@ -272,8 +272,6 @@ def parse_json_text(text: str, *, file=None, error=None):
     :class:`~patternfit.errors.InputError` class) naming ``file`` and the line and column:
     invalid JSON, nesting deeper than :data:`MAX_JSON_DEPTH`, ``NaN``/``Infinity`` and numbers
     beyond float range are all refused."""
-    from .errors import InputError
-
     error = error or InputError
     if len(text) > 2 * MAX_JSON_DEPTH and _depth(text) > MAX_JSON_DEPTH:
         raise error(f"nested deeper than {MAX_JSON_DEPTH} levels", file=file)
@@ -295,8 +293,6 @@ def read_json_file(path, *, error=None, limit: int = MAX_JSON_BYTES):
     with ``error`` (an :class:`~patternfit.errors.InputError` class) naming the file and the
     place: unreadable, not a regular file, too large, not UTF-8, or as :func:`parse_json_text`.
     """
-    from .errors import InputError
-
     error = error or InputError
     data = read_bytes_capped(path, limit=limit, error=error)
     try:

@@ -6,8 +6,12 @@ from pathlib import Path
 from typing import Optional
 
 import typer
+from rich.table import Table
 
 from .app import app, console, fail, finite, print_json
+
+# the body stage and anny (an optional extra) are imported inside the commands, when they run:
+# `patternfit --help` should not wait for them (see commands.py)
 
 _MAIN = ("height", "bust", "waist", "hip", "arm_length", "inseam")
 
@@ -42,7 +46,6 @@ def bodies(
         if json_:
             print_json({"bodies": [_summary(b) for b in loaded], "aliases": ALIASES})
             return
-        from rich.table import Table
 
         table = Table("name", *(f"{k} [m]" for k in _MAIN))
         for b in loaded:

@@ -10,10 +10,12 @@ from pathlib import Path
 from typing import Optional
 
 import typer
+from rich.table import Table
 
 from ..defaults import DEFAULTS
 from .app import app, console, fail, finite, print_json, triangles_option
-from .show import exit_if_checks_failed, print_fit_summary, run_correction
+from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
+                   run_correction)
 
 Out = typer.Option(..., "--out", "-o", help="Output folder (created if missing).")
 Json = typer.Option(False, "--json", help="Print machine-readable results on stdout.")
@@ -42,7 +44,6 @@ def patterns(
         if json_out:
             print_json(rows)
             return
-        from rich.table import Table
         table = Table(title=f"built-in garments (size {size})")
         for col in ("name", "panels", "seams", "fabric m²", "description"):
             table.add_column(col)
@@ -86,8 +87,8 @@ def mesh(
     api.save_garment(out, pat, m)
     info = {"garment": pat.name, "folder": str(out), "vertices": m.n_vertices,
             "triangles": m.n_triangles, "panels": len(m.panel_names), "seams": len(m.seam_names),
-            "seam_pairs": int(len(m.seam_pairs)), "min_angle_deg": smallest_angle(m.vertices, m.triangles),
-            "seconds": seconds}
+            "seam_pairs": int(len(m.seam_pairs)),
+            "min_angle_deg": smallest_angle(m.vertices, m.triangles), "seconds": seconds}
     if json_out:
         print_json(info)
     else:
@@ -162,7 +163,9 @@ def demo(
                             extra={"fitting_ratio_placed": placed, "narrow": setup["narrow"]})
     if json_out:
         print_json(report)
+        exit_if_correction_failed(report, out)
         return
+    exit_if_correction_failed(report, out)
     console.print(f"ϖ placed {placed * 100:.2f}% → first drape "
                   f"{report['iterations'][0]['fitting_ratio'] * 100:.2f}% → corrected "
                   f"[bold]{report['fitting_ratio'] * 100:.2f}%[/] in "

@@ -11,6 +11,9 @@ from .app import app, fail, finite, print_json, triangles_option
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
                    say_guessed_units)
 
+# patternfit.api and the stage modules are imported inside the commands, when they run:
+# `patternfit --help` should not wait for them (see commands.py)
+
 
 @app.command()
 def drape(
@@ -39,6 +42,9 @@ def drape(
                                           "when present, else cpu."),
     from_static: bool = typer.Option(False, "--from-static", help="newton: start at the static "
                                      "equilibrium, slightly perturbed, so that folds form."),
+    start: Path = typer.Option(None, "--start", help="Continue from a saved drape of the same "
+                               "pattern and mesh: its garment/ folder (pattern.json, mesh.npz, "
+                               "positions.npy), or the drape's output folder holding it."),
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     out: Path = typer.Option(..., "--out", "-o", help="Output folder."),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
@@ -47,7 +53,9 @@ def drape(
 
     Writes the draped garment (GLB/OBJ with fit colours), the 2D and 3D colour maps and
     report.json with the checks (vertices inside the body, seam gaps, self-intersections,
-    equilibrium) and the timing. Ctrl-C stops the drape cleanly and keeps the last state.
+    equilibrium, and whether it rests on the body where its pattern says) and the timing;
+    a failed drape exits with status 1 and says why. Ctrl-C stops the drape cleanly and
+    keeps the last state.
     """
     from .. import api
     from ..sim.newton_engine import ENGINES, NewtonMissingError
@@ -55,6 +63,11 @@ def drape(
 
     if engine not in ENGINES or (engine == "static" and (from_static or device)):
         fail(f"--engine: one of {', '.join(ENGINES)}; --device and --from-static need newton")
+    if start is not None:
+        if engine != "static":
+            fail("--start: a saved drape is continued by the static engine only")
+        if not (start / "positions.npy").exists() and (start / "garment").is_dir():
+            start = start / "garment"  # the drape's output folder
     b = api.read_body(body, units=units)
     say_guessed_units(b, body)
     settings = SolverSettings(max_iterations=max_iterations, time_limit=time_limit)
@@ -64,7 +77,7 @@ def drape(
             outcome = api.drape_and_evaluate(pattern, b, fabric, triangles=triangles, size=size,
                                              engine=engine, settings=settings, device=device,
                                              from_static=from_static, clearance=clearance,
-                                             progress=callback)
+                                             start=start, progress=callback)
         except NewtonMissingError as exc:
             fail(str(exc))
     report = outcome.write(out, pictures=pictures)

@@ -7,7 +7,11 @@ from typing import Optional
 
 import typer
 
+from ..files import read_json_file
 from .app import app, console, fail, print_json
+
+# patternfit.api and the stage modules are imported inside the commands, when they run:
+# `patternfit --help` should not wait for them (see commands.py)
 
 OPERATIONS = ("move-point", "move-edge", "edit-curve", "lengthen", "grade", "insert-dart",
               "move-dart", "resize-dart")
@@ -106,7 +110,6 @@ def edit_command(
     """
     from .. import api
     from ..edit import update_mesh
-    from ..files import read_json_file
     from ..mesh import GarmentMesh
     from ..mesh.store import replace_pattern_and_mesh
     from ..pattern import PatternError, load_pattern, save_pattern

@@ -10,7 +10,10 @@ import typer
 
 from ..defaults import DEFAULTS
 from .app import app, console, fail, finite, print_json, triangles_option
-from .show import run_correction, say_guessed_units, show_iteration
+from .show import exit_if_correction_failed, run_correction, say_guessed_units, show_iteration
+
+# patternfit.api and the stage modules are imported inside the commands, when they run:
+# `patternfit --help` should not wait for them (see commands.py)
 
 reproduce = typer.Typer(name="reproduce", no_args_is_help=True,
                         help="Reproduce the paper's experiments.")
@@ -65,7 +68,9 @@ def correct_command(
                             pictures=pictures)
     if json_out:
         print_json(report)
+        exit_if_correction_failed(report, out)
         return
+    exit_if_correction_failed(report, out)
     state = "reached" if report["reached"] else "not reached"
     console.print(f"ϖ {report['iterations'][0]['fitting_ratio'] * 100:.2f}% → "
                   f"[bold]{report['fitting_ratio'] * 100:.2f}%[/] (threshold "

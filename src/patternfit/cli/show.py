@@ -21,7 +21,9 @@ def num(value, spec: str, scale: float = 1.0) -> str:
 
 def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
     """The per-panel table, ϖ, fit classes and mesh of a fit ``report`` written to ``out``."""
-    table = Table(title=f"fit of '{report.get('garment')}' ({report['state']})", show_lines=False)
+    failed = (report.get("checks") or {}).get("passed") is False
+    table = Table(title=f"fit of '{report.get('garment')}' ({report['state']})"
+                  + (" — FAILED, not a fit" if failed else ""), show_lines=False)
     for col in ("panel", "area 2D [m²]", "area 3D [m²]", "ϖ"):
         table.add_column(col, justify="right" if col != "panel" else "left")
     for p in report["panels"]:
@@ -29,7 +31,11 @@ def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
                       num(p["fitting_ratio"], ".2f", 100) + "%")
     console.print(table)
     fc = report["fit_classes"]
-    console.print(f"fitting ratio ϖ = [bold]{num(report['fitting_ratio'], '.2f', 100)}%[/]  "
+    if failed:  # a failed drape's ϖ is no fit: never printed as one
+        console.print(f"[bold red]FAILED[/]: the drape failed its checks (below), so ϖ = "
+                      f"{num(report['fitting_ratio'], '.2f', 100)}% is not a fit")
+    console.print(f"{'(not a fit) ' if failed else ''}"
+                  f"fitting ratio ϖ = [bold]{num(report['fitting_ratio'], '.2f', 100)}%[/]  "
                   f"(symmetric {num(report['fitting_ratio_symmetric'], '.2f', 100)}%)  tight "
                   f"{num(fc['tight'], '.1f', 100)}% · fit {num(fc['fit'], '.1f', 100)}% · loose "
                   f"{num(fc['loose'], '.1f', 100)}% of the area")
@@ -40,7 +46,9 @@ def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
 
 
 def print_drape_checks(report: dict) -> None:
-    """One line: the drape's checks, iterations and time, and ϖ after placement."""
+    """The drape's checks, iterations and time, and ϖ after placement; then whether the
+    garment is on the body (anchor height, lowest point, farthest vertex); then, for a
+    failed drape, why."""
     c = report["checks"]
     verdict = "[green]passed[/]" if c["passed"] else "[bold red]FAILED[/]"
     console.print(f"checks {verdict}: {c['inside_vertices']} vertices inside the body "
@@ -49,7 +57,17 @@ def print_drape_checks(report: dict) -> None:
                   f"self-intersections, equilibrium {c['equilibrium']} "
                   f"({c['stop_reason']}); {report['timing']['iterations']} iterations in "
                   f"{num(report['timing']['seconds'], '.1f')} s; ϖ after placement "
-                  f"{num(report['fitting_ratio_placed'], '.2f', 100)}%")
+                  f"{num(report.get('fitting_ratio_placed'), '.2f', 100)}%")
+    if "on_body" in c:
+        where = "[green]yes[/]" if c["on_body"] else "[bold red]no[/]"
+        console.print(f"on the body {where}: top {num(c['anchor_offset_mm'], '+.1f', 0.1)} cm "
+                      f"from the {c['anchor']} (its line at "
+                      f"{num(c['anchor_height_mm'], '.3f', 1e-3)} m), lowest point "
+                      f"{num(c['lowest_mm'], '.3f', 1e-3)} m, farthest from the body "
+                      f"{num(c['farthest_mm'], '.3f', 1e-3)} m")
+    reasons = c.get("reasons") or []
+    if not c["passed"] and reasons:
+        console.print("[bold red]failed:[/] " + escape("; ".join(reasons)), highlight=False)
 
 
 def exit_if_checks_failed(report: dict, out: Path) -> None:
@@ -59,10 +77,21 @@ def exit_if_checks_failed(report: dict, out: Path) -> None:
     checks = report.get("checks") or {}
     if checks.get("passed") is not False:
         return
+    reasons = [str(r) for r in checks.get("reasons") or [] if r]
     bad = checks.get("non_finite") or []
     more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
-    why = f"not finite: {', '.join(bad[:5])}{more}" if bad else "see 'checks' in report.json"
-    fail(f"the fit in {out}/ failed its checks ({why})", CHECKS_FAILED)
+    if reasons:
+        why = "; ".join(reasons)
+    else:
+        why = f"not finite: {', '.join(bad[:5])}{more}" if bad else "see 'checks' in report.json"
+    fail(f"the fit in {out}/ failed its checks ({why}); ϖ is not a fit", CHECKS_FAILED)
+
+
+def exit_if_correction_failed(report: dict, out: Path) -> None:
+    """Exit with status 1, saying why, when the correction loop refused to edit (its drape
+    fell off the body or its ϖ is not finite: ``report["failed"]``)."""
+    if report.get("failed"):
+        fail(f"no correction made ({out}/report.json): {report['failed']}", CHECKS_FAILED)
 
 
 def say_guessed_units(body, source) -> None:
@@ -91,7 +120,9 @@ def drape_progress(*, total: int):
 def show_iteration(it) -> None:
     """One line per loop iteration, its regions and edits (for the console)."""
     what = "first drape" if it.index == 0 else f"after round {it.index}"
-    ok = "" if not it.checks or it.checks.get("passed") else "  [yellow](drape checks failed)[/]"
+    reasons = "; ".join(str(r) for r in (it.checks or {}).get("reasons") or [])
+    ok = "" if not it.checks or it.checks.get("passed") else \
+        f"  [yellow](drape checks failed{': ' + escape(reasons) if reasons else ''})[/]"
     console.print(f"[bold]{what}[/]: ϖ = {it.fitting_ratio * 100:.2f}%  "
                   f"({it.seconds:.1f} s){ok}")
     for r in it.regions[:6]:

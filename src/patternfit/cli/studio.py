@@ -8,6 +8,9 @@ import typer
 
 from .app import app, console, fail
 
+# patternfit.api and the stage modules are imported inside the commands, when they run:
+# `patternfit --help` should not wait for them (see commands.py)
+
 
 @app.command()
 def studio(

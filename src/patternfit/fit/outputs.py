@@ -4,6 +4,8 @@ picture (PNG), ``report.json`` and the garment state that ``patternfit fit`` rea
 from __future__ import annotations
 
 from pathlib import Path
+
+import numpy as np
 from typing import Any
 
 from ..mesh.garment import GarmentMesh
@@ -12,8 +14,8 @@ from ..pattern.model import Pattern
 from .colormap import FitScale, vertex_values
 from .export import export_garment
 from .metrics import FitResult
-from .pictures import plot_3d_map, plot_flat_map
-from .report import fit_report, write_report
+from .pictures import FAILED_GREY, plot_3d_map, plot_flat_map
+from .report import failure, fit_report, write_report
 
 
 def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult, *,
@@ -28,7 +30,9 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
 
     The report (:func:`~patternfit.fit.report.fit_report`) holds no NaN or infinity: a value
     that is not finite is None and ``report["checks"]["passed"]`` is False, and a front end
-    must then report a failed fit.
+    must then report a failed fit; the pictures' titles then say "FAILED: <reason>"
+    (:func:`~patternfit.fit.report.failure`: the drape's ``extra["checks"]["reasons"]``)
+    instead of ϖ.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
@@ -39,23 +43,27 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     rgb = scale.colors(vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices,
                                      fit.area_2d))
     files = {"garment": "garment/"}
-    for kind in ("glb", "obj"):
-        say(f"garment.{kind}")
-        export_garment(positions, mesh.triangles, rgb, folder / f"garment.{kind}")
-        files[f"garment_{kind}"] = f"garment.{kind}"
+    files.update({f"garment_{kind}": f"garment.{kind}" for kind in ("glb", "obj")})
     if pictures:
-        say("2D colour map")
-        plot_flat_map(mesh, fit, [folder / "fit_2d.png", folder / "fit_2d.svg"], scale=scale,
-                      title=pattern.name)
-        files.update(fit_2d_png="fit_2d.png", fit_2d_svg="fit_2d.svg")
-        say("3D picture")
-        plot_3d_map(positions, mesh, fit, folder / "fit_3d.png", scale=scale, body=body,
-                    title=pattern.name)
-        files["fit_3d_png"] = "fit_3d.png"
+        files.update(fit_2d_png="fit_2d.png", fit_2d_svg="fit_2d.svg", fit_3d_png="fit_3d.png")
+    # the report first: its checks decide whether the pictures show ϖ or "FAILED"
     report = fit_report(mesh, fit, state=state, extra={
         "garment": pattern.name, "size": pattern.meta.get("size"),
         "colour_scale": {"limit": scale.limit, "band": scale.band,
                          "description": scale.describe()},
         "files": files, **(extra or {})})
+    failed = failure(report)
+    if failed:  # the exported garment is grey too: its colours would read as a fit
+        rgb = np.broadcast_to(FAILED_GREY, rgb.shape).copy()
+    for kind in ("glb", "obj"):
+        say(f"garment.{kind}")
+        export_garment(positions, mesh.triangles, rgb, folder / f"garment.{kind}")
+    if pictures:
+        say("2D colour map")
+        plot_flat_map(mesh, fit, [folder / "fit_2d.png", folder / "fit_2d.svg"], scale=scale,
+                      title=pattern.name, failed=failed)
+        say("3D picture")
+        plot_3d_map(positions, mesh, fit, folder / "fit_3d.png", scale=scale, body=body,
+                    title=pattern.name, failed=failed)
     write_report(report, folder / "report.json")
     return report

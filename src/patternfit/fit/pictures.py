@@ -3,6 +3,7 @@ back, rendered off-screen on the CPU with pyvista/VTK so that hidden parts stay 
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -37,18 +38,39 @@ def _legend(ax, scale: FitScale) -> None:
               title="S3/S2 − 1", title_fontsize=8, frameon=False)
 
 
-def _title(fit: FitResult, title: str | None) -> str:
+def _title(fit: FitResult, title: str | None, failed: str | None = None) -> str:
+    """The picture's title: ϖ, or "FAILED: <reason>" for a drape that failed its checks
+    (whose ϖ is no fit)."""
     head = f"{title} — " if title else ""
+    if failed:
+        return "\n".join(textwrap.wrap(f"{head}FAILED: {failed} (ϖ is not a fit)", 110))
     return (f"{head}fitting ratio ϖ = {fit.fitting_ratio * 100:.2f}%  "
             f"(symmetric {fit.fitting_ratio_symmetric * 100:.2f}%)")
 
 
+def _title_colour(failed: str | None) -> str:
+    return "#c00000" if failed else "black"
+
+
+#: the colour of a garment whose drape failed its checks: no fit colour may suggest a fit
+FAILED_GREY = np.array([0.62, 0.62, 0.62])
+
+
+def _colours(scale: FitScale, values, failed: str | None) -> np.ndarray:
+    """(k, 3) fit colours of ``values``, or all grey for a failed drape."""
+    if failed:
+        return np.broadcast_to(FAILED_GREY, (len(values), 3)).copy()
+    return scale.colors(values)
+
+
 def plot_flat_map(mesh: GarmentMesh, fit: FitResult, paths, *, scale: FitScale | None = None,
-                  title: str | None = None, show_mesh: bool = False) -> list[Path]:
+                  title: str | None = None, show_mesh: bool = False,
+                  failed: str | None = None) -> list[Path]:
     """Draw the flat pattern coloured by area change, with outlines, names and a legend.
 
     ``paths`` is one path or a list; each is written in the format of its ending (.png, .svg,
-    .pdf). Returns the paths written.
+    .pdf). ``failed``: why the drape failed its checks; the title then says
+    "FAILED: <failed>" in red instead of ϖ. Returns the paths written.
     """
     import matplotlib
     matplotlib.use("Agg")
@@ -60,7 +82,7 @@ def plot_flat_map(mesh: GarmentMesh, fit: FitResult, paths, *, scale: FitScale |
     width, height = np.ptp(xy[:, 0]), np.ptp(xy[:, 1])
     fig_w = min(16.0, 3.0 + 10.0 * width / max(width, height))
     fig, ax = plt.subplots(figsize=(fig_w, 8.0 * height / max(width, height) + 1.5))
-    colors = scale.colors(fit.area_change)
+    colors = _colours(scale, fit.area_change, failed)
     ax.add_collection(PolyCollection(xy[mesh.triangles], facecolors=colors,
                                      edgecolors="0.35" if show_mesh else colors,
                                      linewidths=0.15 if show_mesh else 0.3))
@@ -71,13 +93,14 @@ def plot_flat_map(mesh: GarmentMesh, fit: FitResult, paths, *, scale: FitScale |
     for i, name in enumerate(mesh.panel_names):
         ids = mesh.panel_vertices(i)
         c = xy[ids].mean(axis=0)
-        ax.text(c[0], c[1], f"{name}\nϖ {fit.panel_ratio[i] * 100:.1f}%", ha="center",
-                va="center", fontsize=9, color="k")
+        label = f"{name}\n(failed)" if failed else f"{name}\nϖ {fit.panel_ratio[i] * 100:.1f}%"
+        ax.text(c[0], c[1], label, ha="center", va="center", fontsize=9, color="k")
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.set_xlabel("m")
-    ax.set_title(_title(fit, title), fontsize=10)
-    _legend(ax, scale)
+    ax.set_title(_title(fit, title, failed), fontsize=10, color=_title_colour(failed))
+    if not failed:
+        _legend(ax, scale)
     fig.tight_layout()
     written = []
     for p in ([paths] if isinstance(paths, (str, Path)) else paths):
@@ -131,23 +154,27 @@ def render_views(positions, triangles, vertex_rgb, *, body=None, size=(700, 900)
 
 
 def plot_3d_map(positions, mesh: GarmentMesh, fit: FitResult, path, *,
-                scale: FitScale | None = None, body=None, title: str | None = None) -> Path:
-    """PNG of the 3D garment coloured by area change, front and back, with the legend."""
+                scale: FitScale | None = None, body=None, title: str | None = None,
+                failed: str | None = None) -> Path:
+    """PNG of the 3D garment coloured by area change, front and back, with the legend;
+    ``failed`` (why the drape failed its checks) replaces ϖ in the title, in red."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     scale = scale or FitScale(band=fit.thresholds[0])
     values = vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices, fit.area_2d)
-    front, back = render_views(positions, mesh.triangles, scale.colors(values), body=body)
+    front, back = render_views(positions, mesh.triangles, _colours(scale, values, failed),
+                               body=body)
     fig, axes = plt.subplots(1, 2, figsize=(11, 7.2))
     for ax, img, label in zip(axes, (front, back), ("front", "back")):
         ax.imshow(img)
         ax.set_title(label, fontsize=10)
         ax.axis("off")
-    fig.suptitle(_title(fit, title), fontsize=11)
-    _legend(axes[1], scale)
-    fig.tight_layout()
+    fig.suptitle(_title(fit, title, failed), fontsize=11, color=_title_colour(failed))
+    if not failed:  # a legend of fit colours beside a grey, failed garment would mislead
+        _legend(axes[1], scale)
+    fig.tight_layout(rect=(0, 0, 1, 0.96))  # room for the suptitle above "front"/"back"
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return Path(path)

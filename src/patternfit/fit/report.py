@@ -36,7 +36,9 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
     ``checks`` holds ``fit_finite`` (every number of the report is finite), ``passed``
     (``fit_finite`` and the drape's ``passed`` where given) and, when a value is not finite,
     ``non_finite``: where it was (``"fitting_ratio"``, ``"panels[0].area_3d_m2"``); the value
-    itself is ``None``. A report that did not pass is a failed fit.
+    itself is ``None``. A report that did not pass is a failed fit: ``reasons`` then says
+    why in words (the drape's reasons, on-body first, and the values not finite), and
+    :func:`failure` joins them for a title or a message.
     """
     panels = []
     for i, name in enumerate(mesh.panel_names):
@@ -75,7 +77,19 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
     checks["passed"] = checks.get("passed", True) is not False and not non_finite
     if non_finite:
         checks["non_finite"] = non_finite
+        more = f" and {len(non_finite) - 5} more" if len(non_finite) > 5 else ""
+        checks["reasons"] = list(checks.get("reasons") or []) + [
+            f"not finite: {', '.join(non_finite[:5])}{more}"]
     return report
+
+
+def failure(report: dict[str, Any] | None) -> str | None:
+    """Why the fit ``report`` (or its ``checks``) failed, in words; None when it passed."""
+    checks = (report or {}).get("checks", report) or {}
+    if checks.get("passed") is not False:
+        return None
+    reasons = [str(r) for r in checks.get("reasons") or [] if r]
+    return "; ".join(reasons) if reasons else "the drape's checks failed"
 
 
 def _finite_or_none(value, where: str, found: list[str]):

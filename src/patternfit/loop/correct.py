@@ -98,12 +98,14 @@ class Iteration:
 @dataclass
 class Correction:
     """Outcome of :func:`correct`: the iterations (0 = the first drape), whether the fit
-    was reached, and the corrected pattern."""
+    was reached, and the corrected pattern. ``failed`` says why the loop stopped without
+    editing when a drape was no fit at all (:func:`refusal`), else None."""
 
     iterations: list[Iteration] = field(default_factory=list)
     reached: bool = False
     pattern: Pattern | None = None
     seconds: float = 0.0
+    failed: str | None = None
 
     @property
     def fitting_ratio(self) -> float:
@@ -113,6 +115,7 @@ class Correction:
         return {"fitting_ratio": self.fitting_ratio, "reached": self.reached,
                 "seconds": self.seconds, "correction_rounds": len(self.iterations) - 1,
                 "edits_made": sum(len(it.edits) for it in self.iterations),
+                "failed": self.failed,
                 "iterations": [it.to_dict() for it in self.iterations]}
 
 
@@ -329,6 +332,22 @@ def fit_reached(fit: FitResult, regions, settings: CorrectionSettings) -> bool:
         for r in regions)
 
 
+def refusal(checks: dict | None, fitting_ratio: float) -> str | None:
+    """Why no correction may be made from a drape with these ``checks`` (the session
+    state's: solver and on-body checks) and ϖ, or None: the garment is not on the body where
+    its pattern says (fell, lies at the feet, slid off its anchor, collapsed; the on-body
+    checks, :mod:`patternfit.sim.onbody`) or ϖ is not finite. Its stretch says nothing about
+    the pattern. A drape that failed only the solver's checks (a few crossed triangles, the
+    iteration limit) is still corrected from, as before; its checks travel with the round.
+    """
+    if not np.isfinite(fitting_ratio):
+        return "the drape's fitting ratio is not finite"
+    if checks and checks.get("on_body") is False:
+        reasons = checks.get("on_body_reasons") or ["not on the body"]
+        return "the drape failed: " + "; ".join(str(r) for r in reasons)
+    return None
+
+
 def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
             progress: Callable | None = None, drape_progress: Callable | None = None
             ) -> Correction:
@@ -338,7 +357,8 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
 
     ``progress(iteration: Iteration)`` is called after each drape is evaluated;
     ``drape_progress`` goes to the solver. Returns the :class:`Correction`; the session
-    holds every state (one per round) for undo.
+    holds every state (one per round) for undo. A drape that is no fit at all
+    (:func:`refusal`) stops the loop without an edit, ``Correction.failed`` saying why.
     """
     out = Correction()
     t_all = time.perf_counter()
@@ -350,7 +370,10 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
         regions = find_regions(session.mesh, fit)
         reached = fit_reached(fit, regions, settings)
         it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks)
-        if not reached and index < settings.max_iterations:
+        out.failed = refusal(session.state.checks, fit.fitting_ratio)
+        if out.failed:
+            reached = False
+        elif not reached and index < settings.max_iterations:
             it.edits = _edit(session, fit, settings)
         it.seconds = time.perf_counter() - t0
         out.iterations.append(it)

@@ -20,6 +20,8 @@ from ..pattern.io import save_pattern
 from .correct import Correction
 from .regions import Region
 
+# matplotlib is imported inside plot_regions: it is heavy and only that picture needs it.
+
 
 def region_outline(mesh: GarmentMesh, triangles) -> np.ndarray:
     """Boundary edges of a set of triangles (edges used by exactly one of them): (k, 2) int."""

@@ -21,9 +21,11 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .. import edit as tools
 from ..body.builtin import list_bodies, load_body, read_body, save_body
 from ..constants import limits
 from ..defaults import DEFAULTS
+from ..edit import grade
 from ..errors import InputError, SessionError
 from ..files import (atomic_write_bytes, atomic_write_text, dumps_finite_json, read_json_file,
                      read_npy)
@@ -81,7 +83,8 @@ class State:
     fitting_ratio : float or None
         ϖ of ``positions``.
     checks : dict or None
-        The drape's checks (``DrapeChecks.to_dict()`` plus ``passed``).
+        The drape's checks as the report holds them (``Drape.report_extra()["checks"]``:
+        the solver's and the on-body checks, ``passed`` for both, ``reasons``).
     key : str
         The name of the state's folder in a saved session (random, fixed for the state's
         life: pattern and mesh are never replaced, so the folder is written once).
@@ -194,7 +197,7 @@ class DesignSession:
         self._drape = result
         st.positions = result.positions
         st.fitting_ratio = FitEvaluator(st.mesh).metrics(result.positions)[1]
-        st.checks = {**result.checks.to_dict(), "passed": result.checks.passed}
+        st.checks = result.report_extra()["checks"]  # solver and on-body checks, reasons
         return result
 
     def _staged_redrape(self, mesh: GarmentMesh, start, progress) -> Drape:
@@ -239,8 +242,6 @@ class DesignSession:
         the next re-drape; ϖ is unknown until then. Returns the mesh update's report, or
         None after a re-mesh. Redo history beyond the current state is dropped.
         """
-        from .. import edit as tools
-
         if op not in EDIT_OPS:
             raise ValueError(f"op: unknown edit {op!r} (known: {', '.join(EDIT_OPS)})")
         new_pattern = getattr(tools, op)(self.state.pattern, **args)
@@ -253,8 +254,6 @@ class DesignSession:
         automatic correction) the next state; the mesh follows as in :meth:`apply`, its
         panels re-meshed when their smallest angle falls below ``min_angle`` [degrees]
         (default: ``edit.update_mesh``'s)."""
-        from .. import edit as tools
-
         old = self.state
         report = None
         quality = {} if min_angle is None else {"min_angle": float(min_angle)}
@@ -494,8 +493,6 @@ def _load_positions(path: Path, n: int) -> np.ndarray:
 def _widened(pattern: Pattern, mesh: GarmentMesh, factor: float):
     """Pattern and mesh (same topology) with every panel widened by ``factor`` along x of
     its flat frame about its outline's centroid (as ``edit.grade`` does)."""
-    from ..edit import grade
-
     v = mesh.vertices.copy()
     for i, name in enumerate(mesh.panel_names):
         c = pattern.panel(name).outline.polygon().mean(axis=0)

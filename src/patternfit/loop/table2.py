@@ -12,6 +12,7 @@ crosses itself and a narrowed skirt slides off the hips (docs/fit-correction.md)
 
 from __future__ import annotations
 
+import os
 import platform
 import time
 from dataclasses import dataclass
@@ -20,9 +21,11 @@ from pathlib import Path
 from ..body.builtin import load_body
 from ..edit import grade
 from ..fit.metrics import FitEvaluator
+from ..fit.pictures import plot_3d_map
 from ..pattern.library import build
 from ..sim.placement import place_on_body
 from .correct import CorrectionSettings, correct
+from .outputs import compress_png, plot_regions
 from .session import DesignSession
 
 
@@ -67,9 +70,6 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
             figures: Path | None = None, progress=None) -> dict:
     """Run one row: drape, correct, and (with ``figures``) write the before/after maps as
     ``figures/table2_<garment>_{before,after}_{2d,3d}.png``. Returns the row's numbers."""
-    from ..fit.pictures import plot_3d_map
-    from .outputs import compress_png, plot_regions
-
     t0 = time.perf_counter()
     pattern = row.pattern()
     session = DesignSession(pattern, load_body(row.body), row.fabric,
@@ -107,8 +107,6 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
 
 def device_name() -> str:
     """The CPU this runs on, in words."""
-    import os
-
     name = platform.processor() or platform.machine()
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
@@ -163,9 +161,6 @@ def run_variant(variant, *, triangles: int = 3000, fabric: str = "stretch_knit",
     """Drape one variant of Figs 15–17 once (no correction, sewn as it is, in the fabric of
     Table 2) and return its ϖ; with
     ``figures``, write ``figures/fig<N>_<garment>_<label>.png`` (3D colour map)."""
-    from ..fit.pictures import plot_3d_map
-    from .outputs import compress_png
-
     fig, garment, body, label, size, (sx, sy) = variant
     t0 = time.perf_counter()
     pattern = build(garment, size)

@@ -35,6 +35,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from ezdxf import path as dxfpath
+from ezdxf.addons import gerber_D6673
+from ezdxf.document import Drawing
+from ezdxf.filemanagement import dxf_stream_info
+from ezdxf.lldxf.tagger import binary_tags_loader
+from ezdxf.lldxf.validator import is_dxf_stream
+from scipy.spatial import cKDTree
 
 from ..constants import UNITS, limits, tol
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
@@ -133,8 +140,6 @@ def notch_marks(pattern: Pattern, *, length: float = 0.006) -> list[tuple[str, s
 
 
 def _dxf_document(pattern: Pattern):
-    from ezdxf.document import Drawing
-
     doc = Drawing.new("R12")  # not ezdxf.new(): R12 has no $INSUNITS, the text says the units
     msp = doc.modelspace()
     mm = 1000.0
@@ -207,8 +212,6 @@ def save_dxf(pattern: Pattern, path, *, sidecar: bool = True) -> Path:
     write ``<name>.seams.json`` with seams, edge names and placement. Returns the DXF path.
 
     Seams whose sides differ in length are allowed (:func:`formats.check_imported`)."""
-    from ezdxf.addons import gerber_D6673
-
     check_imported(pattern)  # seams of unequal length may come from elsewhere and go back
     stream = io.StringIO()
     gerber_D6673.export_stream(_dxf_document(pattern), stream)
@@ -354,8 +357,6 @@ def _corners(p: np.ndarray, angle: float = 25.0) -> list[int]:
 
 def _loop_from_points(p: np.ndarray, turns: np.ndarray, name: str, prefix: str) -> Loop:
     """Split a closed polygon (k, 2) at its turn points (t, 2) and fit every run [m]."""
-    from scipy.spatial import cKDTree
-
     breaks = []
     if len(turns):
         near, _ = cKDTree(turns).query(p, distance_upper_bound=tol.dxf_fit)
@@ -413,8 +414,6 @@ def _entity_points(entity, scale: float, budget: int, where: dict
     At most ``budget`` points: more (a curve of very many segments) is refused, as is
     geometry beyond ``limits.extent``, before sampling. Repeated points are dropped.
     """
-    from ezdxf import path as dxfpath
-
     kind = entity.dxftype()
     if kind == "LINE":
         pts = np.array([tuple(entity.dxf.start)[:2], tuple(entity.dxf.end)[:2]]) * scale
@@ -592,8 +591,6 @@ def _read_piece(block, scale: float, prefer_sew: bool):
 def _notch_fractions(panel: Panel, notches: list[np.ndarray]) -> dict[str, list[float]]:
     """Arc-length fractions of the notches on each outline edge they lie on (within
     ``tol.notch_reach``), read off 401 samples of every edge."""
-    from scipy.spatial import cKDTree
-
     out: dict[str, list[float]] = {}
     if not notches:
         return out
@@ -703,11 +700,6 @@ def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
 
 def _document(data: bytes):
     """The ezdxf document in a DXF file's bytes (ASCII in its own code page, or binary)."""
-    from ezdxf.document import Drawing
-    from ezdxf.filemanagement import dxf_stream_info
-    from ezdxf.lldxf.tagger import binary_tags_loader
-    from ezdxf.lldxf.validator import is_dxf_stream
-
     if data.startswith(_BINARY_DXF):
         return Drawing.load(binary_tags_loader(data, errors="surrogateescape"))
     text = data.decode("utf-8", errors="ignore")  # the header's code page is plain ASCII

@@ -9,10 +9,17 @@ and ``.pdf`` (plots). Lengths are metres inside.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
+from ..files import read_json_file
 from .errors import PatternError
+from .io import FORMAT, load_pattern, save_pattern
 from .model import Pattern
+from .validate import check_pattern, check_seams
+
+# .garmentcode, .dxf and .plot are imported inside the functions: a real import cycle (they
+# import check_imported from here; .plot through .dxf).
 
 __all__ = ["READ_SUFFIXES", "WRITE_FORMATS", "check_imported", "load_any_pattern",
            "save_any_pattern", "sniff_format"]
@@ -27,10 +34,6 @@ def check_imported(pattern: Pattern) -> list[str]:
     """:func:`~patternfit.pattern.check_pattern` for a pattern read from another tool, except
     that seams joining sides of different length (gathers, ease, ruffles) are allowed: they
     come back as warnings. Raises :class:`PatternError` for everything else."""
-    from dataclasses import replace
-
-    from .validate import check_pattern, check_seams
-
     check_pattern(replace(pattern, seams=()))
     return check_seams(pattern, unequal="warn")
 
@@ -40,9 +43,7 @@ def sniff_format(path) -> str:
 
     Raises :class:`PatternError` naming the file for an unknown ending or JSON content.
     """
-    from ..files import read_json_file
     from .garmentcode import is_garmentcode
-    from .io import FORMAT
 
     path = Path(path)
     suffix = path.suffix.lower()
@@ -75,8 +76,6 @@ def load_any_pattern(path) -> Pattern:
         from .garmentcode import load_garmentcode
 
         return load_garmentcode(path)
-    from .io import load_pattern
-
     pattern = load_pattern(path)
     pattern.meta.setdefault("source_format", "patternfit")
     return pattern
@@ -107,8 +106,6 @@ def save_any_pattern(pattern: Pattern, path, *, fmt: str | None = None, units: s
     if fmt not in WRITE_FORMATS:
         raise ValueError(f"fmt: expected one of {sorted(WRITE_FORMATS)}, got {fmt!r}")
     if fmt == "patternfit":
-        from .io import save_pattern
-
         return [save_pattern(pattern, path, units=units)]
     if fmt == "garmentcode":
         from .garmentcode import save_garmentcode

@@ -172,6 +172,10 @@ class Seam:
     reverse: bool = True
 
 
+#: the heights a garment can hang from (:attr:`Pattern.anchor`)
+ANCHORS = ("waist", "neck")
+
+
 @dataclass(frozen=True)
 class Pattern:
     """A garment: panels plus seams, with free-form metadata (size, measurements)."""
@@ -184,6 +188,27 @@ class Pattern:
     def __post_init__(self):
         object.__setattr__(self, "panels", tuple(self.panels))
         object.__setattr__(self, "seams", tuple(self.seams))
+
+    @property
+    def anchor(self) -> str:
+        """Where the garment hangs from on the body: ``"neck"`` or ``"waist"`` (the one rule
+        that placement and the on-body check share).
+
+        ``meta["anchor"]`` when it is one of :data:`ANCHORS` (every built-in garment sets
+        it); otherwise ``"neck"`` when a panel dresses an arm (``placement.part``
+        ``"arm_*"``: sleeves hang from the shoulders) or has an edge named ``neck*`` or
+        ``shoulder*``, else ``"waist"`` (skirts, trousers). Placement puts the top of the
+        drafted garment at the body's ``neck_base_height`` / ``waist_height``, and a drape
+        whose top ends far from that height fails (:mod:`patternfit.sim.onbody`).
+        """
+        given = self.meta.get("anchor") if isinstance(self.meta, dict) else None
+        if given in ANCHORS:
+            return given
+        for p in self.panels:
+            if p.placement.part.startswith("arm") or any(
+                    e.name.lower().startswith(("neck", "shoulder")) for e in p.edges().values()):
+                return "neck"
+        return "waist"
 
     def panel(self, name: str) -> Panel:
         """The panel called ``name``; ``KeyError`` listing the panels when there is none."""

@@ -22,6 +22,9 @@ from .dxf import notch_marks
 from .edges import Edge
 from .model import Loop, Pattern
 
+# matplotlib is imported inside the functions that need it (the PDF, and fit colours without
+# triangle_panel): it is heavy, and the SVG sheet is written without it.
+
 __all__ = ["PAPERS", "Sheet", "layout", "write_pdf", "write_svg"]
 
 #: paper sizes (width, height) [m]

@@ -16,6 +16,7 @@ from ..mesh.transfer import follow_edit, transfer
 from ..mesh.triangulate import mesh_pattern
 from ..pattern.model import Pattern
 from .fabrics import Fabric, get_fabric
+from .onbody import OnBodyChecks, on_body_checks
 from .placement import place_on_body
 from .solver import DrapeResult, GarmentSolver, SolverSettings
 
@@ -36,6 +37,13 @@ class Drape:
         Kept for a warm re-drape after an edit (:func:`redrape`).
     seconds : float
         Wall time of placement and solve [s].
+    onbody : OnBodyChecks or None
+        Whether the garment rests on the body where its pattern says
+        (:func:`patternfit.sim.onbody.on_body_checks`); every drape of :func:`drape` and
+        :func:`redrape` carries it (another engine's drape gets it from
+        :meth:`check_on_body`).
+    pattern, body
+        What :meth:`check_on_body` checked against (kept for a re-drape's check).
     """
 
     positions: np.ndarray
@@ -44,20 +52,65 @@ class Drape:
     solver: GarmentSolver
     seconds: float
     timing: dict = field(default_factory=dict)
+    onbody: OnBodyChecks | None = None
+    pattern: Pattern | None = None
+    body: object = None
 
     @property
     def checks(self):
+        """The solver's checks (:class:`DrapeChecks`); :attr:`passed` adds the on-body ones."""
         return self.result.checks
 
+    def check_on_body(self, pattern: Pattern, mesh: GarmentMesh, body) -> OnBodyChecks:
+        """Run the on-body checks of this drape of ``mesh`` (made from ``pattern``) on
+        ``body``, keep them in :attr:`onbody` and return them."""
+        self.pattern, self.body = pattern, body
+        self.onbody = on_body_checks(pattern, mesh, body, self.positions)
+        return self.onbody
+
+    @property
+    def reasons(self) -> list[str]:
+        """Why the drape failed, in words (on-body reasons first); empty when it passed."""
+        out = list(self.onbody.reasons) if self.onbody is not None else []
+        return out + solver_reasons(self.result.checks, self.result.stop_reason)
+
+    @property
+    def passed(self) -> bool:
+        """The one verdict of a drape: the solver's checks passed and the garment rests on
+        the body where its pattern says (on-body checks not yet run count as passed)."""
+        return bool(self.result.checks.passed
+                    and (self.onbody is None or self.onbody.passed))
+
     def report_extra(self) -> dict:
-        """``checks`` and ``timing`` entries for ``report.json``."""
+        """``checks`` and ``timing`` entries for ``report.json``: the solver's checks, the
+        on-body checks, ``solver_passed``, ``passed`` (both) and ``reasons`` (why not, in
+        words)."""
         r = self.result
-        return {"checks": {**r.checks.to_dict(), "passed": r.checks.passed,
+        onbody = self.onbody.to_dict() if self.onbody is not None else {}
+        return {"checks": {**r.checks.to_dict(), **onbody, "solver_passed": r.checks.passed,
+                           "passed": self.passed, "reasons": self.reasons,
                            "stop_reason": r.stop_reason},
                 "timing": {"seconds": self.seconds,
                            "iterations": r.iterations + self.timing.get("sewing_iterations", 0)
                            + self.timing.get("coarse_iterations", 0),
                            "engine": "static", **self.timing}}
+
+
+def solver_reasons(checks, stop_reason: str | None = None) -> list[str]:
+    """The solver's failed checks (:class:`DrapeChecks`) in words; empty when they passed."""
+    if checks.passed:
+        return []
+    out = []
+    if checks.inside_vertices:
+        out.append(f"{checks.inside_vertices} vertices inside the body (deepest "
+                   f"{checks.max_depth_mm:.1f} mm)")
+    if not checks.seam_gap_max_mm < 0.5:
+        out.append(f"seams open by up to {checks.seam_gap_max_mm:.1f} mm")
+    if checks.self_intersections:
+        out.append(f"{checks.self_intersections} crossed triangle pairs")
+    if not checks.equilibrium:
+        out.append("no equilibrium" + (f" (stopped: {stop_reason})" if stop_reason else ""))
+    return out or ["the solver's checks failed"]
 
 
 def _grain_per_triangle(mesh: GarmentMesh) -> np.ndarray:
@@ -66,7 +119,7 @@ def _grain_per_triangle(mesh: GarmentMesh) -> np.ndarray:
 
 def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cotton", *,
           settings: SolverSettings | None = None, clearance: float = 0.03, spacing: float = 0.005,
-          placed=None, sewing_iterations: int = 1500, relax_iterations: int = 300,
+          placed=None, start=None, sewing_iterations: int = 1500, relax_iterations: int = 300,
           contact_margin: float = 0.003, sewing_self_collision: bool = False,
           coarse: int | None = 2000, progress=None) -> Drape:
     """Place, sew and drape ``mesh`` on ``body`` to static equilibrium.
@@ -85,7 +138,13 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cot
     spacing : float
         Grid step of the body's distance field [m].
     placed : (n, 3) float, optional
-        A start state instead of the automatic placement (e.g. an imported 3D placement).
+        A start state instead of the automatic placement (e.g. an imported 3D placement),
+        sewn and relaxed like a placement.
+    start : (n, 3) float, optional
+        A sewn state of ``mesh`` to continue from (a saved drape's ``positions.npy``): the
+        seams are welded at once and the drape under gravity starts there, with friction
+        on from the first iteration; no placement, sewing, relaxation or coarse stage.
+        ``timing["start"]`` is then ``"saved"``.
     sewing_iterations : int
         Iteration limit of the sewing phase (no gravity), which ends once the seams are
         closed and welded.
@@ -119,6 +178,14 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cot
     t = time.perf_counter()
     field_ = body.distance_field(spacing)
     t_sdf = time.perf_counter() - t
+    if start is not None:
+        d = _drape_from(mesh, fabric, field_, np.asanyarray(start, dtype=np.float64),
+                        replace(settings or SolverSettings(), contact_margin=contact_margin),
+                        progress)
+        d.seconds = time.perf_counter() - t0
+        d.timing["distance_field_seconds"] = t_sdf
+        d.check_on_body(pattern, mesh, body)
+        return d
     x0 = place_on_body(pattern, mesh, body, clearance=clearance) if placed is None \
         else np.asanyarray(placed, dtype=np.float64)
     settings = replace(settings or SolverSettings(), contact_margin=contact_margin)
@@ -126,16 +193,35 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cot
                    sewing_iterations=sewing_iterations, relax_iterations=relax_iterations,
                    contact_margin=contact_margin, sewing_self_collision=sewing_self_collision)
     if coarse and mesh.n_triangles > 3 * coarse:
-        return _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options,
-                               t0, t_sdf, progress)
+        d = _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options,
+                            t0, t_sdf, progress)
+        d.check_on_body(pattern, mesh, body)
+        return d
     solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh), fabric,
                            seam_pairs=mesh.seam_pairs, body=field_, settings=settings)
     timing = {"distance_field_seconds": t_sdf}
     result = _sew_and_drape(solver, x0, timing, relax_iterations=relax_iterations,
                             sewing_iterations=sewing_iterations,
                             sewing_self_collision=sewing_self_collision, progress=progress)
-    return Drape(positions=result.x[solver.vertex_map], placed=x0, result=result, solver=solver,
-                 seconds=time.perf_counter() - t0, timing=timing)
+    d = Drape(positions=result.x[solver.vertex_map], placed=x0, result=result, solver=solver,
+              seconds=time.perf_counter() - t0, timing=timing)
+    d.check_on_body(pattern, mesh, body)
+    return d
+
+
+def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settings,
+                progress) -> Drape:
+    """Drape under gravity from a sewn state ``x`` (n, 3) [m] of ``mesh``, seams welded."""
+    if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
+        raise ValueError(f"start: expected finite ({mesh.n_vertices}, 3) positions, "
+                         f"got {x.shape}")
+    solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh), fabric,
+                           seam_pairs=mesh.seam_pairs, body=field_,
+                           settings=replace(settings, friction_delay=0))
+    solver.weld()
+    result = solver.solve(x, progress=progress)
+    return Drape(positions=result.x[solver.vertex_map], placed=x, result=result, solver=solver,
+                 seconds=0.0, timing={"start": "saved"})
 
 
 def _sew_and_drape(solver: GarmentSolver, x0, timing: dict, *, relax_iterations: int,
@@ -210,7 +296,8 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
 _MOVED_DEPTH_MM = 5.0
 
 
-def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, progress=None) -> Drape:
+def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, pattern: Pattern | None = None,
+            progress=None) -> Drape:
     """Drape again after an edit that kept the mesh topology (new rest shapes only); the
     factorisation is reused when it can be.
 
@@ -224,6 +311,8 @@ def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, progress=None) ->
     then from the previous equilibrium as it is. (Half or a quarter of the motion crossed
     less, but settled no faster than none of it.)
     ``timing["start"]`` says which: "given", "moved" or "previous".
+    The on-body checks run against ``pattern`` (the edited pattern; the previous drape's
+    when None: an edit keeps the panels' parts and the anchor) and the previous body.
     """
     t0 = time.perf_counter()
     solver = previous.solver
@@ -244,5 +333,9 @@ def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, progress=None) ->
                 x0, how = rows, "moved"
     solver.set_rest(mesh.vertices)
     result = solver.solve(x0, resume=how == "moved", progress=progress)
-    return Drape(positions=result.x[solver.vertex_map], placed=previous.placed, result=result,
-                 solver=solver, seconds=time.perf_counter() - t0, timing={"start": how})
+    d = Drape(positions=result.x[solver.vertex_map], placed=previous.placed, result=result,
+              solver=solver, seconds=time.perf_counter() - t0, timing={"start": how})
+    pattern = pattern if pattern is not None else previous.pattern
+    if pattern is not None and previous.body is not None:
+        d.check_on_body(pattern, mesh, previous.body)
+    return d

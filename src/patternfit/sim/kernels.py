@@ -609,3 +609,59 @@ def intersecting_pairs(x, tris, cell):
         if hit:
             count += 1
     return count
+
+
+# ---------------------------------------------------------------------------------------
+# Hessians for the Newton solver (SolverSettings.method = "newton")
+
+
+@njit(cache=True)
+def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, out):
+    """Positive semi-definite Hessian of :func:`membrane`, per triangle: ``out`` (m, 81) holds
+    the 9x9 block over (corner j, coordinate c) x (corner k, coordinate d), row-major.
+
+    In the images ``w_u``, ``w_v`` of the warp and weft the stretch term
+    ``k (|w| - 1)^2 / 2`` has the Hessian ``k (w^ w^T + max(e, 0) / |w| (I - w^ w^T))``: the
+    transverse part, negative in compression, is clamped at zero; the shear term
+    ``k_s s^2 / 2`` keeps its Gauss-Newton part ``k_s a a^T`` (``a = (w_v, w_u)``) and drops
+    ``k_s s`` times an indefinite coupling. Exact where every yarn is stretched and the shear
+    is zero; a PSD bound otherwise (Newton then takes a descent step).
+    """
+    Huu = np.empty((3, 3))
+    Hvv = np.empty((3, 3))
+    Huv = np.empty((3, 3))
+    wu = np.empty(3)
+    wv = np.empty(3)
+    for t in range(tris.shape[0]):
+        a0, a1, a2 = tris[t, 0], tris[t, 1], tris[t, 2]
+        for c in range(3):
+            wu[c] = cu[t, 0] * x[a0, c] + cu[t, 1] * x[a1, c] + cu[t, 2] * x[a2, c]
+            wv[c] = cv[t, 0] * x[a0, c] + cv[t, 1] * x[a1, c] + cv[t, 2] * x[a2, c]
+        lu = max(np.sqrt(wu[0] ** 2 + wu[1] ** 2 + wu[2] ** 2), 1e-12)
+        lv = max(np.sqrt(wv[0] ** 2 + wv[1] ** 2 + wv[2] ** 2), 1e-12)
+        eu = lu - 1.0
+        ev = lv - 1.0
+        ku = k_warp if eu > 0.0 else k_warp * compression
+        kv = k_weft if ev > 0.0 else k_weft * compression
+        a = area[t]
+        tu = max(eu, 0.0) / lu
+        tv = max(ev, 0.0) / lv
+        for c in range(3):
+            for d in range(3):
+                eye = 1.0 if c == d else 0.0
+                nu = wu[c] * wu[d] / (lu * lu)
+                nv = wv[c] * wv[d] / (lv * lv)
+                Huu[c, d] = a * (ku * (nu + tu * (eye - nu)) + k_shear * wv[c] * wv[d])
+                Hvv[c, d] = a * (kv * (nv + tv * (eye - nv)) + k_shear * wu[c] * wu[d])
+                Huv[c, d] = a * k_shear * wv[c] * wu[d]
+        for j in range(3):
+            uj = cu[t, j]
+            vj = cv[t, j]
+            for k in range(3):
+                uk = cu[t, k]
+                vk = cv[t, k]
+                for c in range(3):
+                    for d in range(3):
+                        out[t, (j * 3 + c) * 9 + k * 3 + d] = (
+                            uj * uk * Huu[c, d] + uj * vk * Huv[c, d]
+                            + vj * uk * Huv[d, c] + vj * vk * Hvv[c, d])

@@ -168,11 +168,12 @@ def place_on_cylinders(pattern: Pattern, mesh: GarmentMesh, *,
 
 # -- on a body ---------------------------------------------------------------------------------
 def _vertical_offset(pattern: Pattern, mesh: GarmentMesh, body) -> float:
-    """Shift [m] that brings the drafted garment to its height on the body: its top at the
-    neck base when ``pattern.meta["anchor"]`` is ``"neck"``, else at the waist."""
+    """Shift [m] that brings the drafted garment to its height on the body: its top 1 cm
+    above the neck base when :attr:`Pattern.anchor` is ``"neck"``, else above the waist
+    (the rule the on-body check measures the drape against)."""
     top = float(mesh.vertices[:, 1].max())
     m = body.measurements
-    if pattern.meta.get("anchor", "waist") == "neck":
+    if pattern.anchor == "neck":
         return m["neck_base_height"] + 0.01 - top
     return m["waist_height"] + 0.01 - top
 

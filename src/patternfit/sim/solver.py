@@ -45,6 +45,35 @@ class SolverSettings:
 
     max_iterations: int = 5000
     time_limit: float = 300.0
+    #: stopping rule: "force" stops at a force balance (``residual_rms`` and
+    #: ``residual_p99`` below); "kinematic" is the earlier rule on steps, energy drop and
+    #: drift (``step_tol`` ... ``drift_tol``), kept to compare with: its states are not at
+    #: rest by the force measure (docs/simulation.md)
+    stop: str = "kinematic"
+    #: equilibrium: the residual |F_i| / (m_i g) over the free vertices (F_i the total force
+    #: -dE/dx_i of the energy minimised, m_i the lumped mass, g = 9.80665 m/s^2) has an rms
+    #: at most this [-] ...
+    residual_rms: float = 0.01
+    #: ... and a 99th percentile at most this [-]
+    residual_p99: float = 0.1
+    #: descent direction once the seams are welded: "newton" (a Newton step on the PSD-
+    #: projected Hessian of every term, solved by conjugate gradients preconditioned by a
+    #: Cholesky factor of an earlier Hessian) or "lbfgs" (the earlier solver; sewing always
+    #: uses it)
+    method: str = "lbfgs"
+    #: Newton: the Hessian gets the regulariser m / newton_dt^2 [s] (rigid motions of a
+    #: garment without support or friction are otherwise singular)
+    newton_dt: float = 1.0
+    #: Newton: conjugate gradients stop at this residual, relative to the gradient [-] ...
+    newton_cg_tol: float = 0.05
+    #: ... or after this many iterations; when more than ``newton_refactor`` were needed
+    #: the preconditioner is refactored from the current Hessian
+    newton_cg_max: int = 100
+    newton_refactor: int = 40
+    #: Newton: iterations between outer updates (``refresh`` for L-BFGS) and before friction
+    #: (``friction_delay`` for L-BFGS)
+    newton_refresh: int = 4
+    newton_friction_delay: int = 8
     step_tol: float = 5e-5
     energy_tol: float = 1e-5
     patience: int = 5
@@ -116,8 +145,14 @@ class DrapeChecks:
     seam_gap_max_mm: float
     #: triangle pairs (sharing no vertex) that cross each other
     self_intersections: int
-    #: whether the stopping criterion was met
+    #: whether the garment is at rest: the stop criterion was met and, where the residual
+    #: is known, residual_rms <= SolverSettings.residual_rms and residual_p99 <=
+    #: SolverSettings.residual_p99
     equilibrium: bool
+    #: residual force |F_i| / (m_i g) over the free vertices: rms and 99th percentile [-]
+    #: (None where unknown, e.g. a state checked without the solver's energy)
+    residual_rms: float | None = None
+    residual_p99: float | None = None
 
     @property
     def passed(self) -> bool:
@@ -129,7 +164,8 @@ class DrapeChecks:
         return {"inside_vertices": self.inside_vertices, "max_depth_mm": self.max_depth_mm,
                 "min_clearance_mm": self.min_clearance_mm,
                 "seam_gap_max_mm": self.seam_gap_max_mm,
-                "self_intersections": self.self_intersections, "equilibrium": self.equilibrium}
+                "self_intersections": self.self_intersections, "equilibrium": self.equilibrium,
+                "residual_rms": self.residual_rms, "residual_p99": self.residual_p99}
 
 
 @dataclass(frozen=True, eq=False)
@@ -287,6 +323,9 @@ class GarmentSolver:
         self._factor_diag = None
         self.factorizations = 0
         self._held = None
+        self._hpattern = None
+        self._nfactor = None
+        self._cg_last = 0
         self._build()
 
     # ------------------------------------------------------------------------ set-up
@@ -305,6 +344,10 @@ class GarmentSolver:
         self._free = np.ones(self._n, bool)
         self._free[self._pinned] = False
         self._edges = np.ascontiguousarray(unique_edges(self.terms.tris))
+        if self._hpattern is not None and not np.array_equal(self._hpattern[0],
+                                                             self.terms.tris):
+            self._hpattern = None
+            self._nfactor = None
 
     def set_rest(self, rest) -> None:
         """New rest shapes (same topology), e.g. after a pattern edit; then ``solve`` from
@@ -381,6 +424,152 @@ class GarmentSolver:
         grad[~self._free] = 0.0
         return e, grad
 
+    # ------------------------------------------------------------------------ Newton
+    def _hessian_pattern(self):
+        """The fixed sparsity of the 3n x 3n Hessian (membrane, bending and every vertex's
+        3x3 block) and each term's slots in it; made once per mesh topology."""
+        if self._hpattern is not None and len(self._hpattern[4]) == 3 * self.terms.bending.nnz:
+            return self._hpattern
+        n3 = 3 * self._n
+        tris = self.terms.tris
+        dof = (3 * tris[:, :, None] + np.arange(3)).reshape(-1, 9)  # (m, 9)
+        r_mem = np.repeat(dof, 9, axis=1).ravel()
+        c_mem = np.tile(dof, (1, 9)).ravel()
+        Q = self.terms.bending.tocoo()
+        r_b = (3 * Q.row[:, None] + np.arange(3)).ravel()
+        c_b = (3 * Q.col[:, None] + np.arange(3)).ravel()
+        vd = 3 * np.arange(self._n)[:, None] + np.arange(3)
+        r_d = np.repeat(vd, 3, axis=1).ravel()
+        c_d = np.tile(vd, (1, 3)).ravel()
+        keys = np.concatenate([r_mem * n3 + c_mem, r_b * n3 + c_b, r_d * n3 + c_d])
+        uniq, slot = np.unique(keys, return_inverse=True)
+        rows, cols = uniq // n3, uniq % n3
+        indptr = np.searchsorted(rows, np.arange(n3 + 1)).astype(np.int32)
+        indices = cols.astype(np.int32)
+        k1, k2 = len(r_mem), len(r_mem) + len(r_b)
+        self._hpattern = (tris.copy(), indptr, indices, slot[:k1], slot[k1:k2], slot[k2:],
+                          rows, cols)
+        return self._hpattern
+
+    def _hessian(self, x):
+        """PSD-projected Hessian (3n x 3n CSR) of the energy at ``x`` with the current lagged
+        terms, plus the regulariser m / newton_dt^2; pinned rows and columns are identity."""
+        s = self.settings
+        t = self.terms
+        f = self.fabric
+        _, indptr, indices, s_mem, s_b, s_d, rows, cols = self._hessian_pattern()
+        mem = np.empty((len(t.tris), 81))
+        kernels.membrane_hessian(x, t.tris, t.cu, t.cv, t.area, f.stretch_warp,
+                                 f.stretch_weft, f.shear, s.compression, mem)
+        Q = t.bending.tocoo()
+        blocks = np.zeros((self._n, 3, 3))
+        blocks += (self._mass / s.newton_dt ** 2)[:, None, None] * np.eye(3)
+        if self.body is not None:
+            d, g = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
+            on = np.flatnonzero(d < self._reach)
+            blocks[on] += self._kc[on, None, None] * g[on, :, None] * g[on, None, :]
+        if len(self._fr_idx):
+            idx, nrm = self._fr_idx, self._fr_normal
+            P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
+            u = np.einsum("kij,kj->ki", P, x[idx] - self._fr_anchor)
+            m = np.linalg.norm(u, axis=1)
+            slip = s.friction_slip
+            stick = m < slip
+            k = np.where(stick, self._fr_limit / slip, self._fr_limit / np.maximum(m, 1e-300))
+            uh = u / np.maximum(m, 1e-300)[:, None]
+            Hf = P - np.where(stick[:, None, None], 0.0, uh[:, :, None] * uh[:, None, :])
+            np.add.at(blocks, idx, k[:, None, None] * Hf)
+        data = (np.bincount(s_mem, weights=mem.ravel(), minlength=len(indices))
+                + np.bincount(s_b, weights=np.repeat(Q.data, 3), minlength=len(indices))
+                + np.bincount(s_d, weights=blocks.ravel(), minlength=len(indices)))
+        n3 = 3 * self._n
+        H = sp.csr_matrix((data, indices, indptr), shape=(n3, n3))
+        extra = self._pair_hessian(x)
+        if extra is not None:
+            H = H + extra
+        if not self._free.all():
+            fd = np.repeat(self._free, 3).astype(float)
+            H = (sp.diags(fd) @ H @ sp.diags(fd) + sp.diags(1.0 - fd)).tocsr()
+        return H
+
+    def _pair_hessian(self, x):
+        """Gauss-Newton Hessian of the self-repulsion pairs (k w w^T n n^T), or None."""
+        parts = []
+        gap = self._self_gap
+        if len(self._pairs):
+            v, tri = self._pairs[:, 0], self._pairs[:, 1]
+            ids = np.c_[v, self.terms.tris[tri]]
+            w = np.c_[np.ones(len(v)), -self._bary]
+            d = np.einsum("pc,pc->p", self._pnormal, np.einsum("pj,pjc->pc", w, x[ids]))
+            on = gap - d > 0
+            if on.any():
+                parts.append((ids[on], w[on], self._pnormal[on], self._kc[v[on]]))
+        if len(self._epairs):
+            e, f = self._epairs[:, 0], self._epairs[:, 1]
+            ids = np.c_[self._near_edges[e], self._near_edges[f]]
+            st = self._est
+            w = np.c_[1.0 - st[:, 0], st[:, 0], st[:, 1] - 1.0, -st[:, 1]]
+            d = np.einsum("pc,pc->p", self._enormal, np.einsum("pj,pjc->pc", w, x[ids]))
+            on = gap - d > 0
+            if on.any():
+                parts.append((ids[on], w[on], self._enormal[on], self._kc[ids[on]].mean(axis=1)))
+        if not parts:
+            return None
+        rows, cols, vals = [], [], []
+        for ids, w, nrm, k in parts:
+            dof = (3 * ids[:, :, None] + np.arange(3)).reshape(len(ids), -1)
+            wn = (w[:, :, None] * nrm[:, None, :]).reshape(len(ids), -1)
+            rows.append(np.repeat(dof, dof.shape[1], axis=1).ravel())
+            cols.append(np.tile(dof, (1, dof.shape[1])).ravel())
+            vals.append((k[:, None, None] * wn[:, :, None] * wn[:, None, :]).ravel())
+        n3 = 3 * self._n
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
+                                                     np.concatenate(cols))), shape=(n3, n3))
+
+    def _newton_direction(self, x, grad):
+        """Inexact Newton step: conjugate gradients on H d = -grad, preconditioned by the
+        Cholesky factor of this or an earlier Hessian (refactored when CG was slow)."""
+        s = self.settings
+        H = self._hessian(x)
+        if self._nfactor is None or self._cg_last > s.newton_refactor:
+            C = H.tocoo()
+            self._nfactor = CholeskySolverD(H.shape[0], C.row.astype(np.int32),
+                                            C.col.astype(np.int32), C.data, MatrixType.COO)
+            self.factorizations += 1
+        b = -grad.reshape(-1, 1)
+        b[np.repeat(~self._free, 3)] = 0.0
+
+        def prec(r):
+            out = np.zeros_like(r)
+            self._nfactor.solve(np.ascontiguousarray(r), out)
+            return out
+
+        xk = np.zeros_like(b)
+        r = b.copy()
+        z = prec(r)
+        p = z.copy()
+        rz = float(r.ravel() @ z.ravel())
+        bn = float(np.linalg.norm(b))
+        its = 0
+        for its in range(1, s.newton_cg_max + 1):
+            hp = H @ p
+            php = float(p.ravel() @ hp.ravel())
+            if not php > 0.0:
+                break
+            a = rz / php
+            xk += a * p
+            r -= a * hp
+            if float(np.linalg.norm(r)) <= s.newton_cg_tol * bn:
+                break
+            z = prec(r)
+            rz_new = float(r.ravel() @ z.ravel())
+            p = z + (rz_new / rz) * p
+            rz = rz_new
+        self._cg_last = its
+        if not xk.any():
+            return prec(b).ravel()
+        return xk.ravel()
+
     # ------------------------------------------------------------------------ outer updates
     def _set_springs(self, stiffness, pull=1.0):
         s = self.settings
@@ -439,7 +628,8 @@ class GarmentSolver:
         if self.settings.self_collision and (self._x_pairs is None
                                              or self._moved_since_pairs(x)):
             self._find_pairs(x)
-        self._ensure_factor(diag)
+        if self.settings.method != "newton" or not self._welded:
+            self._ensure_factor(diag)
 
     def _anchors(self, x, idx, normal):
         """Friction anchors of the contact vertices ``idx``.
@@ -581,7 +771,9 @@ class GarmentSolver:
         # friction anchors and contact stiffness, and friction acts from the first iteration
         same = self._held is not None and np.array_equal(x_full, self._held)
         warm = not sewing and self._held is not None and (same or resume)
-        friction_from = None if sewing else (0 if warm else s.friction_delay)
+        newton = s.method == "newton"
+        delay = s.newton_friction_delay if newton else s.friction_delay
+        friction_from = None if sewing else (0 if warm else delay)
 
         def setup(x_red, keep):
             self._f = self._mass[:, None] * np.asarray(s.gravity)[None, :]
@@ -617,6 +809,7 @@ class GarmentSolver:
         marks = [(0, x.copy())]  # (iteration, positions): the start, then every half window
         converged = interrupted = False
         reason = "iterations"
+        force_rule = s.stop == "force"
         try:
             while True:
                 if it >= s.max_iterations:
@@ -625,7 +818,9 @@ class GarmentSolver:
                 if time.perf_counter() - t_start > s.time_limit:
                     reason = "time"
                     break
-                if it - last_refresh >= s.refresh or (sewing and calm >= s.patience):
+                newton_now = newton and not sewing
+                every = s.newton_refresh if newton_now else s.refresh
+                if it - last_refresh >= every or (sewing and calm >= s.patience):
                     last_refresh = it
                     if sewing:
                         gap = self._seam_gap(x)
@@ -635,7 +830,7 @@ class GarmentSolver:
                             x = setup(self._reduce(x_full), keep=False)
                             marks = [(it, x.copy())]
                             sewing = False
-                            friction_from = it + s.friction_delay
+                            friction_from = it + delay
                             lbfgs.reset()
                             if s.stop_at_weld:
                                 energy, grad = self._energy(x)
@@ -650,36 +845,49 @@ class GarmentSolver:
                     self._refresh(x, friction_on=friction_from is not None and it >= friction_from)
                     energy, grad = self._energy(x)
                     calm = 0
+                if force_rule and not sewing and self._at_rest(grad):
+                    if self._can_stiffen(x):
+                        last_refresh = it - every  # stiffen the contact and go on
+                        continue
+                    converged, reason = True, "converged"
+                    break
                 g = grad.ravel()
-                d = lbfgs.direction(g, self._precondition)
+                newton_now = newton and not sewing  # (the weld may have come just now)
+                if newton_now:
+                    d = self._newton_direction(x, grad)
+                else:
+                    d = lbfgs.direction(g, self._precondition)
                 gd = kernels.dot(g, d)
-                if not gd < 0.0:
+                if not gd < 0.0 and not newton_now:
                     lbfgs.reset()
                     d = -self._precondition(g)
                     gd = kernels.dot(g, d)
                 if not gd < 0.0:
-                    converged, reason = not sewing, "converged" if not sewing else "stalled"
+                    converged, reason = self._stalled(sewing, grad)
                     break
                 # a capped step cannot tunnel through the body, nor follow the unbounded
                 # descent of a garment that would fall past it
                 longest = kernels.max_row_norm(d.reshape(-1, 3))
                 alpha = min(1.0, s.max_step / max(longest, 1e-300))
                 accepted = False
+                # near rest the energy's rounding (its gravity part is large) hides the drop
+                noise = 1e-13 * (abs(energy) + e_scale) if force_rule else 0.0
                 for _ in range(30):
                     x_new = x + alpha * d.reshape(-1, 3)
                     e_new, g_new = self._energy(x_new)
-                    if e_new <= energy + 1e-4 * alpha * gd:
+                    if e_new <= energy + 1e-4 * alpha * gd + noise:
                         accepted = True
                         break
                     alpha *= 0.5
                 if not accepted:
-                    if lbfgs.count:
+                    if lbfgs.count and not newton_now:
                         lbfgs.reset()
                         continue
-                    converged, reason = not sewing, "converged" if not sewing else "stalled"
+                    converged, reason = self._stalled(sewing, grad)
                     break
                 step_vec = x_new - x
-                lbfgs.push(step_vec.ravel(), (g_new - grad).ravel())
+                if not newton_now:
+                    lbfgs.push(step_vec.ravel(), (g_new - grad).ravel())
                 drop = energy - e_new
                 total_drop += max(drop, 0.0)
                 step = kernels.max_row_norm(step_vec)
@@ -694,8 +902,8 @@ class GarmentSolver:
                     marks = marks[-2:] + [(it, x.copy())]
                 small = step < s.step_tol and drop <= s.energy_tol * max(total_drop, e_scale)
                 calm = calm + 1 if small else 0
-                if calm >= s.patience and not sewing and _drift(x, it, marks, s.window) \
-                        <= s.drift_tol:
+                if not force_rule and calm >= s.patience and not sewing \
+                        and _drift(x, it, marks, s.window) <= s.drift_tol:
                     if self._can_stiffen(x):
                         last_refresh = it - s.refresh  # stiffen the contact and go on
                         continue
@@ -712,7 +920,7 @@ class GarmentSolver:
             x=x_out, vertex_map=self._group[self.vertex_map], welded=self._welded,
             iterations=it, seconds=seconds, converged=converged, interrupted=interrupted,
             stop_reason=reason, energy=float(energy),
-            checks=self.checks(x_out, converged=converged),
+            checks=self.checks(x_out, converged=converged, residual=self._residual(grad)),
             factorizations=self.factorizations)
 
     # ------------------------------------------------------------------------ checks
@@ -722,6 +930,36 @@ class GarmentSolver:
         a, b = self._group[self.seam_pairs[:, 0]], self._group[self.seam_pairs[:, 1]]
         return float(np.linalg.norm(x_red[a] - x_red[b], axis=1).max())
 
+    def _residual(self, grad):
+        """(rms, 99th percentile) of |F_i| / (m_i g) over the free solved vertices, F = -grad
+        of the energy minimised (lagged terms at their current anchors and pairs)."""
+        free = self._free & (self._mass > 0)
+        if not free.any():
+            return 0.0, 0.0
+        r = np.sqrt((grad[free] ** 2).sum(axis=1)) / (self._mass[free] * GRAVITY)
+        return float(np.sqrt(np.mean(r * r))), float(np.percentile(r, 99))
+
+    def _at_rest(self, grad) -> bool:
+        """Whether the force balance of ``SolverSettings.residual_rms`` / ``residual_p99``
+        holds (the p99 is computed only when the rms passes)."""
+        s = self.settings
+        free = self._free & (self._mass > 0)
+        if not free.any():
+            return True
+        r2 = (grad[free] ** 2).sum(axis=1) / (self._mass[free] * GRAVITY) ** 2
+        if float(np.mean(r2)) > s.residual_rms ** 2:
+            return False
+        return float(np.sqrt(np.percentile(r2, 99))) <= s.residual_p99
+
+    def _stalled(self, sewing, grad):
+        """(converged, reason) when no descent step is found: at rest by the force rule, or
+        (kinematic rule) whenever not sewing."""
+        if sewing:
+            return False, "stalled"
+        if self.settings.stop == "force" and not self._at_rest(grad):
+            return False, "stalled"
+        return True, "converged"
+
     def _can_stiffen(self, x_red):
         """Whether a vertex is inside the body (or deeper than half the contact margin) with
         its contact stiffness not yet at the cap."""
@@ -729,6 +967,18 @@ class GarmentSolver:
             return False
         d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x_red)
         return bool(((d < self._floor) & (self._contact_scale < _MAX_CONTACT_SCALE)).any())
+
+    def compressed_share(self, x, strain: float = 0.01) -> float:
+        """Share of the membrane's rest area [-] whose warp or weft is compressed by more
+        than ``strain`` at simulated positions ``x`` (n3, 3) [m] (cloth that shrinks in
+        plane instead of folding)."""
+        x = self._reduce(array(x, "x", shape=(None, 3), contiguous=True))
+        t = self.terms
+        p = x[t.tris]  # (m, 3, 3)
+        lu = np.linalg.norm(np.einsum("mj,mjc->mc", t.cu, p), axis=1)
+        lv = np.linalg.norm(np.einsum("mj,mjc->mc", t.cv, p), axis=1)
+        short = (lu < 1.0 - strain) | (lv < 1.0 - strain)
+        return float(t.area[short].sum() / t.area.sum())
 
     def crossings(self, x) -> int:
         """Triangle pairs (sharing no vertex once welded) that cross each other at simulated
@@ -738,8 +988,10 @@ class GarmentSolver:
         return int(kernels.intersecting_pairs(self._reduce(x), self.terms.tris,
                                               self.terms.edge_length))
 
-    def checks(self, x, *, converged: bool = False) -> DrapeChecks:
-        """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`."""
+    def checks(self, x, *, converged: bool = False, residual=None) -> DrapeChecks:
+        """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`.
+        ``residual``: (rms, p99) of the residual force at ``x`` when known; then
+        ``equilibrium`` also needs them within the settings' thresholds."""
         x = array(x, "x", shape=(None, 3), contiguous=True)
         if self.body is not None:
             d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
@@ -751,6 +1003,13 @@ class GarmentSolver:
         gap = (float(np.linalg.norm(x[self.seam_pairs[:, 0]] - x[self.seam_pairs[:, 1]],
                                     axis=1).max() * 1e3) if len(self.seam_pairs) else 0.0)
         crossing = self.crossings(x)
+        rms = p99 = None
+        at_rest = bool(converged)
+        if residual is not None:
+            rms, p99 = float(residual[0]), float(residual[1])
+            if self.settings.stop == "force":
+                at_rest = at_rest and rms <= self.settings.residual_rms \
+                    and p99 <= self.settings.residual_p99
         return DrapeChecks(inside_vertices=inside, max_depth_mm=depth, min_clearance_mm=clearance,
                            seam_gap_max_mm=gap, self_intersections=crossing,
-                           equilibrium=bool(converged))
+                           equilibrium=at_rest, residual_rms=rms, residual_p99=p99)

@@ -28,10 +28,17 @@ from fastapi.staticfiles import StaticFiles
 from starlette.datastructures import Headers, UploadFile
 from starlette.formparsers import MultiPartException, MultiPartParser
 
+from ..body.builtin import list_bodies
 from ..constants import limits
 from ..errors import InputError
 from ..files import parse_json_text
-from ..fit.colormap import FitScale
+from ..fit.colormap import FitScale, vertex_values
+from ..fit.export import export_garment
+from ..fit.report import fit_report, write_report
+from ..pattern.formats import save_any_pattern
+from ..pattern.library import GARMENTS
+from ..pattern.sizes import SIZE_NAMES
+from ..sim.fabrics import FABRICS
 from .state import DRAG_OPS, STRETCH_SCALE, UPLOAD_SUFFIXES, Studio, describe_error
 
 STATIC = Path(__file__).parent / "static"
@@ -48,14 +55,6 @@ EXPORTS = {
     "report.json": "report",
 }
 _TOKEN_SLOT = "__PATTERNFIT_TOKEN__"
-
-
-def _correct_available() -> bool:
-    try:
-        from ..loop import correct  # noqa: F401
-    except ImportError:
-        return False
-    return True
 
 
 class _Guard:
@@ -215,14 +214,10 @@ def create_app(session_dir, *, max_upload: int | None = None,
 
     @app.get("/api/options")
     def options():
-        from ..body.builtin import list_bodies
-        from ..pattern.library import GARMENTS
-        from ..pattern.sizes import SIZE_NAMES
-        from ..sim.fabrics import FABRICS
-
+        # correct_available: always, the loop ships with the package (state.py imports it)
         return {"garments": {k: v[2] for k, v in GARMENTS.items()}, "sizes": list(SIZE_NAMES),
                 "bodies": list_bodies(), "fabrics": list(FABRICS),
-                "engines": ["default"], "correct_available": _correct_available(),
+                "engines": ["default"], "correct_available": True,
                 "max_upload": max_upload, "exports": list(EXPORTS), "drag_ops": DRAG_OPS,
                 "uploads": {k: list(v) for k, v in UPLOAD_SUFFIXES.items()}}
 
@@ -431,11 +426,6 @@ def _export(studio: Studio, name: str) -> bytes:
     """The bytes of export ``name`` (a key of ``EXPORTS``), written into a folder of its own
     under the session's ``exports/`` (removed again): an export running while another one,
     or an edit, writes can never hand out a half-written file."""
-    from ..fit.colormap import vertex_values
-    from ..fit.export import export_garment
-    from ..fit.report import fit_report, write_report
-    from ..pattern.formats import save_any_pattern
-
     (studio.folder / "exports").mkdir(exist_ok=True)
     with studio.lock, tempfile.TemporaryDirectory(dir=studio.folder / "exports") as tmp:
         s = studio.ensure()

@@ -6,6 +6,8 @@ import socket
 import threading
 import webbrowser
 
+from .app import create_app
+
 #: the only address the studio binds to: the design session is not shared on the network
 HOST = "127.0.0.1"
 
@@ -20,9 +22,7 @@ def free_port() -> int:
 def serve(session_dir, *, port: int | None = None, browser: bool = True, announce=print):
     """Serve the studio over ``session_dir`` until interrupted; ``announce(url)`` is called
     once the address is known, and the browser opened on it unless ``browser`` is false."""
-    import uvicorn
-
-    from .app import create_app
+    import uvicorn  # the server, needed only when the studio runs (not by create_app's users)
 
     app = create_app(session_dir)
     port = port or free_port()

@@ -21,12 +21,17 @@ from pathlib import Path
 import numpy as np
 
 from .. import api
+from .. import edit as tools
+from ..body.builtin import list_bodies
 from ..defaults import DEFAULTS
 from ..edit import CoordinateCache, update_mesh
 from ..errors import InputError, SessionError
 from ..files import atomic_write_text, dumps_finite_json, read_json_file
 from ..fit.colormap import FitScale
 from ..loop.session import holds_session
+from ..pattern.library import GARMENTS
+from ..pattern.sizes import SIZE_NAMES
+from ..sim.fabrics import FABRICS
 
 #: triangle count of a new session's garment mesh unless asked otherwise
 #: what an upload may be, with the file endings each kind is read from
@@ -122,10 +127,12 @@ class Studio:
         self.summary = {
             "revision": self.revision, "info": dict(self.info), "fabric": s.fabric.name,
             "triangles": s.triangles, "threshold": s.threshold, "position": s.position,
-            "history": [{k: r[k] for k in ("index", "label", "fitting_ratio", "current")}
+            "history": [{**{k: r[k] for k in ("index", "label", "fitting_ratio", "current")},
+                         "failed": _failed(s.history[r["index"]].checks)}
                         for r in s.summary()],
             "fitting_ratio": s.state.fitting_ratio, "draped": s.positions is not None,
-            "checks": s.state.checks, "can_undo": s.position > 0,
+            "checks": s.state.checks, "failed": _failed(s.state.checks),
+            "can_undo": s.position > 0,
             "can_redo": s.position + 1 < len(s.history)}
 
     def ensure(self) -> api.DesignSession:
@@ -140,11 +147,6 @@ class Studio:
             triangles: int = DEFAULTS.studio_triangles) -> None:
         """Start a new session on a built-in garment, body and fabric, each named as in
         ``/api/options`` (replaces the current session)."""
-        from ..body.builtin import list_bodies
-        from ..pattern.library import GARMENTS
-        from ..pattern.sizes import SIZE_NAMES
-        from ..sim.fabrics import FABRICS
-
         for what, value, known in (("garment", garment, GARMENTS), ("size", size, SIZE_NAMES),
                                    ("body", body, list_bodies()), ("fabric", fabric, FABRICS)):
             if not isinstance(value, str) or value not in known:
@@ -241,8 +243,6 @@ class Studio:
     def drag(self, op: str, args: dict) -> tuple[np.ndarray, list[str]]:
         """Live preview of a drag: the mesh's flat vertices (n, 2) [m] for the edited pattern,
         through the cached coordinates of the current mesh (nothing is recorded)."""
-        from .. import edit as tools
-
         if op not in DRAG_OPS:
             raise ValueError(f"op: the drag preview takes {', '.join(DRAG_OPS)}")
         with self.lock:
@@ -332,7 +332,8 @@ class Studio:
         session is saved after each round, so the page can follow and a reload keeps it."""
         def round_done(it):
             job.rounds.append({"iteration": it.index, "fitting_ratio": it.fitting_ratio,
-                               "edits": len(it.edits), "seconds": it.seconds})
+                               "edits": len(it.edits), "seconds": it.seconds,
+                               "failed": _failed(it.checks)})
             job.fraction = 0.0
             job._step0 = None
             with self.lock:
@@ -343,10 +344,20 @@ class Studio:
 
         result = api.correct(session, settings=api.CorrectionSettings(
             threshold=session.threshold), progress=round_done, drape_progress=progress)
-        job.result = {"reached": result.reached, "fitting_ratio": result.fitting_ratio}
+        job.result = {"reached": result.reached, "fitting_ratio": result.fitting_ratio,
+                      "failed": result.failed}
         with self.lock:
             if self.session is session:
                 self._save()
+
+
+def _failed(checks: dict | None) -> str | None:
+    """Why a state's drape failed its checks, in words (None: passed or not draped): the
+    page shows such a ϖ red, as "failed", never as a fit."""
+    if not checks or checks.get("passed") is not False:
+        return None
+    reasons = [str(r) for r in checks.get("reasons") or [] if r]
+    return "; ".join(reasons) if reasons else "the drape's checks failed"
 
 
 def _read_upload(kind: str, path: Path, stem: str):

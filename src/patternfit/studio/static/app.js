@@ -51,15 +51,20 @@ async function refresh({ geometry = true } = {}) {
   const s = await api("/api/state");
   studio.revision = s.revision;
   const r = s.fitting_ratio;
-  $("ratio").textContent = r === null ? "—" : `${(100 * r).toFixed(2)} %`;
+  // a drape that failed its checks (off the body, collapsed, ...) is no fit: red, "failed"
+  // and why, never green
+  $("ratio").textContent = r === null ? "—" : (s.failed ? `failed: ${clip(s.failed, 90)}` : `${(100 * r).toFixed(2)} %`);
   $("ratio").dataset.value = r === null ? "" : r;
-  $("ratio").className = r === null ? "" : (r >= s.threshold ? "fits" : "off");
+  $("ratio").className = r === null ? "" : (s.failed ? "failed" : (r >= s.threshold ? "fits" : "off"));
+  $("ratio").style.color = s.failed ? FAILED_RED : "";
+  $("ratio").title = s.failed ? `the drape failed: ${s.failed} (ϖ ${(100 * r).toFixed(2)} % is not a fit)` : "";
   $("source").textContent = `${s.info.source || ""} · ${s.info.body || ""} · ${s.fabric} · ${s.triangles} triangles`;
   $("history").innerHTML = "";
   for (const h of s.history) {
     const li = document.createElement("li");
-    li.textContent = `${h.label}  ${h.fitting_ratio === null ? "" : "ϖ " + (100 * h.fitting_ratio).toFixed(1) + " %"}`;
+    li.textContent = `${h.label}  ${h.fitting_ratio === null ? "" : (h.failed ? "failed: " + clip(h.failed, 60) : "ϖ " + (100 * h.fitting_ratio).toFixed(1) + " %")}`;
     if (h.current) li.className = "current";
+    if (h.failed) { li.style.color = FAILED_RED; li.title = `the drape failed: ${h.failed}`; }
     $("history").appendChild(li);
   }
   drawRatioHistory(s.history);
@@ -76,15 +81,18 @@ async function refresh({ geometry = true } = {}) {
   if (s.drape.running) pollDrape();
 }
 
+const FAILED_RED = "#ff6b6b";
+const clip = (text, n) => (text.length > n ? text.slice(0, n - 1) + "…" : text);
+
 function drawRatioHistory(history) {
   const svg = $("ratio-history"), W = 160, H = 36;
-  const pts = history.map((h, i) => [i, h.fitting_ratio]).filter((p) => p[1] !== null);
+  const pts = history.map((h, i) => [i, h.fitting_ratio, h.failed]).filter((p) => p[1] !== null);
   if (!pts.length) { svg.innerHTML = ""; return; }
   const lo = Math.min(...pts.map((p) => p[1]), 0.9), hi = Math.max(...pts.map((p) => p[1]), 1.0);
   const n = Math.max(history.length - 1, 1);
   const xy = pts.map(([i, r]) => [4 + (i / n) * (W - 8), H - 4 - ((r - lo) / (hi - lo || 1)) * (H - 8)]);
   svg.innerHTML = `<polyline points="${xy.map((p) => p.join(",")).join(" ")}" fill="none" stroke="#9fdc8f" stroke-width="2"/>` +
-    xy.map((p) => `<circle cx="${p[0]}" cy="${p[1]}" r="2.5" fill="#fff"/>`).join("");
+    xy.map((p, k) => `<circle cx="${p[0]}" cy="${p[1]}" r="2.5" fill="${pts[k][2] ? FAILED_RED : "#fff"}"/>`).join("");
 }
 
 function showLegend() {
@@ -231,12 +239,13 @@ async function pollDrape() {
     for (;;) {
       const j = await api("/api/drape");
       $("progress").value = j.fraction;
-      const rounds = j.rounds.map((r) => `round ${r.iteration}: ϖ ${(100 * r.fitting_ratio).toFixed(2)} %, ${r.edits} edits`);
+      const rounds = j.rounds.map((r) => (r.failed ? `round ${r.iteration}: failed (${clip(r.failed, 60)})` : `round ${r.iteration}: ϖ ${(100 * r.fitting_ratio).toFixed(2)} %, ${r.edits} edits`));
       $("drape-status").textContent = (j.kind === "correct" ? `correcting: ${rounds.join("; ")}${rounds.length ? "; " : ""}` : "") +
         `iteration ${j.iteration}, ${j.elapsed.toFixed(1)} s` + (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "");
       if (j.rounds.length > seen) { seen = j.rounds.length; await refresh(); }  // each round's edit shows
       if (!j.running) {
         if (j.error) message(j.error);
+        else if (j.result && j.result.failed) message(`correction stopped: ${j.result.failed}`);
         else if (j.result) message(j.result.reached ? `fit reached: ϖ ${(100 * j.result.fitting_ratio).toFixed(2)} %` : `fit not reached after ${j.rounds.length - 1} rounds`, "warning");
         break;
       }

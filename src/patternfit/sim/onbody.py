@@ -1,0 +1,172 @@
+"""On the body, or failed: checks that a draped garment rests on the body where its pattern
+says it hangs from.
+
+The solver's checks (:class:`~patternfit.sim.solver.DrapeChecks`: vertices inside the body,
+seam gaps, crossings, equilibrium) hold as well for a garment that fell 25 m, lies on the
+floor or slid from the shoulders to the hips; these do not. :func:`on_body_checks` is a
+pure function of the pattern, its mesh, the body and the 3D state; every drape carries its
+result (:attr:`patternfit.sim.drape.Drape.onbody`) and the report's ``checks`` hold it
+(``docs/simulation.md``, "On the body, or failed"). Units: metres inside, mm in the checks.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..geometry import triangle_areas
+from ..mesh.garment import GarmentMesh
+from ..pattern.model import Pattern
+
+#: body measurement giving the height of each anchor (:attr:`Pattern.anchor`) [m]
+ANCHOR_HEIGHT = {"waist": "waist_height", "neck": "neck_base_height"}
+
+
+@dataclass(frozen=True)
+class OnBodySettings:
+    """Thresholds of the on-body checks, all lengths in metres.
+
+    below_feet : float
+        A vertex lower than ``-below_feet`` is below the feet (the floor is y = 0; a
+        trouser hem pooling on the feet measured 8 mm below it).
+    far : float
+        A vertex farther than this from the body surface (the body's distance field) is
+        off the body (measured on the built-in garments on the six built-in bodies: at
+        most 0.23 m, the flared skirt's hem on the thin man).
+    anchor_tolerance : float
+        The garment's anchor line may end this far above or below the body's anchor
+        height (measured on the six built-in bodies: the skirt rests up to 6.8 cm below
+        the waist landmark, where its eased waist meets the body; dress and coat within
+        2 cm of the neck base; trousers on women 7–10 cm low, hems through the floor).
+    top_band : float
+        The anchor line: the outline vertices of each panel not on an arm within this
+        distance of the panel's top in the flat pattern (the top that placement puts at
+        the anchor height) [m].
+    min_area_ratio : float
+        A state whose 3D area is below this share of the flat area has collapsed [-].
+    """
+
+    below_feet: float = 0.02
+    far: float = 0.30
+    anchor_tolerance: float = 0.10
+    top_band: float = 0.01
+    min_area_ratio: float = 0.5
+
+
+#: the thresholds every drape is checked with
+ON_BODY = OnBodySettings()
+
+
+@dataclass(frozen=True)
+class OnBodyChecks:
+    """Whether a 3D state rests on the body where its pattern says (:func:`on_body_checks`).
+
+    Lengths in mm; ``reasons`` names every failed check in words (empty: passed).
+    """
+
+    #: vertices below the feet (y < -below_feet) and the lowest height [mm]
+    below_feet_vertices: int
+    lowest_mm: float | None
+    #: vertices farther than ``far`` from the body surface, and the farthest [mm]
+    far_vertices: int
+    farthest_mm: float | None
+    #: ``"waist"`` or ``"neck"`` (:attr:`Pattern.anchor`)
+    anchor: str
+    #: mean height of the garment's anchor line, the body's anchor height, and the first
+    #: minus the second [mm]
+    anchor_height_mm: float | None
+    landmark_height_mm: float
+    anchor_offset_mm: float | None
+    #: 3D area over flat area [-]
+    area_ratio: float | None
+    reasons: tuple[str, ...] = ()
+
+    @property
+    def passed(self) -> bool:
+        """On the body where the pattern says: no reason to fail."""
+        return not self.reasons
+
+    def to_dict(self) -> dict:
+        return {"below_feet_vertices": self.below_feet_vertices, "lowest_mm": self.lowest_mm,
+                "far_vertices": self.far_vertices, "farthest_mm": self.farthest_mm,
+                "anchor": self.anchor, "anchor_height_mm": self.anchor_height_mm,
+                "landmark_height_mm": self.landmark_height_mm,
+                "anchor_offset_mm": self.anchor_offset_mm, "area_ratio_3d": self.area_ratio,
+                "on_body": self.passed, "on_body_reasons": list(self.reasons)}
+
+
+def anchor_line(pattern: Pattern, mesh: GarmentMesh, *, band: float = ON_BODY.top_band
+                ) -> np.ndarray:
+    """Flat vertex ids of the garment's anchor line: the outline vertices of every panel
+    that is not on an arm lying within ``band`` [m] of the panel's top in the flat pattern
+    (all panels when every one is on an arm)."""
+    boundary = np.zeros(mesh.n_vertices, dtype=bool)
+    boundary[mesh.boundary_vertices] = True
+    parts = {p.name: p.placement.part for p in pattern.panels}
+    names = list(mesh.panel_names)
+    chosen = [i for i, n in enumerate(names) if not parts.get(n, "torso").startswith("arm")]
+    out = []
+    for i in chosen or range(len(names)):
+        ids = mesh.panel_vertices(i)
+        ids = ids[boundary[ids]]
+        if len(ids):
+            y = mesh.vertices[ids, 1]
+            out.append(ids[y >= y.max() - band])
+    return np.concatenate(out) if out else np.zeros(0, dtype=np.int64)
+
+
+def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
+                   settings: OnBodySettings = ON_BODY, spacing: float = 0.005) -> OnBodyChecks:
+    """Check that ``positions`` (n, 3) [m], a 3D state of ``mesh`` (made from ``pattern``),
+    rests on ``body`` (a :class:`patternfit.body.Body`) where the pattern says.
+
+    Fails, each with its reason in words, when the state has collapsed (3D area below
+    ``min_area_ratio`` of the flat area), a vertex is below the feet or far from the body
+    surface (the body's distance field with grid step ``spacing`` [m]), or the anchor line
+    (:func:`anchor_line`) ends more than ``anchor_tolerance`` from the height of the body's
+    anchor landmark (:attr:`Pattern.anchor`: waist or neck base). See
+    :class:`OnBodySettings` for the thresholds.
+    """
+    s = settings
+    x = np.asanyarray(positions, dtype=np.float64)
+    if x.shape != (mesh.n_vertices, 3):
+        raise ValueError(f"positions: expected ({mesh.n_vertices}, 3), got {x.shape}")
+    anchor = pattern.anchor
+    landmark = float(body.measurements[ANCHOR_HEIGHT[anchor]])
+    if not np.isfinite(x).all():
+        return OnBodyChecks(0, None, 0, None, anchor, None, landmark * 1e3, None, None,
+                            ("positions are not finite",))
+    reasons = []
+    flat = float(triangle_areas(mesh.vertices, mesh.triangles).sum())
+    ratio = float(triangle_areas(x, mesh.triangles).sum()) / flat if flat > 0 else 0.0
+    if ratio < s.min_area_ratio:
+        reasons.append(f"garment collapsed: its 3D area is {ratio * 100:.0f}% of the flat "
+                       f"pattern's (limit {s.min_area_ratio * 100:.0f}%)")
+    lowest = float(x[:, 1].min())
+    below = int((x[:, 1] < -s.below_feet).sum())
+    if below:
+        reasons.append(f"{below} vertices below the feet (lowest at y = {_length(lowest)}, "
+                       f"limit {_length(-s.below_feet)})")
+    d, _ = body.distance_field(spacing).query(x)
+    farthest = float(d.max())
+    far = int((d > s.far).sum())
+    if far:
+        reasons.append(f"{far} vertices far from the body (farthest {_length(farthest)} from "
+                       f"its surface, limit {_length(s.far)})")
+    line = anchor_line(pattern, mesh, band=s.top_band)
+    height = float(x[line, 1].mean()) if len(line) else None
+    offset = None if height is None else height - landmark
+    if offset is not None and abs(offset) > s.anchor_tolerance:
+        where = "below" if offset < 0 else "above"
+        what = "waist" if anchor == "waist" else "neck base"
+        reasons.append(f"garment top {_length(abs(offset))} {where} the {what} it hangs from "
+                       f"(limit {_length(s.anchor_tolerance)})")
+    mm = (lambda v: None if v is None else v * 1e3)
+    return OnBodyChecks(below, lowest * 1e3, far, farthest * 1e3, anchor, mm(height),
+                        landmark * 1e3, mm(offset), ratio, tuple(reasons))
+
+
+def _length(metres: float) -> str:
+    """A length in words: cm below a metre, else m."""
+    return f"{metres * 100:.1f} cm" if abs(metres) < 1.0 else f"{metres:.2f} m"

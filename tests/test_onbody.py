@@ -1,0 +1,200 @@
+"""On the body, or failed: the on-body checks of a drape, and a failed drape never shown as a
+fit (report, CLI, pictures' titles, correction loop, studio), and a drape started from a
+saved one (``--start``)."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from patternfit import api
+from patternfit.body.builtin import load_body
+from patternfit.cli.main import app
+from patternfit.errors import InputError
+from patternfit.fit import FitEvaluator
+from patternfit.fit.report import failure, fit_report
+from patternfit.loop.correct import correct, refusal
+from patternfit.mesh.store import save_garment
+from patternfit.pattern.library import build
+from patternfit.sim.onbody import ON_BODY, anchor_line, on_body_checks
+from patternfit.sim.placement import place_on_body
+
+from scenes import draped, garment
+
+BODY = "female_thin"
+
+
+@pytest.fixture(scope="module")
+def skirt():
+    """The built-in skirt (about 1,500 triangles) draped on the thin woman:
+    (pattern, mesh, body, drape)."""
+    body = load_body(BODY)
+    pattern, _ = garment("skirt", 1500)
+    mesh, d = draped("skirt", BODY, 1500)
+    return pattern, mesh, body, d
+
+
+def reasons(checks) -> str:
+    return " | ".join(checks.reasons)
+
+
+def test_a_real_drape_is_on_the_body(skirt):
+    pattern, mesh, body, d = skirt
+    c = d.onbody
+    assert c is not None and c.passed, c.reasons
+    assert c.anchor == "waist" and abs(c.anchor_offset_mm) < ON_BODY.anchor_tolerance * 1e3
+    assert c.below_feet_vertices == 0 and c.far_vertices == 0
+    assert 0.9 < c.area_ratio < 1.1
+    # one verdict: the solver's checks and the on-body ones
+    assert d.passed == d.checks.passed
+    checks = d.report_extra()["checks"]
+    assert checks["on_body"] is True and checks["on_body_reasons"] == []
+    assert checks["passed"] == d.passed and checks["solver_passed"] == d.checks.passed
+
+
+def test_the_anchor_line_is_the_top_of_the_skirt(skirt):
+    pattern, mesh, body, d = skirt
+    line = anchor_line(pattern, mesh)
+    assert len(line) >= 4
+    # placed, the line is 1 cm above the waist (placement puts the drafted top there)
+    x = place_on_body(pattern, mesh, body)
+    c = on_body_checks(pattern, mesh, body, x)
+    assert c.anchor_offset_mm == pytest.approx(10.0, abs=62.0)  # + the sewing lift <= 6 cm
+    assert c.passed, c.reasons
+
+
+def _at_anchor_offset(pattern, mesh, body, x, offset):
+    """``x`` moved so that its anchor line lies ``offset`` [m] from the body's waist."""
+    line = anchor_line(pattern, mesh)
+    return x + [0.0, body.measurements["waist_height"] + offset - x[line, 1].mean(), 0.0]
+
+
+@pytest.mark.parametrize("case,expected", [
+    ("fell 25 m", ["below the feet", "lowest at y = -2", "far from the body"]),
+    ("at the feet", ["below the waist"]),
+    ("slid 20 cm", ["garment top 20.0 cm below the waist it hangs from"]),
+    ("collapsed", ["garment collapsed", "0% of the flat"]),
+])
+def test_a_garment_off_the_body_fails_with_the_reason_named(skirt, case, expected):
+    pattern, mesh, body, d = skirt
+    x = d.positions
+    if case == "fell 25 m":
+        x = x - [0.0, 25.0, 0.0]
+    elif case == "at the feet":
+        x = x - [0.0, x[:, 1].min(), 0.0]
+    elif case == "slid 20 cm":
+        x = _at_anchor_offset(pattern, mesh, body, x, -0.20)
+    else:  # every vertex at the waist landmark
+        x = np.tile(np.asarray(body.landmarks["waist"], dtype=float), (len(x), 1))
+    c = on_body_checks(pattern, mesh, body, x)
+    assert not c.passed
+    for text in expected:
+        assert text in reasons(c), (case, c.reasons)
+    # the same state as a drape: failed, whatever its solver checks, and the report says why
+    failed = replace(d, positions=x, onbody=None)
+    failed.check_on_body(pattern, mesh, body)
+    assert not failed.passed and failed.reasons[:len(c.reasons)] == list(c.reasons)
+    with np.errstate(divide="ignore", invalid="ignore"):  # the collapsed state: ϖ infinite
+        fit = FitEvaluator(mesh)(x)
+    report = fit_report(mesh, fit, state="draped", extra=failed.report_extra())
+    assert report["checks"]["passed"] is False and report["checks"]["on_body"] is False
+    assert expected[0] in failure(report)
+
+
+def test_slid_a_little_still_on_the_body(skirt):
+    pattern, mesh, body, d = skirt
+    x = _at_anchor_offset(pattern, mesh, body, d.positions, -0.04)
+    assert on_body_checks(pattern, mesh, body, x).passed
+
+
+def test_the_anchor_is_one_rule_of_the_pattern():
+    assert [build(g).anchor for g in ("skirt", "trousers", "dress", "coat")] == \
+        ["waist", "waist", "neck", "neck"]
+    # without the built-in meta: from the panels (shoulder / neck edges or arms -> neck)
+    assert replace(build("skirt"), meta={}).anchor == "waist"
+    assert replace(build("trousers"), meta={}).anchor == "waist"
+    assert replace(build("dress"), meta={}).anchor == "neck"
+    assert replace(build("coat"), meta={}).anchor == "neck"
+    assert replace(build("skirt"), meta={"anchor": "neck"}).anchor == "neck"
+
+
+def test_a_failed_drape_exits_non_zero_and_says_why(skirt, tmp_path):
+    """A drape started from the skirt 15 m below the body (a saved state may lie at most
+    20 m from the origin) stays there (5 iterations): the command exits 1 naming the
+    reason, the report and the pictures say FAILED."""
+    pattern, mesh, body, d = skirt
+    save_garment(tmp_path / "fell", pattern, mesh, d.positions - [0.0, 15.0, 0.0])
+    out = tmp_path / "out"
+    r = CliRunner().invoke(app, ["drape", "-p", "skirt", "-b", BODY, "-f", "cotton", "-n",
+                                 "1500", "--start", str(tmp_path / "fell"),
+                                 "--max-iterations", "5", "-o", str(out)])
+    assert r.exit_code == 1, r.output
+    text = " ".join(r.output.split())
+    assert "below the feet" in text and "failed its checks" in text, r.output
+    assert "on the body no" in text
+    report = api.evaluate_saved(out / "garment")  # the state was written all the same
+    assert report.positions[:, 1].max() < -10
+    assert (out / "fit_3d.png").exists() and (out / "fit_2d.png").exists()
+
+
+def test_the_correction_refuses_a_failed_drape(skirt):
+    pattern, mesh, body, d = skirt
+    session = api.design_session(pattern, body, "cotton", triangles=1500)
+    assert np.array_equal(session.mesh.triangles, mesh.triangles)
+    fell = replace(d, positions=d.positions - [0.0, 25.0, 0.0], onbody=None)
+    fell.check_on_body(pattern, mesh, body)
+    st = session.state
+    st.positions = fell.positions
+    st.fitting_ratio = FitEvaluator(mesh).metrics(fell.positions)[1]
+    st.checks = fell.report_extra()["checks"]
+    result = correct(session)
+    assert not result.reached and len(result.iterations) == 1
+    assert result.iterations[0].edits == [] and len(session.history) == 1
+    assert "below the feet" in result.failed and result.to_dict()["failed"] == result.failed
+    assert refusal({"passed": False, "on_body": True}, 0.95) is None  # solver-only failure
+    assert "not finite" in refusal(None, float("nan"))
+
+
+def test_start_refuses_another_pattern_or_mesh(skirt, tmp_path):
+    pattern, mesh, body, d = skirt
+    save_garment(tmp_path / "g", pattern, mesh, d.positions)
+    with pytest.raises(InputError, match="another pattern"):
+        api.drape_and_evaluate("dress", body, "cotton", triangles=1500, start=tmp_path / "g")
+    with pytest.raises(InputError, match="1500|triangles"):
+        api.drape_and_evaluate(pattern, body, "cotton", triangles=900, start=tmp_path / "g")
+    with pytest.raises(ValueError, match="start"):
+        api.drape_and_evaluate(pattern, body, "cotton", triangles=1500,
+                               start=np.zeros((3, 3)))
+
+
+@pytest.fixture(scope="module")
+def restarted(skirt, tmp_path_factory):
+    """The skirt's drape saved (as ``patternfit drape`` writes its garment/ folder), then
+    draped again from that folder."""
+    pattern, mesh, body, d = skirt
+    folder = tmp_path_factory.mktemp("saved") / "garment"
+    save_garment(folder, pattern, mesh, d.positions)
+    return api.drape_and_evaluate(pattern, body, "cotton", triangles=1500, start=folder)
+
+
+def test_a_drape_starts_from_a_saved_one_with_its_seams_welded(skirt, restarted):
+    pattern, mesh, body, d = skirt
+    again = restarted.drape
+    assert again.timing["start"] == "saved" and again.result.welded
+    # welded from the first iteration: no sewing, no relaxation
+    assert "sewing_iterations" not in again.timing
+    x = restarted.positions
+    assert np.abs(x[mesh.seam_pairs[:, 0]] - x[mesh.seam_pairs[:, 1]]).max() < 1e-9
+    assert again.onbody.passed and restarted.checks["on_body"] is True
+
+
+@pytest.mark.xfail(strict=False, reason="the solver's stop is still kinematic (a step and "
+                   "drift rule): the saved state of a drape stopped that way is not a force "
+                   "balance, so the restart runs on and moves it; the force-balance stop "
+                   "(residual_rms) being written should make this hold")
+def test_a_drape_started_from_a_saved_one_stays_put(skirt, restarted):
+    pattern, mesh, body, d = skirt
+    moved = float(np.linalg.norm(restarted.positions - d.positions, axis=1).max())
+    assert restarted.drape.result.iterations <= 20, restarted.drape.result.stop_reason
+    assert moved < 1e-3, f"moved {moved * 1e3:.2f} mm"
