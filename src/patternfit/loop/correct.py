@@ -21,6 +21,7 @@ import numpy as np
 from scipy.optimize import nnls
 
 from ..constants import tol
+from ..defaults import DEFAULTS
 from ..edit import close_seams, move_corner
 from ..fit.metrics import FitResult
 from ..mesh.garment import GarmentMesh
@@ -34,7 +35,7 @@ from .regions import find_regions
 class CorrectionSettings:
     """Knobs of the automatic correction.
 
-    threshold : float     ϖ to reach [-] (default 0.90).
+    threshold : float     ϖ to reach [-] (``DEFAULTS.threshold``).
     tight_limit : float   no region may stay stretched more than this in area [-] ...
     region_share : float  ... counting regions of at least this share of the garment's
                           flat area (a few stretched triangles at an ankle do not count).
@@ -50,7 +51,7 @@ class CorrectionSettings:
                           warm start, and the corrected 22K coat draped cold crossed itself.
     """
 
-    threshold: float = 0.90
+    threshold: float = DEFAULTS.threshold
     tight_limit: float = 0.20
     region_share: float = 0.01
     max_iterations: int = 3

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..defaults import DEFAULTS
 from ..mesh.garment import GarmentMesh
 from ..mesh.transfer import follow_edit, transfer
 from ..mesh.triangulate import mesh_pattern
@@ -117,8 +118,9 @@ def _grain_per_triangle(mesh: GarmentMesh) -> np.ndarray:
     return mesh.grain[mesh.triangle_panel]
 
 
-def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cotton", *,
-          settings: SolverSettings | None = None, clearance: float = 0.03, spacing: float = 0.005,
+def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFAULTS.fabric, *,
+          settings: SolverSettings | None = None, clearance: float = DEFAULTS.clearance,
+          spacing: float = 0.005,
           placed=None, start=None, sewing_iterations: int = 1500, relax_iterations: int = 300,
           contact_margin: float = 0.003, sewing_self_collision: bool = False,
           coarse: int | None = 2000, progress=None) -> Drape:

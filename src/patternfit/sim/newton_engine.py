@@ -22,6 +22,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..geometry import face_adjacency, face_cross
+from ..defaults import DEFAULTS
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
 from .drape import Drape, drape
@@ -403,7 +404,8 @@ def _result(solver: GarmentSolver, flat: np.ndarray, vertex_map, run: RunResult)
                        energy=float("nan"), checks=checks)
 
 
-def newton_drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = "cotton", *,
+def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
+                 fabric: Fabric | str = DEFAULTS.fabric, *,
                  settings: NewtonSettings | None = None, device: str | None = None,
                  from_static: Drape | None = None, clearance: float = 0.03,
                  spacing: float = 0.005, placed=None, sewing_iterations: int = 1500,
