@@ -69,12 +69,15 @@ def test_drag_preview_moves_vertices_without_recording(client):
 def test_edit_undo_redo_and_refusals(client, folder):
     rev = client.get("/api/state").json()["revision"]
     r = client.post("/api/edit", json={**EDIT, "revision": rev}).json()
-    assert r["ok"] and r["warning"] is None
+    assert r["ok"] and r["revision"] == rev + 1
     s = client.get("/api/state").json()
     assert len(s["history"]) == 2 and s["can_undo"] and not s["can_redo"]
-    # a tab that missed the change still writes, with a warning (last write wins)
-    stale = client.post("/api/undo", json={"revision": rev}).json()
-    assert stale["ok"] and "another tab" in stale["warning"]
+    # a tab that missed the change is refused and told to reload (its undo would remove
+    # the other tab's edit)
+    stale = client.post("/api/undo", json={"revision": rev})
+    assert stale.status_code == 409 and "reload" in stale.json()["error"]
+    assert client.get("/api/state").json()["position"] == 1
+    assert client.post("/api/undo", json={"revision": rev + 1}).status_code == 200
     assert client.get("/api/state").json()["position"] == 0
     assert client.post("/api/redo", json={}).status_code == 200
     assert client.post("/api/redo", json={}).status_code == 400
@@ -96,7 +99,13 @@ def test_drape_progress_stop_and_exports(client):
     studio = client.app.state.studio
     studio.wait(60)
     job = client.get("/api/drape").json()
-    assert not job["running"] and job["error"] is None and job["iteration"] > 0
+    assert not job["running"] and job["error"] is None
+    if job["stopped"]:  # stopped before it finished: nothing of it is kept
+        assert job["fraction"] < 1 and client.get("/api/state").json()["fitting_ratio"] is None
+        assert client.post("/api/drape").status_code == 200
+        studio.wait(120)
+    job = client.get("/api/drape").json()
+    assert job["fraction"] == 1.0 and job["iteration"] > 0 and not job["stopped"]
     s = client.get("/api/state").json()
     assert s["draped"] and 0.5 < s["fitting_ratio"] < 1.5
     g3 = client.get("/api/garment3d").json()

@@ -204,3 +204,118 @@ def test_a_page_of_another_site_cannot_drive_the_studio(page, server):
     assert outcome[-1] == "refused"  # the preflight is never granted
     assert (studio.revision, sorted(p.name for p in (studio.folder / "session").iterdir())) \
         == before
+
+
+FIELDS = ("garment", "size", "body", "fabric", "engine", "triangles")
+
+
+def fields(pg) -> dict:
+    return {k: pg.input_value(f"#{k}") for k in FIELDS}
+
+
+def test_reload_restores_the_session_fields(page, server):
+    page.select_option("#size", "L")
+    page.select_option("#fabric", "denim")
+    page.select_option("#body", "female_thin")
+    page.fill("#triangles", "800")
+    chosen = fields(page)
+    page.click("#new-btn")
+    page.wait_for_function("studio.state.fields.triangles === 800 && "
+                           "studio.state.history.length === 1", timeout=20000)
+    page.reload()
+    page.wait_for_selector("body[data-ready='1']", timeout=30000)
+    assert fields(page) == chosen  # not the page's defaults
+    assert chosen["fabric"] == "denim" and chosen["triangles"] == "800"
+    assert not page.errors
+
+
+def test_ctrl_z_undoes_the_pattern_and_escape_cancels_a_drag(page, server):
+    studio = server[1].state.studio
+    drag(page, "#overlay circle[data-key='front/waist']", 25, 0)
+    page.wait_for_function("studio.state.history.length === 2 && studio.state.position === 1",
+                           timeout=20000)
+    # in a text field Ctrl+Z is the field's own
+    page.fill("#dx", "1.5")
+    page.focus("#dx")
+    page.keyboard.press("Control+z")
+    page.wait_for_timeout(300)
+    assert studio.session.position == 1
+    page.locator("#dx").blur()
+    page.keyboard.press("Control+z")
+    page.wait_for_function("studio.state.position === 0", timeout=20000)
+    page.keyboard.press("Control+Shift+z")
+    page.wait_for_function("studio.state.position === 1", timeout=20000)
+    page.keyboard.press("Control+z")
+    page.wait_for_function("studio.state.position === 0", timeout=20000)
+    page.keyboard.press("Control+y")
+    page.wait_for_function("studio.state.position === 1", timeout=20000)
+    # Escape during a drag: the release drops nothing
+    box = page.locator("#overlay circle[data-key='front/waist']").bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for i in range(1, 8):
+        page.mouse.move(x + 3 * i, y)
+        page.wait_for_timeout(15)
+    page.keyboard.press("Escape")
+    page.mouse.up()
+    page.wait_for_timeout(500)
+    assert len(studio.session.history) == 2 and studio.session.position == 1
+    assert page.evaluate("studio.editor.drag") is None
+    assert "cancelled" in page.inner_text("#selected")
+    assert not page.errors
+
+
+def test_a_stale_tab_is_told_to_reload(page, server):
+    studio = server[1].state.studio
+    second = page.context.browser.new_page(viewport={"width": 1500, "height": 850})
+    try:
+        second.goto(server[0] + "/")
+        second.wait_for_selector("body[data-ready='1']", timeout=30000)
+        position = studio.session.position
+        assert second.evaluate("studio.revision") == studio.revision
+        page.keyboard.press("Control+z")  # the first tab undoes ...
+        page.wait_for_function(f"studio.state.position === {position - 1}", timeout=20000)
+        second.click("#undo-btn")  # ... the second, which did not see it, undoes too
+        second.wait_for_function("document.getElementById('message').className === 'stale'",
+                                 timeout=10000)
+        text = second.inner_text("#message")
+        assert "another tab" in text and "reload" in text.lower()
+        assert "last write wins" not in text
+        assert studio.session.position == position - 1  # the stale undo changed nothing
+        second.click("#reload-btn")
+        second.wait_for_function(f"studio.state.position === {position - 1} && "
+                                 "document.getElementById('message').className === 'hidden'",
+                                 timeout=20000)
+        assert second.evaluate("studio.revision") == studio.revision
+    finally:
+        second.close()
+    assert not page.errors
+
+
+def test_a_far_dart_drag_keeps_the_preview_mesh(page, server):
+    """Issue 22: a dart dragged 8 cm previewed a re-meshed panel (more vertices than the
+    page's mesh) and the page crashed with a TypeError; the preview keeps the vertex count."""
+    studio = server[1].state.studio
+    studio.new(garment="skirt", triangles=1500)
+    studio.apply("insert_dart", {"panel": "back", "name": "d1", "centre": (0.1, 0.45),
+                                 "length": 0.12, "width": 0.02})
+    pg = page.context.browser.new_page(viewport={"width": 1500, "height": 850})
+    errors = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    try:
+        pg.goto(server[0] + "/")
+        pg.wait_for_selector("body[data-ready='1']", timeout=30000)
+        n = pg.evaluate("studio.geometry.vertices.length")
+        pg.check("input[name=tool][value=dart]")
+        pg.evaluate("""() => { const e = studio.editor, draw = e.setPreview.bind(e);
+            window.previews = []; e.setPreview = (v) => { window.previews.push(v.length);
+            return draw(v); }; }""")
+        k = pg.evaluate("studio.editor.k")  # px per metre
+        drag(pg, "#overlay circle[data-key='back/d1']", 0.08 * k, 0, steps=30)
+        pg.wait_for_function("studio.state.history.length === 3", timeout=20000)
+        previews = pg.evaluate("window.previews")
+        assert previews and set(previews) == {n}
+        assert not errors, errors
+    finally:
+        pg.close()

@@ -85,18 +85,56 @@ def move_corner(panel: Panel, edge: str, offset) -> Panel:
     return _with_loop(panel, li, replace(panel.loops[li], edges=tuple(edges)))
 
 
-def _match_partners(old: Pattern, new: Pattern, edited: set) -> Pattern:
-    """Lengthen/shorten partner edges of seams whose edited side changed length.
+def _edge_corner(panel: Panel, edge: str, at_start: bool) -> tuple[str, str]:
+    """(panel, name of the edge that starts there): the start or the end corner of
+    ``edge``."""
+    li, k = panel.locate(edge)
+    edges = panel.loops[li].edges
+    return panel.name, edge if at_start else edges[(k + 1) % len(edges)].name
 
-    The partner's corner that is sewn to the edited side's moved end slides along the
-    partner edge's end tangent until the lengths agree (a few secant steps).
+
+def _corner_edges(pattern: Pattern, corner: tuple[str, str]) -> set:
+    """The two edges (panel, edge) that meet at ``corner``."""
+    p = pattern.panel(corner[0])
+    li, k = p.locate(corner[1])
+    return {(p.name, corner[1]), (p.name, p.loops[li].edges[k - 1].name)}
+
+
+def _sewn_ends(pattern: Pattern, seam) -> list[tuple[tuple[str, str], tuple[str, str]]]:
+    """The corners that ``seam`` sews together, as pairs of (panel, edge starting there):
+    with ``reverse`` the start of side ``a`` meets the end of side ``b`` (and the end of
+    ``a`` the start of ``b``), without it start meets start. Only a side covering its whole
+    edge has its corners at the seam's ends."""
+    a, b = seam.a, seam.b
+    if (a.start, a.end, b.start, b.end) != (0.0, 1.0, 0.0, 1.0):
+        return []
+    pa, pb = pattern.panel(a.panel), pattern.panel(b.panel)
+    return [(_edge_corner(pa, a.edge, True), _edge_corner(pb, b.edge, not seam.reverse)),
+            (_edge_corner(pa, a.edge, False), _edge_corner(pb, b.edge, seam.reverse))]
+
+
+def _match_partners(old: Pattern, new: Pattern, edited: set) -> Pattern:
+    """Make the partner edges of the seams whose edited side changed length match again.
+
+    For each such seam the partner's corner that is sewn to the edited side's moved end (the
+    end that moved most; ``Seam.reverse`` says which end of the partner that is) is free to
+    move, and so is every corner sewn to that one in turn (the four panels meeting at a
+    crotch point), unless it is a corner of an edited edge. The free corners move together (:func:`_solve_corners`) until every seam
+    touching them has equal sides: a corner on one seam slides along its edge, a corner
+    shared by two seams (the underarm point between side and underarm seams) is fixed by
+    both.
     """
+    links: dict = {}
+    for s in new.seams:
+        for c1, c2 in _sewn_ends(new, s):
+            links.setdefault(c1, set()).add(c2)
+            links.setdefault(c2, set()).add(c1)
+    free: list[tuple[str, str]] = []
     for s in new.seams:
         for mine, other in ((s.a, s.b), (s.b, s.a)):
             if (mine.panel, mine.edge) not in edited or (other.panel, other.edge) in edited:
                 continue
-            want = new.seam_side_length(mine)
-            if abs(want - new.seam_side_length(other)) <= tol.merge:
+            if abs(new.seam_side_length(mine) - new.seam_side_length(other)) <= tol.merge:
                 continue
             if (mine.start, mine.end, other.start, other.end) != (0.0, 1.0, 0.0, 1.0):
                 raise PatternError(f"seam '{s.name}' covers part of an edge: edit its partner "
@@ -105,28 +143,62 @@ def _match_partners(old: Pattern, new: Pattern, edited: set) -> Pattern:
             e_new = new.panel(mine.panel).edge(mine.edge)
             start_moved = np.linalg.norm(e_new.start - e_old.start) > \
                 np.linalg.norm(e_new.end - e_old.end)
-            # sewn with reverse: start of one side meets end of the other
-            free_start = start_moved != s.reverse
-            new = _slide_end(new, other.panel, other.edge, want, at_start=free_start)
-            edited.add((other.panel, other.edge))
-    return new
+            # sewn with reverse: the start of one side meets the end of the other
+            at_start = start_moved != s.reverse
+            ends = [_edge_corner(new.panel(other.panel), other.edge, at_start),
+                    _edge_corner(new.panel(other.panel), other.edge, not at_start)]
+            # a corner of the edit itself stays where the edit put it: then the other end
+            seed = next((c for c in ends if not _corner_edges(new, c) & edited), ends[0])
+            todo = [seed]
+            while todo:
+                c = todo.pop()
+                if c in free or (c != seed and _corner_edges(new, c) & edited):
+                    continue
+                free.append(c)
+                todo.extend(links.get(c, ()))
+    return _solve_corners(new, free) if free else new
 
 
-def _slide_end(pattern: Pattern, panel: str, edge: str, length: float, *, at_start: bool):
-    p = pattern.panel(panel)
-    e = p.edge(edge)
-    for _ in range(6):
-        cur = e.length
-        if abs(cur - length) <= 0.1 * tol.merge:
+def _solve_corners(pattern: Pattern, free: list, *, iterations: int = 20) -> Pattern:
+    """``pattern`` with the corners ``free`` ((panel, edge starting there)) moved by the
+    smallest steps that make every seam touching them have equal sides: Gauss–Newton with
+    minimum-norm steps on the length differences [m] (Jacobian by finite differences),
+    each step halved until it reduces them."""
+    touched = set().union(*(_corner_edges(pattern, c) for c in free))
+    seams = [s for s in pattern.seams
+             if (s.a.panel, s.a.edge) in touched or (s.b.panel, s.b.edge) in touched]
+
+    def moved(x):
+        out = pattern
+        for (pname, ename), d in zip(free, x.reshape(-1, 2)):
+            if d.any():
+                out = out.with_panel(move_corner(out.panel(pname), ename, d))
+        return out
+
+    def residual(x):
+        pat = moved(x)
+        return np.array([pat.seam_side_length(s.a) - pat.seam_side_length(s.b)
+                         for s in seams])
+
+    x = np.zeros(2 * len(free))
+    r = residual(x)
+    h = 1e-7
+    for _ in range(iterations):
+        if np.abs(r).max(initial=0.0) <= 0.1 * tol.merge:
             break
-        f = np.array([0.0, 1e-3]) if at_start else np.array([1.0, 1.0 - 1e-3])
-        a, b = e.point_at(f)
-        tangent = (a - b) / np.linalg.norm(a - b)  # pointing out of the edge
-        li, k = p.locate(edge)
-        corner = edge if at_start else p.loops[li].edges[(k + 1) % len(p.loops[li].edges)].name
-        p = move_corner(p, corner, (length - cur) * tangent)
-        e = p.edge(edge)
-    return pattern.with_panel(p)
+        J = np.empty((len(r), len(x)))
+        for j in range(len(x)):
+            e = np.zeros_like(x)
+            e[j] = h
+            J[:, j] = (residual(x + e) - r) / h
+        step = np.linalg.lstsq(J, r, rcond=None)[0]
+        for _ in range(8):
+            r_try = residual(x - step)
+            if np.linalg.norm(r_try) < np.linalg.norm(r):
+                break
+            step = 0.5 * step
+        x, r = x - step, r_try
+    return moved(x)
 
 
 def _said(name: str, value, unit: str = "m") -> str:

@@ -142,8 +142,12 @@ class UpdateReport:
     moved : tuple of str       panels whose outline changed.
     steps : dict str -> int    intermediate outlines used per moved panel (1 = direct).
     remeshed : tuple of str    panels re-triangulated (quality or flips).
-    inverted : int             inverted triangles after the update (always 0 on success).
+    inverted : int             inverted triangles after the update (0 on success; with
+                               ``remesh=False``, those of the panels in ``needs_remesh``).
     min_angle : float          smallest triangle angle of the moved panels [degrees].
+    needs_remesh : tuple of str   with ``remesh=False``: the panels that would have been
+                               re-triangulated; they kept their topology (flipped or thin
+                               triangles included).
     """
 
     moved: tuple
@@ -151,6 +155,7 @@ class UpdateReport:
     remeshed: tuple
     inverted: int
     min_angle: float
+    needs_remesh: tuple = ()
 
 
 def boundary_positions(pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:
@@ -210,7 +215,7 @@ def _move_panel(mesh, panel, coords, target):
 
 def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *,
                 cache: CoordinateCache | None = None, min_angle: float = MIN_ANGLE,
-                return_report: bool = False):
+                remesh: bool = True, return_report: bool = False):
     """Carry ``mesh`` (of ``old_pattern``) over to the edited ``new_pattern``.
 
     Parameters
@@ -224,13 +229,19 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
     min_angle : float
         Panels whose smallest angle falls below this [degrees] are re-meshed (their
         boundary vertices kept, so seams still pair); the others keep their vertices.
+    remesh : bool
+        False: never re-mesh (a live drag preview, whose vertices the page maps onto its
+        mesh): a panel that would need it keeps its topology and its directly updated
+        vertices, inverted triangles included, and is named in the report's
+        ``needs_remesh``; no ``PatternError`` for inverted triangles.
     return_report : bool
         Also return an :class:`UpdateReport`.
 
     Returns
     -------
     GarmentMesh, or (GarmentMesh, UpdateReport)
-        Same topology (unless a panel was re-meshed), no inverted triangles.
+        Same topology (unless a panel was re-meshed; never with ``remesh=False``), no
+        inverted triangles (unless ``remesh=False``).
     """
     if [p.name for p in old_pattern.panels] != list(mesh.panel_names) or \
             [p.name for p in new_pattern.panels] != list(mesh.panel_names):
@@ -264,6 +275,12 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
             bad.append(pi)
     out = mesh.with_vertices(vertices)
     inverted = 0
+    if bad and not remesh:
+        inverted = sum(_quality(vertices, cache.get(pi).triangles, tol.area)[0] for pi in bad)
+        report = UpdateReport(tuple(moved), steps, (), inverted,
+                              min(angles.values(), default=float("nan")),
+                              tuple(mesh.panel_names[i] for i in bad))
+        return (out, report) if return_report else out
     if bad:
         out = remesh_panels(out, bad)
         for pi in bad:

@@ -39,7 +39,15 @@ from ..pattern.formats import save_any_pattern
 from ..pattern.library import GARMENTS
 from ..pattern.sizes import SIZE_NAMES
 from ..sim.fabrics import FABRICS
-from .state import DRAG_OPS, STRETCH_SCALE, UPLOAD_SUFFIXES, Studio, describe_error
+from .state import (
+    DRAG_OPS,
+    ENGINES,
+    STRETCH_SCALE,
+    UPLOAD_SUFFIXES,
+    StaleRevision,
+    Studio,
+    describe_error,
+)
 
 STATIC = Path(__file__).parent / "static"
 #: the names the studio answers to (a page from another site reaching 127.0.0.1 through DNS
@@ -151,10 +159,19 @@ def _edit_request(body: dict) -> tuple[str, dict]:
 
 
 def _revision(body: dict) -> int | None:
+    """The revision the asking tab last saw (None: not given, not checked)."""
     rev = body.get("revision")
     if rev is not None and (isinstance(rev, bool) or not isinstance(rev, int)):
         raise ValueError("revision: expected a whole number")
     return rev
+
+
+def _query_revision(text: str | None) -> int | None:
+    if text is None:
+        return None
+    if not text.isdigit():
+        raise HTTPException(400, "revision: expected a whole number")
+    return int(text)
 
 
 def create_app(session_dir, *, max_upload: int | None = None,
@@ -178,6 +195,11 @@ def create_app(session_dir, *, max_upload: int | None = None,
     async def http_error(request, exc: HTTPException):
         return JSONResponse({"error": exc.detail}, exc.status_code)
 
+    @app.exception_handler(StaleRevision)
+    async def stale_revision(request, exc: StaleRevision):
+        # a tab that missed another tab's change: nothing was changed, the page must reload
+        return JSONResponse({"error": str(exc), "stale": True, "revision": exc.current}, 409)
+
     @app.exception_handler(Exception)
     async def server_error(request, exc: Exception):
         return JSONResponse({"error": f"internal error: {describe_error(exc)}"}, 500)
@@ -196,12 +218,6 @@ def create_app(session_dir, *, max_upload: int | None = None,
         except (ValueError, TypeError, KeyError, IndexError, RuntimeError) as exc:
             raise HTTPException(code, describe_error(exc)) from None
 
-    def stale(revision: int | None) -> str | None:
-        if revision is not None and revision != studio.revision:
-            return ("the session was changed in another tab; this change was applied on top "
-                    "of it (last write wins)")
-        return None
-
     @app.get("/", include_in_schema=False)
     def index():
         # never cached: a page kept from before a restart would carry a stale token; never
@@ -217,7 +233,7 @@ def create_app(session_dir, *, max_upload: int | None = None,
         # correct_available: always, the loop ships with the package (state.py imports it)
         return {"garments": {k: v[2] for k, v in GARMENTS.items()}, "sizes": list(SIZE_NAMES),
                 "bodies": list_bodies(), "fabrics": list(FABRICS),
-                "engines": ["default"], "correct_available": True,
+                "engines": list(ENGINES), "correct_available": True,
                 "max_upload": max_upload, "exports": list(EXPORTS), "drag_ops": DRAG_OPS,
                 "uploads": {k: list(v) for k, v in UPLOAD_SUFFIXES.items()}}
 
@@ -260,8 +276,9 @@ def create_app(session_dir, *, max_upload: int | None = None,
 
     def do_new(raw: bytes):
         body = _json_object(raw)
-        studio.new(**{k: body[k] for k in ("garment", "size", "body", "fabric", "triangles")
-                      if k in body})
+        studio.new(**{k: body[k] for k in ("garment", "size", "body", "fabric", "triangles",
+                                           "engine") if k in body},
+                   revision=_revision(body))
         return {"ok": True, "revision": studio.revision}
 
     @app.post("/api/new")
@@ -273,9 +290,8 @@ def create_app(session_dir, *, max_upload: int | None = None,
         op, args = _edit_request(body)
         revision = _revision(body)
         with studio.lock:
-            warning = stale(revision)
-            result = studio.apply(op, args)
-            return {"ok": True, "warning": warning, "revision": studio.revision, **result}
+            result = studio.apply(op, args, revision)
+            return {"ok": True, "revision": studio.revision, **result}
 
     @app.post("/api/edit")
     async def edit(request: Request):
@@ -305,9 +321,8 @@ def create_app(session_dir, *, max_upload: int | None = None,
         def run(raw: bytes):
             revision = _revision(_json_object(raw))
             with studio.lock:
-                warning = stale(revision)
-                move()
-                return {"ok": True, "warning": warning, "revision": studio.revision}
+                move(revision)
+                return {"ok": True, "revision": studio.revision}
         return run
 
     @app.post("/api/undo")
@@ -318,17 +333,22 @@ def create_app(session_dir, *, max_upload: int | None = None,
     async def redo(request: Request):
         return await in_worker(step(studio.redo), await json_body(request))
 
-    def start(kind: str):
-        studio.start_drape(kind=kind)
+    def start(kind: str, revision: int | None):
+        studio.start_drape(kind=kind, revision=revision)
         return studio.job.as_dict()
 
+    async def started(kind: str, request: Request):
+        revision = await in_worker(lambda raw: _revision(_json_object(raw)),
+                                   await json_body(request))  # malformed: 400
+        return await in_worker(start, kind, revision, code=409)
+
     @app.post("/api/drape")
-    async def drape():
-        return await in_worker(start, "drape", code=409)
+    async def drape(request: Request):
+        return await started("drape", request)
 
     @app.post("/api/correct")
-    async def correct():
-        return await in_worker(start, "correct", code=409)
+    async def correct(request: Request):
+        return await started("correct", request)
 
     @app.get("/api/drape")
     def drape_progress():
@@ -340,13 +360,14 @@ def create_app(session_dir, *, max_upload: int | None = None,
         return studio.job.as_dict()
 
     @app.post("/api/upload")
-    async def upload(request: Request, kind: str = "pattern"):
+    async def upload(request: Request, kind: str = "pattern", revision: str | None = None):
+        seen = _query_revision(revision)
         raw = await _read_capped(request, max_upload + MULTIPART_SLACK, "upload")
         file = await _multipart_file(request.headers, raw)
         data = await file.read(max_upload + 1)
         if len(data) > max_upload:
             raise HTTPException(413, f"upload: larger than {max_upload // 1024} KiB")
-        result = await in_worker(studio.upload, kind, file.filename or "", data)
+        result = await in_worker(studio.upload, kind, file.filename or "", data, seen)
         return {"ok": True, "revision": studio.revision, **result}
 
     @app.get("/api/export/{name}")

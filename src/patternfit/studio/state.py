@@ -2,8 +2,11 @@
 the background and the live-drag coordinate cache.
 
 Every change goes through :class:`Studio` under one lock, so two browser tabs on the same
-session cannot interleave half-done edits; the session's ``revision`` counts changes and
-lets a tab notice that another one wrote in between (last write wins, with a warning).
+session cannot interleave half-done edits; the session's ``revision`` counts changes. Every
+state-changing request may name the revision its tab last saw: one that names an older
+revision is refused (:class:`StaleRevision`, HTTP 409) and changes nothing, so a tab that
+missed another tab's edit is told to reload instead of stacking its change (or its undo) on
+an edit it has not seen.
 Body and fabric are chosen by preset name or by an uploaded file, never by a path.
 """
 
@@ -42,6 +45,103 @@ UPLOAD_SUFFIXES = {"pattern": (".json", ".dxf"),
 DRAG_OPS = ("move_point", "move_edge", "edit_curve", "move_dart")
 #: relative stretch at which the warp/weft colours saturate [-]
 STRETCH_SCALE = FitScale(limit=0.10, band=0.01)
+#: the simulation engines a session can take (the session has no engine choice yet)
+ENGINES = ("default",)
+#: the phases of a drape, as ``patternfit.sim.drape`` runs them (each one solver run):
+#: a drape from the placement sews (no gravity, until the seams weld), relaxes the sewn
+#: garment (no gravity) and drapes under gravity; a mesh larger than three times the coarse
+#: size does those three on a coarse mesh and then settles the fine one from it; a re-drape
+#: of a draped mesh (the same topology) only settles, in stages.
+PHASE_WORDS = {"sewing": "closing the seams", "relaxing": "relaxing the sewn garment",
+               "draping": "draping under gravity", "settling": "settling"}
+#: iterations a phase is expected to take, to spread the bar within it (a phase's end is
+#: seen when the solver starts its next run: the bar then jumps to that phase's start)
+_PHASE_ITERATIONS = {"sewing": 150, "relaxing": 300, "draping": 600, "settling": 300}
+#: ``patternfit.sim.drape.drape``'s default coarse size [triangles]
+_COARSE = 2000
+
+
+class StaleRevision(Exception):
+    """A change sent by a tab that had not seen the session's latest revision (HTTP 409)."""
+
+    def __init__(self, seen: int, current: int):
+        self.seen, self.current = seen, current
+        super().__init__(
+            f"not applied: the session was changed in another tab (it is at version "
+            f"{current}, this tab shows version {seen}); reload this tab to see the current "
+            "session, then make your change again")
+
+
+class DrapeStopped(Exception):
+    """Raised in the solver's progress callback when Stop was pressed. Not a
+    KeyboardInterrupt, which the solver catches and turns into a result: this one leaves the
+    drape before the session records anything of it."""
+
+
+def drape_plan(session) -> list[tuple[str, float]]:
+    """The phases the next ``session.redrape()`` runs, with their expected cost (iterations
+    times triangles), following ``DesignSession.redrape`` and ``patternfit.sim.drape``."""
+    st = session.state
+    n = st.mesh.n_triangles
+    previous = getattr(session, "_drape", None)
+    if previous is not None and np.array_equal(previous.solver.triangles, st.mesh.triangles):
+        return [("settling", _PHASE_ITERATIONS["settling"] * n)]
+    size = _COARSE if n > 3 * _COARSE else n
+    plan = [(name, _PHASE_ITERATIONS[name] * size) for name in ("sewing", "relaxing", "draping")]
+    if size != n or (session.relax > 1.0 and session.position == 0):
+        plan.append(("settling", _PHASE_ITERATIONS["settling"] * n))
+    return plan
+
+
+class DrapeTracker:
+    """Turns the solver's progress callbacks of one drape into phases, a monotone fraction
+    and an iteration count that never goes back (the solver counts each run from 1).
+
+    ``begin(session)`` before each drape; ``update(iteration)`` for each callback."""
+
+    def __init__(self):
+        self.plan: list[tuple[str, float]] = []
+        self.index = 0           # the phase running
+        self.last = 0            # the solver's iteration count in the current run
+        self.done = 0            # iterations of the finished runs
+        self.fraction = 0.0      # of this drape, monotone, < 1 until it finished
+        self.previous = None     # the session's last drape before this one, and its rest
+        self.rest = None
+
+    def begin(self, session) -> None:
+        self.plan = drape_plan(session)
+        self.index, self.last, self.done, self.fraction = 0, 0, 0, 0.0
+        self.previous = getattr(session, "_drape", None)
+        self.rest = None if self.previous is None else self.previous.solver.rest.copy()
+
+    @property
+    def phase(self) -> str | None:
+        return self.plan[self.index][0] if self.plan else None
+
+    def update(self, it: int) -> None:
+        if it <= self.last:  # the solver started its next run: the next phase
+            self.done += self.last
+            self.index = min(self.index + 1, len(self.plan) - 1)
+        self.last = it
+        if not self.plan:
+            return
+        total = sum(w for _, w in self.plan)
+        before = sum(w for _, w in self.plan[:self.index])
+        name, weight = self.plan[self.index]
+        within = 1.0 - math.exp(-it / _PHASE_ITERATIONS[name])
+        self.fraction = max(self.fraction, min(0.99, (before + weight * within) / total))
+
+    @property
+    def iterations(self) -> int:
+        return self.done + self.last
+
+    def abandon(self, session) -> None:
+        """After a stopped drape: the session keeps its last drape; a staged re-drape had
+        already given that drape's solver the new rest shapes, which are put back."""
+        prev = self.previous
+        if prev is not None and getattr(session, "_drape", None) is prev \
+                and not np.array_equal(prev.solver.rest, self.rest):
+            prev.solver.set_rest(self.rest)
 
 
 @dataclass
@@ -60,14 +160,21 @@ class DrapeJob:
     kind: str = "drape"
     rounds: list = field(default_factory=list)
     result: dict | None = None
-    _step0: float | None = field(default=None, repr=False)
+    #: the drape was stopped: nothing of the stopped drape was recorded
+    stopped: bool = False
+    #: drapes a correction makes at most (1 for a drape), to spread the bar over them
+    drapes: int = 1
+    tracker: DrapeTracker = field(default_factory=DrapeTracker, repr=False)
 
     def as_dict(self) -> dict:
+        t = self.tracker
         return {"running": self.running, "iteration": self.iteration,
                 "energy": _finite(self.energy), "step": _finite(self.step),
                 "elapsed": self.elapsed, "fraction": self.fraction, "error": self.error,
-                "stopping": self.stop and self.running, "kind": self.kind,
-                "rounds": self.rounds, "result": self.result}
+                "stopping": self.stop and self.running, "stopped": self.stopped,
+                "kind": self.kind, "rounds": self.rounds, "result": self.result,
+                "phases": [name for name, _ in t.plan], "phase": t.phase,
+                "phase_index": t.index, "phase_iteration": t.last}
 
 
 def _finite(x):
@@ -97,6 +204,8 @@ class Studio:
         self._drag: tuple | None = None  # (state object, CoordinateCache)
         self.info: dict = {}
         self.session: api.DesignSession | None = None
+        #: keys of the states whose last drape was stopped (their ϖ stays unknown)
+        self.stopped: set[str] = set()
         #: what ``GET /api/state`` answers, rebuilt after every change so that reading it
         #: never waits for the lock a long change holds
         self.summary: dict | None = None
@@ -124,16 +233,34 @@ class Studio:
 
     def _publish(self) -> None:
         s = self.session
+        info = self.info
         self.summary = {
-            "revision": self.revision, "info": dict(self.info), "fabric": s.fabric.name,
+            "revision": self.revision, "info": dict(info), "fabric": s.fabric.name,
             "triangles": s.triangles, "threshold": s.threshold, "position": s.position,
+            # what the page's session fields show (a reload restores them from here)
+            "fields": {"garment": info.get("garment", s.pattern.name),
+                       "size": info.get("size", DEFAULTS.size),
+                       "body": info.get("body", s.body.name),
+                       "fabric": info.get("fabric", s.fabric.name),
+                       "engine": info.get("engine", ENGINES[0]), "triangles": s.triangles},
             "history": [{**{k: r[k] for k in ("index", "label", "fitting_ratio", "current")},
-                         "failed": _failed(s.history[r["index"]].checks)}
+                         "failed": _failed(s.history[r["index"]].checks),
+                         "stopped": self._was_stopped(s.history[r["index"]])}
                         for r in s.summary()],
             "fitting_ratio": s.state.fitting_ratio, "draped": s.positions is not None,
             "checks": s.state.checks, "failed": _failed(s.state.checks),
+            "stopped": self._was_stopped(s.state),
             "can_undo": s.position > 0,
             "can_redo": s.position + 1 < len(s.history)}
+
+    def _was_stopped(self, state) -> bool:
+        return state.fitting_ratio is None and state.key in self.stopped
+
+    def check_revision(self, revision: int | None) -> None:
+        """Refuse a change from a tab that saw ``revision`` when the session is past it
+        (:class:`StaleRevision`); None: a client that does not say (not the page)."""
+        if revision is not None and revision != self.revision:
+            raise StaleRevision(revision, self.revision)
 
     def ensure(self) -> api.DesignSession:
         """The session, starting the default one (built-in skirt) when there is none."""
@@ -144,32 +271,39 @@ class Studio:
 
     def new(self, *, garment: str = DEFAULTS.garment, size: str = DEFAULTS.size,
             body: str = DEFAULTS.body, fabric: str = DEFAULTS.fabric,
-            triangles: int = DEFAULTS.studio_triangles) -> None:
+            triangles: int = DEFAULTS.studio_triangles, engine: str = ENGINES[0],
+            revision: int | None = None) -> None:
         """Start a new session on a built-in garment, body and fabric, each named as in
-        ``/api/options`` (replaces the current session)."""
+        ``/api/options`` (replaces the current session). ``revision``: the one the asking
+        tab saw (see :meth:`check_revision`)."""
         for what, value, known in (("garment", garment, GARMENTS), ("size", size, SIZE_NAMES),
-                                   ("body", body, list_bodies()), ("fabric", fabric, FABRICS)):
+                                   ("body", body, list_bodies()), ("fabric", fabric, FABRICS),
+                                   ("engine", engine, ENGINES)):
             if not isinstance(value, str) or value not in known:
                 raise ValueError(f"{what}: expected one of {', '.join(known)}")
         if isinstance(triangles, bool) or not isinstance(triangles, int) \
                 or not 100 <= triangles <= 60000:
             raise ValueError("triangles: expected a whole number in 100..60000")
         self._refuse_while_draping()
+        self.check_revision(revision)
         session = api.design_session(garment, body, fabric, size=size, triangles=triangles)
         with self.lock:
             self._refuse_while_draping()
+            self.check_revision(revision)
             self.session = session
             self.info = {"garment": garment, "size": size, "body": body, "fabric": fabric,
-                         "source": f"built-in {garment} {size}"}
+                         "engine": engine, "source": f"built-in {garment} {size}"}
             self._save()
 
-    def upload(self, kind: str, filename: str, data: bytes) -> dict:
+    def upload(self, kind: str, filename: str, data: bytes, revision: int | None = None
+               ) -> dict:
         """Start a new session on an uploaded pattern, body or fabric (``kind``), keeping the
         rest of the current one. The file is read from the session folder under a name of
         the studio's choosing (``uploads/<kind><ending>``); only the ending of the client's
         ``filename`` is used, to pick the reader, and its last part names it in messages."""
         shown = filename.replace("\\", "/").rsplit("/", 1)[-1][:100] or kind
         suffix = Path(shown).suffix.lower()
+        self.check_revision(revision)
         if kind not in UPLOAD_SUFFIXES:
             raise ValueError(f"kind: expected one of {', '.join(UPLOAD_SUFFIXES)}")
         if suffix not in UPLOAD_SUFFIXES[kind]:
@@ -192,12 +326,14 @@ class Studio:
             shutil.rmtree(part, ignore_errors=True)
         if kind == "pattern":
             self.start_from(pattern=read, labels={"garment": read.name,
-                                                  "source": f"uploaded {shown}"})
+                                                  "source": f"uploaded {shown}"},
+                            revision=revision)
             return {"panels": len(read.panels)}
-        self.start_from(**{kind: read}, labels={kind: read.name})
+        self.start_from(**{kind: read}, labels={kind: read.name}, revision=revision)
         return {"name": read.name}
 
-    def start_from(self, *, labels: dict, pattern=None, body=None, fabric=None) -> None:
+    def start_from(self, *, labels: dict, pattern=None, body=None, fabric=None,
+                   revision: int | None = None) -> None:
         """Start a new session on ``pattern``, ``body`` or ``fabric`` (uploaded), keeping the
         rest of the current session (its pattern, body, fabric, mesh size, threshold);
         ``labels`` update what the page shows of the session (``info``)."""
@@ -210,6 +346,7 @@ class Studio:
                                      triangles=old.triangles, threshold=old.threshold)
         with self.lock:
             self._refuse_while_draping()
+            self.check_revision(revision)
             self.session = session
             self.info = {**self.info, **labels}
             self._save()
@@ -219,24 +356,27 @@ class Studio:
             raise RuntimeError("a drape is running: stop it first")
 
     # -- edits ---------------------------------------------------------------------------
-    def apply(self, op: str, args: dict) -> dict:
+    def apply(self, op: str, args: dict, revision: int | None = None) -> dict:
         """Apply an editing tool (lengths [m]); returns the mesh update's report in words."""
         with self.lock:
             self._refuse_while_draping()
+            self.check_revision(revision)
             report = self.ensure().apply(op, **args)
             self._save()
             return {"remeshed": report is None or bool(report.remeshed),
                     "min_angle": None if report is None else _finite(report.min_angle)}
 
-    def undo(self) -> None:
+    def undo(self, revision: int | None = None) -> None:
         with self.lock:
             self._refuse_while_draping()
+            self.check_revision(revision)
             self.ensure().undo()
             self._save()
 
-    def redo(self) -> None:
+    def redo(self, revision: int | None = None) -> None:
         with self.lock:
             self._refuse_while_draping()
+            self.check_revision(revision)
             self.ensure().redo()
             self._save()
 
@@ -252,9 +392,13 @@ class Studio:
                 self._drag = (st, CoordinateCache(st.mesh))
             cache = self._drag[1]
         new = getattr(tools, op)(st.pattern, **args)
-        # a preview never re-meshes: a panel that would need it shows its stretched mesh
+        # a preview never re-meshes (the page maps the vertices onto the mesh it has): a
+        # panel that would need it (a dart dragged far) shows its stretched mesh, same
+        # vertex count; the drop re-meshes it
         mesh, report = update_mesh(st.pattern, new, st.mesh, cache=cache, min_angle=0.0,
-                                   return_report=True)
+                                   remesh=False, return_report=True)
+        if mesh.n_vertices != st.mesh.n_vertices:  # pragma: no cover - update_mesh's promise
+            raise RuntimeError("the drag preview changed the mesh's vertex count")
         return mesh.vertices, list(report.moved)
 
     def drag_basis(self, op: str, args: dict, *, step: float = 0.005) -> np.ndarray:
@@ -268,7 +412,7 @@ class Studio:
         return np.stack(out)
 
     # -- drape ---------------------------------------------------------------------------
-    def start_drape(self, *, kind: str = "drape") -> None:
+    def start_drape(self, *, kind: str = "drape", revision: int | None = None) -> None:
         """Drape the current state (``kind="drape"``) or run the automatic fit correction
         (``"correct"``: drape, edit, re-drape rounds) in a background thread (progress in
         :attr:`job`)."""
@@ -276,6 +420,7 @@ class Studio:
             raise ValueError(f"kind: 'drape' or 'correct', got {kind!r}")
         with self.lock:
             self._refuse_while_draping()
+            self.check_revision(revision)
             self.ensure()
             self.job = DrapeJob(running=True, kind=kind)
             self._thread = threading.Thread(target=self._run_drape, args=(self.job,),
@@ -292,60 +437,78 @@ class Studio:
 
     def _run_drape(self, job: DrapeJob) -> None:
         t0 = time.perf_counter()
+        tracker = job.tracker
 
         def progress(it, energy, step, elapsed):
-            job.iteration, job.energy, job.step = int(it), float(energy), float(step)
-            job.elapsed = time.perf_counter() - t0
-            if math.isfinite(step) and step > 0:
-                # progress: the largest vertex step falling towards the stopping tolerance,
-                # on a log scale (the iteration count is not known in advance)
-                job._step0 = max(job._step0 or step, step)
-                span = math.log(job._step0 / 1e-5)
-                done = math.log(job._step0 / max(step, 1e-5)) / span if span > 0 else 1.0
-                job.fraction = max(job.fraction, min(0.99, done))
             if job.stop:
-                raise KeyboardInterrupt
+                raise DrapeStopped
+            tracker.update(int(it))
+            job.iteration = tracker.iterations  # counted over the runs: never goes back
+            job.energy, job.step = float(energy), float(step)
+            job.elapsed = time.perf_counter() - t0
+            share = (len(job.rounds) + tracker.fraction) / job.drapes
+            job.fraction = max(job.fraction, min(0.99, share))
 
+        session = state = None
         try:
             with self.lock:
                 session = self.session
                 state = session.state
+            tracker.begin(session)
             if job.kind == "correct":
                 self._run_correction(job, session, progress)
             else:
                 session.redrape(progress=progress)
                 with self.lock:
                     if self.session is session and session.state is state:
+                        self.stopped.discard(state.key)
                         self._save()
-        except KeyboardInterrupt:  # stopped between two drapes of the correction
-            pass
+        except DrapeStopped:
+            # nothing of the stopped drape is recorded: the state keeps its ϖ (unknown when
+            # it had none) and is marked stopped; the session keeps its last drape
+            job.stopped = True
+            with self.lock:
+                if self.session is session:
+                    tracker.abandon(session)
+                    self.stopped.add(session.state.key)
+                    self._publish()
         except Exception as exc:  # shown in the page; the server keeps serving
             job.error = f"{type(exc).__name__}: {exc}"
         finally:
             job.elapsed = time.perf_counter() - t0
-            job.fraction = 1.0 if job.error is None else job.fraction
+            if job.error is None and not job.stopped:
+                job.fraction = 1.0
             job.running = False
             job.finished = time.time()
 
     def _run_correction(self, job: DrapeJob, session, progress) -> None:
         """The automatic correction; each round's ϖ and edits go to ``job.rounds`` and the
-        session is saved after each round, so the page can follow and a reload keeps it."""
+        session is saved after each round, so the page can follow and a reload keeps it.
+        Stopped, it reports no outcome (``result.stopped``), never "reached"."""
+        settings = api.CorrectionSettings(threshold=session.threshold)
+        job.drapes = settings.max_iterations + 1
+
         def round_done(it):
             job.rounds.append({"iteration": it.index, "fitting_ratio": it.fitting_ratio,
                                "edits": len(it.edits), "seconds": it.seconds,
                                "failed": _failed(it.checks)})
-            job.fraction = 0.0
-            job._step0 = None
+            job.fraction = max(job.fraction, min(0.99, len(job.rounds) / job.drapes))
             with self.lock:
                 if self.session is session:
                     self._save()
             if job.stop:
-                raise KeyboardInterrupt
+                raise DrapeStopped
+            job.tracker.begin(session)  # the next round's drape
 
-        result = api.correct(session, settings=api.CorrectionSettings(
-            threshold=session.threshold), progress=round_done, drape_progress=progress)
+        try:
+            result = api.correct(session, settings=settings, progress=round_done,
+                                 drape_progress=progress)
+        except DrapeStopped:
+            job.result = {"reached": False, "stopped": True, "fitting_ratio": None,
+                          "failed": None}
+            raise
         job.result = {"reached": result.reached, "fitting_ratio": result.fitting_ratio,
-                      "failed": result.failed}
+                      "failed": result.failed, "stopped": False}
         with self.lock:
             if self.session is session:
                 self._save()

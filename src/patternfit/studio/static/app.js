@@ -4,13 +4,27 @@ import { Editor } from "/static/editor.js";
 import { View3D } from "/static/view3d.js";
 
 const $ = (id) => document.getElementById(id);
-const studio = { state: null, geometry: null, revision: null, dragStats: {} };
+// revision: the session version this tab last saw; stale: another tab changed the session
+// since (this tab must reload); fields: the session fields last shown
+const studio = { state: null, geometry: null, revision: null, dragStats: {}, stale: false, fields: null };
 window.studio = studio;
 
 function message(text, kind = "error") {
-  const m = $("message");
-  m.textContent = text || ""; m.className = text ? kind : "hidden";
+  $("message-text").textContent = text || ""; $("message").className = text ? kind : "hidden";
+  $("reload-btn").hidden = kind !== "stale";
 }
+
+// This tab missed a change made in another tab: the server refused the change (409) and
+// nothing was applied; the tab is told to reload rather than stack its change on top.
+function staleNotice(text) {
+  studio.stale = true;
+  message(text || "the session was changed in another tab: reload this tab to see it", "stale");
+}
+function fail(e) { if (e.stale) staleNotice(e.message); else message(e.message); }
+$("reload-btn").onclick = async () => {
+  studio.stale = false; message(""); studio.fields = null;
+  try { await refresh(); view.setBody(await api("/api/body")); } catch (e) { fail(e); }
+};
 
 // The token the server embedded in this page: every request that changes something (and
 // every export) carries it, so that no other site's page can drive the studio.
@@ -18,16 +32,28 @@ const TOKEN = document.querySelector('meta[name="patternfit-token"]').content;
 const TOKEN_HEADERS = { "X-Patternfit-Token": TOKEN };
 const JSON_HEADERS = { ...TOKEN_HEADERS, "Content-Type": "application/json" };
 
-async function api(path, { method = "GET", json, form } = {}) {
+// Every state-changing request carries the session version this tab last saw
+// (``versioned``): the server refuses it with 409 when another tab changed the session since.
+async function api(path, { method = "GET", json, form, versioned = method !== "GET" } = {}) {
   const opts = { method };
   if (method !== "GET") {
     opts.headers = form ? TOKEN_HEADERS : JSON_HEADERS;
-    opts.body = form || JSON.stringify(json === undefined ? {} : json);
+    const seen = versioned && studio.revision !== null ? studio.revision : undefined;
+    if (form) {
+      opts.body = form;
+      if (seen !== undefined) path += `${path.includes("?") ? "&" : "?"}revision=${seen}`;
+    } else {
+      opts.body = JSON.stringify({ ...(json || {}), ...(seen !== undefined ? { revision: seen } : {}) });
+    }
   }
   const r = await fetch(path, opts);
   const body = r.headers.get("content-type")?.includes("json") ? await r.json() : null;
-  if (!r.ok) throw new Error((body && body.error) || `${r.status} ${r.statusText}`);
-  if (body && body.warning) message(body.warning, "warning");
+  if (!r.ok) {
+    const err = new Error((body && body.error) || `${r.status} ${r.statusText}`);
+    err.stale = r.status === 409 && !!(body && body.stale);
+    if (err.stale) staleNotice(err.message);
+    throw err;
+  }
   if (body && body.revision !== undefined) studio.revision = body.revision;
   return body;
 }
@@ -50,20 +76,22 @@ const view = new View3D($("view3d"), {
 async function refresh({ geometry = true } = {}) {
   const s = await api("/api/state");
   studio.revision = s.revision;
+  showFields(s.fields);
   const r = s.fitting_ratio;
   // a drape that failed its checks (off the body, collapsed, ...) is no fit: red, "failed"
-  // and why, never green
-  $("ratio").textContent = r === null ? "—" : (s.failed ? `failed: ${clip(s.failed, 90)}` : `${(100 * r).toFixed(2)} %`);
+  // and why, never green; a stopped drape recorded nothing: ϖ stays unknown, "stopped"
+  $("ratio").textContent = r === null ? (s.stopped ? "— stopped" : "—") : (s.failed ? `failed: ${clip(s.failed, 90)}` : `${(100 * r).toFixed(2)} %`);
   $("ratio").dataset.value = r === null ? "" : r;
-  $("ratio").className = r === null ? "" : (s.failed ? "failed" : (r >= s.threshold ? "fits" : "off"));
+  $("ratio").className = r === null ? (s.stopped ? "stopped" : "") : (s.failed ? "failed" : (r >= s.threshold ? "fits" : "off"));
   $("ratio").style.color = s.failed ? FAILED_RED : "";
-  $("ratio").title = s.failed ? `the drape failed: ${s.failed} (ϖ ${(100 * r).toFixed(2)} % is not a fit)` : "";
+  $("ratio").title = s.failed ? `the drape failed: ${s.failed} (ϖ ${(100 * r).toFixed(2)} % is not a fit)` :
+    (s.stopped ? "the drape of this state was stopped before it finished: nothing of it was recorded" : "");
   $("source").textContent = `${s.info.source || ""} · ${s.info.body || ""} · ${s.fabric} · ${s.triangles} triangles`;
   $("history").innerHTML = "";
   for (const h of s.history) {
     const li = document.createElement("li");
-    li.textContent = `${h.label}  ${h.fitting_ratio === null ? "" : (h.failed ? "failed: " + clip(h.failed, 60) : "ϖ " + (100 * h.fitting_ratio).toFixed(1) + " %")}`;
-    if (h.current) li.className = "current";
+    li.textContent = `${h.label}  ${h.fitting_ratio === null ? (h.stopped ? "drape stopped, ϖ unknown" : "") : (h.failed ? "failed: " + clip(h.failed, 60) : "ϖ " + (100 * h.fitting_ratio).toFixed(1) + " %")}`;
+    li.className = (h.current ? "current" : "") + (h.stopped ? " stopped" : "");
     if (h.failed) { li.style.color = FAILED_RED; li.title = `the drape failed: ${h.failed}`; }
     $("history").appendChild(li);
   }
@@ -79,6 +107,27 @@ async function refresh({ geometry = true } = {}) {
   }
   studio.state = s;  // set last: the page is consistent with it from here on
   if (s.drape.running) pollDrape();
+}
+
+// The session fields (garment, size, body, fabric, engine, triangles) show the session's
+// own values: set on load and whenever the session's change (a new session, an upload,
+// another tab), not on every refresh, so that a choice being made for "New session" stays.
+function showFields(fields) {
+  const key = JSON.stringify(fields);
+  if (!fields || studio.fields === key) return;
+  studio.fields = key;
+  for (const k of ["garment", "size", "body", "fabric", "engine"]) {
+    const sel = $(k), v = String(fields[k]);
+    for (const o of [...sel.options]) if (o.dataset.uploaded) o.remove();
+    if (![...sel.options].some((o) => o.value === v)) {
+      // an uploaded body or fabric is no preset: shown, marked, and refused by "New session"
+      const o = document.createElement("option");
+      o.value = v; o.textContent = `${v} (opened file)`; o.dataset.uploaded = "1";
+      sel.appendChild(o);
+    }
+    sel.value = v;
+  }
+  $("triangles").value = fields.triangles;
 }
 
 const FAILED_RED = "#ff6b6b";
@@ -163,12 +212,14 @@ async function sendDrag() {
     if (r.ok) {
       const v = new Float32Array(await r.arrayBuffer());
       if (L && live === L) {
+        editor.acceptPreview(req.args.offset);
         L.base = v; L.baseOffset = req.args.offset;
         studio.dragStats.exact = (studio.dragStats.exact || 0) + 1;
         if (!L.raf) L.raf = requestAnimationFrame(drawLive);
       }
     } else {
-      message((await r.json()).error);
+      const text = (await r.json()).error;
+      if (editor.refusePreview()) message(text);  // once per drag; the preview stops moving
     }
   } finally {
     inflight = false;
@@ -188,9 +239,13 @@ async function applyEdit(h, offset) {
 
 async function edit(op, args) {
   try {
-    await api("/api/edit", { method: "POST", json: { op, args, revision: studio.revision } });
+    await api("/api/edit", { method: "POST", json: { op, args } });
     if ($("message").className === "error") message("");
-  } catch (err) { message(err.message); }
+  } catch (err) {
+    fail(err);
+    // not applied: put the pattern back as this tab last saw it (a dragged handle snaps back)
+    if (err.stale) { editor.setGeometry(studio.geometry); return; }
+  }
   await refresh();
 }
 
@@ -213,8 +268,40 @@ $("resize-dart").onclick = () => {
 };
 $("grade-btn").onclick = () => edit("grade", { panel: $("grade-panel").value, sx: +$("grade-sx").value / 100,
                                                sy: +$("grade-sy").value / 100, partner: $("partner").checked });
-$("undo-btn").onclick = async () => { try { await api("/api/undo", { method: "POST", json: { revision: studio.revision } }); } catch (e) { message(e.message); } refresh(); };
-$("redo-btn").onclick = async () => { try { await api("/api/redo", { method: "POST", json: { revision: studio.revision } }); } catch (e) { message(e.message); } refresh(); };
+async function step(which) {
+  try { await api(`/api/${which}`, { method: "POST" }); } catch (e) { fail(e); if (e.stale) return; }
+  await refresh();
+}
+$("undo-btn").onclick = () => step("undo");
+$("redo-btn").onclick = () => step("redo");
+
+// Shortcuts: Ctrl+Z undoes the pattern, Ctrl+Shift+Z and Ctrl+Y redo it (Cmd on a Mac),
+// except in a text field, where they stay the field's own; Escape cancels a drag or the
+// selection.
+const TEXT_INPUTS = new Set(["text", "number", "search", "email", "url", "tel", "password"]);
+function inTextField(el) {
+  if (!el) return false;
+  if (el.isContentEditable || el.tagName === "TEXTAREA") return true;
+  return el.tagName === "INPUT" && TEXT_INPUTS.has((el.type || "text").toLowerCase());
+}
+function cancelDrag() {
+  const dragging = !!editor.drag;
+  editor.drag = null;  // the pointer's release then drops nothing
+  live = null; pending = null;
+  editor.selected = null;
+  if (studio.geometry) editor.setGeometry(studio.geometry);  // handles and mesh back in place
+  $("selected").textContent = dragging ? "drag cancelled" : "click a handle to select it";
+}
+document.addEventListener("keydown", (e) => {
+  if (e.key === "Escape") { if (editor.drag || editor.selected) { cancelDrag(); e.preventDefault(); } return; }
+  if (!(e.ctrlKey || e.metaKey) || e.altKey || inTextField(document.activeElement)) return;
+  const k = e.key.toLowerCase();
+  const which = k === "z" ? (e.shiftKey ? "redo" : "undo") : (k === "y" && !e.shiftKey ? "redo" : null);
+  if (!which) return;
+  e.preventDefault();
+  if (editor.drag || polling || !studio.state) return;
+  if (which === "undo" ? studio.state.can_undo : studio.state.can_redo) step(which);
+});
 for (const r of document.querySelectorAll("input[name=tool]")) r.onchange = () => editor.setTool(r.value);
 $("show-mesh").onchange = () => { editor.showMesh = $("show-mesh").checked; editor.drawMesh(); };
 $("snap").onchange = () => { editor.snap = $("snap").checked; };
@@ -223,28 +310,45 @@ $("map").onchange = () => { view.setMap($("map").value); showLegend(); };
 // -- drape ------------------------------------------------------------------------------
 let polling = false;
 $("drape-btn").onclick = async () => {
-  try { await api("/api/drape", { method: "POST" }); message(""); pollDrape(); } catch (e) { message(e.message); }
+  try { await api("/api/drape", { method: "POST" }); message(""); pollDrape(); } catch (e) { fail(e); }
 };
 $("correct-btn").onclick = async () => {
-  try { await api("/api/correct", { method: "POST" }); message(""); pollDrape(); } catch (e) { message(e.message); }
+  try { await api("/api/correct", { method: "POST" }); message(""); pollDrape(); } catch (e) { fail(e); }
 };
-$("stop-btn").onclick = () => api("/api/drape/stop", { method: "POST" });
+// stopping changes nothing of the session: it needs no version
+$("stop-btn").onclick = () => api("/api/drape/stop", { method: "POST", versioned: false }).catch(fail);
+
+// "draping: phase 3/3 (draping under gravity), iteration 812 of this phase, 1 225 in all"
+const PHASE_WORDS = { sewing: "closing the seams", relaxing: "relaxing the sewn garment",
+                      draping: "draping under gravity", settling: "settling" };
+function phaseText(j) {
+  if (!j.phase) return "starting";
+  return `${j.phase} (${j.phase_index + 1}/${j.phases.length}: ${PHASE_WORDS[j.phase] || j.phase}), ` +
+    `iteration ${j.phase_iteration} of this phase, ${j.iteration} in all`;
+}
 
 async function pollDrape() {
   if (polling) return;
   polling = true; $("stop-btn").disabled = false; $("drape-btn").disabled = true;
   const correctWas = $("correct-btn").disabled; $("correct-btn").disabled = true;
   let seen = 0;
+  $("progress").classList.remove("stopped");
   try {
     for (;;) {
       const j = await api("/api/drape");
-      $("progress").value = j.fraction;
+      $("progress").value = j.fraction;  // monotone: the server never lowers it
       const rounds = j.rounds.map((r) => (r.failed ? `round ${r.iteration}: failed (${clip(r.failed, 60)})` : `round ${r.iteration}: ϖ ${(100 * r.fitting_ratio).toFixed(2)} %, ${r.edits} edits`));
-      $("drape-status").textContent = (j.kind === "correct" ? `correcting: ${rounds.join("; ")}${rounds.length ? "; " : ""}` : "") +
-        `iteration ${j.iteration}, ${j.elapsed.toFixed(1)} s` + (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "");
+      const head = j.kind === "correct" ? `correcting: ${rounds.join("; ")}${rounds.length ? "; " : ""}` : "";
+      $("drape-status").textContent = head + (j.stopped ? "stopped: " : (j.stopping ? "stopping: " : "")) +
+        `${phaseText(j)}, ${j.elapsed.toFixed(1)} s` + (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "");
       if (j.rounds.length > seen) { seen = j.rounds.length; await refresh(); }  // each round's edit shows
       if (!j.running) {
-        if (j.error) message(j.error);
+        if (j.stopped) {
+          $("progress").classList.add("stopped");
+          message(`${j.kind === "correct" ? "Correction" : "Drape"} stopped in ${j.phase || "its start"} ` +
+            `after ${j.iteration} iterations: nothing of the stopped drape was recorded` +
+            (j.kind === "correct" ? `, no fit outcome (${j.rounds.length} rounds finished)` : "; ϖ of this state stays unknown"), "warning");
+        } else if (j.error) message(j.error);
         else if (j.result && j.result.failed) message(`correction stopped: ${j.result.failed}`);
         else if (j.result) message(j.result.reached ? `fit reached: ϖ ${(100 * j.result.fitting_ratio).toFixed(2)} %` : `fit not reached after ${j.rounds.length - 1} rounds`, "warning");
         break;
@@ -263,9 +367,9 @@ async function pollDrape() {
 $("new-btn").onclick = async () => {
   try {
     await api("/api/new", { method: "POST", json: { garment: $("garment").value, size: $("size").value,
-      body: $("body").value, fabric: $("fabric").value, triangles: +$("triangles").value } });
+      body: $("body").value, fabric: $("fabric").value, engine: $("engine").value, triangles: +$("triangles").value } });
     message("");
-  } catch (e) { message(e.message); }
+  } catch (e) { fail(e); if (e.stale) return; }
   await refresh(); view.setBody(await api("/api/body"));
 };
 for (const [id, kind] of [["upload", "pattern"], ["upload-body", "body"], ["upload-fabric", "fabric"]]) {
@@ -278,7 +382,7 @@ for (const [id, kind] of [["upload", "pattern"], ["upload-body", "body"], ["uplo
       await refresh();
       if (kind === "body") view.setBody(await api("/api/body"));
       message(`opened ${f.name}`, "warning");
-    } catch (e) { message(`could not open ${f.name}: ${e.message}`); }
+    } catch (e) { if (e.stale) fail(e); else message(`could not open ${f.name}: ${e.message}`); }
     $(id).value = "";
   };
 }
@@ -299,14 +403,14 @@ async function download(event) {
   } catch (e) { message(`could not export ${a.getAttribute("download")}: ${e.message}`); }
 }
 
-// another tab may write the same session: notice it and reload (last write wins)
+// another tab may write the same session: this tab is told to reload (its changes would be
+// refused meanwhile, never stacked on an edit it has not seen)
 setInterval(async () => {
-  if (polling || inflight || editor.drag) return;
+  if (polling || inflight || editor.drag || studio.stale) return;
   try {
     const s = await (await fetch("/api/state")).json();
     if (studio.revision !== null && s.revision !== studio.revision) {
-      message("the session was changed in another tab; reloaded", "warning");
-      await refresh();
+      staleNotice(`the session was changed in another tab (version ${s.revision}; this tab shows version ${studio.revision}): reload this tab to see it`);
     }
   } catch (e) { /* server gone: the next action shows it */ }
 }, 3000);
@@ -316,18 +420,12 @@ async function start() {
   const fill = (id, items, labels) => { $(id).innerHTML = items.map((v) => `<option value="${v}" title="${labels ? labels[v] : ""}">${v}</option>`).join(""); };
   fill("garment", Object.keys(o.garments), o.garments); fill("size", o.sizes); fill("body", o.bodies);
   fill("fabric", o.fabrics); fill("engine", o.engines);
-  $("size").value = "M";
   $("exports").innerHTML = o.exports.map((n) => `<a href="/api/export/${n}" download="${n}">${n}</a>`).join("");
   for (const a of $("exports").querySelectorAll("a")) a.onclick = download;
   $("correct-btn").disabled = !o.correct_available;
   $("correct-btn").title = o.correct_available ? "" : "automatic correction is not available in this version";
-  await refresh();
-  const s = studio.state;
-  // an uploaded body or fabric is not among the presets: the list keeps its first entry
-  for (const k of ["garment", "size", "body", "fabric"]) {
-    if ([...$(k).options].some((opt) => opt.value === s.info[k])) $(k).value = s.info[k];
-  }
+  await refresh();  // the session fields come from /api/state (showFields)
   view.setBody(await api("/api/body"));
   document.body.dataset.ready = "1";
 }
-start().catch((e) => message(e.message));
+start().catch(fail);

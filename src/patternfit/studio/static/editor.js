@@ -10,10 +10,13 @@ const SEAM_COLOURS = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#1
                       "#8c564b", "#e377c2", "#bcbd22", "#7f7f7f"];
 
 export class Editor {
-  constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel }) {
+  constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel, onStale }) {
     this.canvas = canvas; this.svg = svg;
     this.onDrag = onDrag; this.onDrop = onDrop; this.onSelect = onSelect;
     this.onClickPanel = onClickPanel;
+    // called when a preview does not fit the mesh shown (its vertex count differs): the
+    // page should fetch the geometry again; without it the editor fetches it itself
+    this.onStale = onStale || (() => this.refetchGeometry());
     this.geo = null; this.vertices = null; this.tool = "point"; this.showMesh = true;
     this.snap = false; this.selected = null; this.highlighted = -1;
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
@@ -28,7 +31,7 @@ export class Editor {
 
   // geometry from /api/geometry
   setGeometry(geo) {
-    this.geo = geo;
+    this.geo = geo; this.staleWarned = false;
     this.vertices = Float64Array.from(geo.vertices);
     const tp = geo.triangle_panel, tri = geo.triangles, v = this.vertices;
     const np = geo.panel_names.length;
@@ -73,7 +76,66 @@ export class Editor {
   sx(p, x) { return PAD + (x + this.offsets[p][0]) * this.k; }
   sy(p, y) { return this.H - PAD - (y + this.offsets[p][1]) * this.k; }
 
-  setPreview(vertices) { this.vertices = vertices; this.drawMesh(); }
+  // A drag preview: flat vertices (2n,) [m] of the mesh shown. Returns whether it was
+  // drawn: not while the drag's preview is refused (the mesh stays at the last accepted
+  // preview), nor when the count differs from the mesh's (the preview belongs to another
+  // mesh: the geometry is fetched again, never a half-mapped mesh).
+  setPreview(vertices) {
+    if (!this.geo || (this.drag && this.drag.refused)) return false;
+    if (!vertices || vertices.length !== this.geo.vertices.length ||
+        Array.prototype.some.call(vertices, (x) => !Number.isFinite(x))) {
+      if (vertices && vertices.length !== this.geo.vertices.length && !this.staleWarned) {
+        this.staleWarned = true;
+        console.warn(`preview has ${vertices.length / 2} vertices, the mesh ${this.geo.vertices.length / 2}: fetching the geometry again`);
+        this.onStale();
+      }
+      return false;
+    }
+    this.vertices = vertices; this.drawMesh();
+    return true;
+  }
+
+  // The server accepted the preview for ``offset`` [m]: the drag moves again.
+  acceptPreview(offset) {
+    const d = this.drag;
+    if (!d) return;
+    d.accepted = offset.slice();
+    if (d.refused) { d.refused = false; this.moveHandle(d, d.offset); }
+  }
+
+  // The server refused the drag's preview (the edit would be refused): the mesh and the
+  // handle stay where the last accepted preview put them until a preview is accepted
+  // again. Returns true for the first refusal of a drag only, so that the page shows the
+  // message once rather than for every pointer move.
+  refusePreview() {
+    const d = this.drag;
+    if (!d) return false;
+    const first = !d.refusals;
+    d.refusals = (d.refusals || 0) + 1;
+    if (!d.refused) {
+      d.refused = true;
+      this.moveHandle(d, d.accepted);
+    }
+    return first;
+  }
+
+  moveHandle(d, offset) {
+    d.h.el.setAttribute("cx", this.sx(d.h.p, d.h.x + offset[0]));
+    d.h.el.setAttribute("cy", this.sy(d.h.p, d.h.y + offset[1]));
+  }
+
+  // GET /api/geometry again (a preview of another mesh arrived) and show it
+  async refetchGeometry() {
+    try {
+      const r = await fetch("/api/geometry");
+      if (!r.ok) return;
+      const geo = await r.json();
+      if (window.studio) window.studio.geometry = geo;  // the page's copy, for its drags
+      this.setGeometry(geo);
+    } catch (err) {
+      console.warn("geometry could not be fetched again", err);
+    }
+  }
 
   highlight(t) { this.highlighted = t; this.drawMesh(); }
 
@@ -115,6 +177,7 @@ export class Editor {
   drawMesh() {
     if (!this.geo || !this.fill || !this.W) return;
     const v = this.vertices, tri = this.geo.triangles, k = this.k;
+    if (v.length !== 2 * this.vertexPanel.length) return;  // never a half-mapped mesh
     const X = new Float32Array(v.length / 2), Y = new Float32Array(v.length / 2);
     for (let i = 0; i < X.length; i++) {
       const p = this.vertexPanel[i];
@@ -236,7 +299,8 @@ export class Editor {
       return;
     }
     const h = this.handleList[+i];
-    this.drag = { h, x0: e.clientX, y0: e.clientY, offset: [0, 0], moved: false };
+    this.drag = { h, x0: e.clientX, y0: e.clientY, offset: [0, 0], moved: false,
+                  accepted: [0, 0], refused: false, refusals: 0 };
     this.svg.setPointerCapture(e.pointerId);
     e.preventDefault();
   }
@@ -248,8 +312,9 @@ export class Editor {
     d.offset = this.snapOffset(raw);
     if (Math.hypot(e.clientX - d.x0, e.clientY - d.y0) > 2) d.moved = true;
     if (!d.moved) return;
-    d.h.el.setAttribute("cx", this.sx(d.h.p, d.h.x + d.offset[0]));
-    d.h.el.setAttribute("cy", this.sy(d.h.p, d.h.y + d.offset[1]));
+    // a refused preview holds the handle at the last accepted offset; the page still asks
+    // for the new offsets, so that the drag moves again once one is accepted
+    if (!d.refused) this.moveHandle(d, d.offset);
     this.onDrag(d.h, d.offset);
   }
 
