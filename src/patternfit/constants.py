@@ -24,6 +24,13 @@ class Tolerances:
     seam_range_overlap: float = 1e-9
     #: how far an edge re-fitted to a DXF's points may stray from them [m]
     dxf_fit: float = 5e-5
+    #: consecutive DXF points closer than this are one point: CAD tools repeat every turn
+    #: point, and inch files round 1e-4 in (2.5e-6 m) apart [m]
+    dxf_repeat: float = 5e-5
+    #: how far an edge fitted to a DXF polyline may stray from it anywhere along it, both
+    #: ways (curve to polyline, polyline to curve); also the most a reader may simplify a
+    #: foreign file's outline by (merging collinear runs and tiny edges) [m]
+    dxf_span: float = 5e-4
     #: how far a DXF polyline written for a curve may stray from it [m]
     dxf_sample: float = 2e-5
     #: how far from an outline edge a DXF notch may lie and still mark it [m]

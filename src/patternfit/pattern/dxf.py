@@ -15,9 +15,11 @@ line (layer 7) and inner loops as internal cut-outs (layer 11), through ezdxf's 
 (``ezdxf.addons.gerber_D6673``) so that Gerber's strict parser accepts the file. DXF-AAMA has no
 seams, edge names or 3D placement: they go to a side file ``<name>.seams.json``.
 
-Import splits each closed outline at its turn points (or, without any, at corners) and turns
-each run of points back into a line, a circular arc or a cubic Bézier when the fit stays within
-0.05 mm, else into a chain of shorter curves. A closed sew line (layer 14) is preferred to the
+Import drops repeated points (``tol.dxf_repeat``), splits each closed outline at its turn
+points (or, without any, at corners) and turns each run of points back into a line, a circular
+arc or a cubic Bézier when the fit stays within 0.05 mm of the points and 0.5 mm of the
+polyline everywhere, else into a chain of shorter curves (``dxf_curves``). Units come from the
+``Units:`` text, ``$INSUNITS`` or ``$MEASUREMENT``; implausible piece sizes are warned about. A closed sew line (layer 14) is preferred to the
 cut line as the outline, since sewing happens there. Seams come from the side file; without
 one, seams are suggested (``meta["suggested_seams"]``) from edge pairs of equal length with
 matching notches. Everything inside is metres.
@@ -27,7 +29,6 @@ from __future__ import annotations
 
 import io
 import json
-import math
 import re
 from dataclasses import replace
 from itertools import islice
@@ -45,11 +46,12 @@ from scipy.spatial import cKDTree
 
 from ..constants import UNITS, limits, tol
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
+from .dxf_curves import dedupe, loop_from_points
 from .edges import Edge
 from .errors import PatternError
-from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
 from .formats import check_imported
 from .io import json_field, json_point, json_vec3, seams_from_json, shown
+from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
 from .validate import check_pattern
 
 __all__ = ["LAYERS", "load_dxf", "notch_marks", "save_dxf", "sidecar_path", "suggest_seams"]
@@ -62,16 +64,14 @@ LAYERS = {"boundary": 1, "turn_points": 2, "curve_points": 3, "notches": 4,
 SIDE_FORMAT = "patternfit-dxf-sidecar"
 #: how many edges next in length :func:`suggest_seams` compares each edge with [-]
 SEAM_WINDOW = 64
-# below this determinant of the arc fit's 2 x 2 system its three points lie on a line [m^2]
-_COLLINEAR = 1e-18
-# the cubic fit stops when its squared error improves by less than this fraction, or falls
-# below the absolute value [m^2]
-_FIT_STALL, _FIT_EXACT = 1e-14, 1e-24
 _PIECE_LAYERS = (LAYERS["boundary"], LAYERS["sew"])
 _BINARY_DXF = b"AutoCAD Binary DXF\r\n\x1a\x00"
 _NOTCH = 0.006  # notch slit length [m]
 _UNIT = {"METRIC": 0.001, "ENGLISH": 0.0254}
 _INSUNITS = {1: 0.0254, 2: 0.3048, 4: 0.001, 5: 0.01, 6: 1.0}
+#: sizes across (largest side of the bounding box) a garment piece plausibly has; outside
+#: them the file's units are probably misread and the reader warns [m]
+PLAUSIBLE = (0.01, 3.0)
 
 
 def sidecar_path(path) -> Path:
@@ -222,162 +222,6 @@ def save_dxf(pattern: Pattern, path, *, sidecar: bool = True) -> Path:
     return Path(path)
 
 
-# -- fitting -----------------------------------------------------------------------------------
-def _line_dev(p: np.ndarray) -> float:
-    d = p[-1] - p[0]
-    n = np.linalg.norm(d)
-    if n == 0:
-        return float(np.max(np.linalg.norm(p - p[0], axis=1)))
-    return float(np.max(np.abs((p[:, 0] - p[0, 0]) * d[1] - (p[:, 1] - p[0, 1]) * d[0]) / n))
-
-
-def _fit_arc(name: str, p: np.ndarray) -> tuple[Edge, float] | None:
-    """The circular arc through the ends and middle of ``p`` (k, 2) [m] and its largest
-    distance to ``p``, or None when the points do not run round one centre."""
-    a, b, c = p[0], p[len(p) // 2], p[-1]
-    m = np.array([b - a, c - a]) * 2
-    det = np.linalg.det(m)
-    if abs(det) < _COLLINEAR:
-        return None
-    centre = np.linalg.solve(m, [b @ b - a @ a, c @ c - a @ a])
-    r = float(np.linalg.norm(a - centre))
-    dev = float(np.max(np.abs(np.linalg.norm(p - centre, axis=1) - r)))
-    ang = np.unwrap(np.arctan2(p[:, 1] - centre[1], p[:, 0] - centre[0]))
-    steps = np.diff(ang)
-    if not (np.all(steps > 0) or np.all(steps < 0)):
-        return None
-    span = float(ang[-1] - ang[0])
-    return Edge.arc(name, a, c, r, large_arc=abs(span) > math.pi, sweep=span > 0), dev
-
-
-def _bezier(c: np.ndarray, t: np.ndarray):
-    """Points, derivatives and control-point weights of a cubic Bézier c (4, 2) at t (k,)."""
-    u = 1 - t
-    w = np.column_stack([u**3, 3 * u * u * t, 3 * u * t * t, t**3])
-    d = 3 * ((u * u)[:, None] * (c[1] - c[0]) + (2 * u * t)[:, None] * (c[2] - c[1])
-             + (t * t)[:, None] * (c[3] - c[2]))
-    return w @ c, d, w
-
-
-def _fit_cubic(name: str, p: np.ndarray, iterations: int = 100) -> tuple[Edge, float]:
-    """Least-squares cubic Bézier through ``p`` (k, 2) [m] with fixed ends; returns it and
-    the largest distance from a point of ``p`` to the curve [m].
-
-    Control points and the points' curve parameters are solved together (Levenberg-Marquardt,
-    the parameters eliminated by a Schur complement): fitting the control points alone and
-    re-projecting stalls on curves whose speed varies a lot.
-    """
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
-    t = s / s[-1]
-    u = 1 - t
-    rhs = p - np.outer(u**3, p[0]) - np.outer(t**3, p[-1])
-    inner, *_ = np.linalg.lstsq(np.column_stack([3 * u * u * t, 3 * u * t * t]), rhs,
-                                rcond=None)
-    c = np.array([p[0], inner[0], inner[1], p[-1]])
-
-    def cost(c, t):
-        return float(np.sum((_bezier(c, t)[0] - p) ** 2))
-
-    lam, now = 1e-3 * s[-1] ** 2, cost(c, t)
-    for _ in range(iterations):
-        q, d, w = _bezier(c, t)
-        r = (q - p)[1:-1]
-        d, w = d[1:-1], w[1:-1, 1:3]
-        jc = np.zeros((len(r), 2, 4))  # d residual / d (c1x, c1y, c2x, c2y)
-        jc[:, 0, 0] = jc[:, 1, 1] = w[:, 0]
-        jc[:, 0, 2] = jc[:, 1, 3] = w[:, 1]
-        hcc = np.einsum("kai,kaj->ij", jc, jc) + lam * np.eye(4)
-        gc = np.einsum("kai,ka->i", jc, r)
-        hct = np.einsum("kai,ka->ki", jc, d)
-        ht = np.einsum("ka,ka->k", d, d) + lam
-        gt = np.einsum("ka,ka->k", d, r)
-        schur = hcc - np.einsum("ki,kj,k->ij", hct, hct, 1 / ht)
-        dc = -np.linalg.solve(schur, gc - hct.T @ (gt / ht))
-        dt = -(gt + hct @ dc) / ht
-        c_new = c.copy()
-        c_new[1:3] += dc.reshape(2, 2)
-        t_new = t.copy()
-        t_new[1:-1] = np.clip(t[1:-1] + dt, 0.0, 1.0)
-        new = cost(c_new, t_new)
-        if new < now:
-            done = now - new < _FIT_STALL * max(now, 1e-300) or new < _FIT_EXACT
-            c, t, now, lam = c_new, t_new, new, lam / 3
-            if done:
-                break
-        else:
-            lam *= 4
-    edge = Edge.cubic(name, *c)
-    return edge, float(np.max(np.linalg.norm(edge.evaluate(t) - p, axis=1)))
-
-
-def _fit_one(name: str, p: np.ndarray) -> Edge | None:
-    """The simplest edge (line, quadratic or cubic Bézier, arc) within ``tol.dxf_fit`` of all of
-    ``p`` (k, 2) [m], or None. Between an arc and a cubic the closer one wins."""
-    if len(p) == 2 or _line_dev(p) < tol.dxf_fit:
-        return Edge.line(name, p[0], p[-1])
-    if len(p) < 4:
-        return None
-    cubic, dev = _fit_cubic(name, p)
-    arc = _fit_arc(name, p)
-    if arc is not None and arc[1] < min(dev, tol.dxf_fit):
-        return arc[0]
-    if dev >= tol.dxf_fit:
-        return None
-    c = np.asarray(cubic.points)
-    q1, q2 = (3 * c[1] - c[0]) / 2, (3 * c[2] - c[3]) / 2  # a raised quadratic has q1 == q2
-    if np.linalg.norm(q1 - q2) < tol.dxf_fit:
-        return Edge.quadratic(name, c[0], 0.5 * (q1 + q2), c[3])
-    return cubic
-
-
-def _fit_run(p: np.ndarray, names: list[str]) -> list[Edge]:
-    """Edges through one run of points (k, 2) [m], split where a single curve does not fit."""
-    edge = _fit_one(f"e{len(names)}", p)
-    if edge is not None:
-        names.append(edge.name)
-        return [edge]
-    if len(p) <= 3:
-        out = []
-        for a, b in zip(p[:-1], p[1:]):
-            names.append(f"e{len(names)}")
-            out.append(Edge.line(names[-1], a, b))
-        return out
-    mid = len(p) // 2
-    return _fit_run(p[: mid + 1], names) + _fit_run(p[mid:], names)
-
-
-def _corners(p: np.ndarray, angle: float = 25.0) -> list[int]:
-    """Indices of the closed polygon's vertices that turn by more than ``angle`` degrees."""
-    a = p - np.roll(p, 1, axis=0)
-    b = np.roll(p, -1, axis=0) - p
-    cos = np.einsum("ij,ij->i", a, b) / np.maximum(
-        np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
-    return [int(i) for i in np.flatnonzero(cos < math.cos(math.radians(angle)))]
-
-
-def _loop_from_points(p: np.ndarray, turns: np.ndarray, name: str, prefix: str) -> Loop:
-    """Split a closed polygon (k, 2) at its turn points (t, 2) and fit every run [m]."""
-    breaks = []
-    if len(turns):
-        near, _ = cKDTree(turns).query(p, distance_upper_bound=tol.dxf_fit)
-        breaks = np.flatnonzero(near < tol.dxf_fit).tolist()
-    if not breaks:
-        breaks = _corners(p) or [0]
-    p = np.roll(p, -breaks[0], axis=0)
-    breaks = [(b - breaks[0]) % len(p) for b in breaks] + [len(p)]
-    closed = np.vstack([p, p[:1]])
-    names: list[str] = []
-    edges: list[Edge] = []
-    for b0, b1 in zip(breaks[:-1], breaks[1:]):
-        edges += _fit_run(closed[b0:b1 + 1], names)
-    if len(edges) == 1:  # a loop needs at least two edges: split the single one in halves
-        half = len(p) // 2
-        names = []
-        edges = _fit_run(closed[: half + 1], names) + _fit_run(closed[half:], names)
-    renamed = tuple(replace(e, name=f"{prefix}{k}") for k, e in enumerate(edges))
-    return Loop(name, renamed)
-
-
 # -- import ------------------------------------------------------------------------------------
 def _layer(entity) -> int | None:
     name = str(entity.dxf.get("layer", "")).strip()
@@ -434,23 +278,22 @@ def _entity_points(entity, scale: float, budget: int, where: dict
     if len(pts) > budget:
         raise PatternError(f"{_entity_name(entity)}: the piece's curves make more than "
                            f"{limits.segments_per_panel} points (the segment limit)", **where)
-    # CAD tools write repeated vertices; a zero-length segment has no direction to fit
-    keep = np.ones(len(pts), dtype=bool)
-    keep[1:] = np.linalg.norm(np.diff(pts, axis=0), axis=1) >= tol.merge
-    pts = pts[keep]
+    # CAD tools repeat every turn point (Gerber) and round them (inch files): a segment
+    # shorter than tol.dxf_repeat has no direction to fit
+    pts = dedupe(pts, closed=False)
     if len(pts) < 2:
         return None
-    ends_meet = np.linalg.norm(pts[0] - pts[-1]) < tol.merge
+    ends_meet = np.linalg.norm(pts[0] - pts[-1]) < tol.dxf_repeat
     closed = bool(getattr(entity, "is_closed", False)) or kind == "CIRCLE" or ends_meet
-    if ends_meet and len(pts) > 2:
-        pts = pts[:-1]
+    if closed:
+        pts = dedupe(pts, closed=True)
     return pts, closed
 
 
 def _clusters(points: np.ndarray) -> np.ndarray:
-    """A cluster number for each point (n, 2) [m]: points within ``tol.merge`` of each other
+    """A cluster number for each point (n, 2) [m]: points within ``tol.dxf_repeat`` of each other
     (and some up to three times that) share one. Linear time, however many coincide."""
-    cells = np.floor(points / tol.merge).astype(np.int64)
+    cells = np.floor(points / tol.dxf_repeat).astype(np.int64)
     keys, index = np.unique(cells, axis=0, return_inverse=True)
     index = index.reshape(-1)
     parent = list(range(len(keys)))
@@ -515,6 +358,13 @@ def _chain(pieces: list[tuple[np.ndarray, bool]]) -> list[np.ndarray]:
     return loops
 
 
+def _closed_loops(pieces) -> list[np.ndarray]:
+    """:func:`_chain`'s loops without repeated points (where pieces join, and the closing
+    point), those with fewer than three points left out."""
+    loops = [dedupe(q, closed=True) for q in _chain(pieces)]
+    return [q for q in loops if len(q) >= 3]
+
+
 def _area(p: np.ndarray) -> float:
     q = np.roll(p, -1, axis=0)
     return 0.5 * float(np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]))
@@ -536,7 +386,7 @@ def _field(texts: list[str], key: str) -> str | None:
     return None
 
 
-def _read_piece(block, scale: float, prefer_sew: bool):
+def _read_piece(block, scale: float, prefer_sew: bool, foreign: bool = True):
     """A piece block's outline, inner loops, grain line, notches and name, or None.
 
     Every entity is read inside this function's error boundary: whatever ezdxf raises on a
@@ -565,16 +415,16 @@ def _read_piece(block, scale: float, prefer_sew: bool):
         if got is not None:
             by_layer.setdefault(layer, []).append(got)
             budget -= len(got[0])
-    cut = _chain(by_layer.get(LAYERS["boundary"], []))
-    sew = _chain(by_layer.get(LAYERS["sew"], []))
+    cut = _closed_loops(by_layer.get(LAYERS["boundary"], []))
+    sew = _closed_loops(by_layer.get(LAYERS["sew"], []))
     loops = sew if (prefer_sew and sew) else cut
     if not loops:
         return None
     loops.sort(key=lambda q: -abs(_area(q)))
     turns = np.array(points.get(LAYERS["turn_points"], []) or np.zeros((0, 2))).reshape(-1, 2)
-    outline = _loop_from_points(loops[0], turns, "outline", "e")
-    cutouts = _chain(by_layer.get(LAYERS["cutout"], []))
-    inner = tuple(_loop_from_points(q, turns, f"inner{k}", f"i{k}_e")
+    outline = loop_from_points(loops[0], turns, "outline", "e", foreign=foreign)
+    cutouts = _closed_loops(by_layer.get(LAYERS["cutout"], []))
+    inner = tuple(loop_from_points(q, turns, f"inner{k}", f"i{k}_e", foreign=foreign)
                   for k, q in enumerate(cutouts))
     grain = (0.0, 1.0)
     for p, _ in by_layer.get(LAYERS["grain"], []):
@@ -712,16 +562,16 @@ def _document(data: bytes):
 
 def _read_dxf(path: Path, units: str | None, prefer_sew: bool):
     """The pattern (no seams) and notch fractions of a DXF file; errors without the file."""
-    doc = _document(read_bytes_capped(path, limit=limits.dxf_bytes, error=PatternError))
+    data = read_bytes_capped(path, limit=limits.dxf_bytes, error=PatternError)
+    doc = _document(data)
+    # ezdxf makes up a header (metres) for a file without one: only what the file says counts
+    said = {v for v in ("$INSUNITS", "$MEASUREMENT") if v.encode() in data}
     msp_texts = _texts(doc.modelspace())
-    if units is not None:
-        scale = UNITS[units]
-    else:
-        word = (_field(msp_texts, "Units") or "").upper()
-        # R12 has no $INSUNITS: ezdxf makes one up (metres) for a file without a header
-        insunits = doc.header.get("$INSUNITS", 4) if doc.dxfversion > "AC1009" else 4
-        scale = _UNIT.get(word) or _INSUNITS.get(insunits, 0.001)
     blocks = [b for b in doc.blocks if not b.name.startswith("*")]
+    scale, unit_says = _file_scale(doc, said, msp_texts, blocks) if units is None else \
+        (UNITS[units], f"units={units!r}")
+    # our own files keep an edge between every two turn points (exact round trip)
+    foreign = (_field(msp_texts, "Author") or "") != "patternfit"
     # count the blocks that can be pieces before fitting any
     drawn = sum(any(_layer(e) in _PIECE_LAYERS for e in b) for b in blocks)
     if drawn > limits.panels:
@@ -730,7 +580,7 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool):
     panels, notch_map, names = [], {}, set()
     for block in blocks:
         try:
-            piece = _read_piece(block, scale, prefer_sew)
+            piece = _read_piece(block, scale, prefer_sew, foreign)
         except PatternError:
             raise
         except Exception as exc:  # a fit that fails on damaged geometry, of whatever kind
@@ -753,9 +603,57 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool):
     size = _field(msp_texts, "Sample Size")
     if size:
         meta["size"] = size
+    warnings = _size_warnings(panels, scale, unit_says)
+    if warnings:
+        meta["warnings"] = warnings
     pattern = Pattern(style, tuple(panels), (), meta)
     check_pattern(pattern)
     return pattern, notch_map
+
+
+def _file_scale(doc, said: set[str], msp_texts: list[str], blocks) -> tuple[float, str]:
+    """Metres per file unit, and what said so: the AAMA ``Units:`` text (in the entities,
+    else in a piece block), else ``$INSUNITS`` (when the header has it and it is a length),
+    else ``$MEASUREMENT`` (0 inches, 1 millimetres), else millimetres."""
+    word = _field(msp_texts, "Units")
+    if word is None:
+        for block in blocks:
+            word = _field(_texts(block), "Units")
+            if word is not None:
+                break
+    if word is not None and word.strip().upper() in _UNIT:
+        word = word.strip().upper()
+        return _UNIT[word], f"the text 'Units: {word}'"
+    if "$INSUNITS" in said and doc.header.get("$INSUNITS") in _INSUNITS:
+        code = doc.header.get("$INSUNITS")
+        return _INSUNITS[code], f"$INSUNITS = {code}"
+    if "$MEASUREMENT" in said and doc.header.get("$MEASUREMENT") in (0, 1):
+        code = doc.header.get("$MEASUREMENT")
+        return (0.0254, 0.001)[code], f"$MEASUREMENT = {code}"
+    return 0.001, "no unit in the file (millimetres assumed)"
+
+
+_UNIT_NAMES = {0.001: "mm", 0.01: "cm", 0.0254: "in", 0.3048: "ft", 1.0: "m"}
+
+
+def _size_warnings(panels, scale: float, unit_says: str) -> list[str]:
+    """A warning for every piece whose size is implausible for a garment piece in the unit
+    read (``PLAUSIBLE``), naming the units that would make it plausible."""
+    out = []
+    lo, hi = PLAUSIBLE
+    for panel in panels:
+        poly = panel.outline.polygon(8)
+        size = float(np.max(poly.max(axis=0) - poly.min(axis=0)))
+        if lo <= size <= hi:
+            continue
+        fits = [u for u, m in UNITS.items() if lo <= size / scale * m <= hi]
+        unit = _UNIT_NAMES.get(scale, f"{scale:g} m")
+        out.append(f"panel '{panel.name}' is {size:.3g} m across, read in {unit} ({unit_says}):"
+                   f" implausible for a garment piece (expected {lo:g} to {hi:g} m); "
+                   + (f"as {' or '.join(fits)} it would be {size / scale * UNITS[fits[0]]:.3g}"
+                      f" m (load_dxf(..., units={fits[0]!r}))" if fits else
+                      "check the file's units"))
+    return out
 
 
 def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool = True
@@ -792,6 +690,7 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
             warnings = check_imported(out)
         except PatternError as exc:
             raise exc.located(side_path) from None
+        warnings = list(pattern.meta.get("warnings", [])) + list(warnings)
         if warnings:
             out.meta["warnings"] = warnings
         return out
