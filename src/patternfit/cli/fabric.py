@@ -1,0 +1,203 @@
+"""``patternfit fabric-test``: the virtual fabric-testing kit (hanging strip, Peirce's
+cantilever, Cusick drape) of ``patternfit.sim.fabric_test`` on a preset or a fabric file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from ..defaults import DEFAULTS
+from .app import CHECKS_FAILED, app, console, fail, finite, print_json
+
+# patternfit.api and the stage modules are imported inside the command, when it runs:
+# `patternfit --help` should not wait for the solver's compiled kernels
+
+TESTS = ("strip", "cantilever", "cusick")
+#: which options belong to which test (an option given to another test is refused)
+_OWN = {"direction": ("strip", "cantilever"), "length": ("strip",), "meshes": ("cantilever",),
+        "triangles": ("cusick",), "seeds": ("cusick",), "specimen": ("cusick",),
+        "disc": ("cusick",)}
+
+
+def _mm(value, digits: int = 2) -> str:
+    return "n/a" if value is None else f"{value * 1e3:.{digits}f} mm"
+
+
+def _num(value, spec: str) -> str:
+    return "n/a" if value is None else format(value, spec)
+
+
+def _residual(res) -> str:
+    if isinstance(res, dict) and res:
+        return ", ".join(f"{k} {_num(v, '.3g')}" for k, v in res.items())
+    return "n/a" if res is None else str(res)
+
+
+def _meshes(text: str) -> tuple[int, ...]:
+    try:
+        sizes = tuple(int(p) for p in text.replace(" ", "").split(",") if p)
+    except ValueError:
+        fail(f"--meshes: expected comma-separated whole numbers (edges per bending length), "
+             f"got {text!r}")
+    if not sizes or any(not 2 <= s <= 60 for s in sizes):
+        fail(f"--meshes: one to several numbers from 2 to 60, got {text!r}")
+    return sizes
+
+
+def _show_strip(r) -> None:
+    table = Table(title=f"hanging strip, {r.fabric} ({r.direction}), "
+                        f"{r.length_m:.3g} × {r.width_m:.3g} m, {r.triangles} triangles")
+    for col in ("quantity", "value"):
+        table.add_column(col)
+    table.add_row("elongation measured", _mm(r.elongation_measured_m, 4))
+    table.add_row("elongation expected ρgL²/(2k)", _mm(r.elongation_expected_m, 4))
+    table.add_row("ratio", _num(r.ratio, ".4f"))
+    table.add_row("strain at the clamp ρgL/k", f"{r.strain_top * 100:.3f} %")
+    console.print(table)
+
+
+def _show_cantilever(r) -> None:
+    table = Table(title=f"Peirce cantilever (ASTM D1388), {r.fabric} ({r.direction}), "
+                        f"strip {r.width_m * 1e3:.0f} mm wide")
+    for col in ("edge", "triangles", "overhang", "tip angle", "bending length",
+                "overhang / 2"):
+        table.add_column(col, justify="right")
+    for m in r.meshes:
+        table.add_row(_mm(m.edge_m), str(m.triangles), _mm(m.overhang_m, 1),
+                      f"{m.tip_angle_deg:.2f}°", _mm(m.bending_length_m),
+                      _mm(m.astm_length_m))
+    console.print(table)
+    console.print(f"bending length measured {_mm(r.bending_length_measured_m)}, expected "
+                  f"(B/(ρg))^(1/3) = {_mm(r.bending_length_expected_m)}, ratio "
+                  f"{_num(r.ratio, '.4f')}; Peirce's formula {_mm(r.peirce_length_m)}; "
+                  f"change between the two finest meshes "
+                  f"{_num(None if r.mesh_change is None else r.mesh_change * 100, '.2f')} %")
+
+
+def _show_cusick(r) -> None:
+    table = Table(title=f"Cusick drape, {r.fabric}: {r.specimen_diameter_m * 100:.0f} cm "
+                        f"specimen on a {r.disc_diameter_m * 100:.0f} cm disc, "
+                        f"{r.triangles} triangles")
+    for col in ("seed", "DC", "nodes", "hem drop", "compressed", "iterations", "s"):
+        table.add_column(col, justify="right")
+    for run in r.runs:
+        table.add_row(str(run.seed), f"{run.drape_coefficient:.3f}", str(run.nodes),
+                      _mm(run.hem_drop_m, 1), f"{run.compressed_share * 100:.1f} %",
+                      str(run.solve.iterations), f"{run.solve.seconds:.1f}")
+    console.print(table)
+    console.print(f"drape coefficient {r.drape_coefficient:.3f} (spread "
+                  f"{r.drape_coefficient_spread:.3f}, sd {r.drape_coefficient_std:.3f}); "
+                  f"nodes {r.nodes:.1f} ({r.nodes_min}–{r.nodes_max})")
+
+
+def _solves(result) -> list:
+    if hasattr(result, "runs") and result.runs and hasattr(result.runs[0], "solve"):
+        return [run.solve for run in result.runs]
+    if hasattr(result, "meshes"):
+        return [run.solve for m in result.meshes for run in m.runs]
+    return [result.solve]
+
+
+@app.command("fabric-test")
+def fabric_test(
+    test: str = typer.Argument(..., help="strip (stretch under its own weight), cantilever "
+                               "(Peirce / ASTM D1388 bending length) or cusick (drape "
+                               "coefficient and nodes)."),
+    fabric: str = typer.Option(DEFAULTS.fabric, "--fabric", "-f",
+                               help="Fabric preset name or a fabric JSON file."),
+    direction: Optional[str] = typer.Option(None, help="strip, cantilever: warp (default) or "
+                                            "weft, the yarns along the strip."),
+    length: Optional[float] = typer.Option(None, min=0.001, max=10.0, callback=finite,
+                                           help="strip: hanging length [m] (default 0.5)."),
+    meshes: Optional[str] = typer.Option(None, help="cantilever: mesh sizes, edges per "
+                                         "bending length, coarse to fine (default 6,12,24)."),
+    triangles: Optional[int] = typer.Option(None, "--triangles", "-n", min=50, max=200_000,
+                                            help="cusick: triangles of the specimen "
+                                                 "(default 4000)."),
+    seeds: Optional[int] = typer.Option(None, min=1, max=50, help="cusick: perturbed flat "
+                                        "starts, seeds 0..N-1 (default 5)."),
+    specimen: Optional[float] = typer.Option(None, min=0.02, max=2.0, callback=finite,
+                                             help="cusick: specimen diameter [m] "
+                                                  "(default 0.30)."),
+    disc: Optional[float] = typer.Option(None, min=0.005, max=2.0, callback=finite,
+                                         help="cusick: support disc diameter [m] "
+                                              "(default 0.18)."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result "
+                                       "(fabric_test_<test>.json) and the pictures here "
+                                       "(cusick: top view; cantilever: side view)."),
+    json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
+) -> None:
+    """Test a fabric on the virtual bench: a hanging strip's stretch against ρgL²/(2k),
+    Peirce's cantilever bending length against (B/(ρg))^(1/3), or the Cusick drape
+    coefficient and number of nodes (mean and spread over perturbed starts).
+
+    Exits with status 1 when the result failed its checks: a solve that did not end at
+    rest, a strip or bending length more than 5 % off, a drape coefficient outside [0, 1].
+    """
+    test = test.strip().lower()
+    if test not in TESTS:
+        fail(f"TEST: one of {', '.join(TESTS)}, got {test!r}")
+    given = {"direction": direction, "length": length, "meshes": meshes,
+             "triangles": triangles, "seeds": seeds, "specimen": specimen, "disc": disc}
+    for name, value in given.items():
+        if value is not None and test not in _OWN[name]:
+            fail(f"--{name} applies to {' and '.join(_OWN[name])}, not to {test}")
+    if direction is not None and direction.strip().lower() not in ("warp", "weft"):
+        fail(f"--direction: warp or weft, got {direction!r}")
+    sizes = _meshes(meshes) if meshes is not None else None
+
+    from .. import api
+    from ..sim import fabric_test as kit
+
+    fab = api.read_fabric(fabric)
+    with console.status(f"[bold]{test}[/] test of {escape(fab.name)}") as status:
+        def progress(text: str) -> None:
+            status.update(f"[bold]{escape(text)}")
+
+        if test == "strip":
+            result = kit.strip_test(fab, direction=direction or "warp",
+                                    length=0.5 if length is None else length,
+                                    progress=progress)
+        elif test == "cantilever":
+            result = kit.cantilever_test(fab, direction=direction or "warp",
+                                         meshes=sizes or (6, 12, 24), keep_shape=out is not None,
+                                         progress=progress)
+        else:
+            result = kit.cusick_test(
+                fab, specimen=kit.CUSICK_SPECIMEN if specimen is None else specimen,
+                disc=kit.CUSICK_DISC if disc is None else disc,
+                triangles=4000 if triangles is None else triangles,
+                seeds=tuple(range(5 if seeds is None else seeds)), progress=progress)
+    report = {**result.to_dict(), "fabric_constants": fab.to_dict()}
+    files = []
+    if out is not None:
+        from ..files import atomic_write_text, dumps_finite_json
+
+        out.mkdir(parents=True, exist_ok=True)
+        if test == "cusick":
+            files.append(kit.write_cusick_picture(result, out / "cusick_top.png"))
+        elif test == "cantilever":
+            files.append(kit.write_cantilever_picture(result, out / "cantilever_side.png"))
+        report["files"] = [p.name for p in files] + [f"fabric_test_{test}.json"]
+        files.append(atomic_write_text(out / f"fabric_test_{test}.json",
+                                       dumps_finite_json(report, indent=1) + "\n"))
+    if json_out:
+        print_json(report)
+    else:
+        {"strip": _show_strip, "cantilever": _show_cantilever, "cusick": _show_cusick}[test](
+            result)
+        solves = _solves(result)
+        last = solves[-1]
+        at_rest = sum(s.at_rest for s in solves)
+        console.print(f"{at_rest}/{len(solves)} solves at rest; last: {last.stop_reason}, "
+                      f"{last.iterations} iterations, residual {_residual(last.residual)}; "
+                      f"{result.seconds:.1f} s")
+        if files:
+            console.print(f"wrote {', '.join(str(p) for p in files)}")
+    if not result.passed:
+        fail(f"the {test} test of {fab.name} failed its checks (see 'passed', 'converged' and "
+             "'ratio' in the result)", CHECKS_FAILED)
