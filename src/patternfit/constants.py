@@ -82,6 +82,9 @@ class Limits:
     request_seconds: float = 600.0
     #: largest scale factor an edit may apply (and smallest: its inverse) [-]
     edit_scale: float = 10.0
+    #: largest ease a seam may state (:attr:`~patternfit.pattern.model.Seam.ease`: longer
+    #: side / shorter side - 1); 1.0 is a 2:1 gather [-]
+    seam_ease: float = 1.0
 
 
 limits = Limits()

@@ -1,8 +1,11 @@
 """Constrained quality Delaunay triangulation of a whole pattern (the ``triangle`` package).
 
 Every edge is sampled uniformly in arc length; the two sides of a seam get the same number of
-samples, so sewing pairs their vertices one to one (METHOD.md section 2). Boundary samples are
-kept as they are (no Steiner points on the boundary), which keeps the pairing exact.
+samples, so sewing pairs their vertices one to one (METHOD.md section 2). Sides of different
+length (a seam's ``ease``: gathers, cap ease) are sampled alike, each spread evenly along its
+own arc length, so each panel keeps its own rest lengths and the difference is sewn in.
+Boundary samples are kept as they are (no Steiner points on the boundary), which keeps the
+pairing exact.
 """
 
 from __future__ import annotations

@@ -32,8 +32,10 @@ WRITE_FORMATS = {"patternfit": ".json", "garmentcode": ".json", "dxf": ".dxf", "
 
 def check_imported(pattern: Pattern) -> list[str]:
     """:func:`~patternfit.pattern.check_pattern` for a pattern read from another tool, except
-    that seams joining sides of different length (gathers, ease, ruffles) are allowed: they
-    come back as warnings. Raises :class:`PatternError` for everything else."""
+    that seams whose sides differ in length beyond their stated ``ease`` (gathers, ease,
+    ruffles the reader did not state) are allowed: they come back as warnings (meshing
+    refuses them until their ease is stated). Raises :class:`PatternError` for everything
+    else."""
     check_pattern(replace(pattern, seams=()))
     return check_seams(pattern, unequal="warn")
 

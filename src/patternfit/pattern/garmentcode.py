@@ -36,12 +36,14 @@ import json
 import math
 import re
 from collections import Counter
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..arguments import number
+from ..constants import limits
 from ..files import atomic_write_text, read_json_file
 from ..geometry import euler_xyz_matrix
 from .edges import Edge
@@ -49,7 +51,7 @@ from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
 from .formats import check_imported
 from .io import json_field, json_number, shown
-from .validate import check_size
+from .validate import check_size, measured_ease, seam_slack
 
 __all__ = ["euler_xyz_matrix", "garmentcode_from_dict", "garmentcode_to_dict", "is_garmentcode",
            "load_garmentcode", "panel_points_3d", "save_garmentcode"]
@@ -58,6 +60,7 @@ _RIGHT_WRONG = "right_wrong"
 # an extra panel key (ignored by GarmentCode) keeping our body part and side for a round trip
 _HINT = "patternfit_placement"
 _SEAM_NAMES = "patternfit_seam_names"  # likewise at the top level, one per stitch
+_SEAM_EASE = "patternfit_seam_ease"  # and each seam's stated ease, where one has any
 _AUTO_NAME = re.compile(r"e\d+(_\d+)?$")
 
 
@@ -227,12 +230,36 @@ def _stitch_side(side: Any, i: int, k: int, names: dict[str, list[str]]) -> Seam
     return SeamSide(panel, names[panel][edge])
 
 
+def _with_ease(pattern: Pattern, given) -> tuple[Pattern, list[str]]:
+    """``pattern`` with every seam's ``ease``: the one our export wrote (``given``, one per
+    stitch) or else the one its sides' lengths need (GarmentCode gathers and eases seams by
+    sewing edges of different length), and a note for each seam so gathered."""
+    if not (isinstance(given, list) and len(given) == len(pattern.seams)
+            and all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                    and 0 <= x <= limits.seam_ease for x in given)):
+        given = None
+    seams, notes = [], []
+    for i, seam in enumerate(pattern.seams):
+        la, lb = pattern.seam_side_length(seam.a), pattern.seam_side_length(seam.b)
+        ease = float(given[i]) if given is not None else measured_ease(la, lb)
+        if ease and abs(la - lb) > seam_slack(la, lb):
+            notes.append(f"seam '{seam.name}' joins sides of different length: "
+                         f"{la * 100:.2f} cm ({seam.a.panel}/{seam.a.edge}) vs "
+                         f"{lb * 100:.2f} cm ({seam.b.panel}/{seam.b.edge}); sewn in as "
+                         f"ease {ease:g}")
+        seams.append(replace(seam, ease=ease))
+    return replace(pattern, seams=tuple(seams)), notes
+
+
 def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
     """Build a :class:`Pattern` [m] from a parsed GarmentCode specification.
 
-    Checked by :func:`~patternfit.pattern.formats.check_imported`: stitches whose two edges
-    differ in length beyond tolerance (gathers, ruffles) are kept and listed in
-    ``meta["warnings"]``. Raises :class:`PatternError` naming panel and edge.
+    Stitches whose two edges differ in length beyond tolerance (gathers, cap ease) get the
+    seam ``ease`` their lengths need (longer / shorter - 1; the one our export wrote under
+    ``patternfit_seam_ease`` when there is one) and a note in ``meta["warnings"]``; a
+    difference beyond ``limits.seam_ease`` is kept with that ease and a warning
+    (:func:`~patternfit.pattern.formats.check_imported`), and meshing refuses it. Raises
+    :class:`PatternError` naming panel and edge.
     """
     if not is_garmentcode(data):
         raise PatternError("not a GarmentCode pattern (expected {'pattern': {'panels': {...}}})")
@@ -283,8 +310,9 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
         seams.append(Seam(seam_name, a, b, reverse=_RIGHT_WRONG not in extra))
         if extra:
             tags[seam_name] = extra
-    pattern = Pattern(name, tuple(panels), tuple(seams))
-    warnings = check_imported(pattern)
+    pattern, notes = _with_ease(Pattern(name, tuple(panels), tuple(seams)),
+                                data.get(_SEAM_EASE))
+    warnings = notes + check_imported(pattern)
     keep = {k: data[k] for k in ("parameters", "parameter_order") if k in data}
     meta: dict[str, Any] = {"source_format": "garmentcode", "garmentcode": {
         **keep, "properties": props,
@@ -419,9 +447,12 @@ def garmentcode_to_dict(pattern: Pattern, *, units_in_meter: float = 100.0) -> d
     spec: dict[str, Any] = {"panels": panels, "stitches": stitches}
     if gc.get("panel_order") and set(gc["panel_order"]) == set(panels):
         spec["panel_order"] = gc["panel_order"]
-    return {"pattern": spec, "parameters": gc.get("parameters", {}),
-            "parameter_order": gc.get("parameter_order", []), "properties": props,
-            _SEAM_NAMES: [seam.name for seam in pattern.seams]}
+    doc = {"pattern": spec, "parameters": gc.get("parameters", {}),
+           "parameter_order": gc.get("parameter_order", []), "properties": props,
+           _SEAM_NAMES: [seam.name for seam in pattern.seams]}
+    if any(seam.ease for seam in pattern.seams):
+        doc[_SEAM_EASE] = [float(seam.ease) for seam in pattern.seams]
+    return doc
 
 
 def save_garmentcode(pattern: Pattern, path, *, units_in_meter: float = 100.0) -> Path:

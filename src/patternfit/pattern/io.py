@@ -172,9 +172,12 @@ def seams_from_json(raw: list, *, prefix: str = "seam", outline_edges=None) -> t
         if not isinstance(s, dict):
             raise PatternError(f"seam #{i} must be an object")
         name = json_field(s, "name", str, f"seam #{i}", f"{prefix}{i}")
-        seams.append(Seam(name, _side_from_dict(s.get("a"), name, outline_edges),
-                          _side_from_dict(s.get("b"), name, outline_edges),
-                          json_field(s, "reverse", bool, f"seam '{name}'", True)))
+        side_a = _side_from_dict(s.get("a"), name, outline_edges)
+        where = {"panel": side_a.panel, "edge": side_a.edge}
+        ease = json_number(json_field(s, "ease", (int, float), f"seam '{name}'", 0.0,
+                                      **where), f"seam '{name}': ease", **where)
+        seams.append(Seam(name, side_a, _side_from_dict(s.get("b"), name, outline_edges),
+                          json_field(s, "reverse", bool, f"seam '{name}'", True), ease))
     return tuple(seams)
 
 
@@ -252,7 +255,8 @@ def pattern_to_dict(pattern: Pattern, *, units: str = "m") -> dict:
                        "inner": [_loop_to_dict(lp, s) for lp in p.inner]})
     seams = [{"name": sm.name, "reverse": sm.reverse,
               "a": {"panel": sm.a.panel, "edge": sm.a.edge, "range": [sm.a.start, sm.a.end]},
-              "b": {"panel": sm.b.panel, "edge": sm.b.edge, "range": [sm.b.start, sm.b.end]}}
+              "b": {"panel": sm.b.panel, "edge": sm.b.edge, "range": [sm.b.start, sm.b.end]},
+              **({"ease": float(sm.ease)} if sm.ease else {})}
              for sm in pattern.seams]
     return {"format": FORMAT, "version": VERSION, "units": units, "name": pattern.name,
             "meta": pattern.meta, "panels": panels, "seams": seams}

@@ -164,12 +164,19 @@ class Seam:
 
     With ``reverse`` (the usual case for two panels both laid right side up) the start of side
     ``a`` is sewn to the end of side ``b``; without it, start to start.
+
+    ``ease`` is the most the longer side may exceed the shorter one, as a ratio (longer /
+    shorter - 1): 0.08 for a sleeve cap, 0.3 for a 30 % gather. The difference is sewn in as
+    ease or gathers: both sides get the same number of vertices spread by arc length, each
+    panel keeping its own rest lengths. 0 (the default) asks for sides of equal length.
+    At most ``limits.seam_ease`` (:func:`~patternfit.pattern.validate.check_seams`).
     """
 
     name: str
     a: SeamSide
     b: SeamSide
     reverse: bool = True
+    ease: float = 0.0
 
 
 #: the heights a garment can hang from (:attr:`Pattern.anchor`)

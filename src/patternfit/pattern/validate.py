@@ -13,6 +13,7 @@ Sizes are capped by :data:`~patternfit.constants.limits` before anything large i
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 from collections.abc import Sequence
 
@@ -341,13 +342,34 @@ def check_panel(panel: Panel) -> None:
                                edge=inner.edges[0].name)
 
 
+def seam_slack(la: float, lb: float) -> float:
+    """How much two seam sides of lengths ``la`` and ``lb`` [m] may differ beyond their
+    ease [m]: ``tol.seam_length`` or ``tol.seam_length_rel`` of their mean, whichever is
+    larger."""
+    return max(tol.seam_length, tol.seam_length_rel * 0.5 * (la + lb))
+
+
+def measured_ease(la: float, lb: float) -> float:
+    """The ease sides of lengths ``la`` and ``lb`` [m] need (longer / shorter - 1, rounded up
+    to 1e-4), 0 when they are equal within :func:`seam_slack`; at most
+    ``limits.seam_ease``. What a reader of another tool's seams states for them."""
+    if not (math.isfinite(la) and math.isfinite(lb) and min(la, lb) > 0) or \
+            abs(la - lb) <= seam_slack(la, lb):
+        return 0.0
+    return min(math.ceil((max(la, lb) / min(la, lb) - 1.0) * 1e4) / 1e4, limits.seam_ease)
+
+
 def check_seams(pattern: Pattern, *, unequal: str = "error") -> list[str]:
     """Raise :class:`PatternError` for a seam naming a missing panel or edge, a bad range,
-    overlapping seams on one edge, or two sides whose lengths differ beyond tolerance
-    (``tol.seam_length`` or ``tol.seam_length_rel`` of their mean, whichever is larger).
+    overlapping seams on one edge, an ``ease`` that is not a number in [0,
+    ``limits.seam_ease``], or two sides whose lengths differ beyond the seam's ease plus
+    tolerance: the longer side may exceed the shorter by ``ease`` times the shorter plus
+    ``tol.seam_length`` or ``tol.seam_length_rel`` of their mean, whichever is larger (a seam
+    without ease: equal lengths within that tolerance). A side shorter than the ease allows
+    is fine (the gather is at most ``ease``).
 
-    With ``unequal="warn"`` (patterns from other tools, which gather or ease seams) sides of
-    different length are allowed and returned as warnings instead.
+    With ``unequal="warn"`` (patterns from other tools, which gather or ease seams) sides
+    that differ beyond that are allowed and returned as warnings instead.
     """
     if unequal not in ("error", "warn"):
         raise ValueError(f"unequal: expected 'error' or 'warn', got {unequal!r}")
@@ -360,6 +382,16 @@ def check_seams(pattern: Pattern, *, unequal: str = "error") -> list[str]:
     used: dict[tuple[str, str], list[tuple[float, float, str]]] = {}
     lengths = []
     for seam in pattern.seams:
+        ease = seam.ease
+        if (isinstance(ease, bool) or not isinstance(ease, (int, float))
+                or not math.isfinite(ease) or ease < 0):
+            raise PatternError(f"seam '{seam.name}': ease must be a number >= 0 (longer side "
+                               f"/ shorter side - 1), got {ease!r}",
+                               panel=seam.a.panel, edge=seam.a.edge)
+        if ease > limits.seam_ease:
+            raise PatternError(f"seam '{seam.name}': ease {ease:g} is beyond the limit of "
+                               f"{limits.seam_ease:g} (a {1 + limits.seam_ease:g}:1 gather)",
+                               panel=seam.a.panel, edge=seam.a.edge)
         for side in (seam.a, seam.b):
             panel = panels.get(side.panel)
             if panel is None:
@@ -389,12 +421,17 @@ def check_seams(pattern: Pattern, *, unequal: str = "error") -> list[str]:
                 reach, last = s1, name
     warnings: list[str] = []
     for seam, la, lb in zip(pattern.seams, lengths[0::2], lengths[1::2]):
-        allowed = max(tol.seam_length, tol.seam_length_rel * 0.5 * (la + lb))
+        slack = seam_slack(la, lb)
+        allowed = seam.ease * min(la, lb) + slack
         if abs(la - lb) > allowed:
+            said = (f"tolerance {slack * 1000:.1f} mm" if not seam.ease else
+                    f"ease {max(la, lb) / min(la, lb) - 1:.3g}, beyond the stated "
+                    f"{seam.ease:g} (a difference of {allowed * 1000:.1f} mm allowed)")
+            hint = "" if seam.ease else " (state the seam's ease to gather it)"
             err = PatternError(
                 f"seam '{seam.name}' joins sides of different length: "
                 f"{la * 100:.2f} cm ({seam.a.panel}/{seam.a.edge}) vs {lb * 100:.2f} cm "
-                f"({seam.b.panel}/{seam.b.edge}); tolerance {allowed * 1000:.1f} mm",
+                f"({seam.b.panel}/{seam.b.edge}); {said}{hint}",
                 panel=seam.a.panel, edge=seam.a.edge)
             if unequal == "error":
                 raise err
