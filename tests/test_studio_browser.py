@@ -319,3 +319,139 @@ def test_a_far_dart_drag_keeps_the_preview_mesh(page, server):
         assert not errors, errors
     finally:
         pg.close()
+
+
+# -- issue 22: the 2D editor's zoom, pan, fit, live outlines and length read-out ------------
+
+@pytest.fixture()
+def skirt_page(page, server):
+    """The page on a fresh skirt session, fitted to the view."""
+    server[1].state.studio.new(garment="skirt", triangles=1500)
+    page.reload()
+    page.wait_for_selector("body[data-ready='1']", timeout=30000)
+    page.check("input[name=tool][value=point]")
+    return page
+
+
+def centre(page, selector):
+    box = page.locator(selector).bounding_box()
+    return box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+
+
+def test_wheel_zooms_about_the_pointer(skirt_page):
+    pg = skirt_page
+    corner = "#overlay circle[data-key='front/waist']"
+    x, y = centre(pg, corner)
+    k0 = pg.evaluate("studio.editor.k")
+    pg.mouse.move(x, y)
+    pg.mouse.wheel(0, -500)
+    pg.wait_for_function(f"studio.editor.k > {1.5 * k0}", timeout=5000)
+    assert pg.evaluate("studio.editor.k") / k0 == pytest.approx(2, rel=0.01)
+    x1, y1 = centre(pg, corner)
+    assert abs(x1 - x) < 2 and abs(y1 - y) < 2  # the point under the pointer stays there
+    assert "zoom 2.00×" in pg.inner_text("#scale")
+    assert not pg.errors
+
+
+def test_background_drag_pans_and_fit_brings_every_panel_back(skirt_page):
+    pg = skirt_page
+    box = pg.locator("#overlay").bounding_box()
+    h0 = centre(pg, "#overlay circle[data-key='front/waist']")
+    o0 = pg.evaluate("[studio.editor.ox, studio.editor.oy]")
+    x, y = box["x"] + box["width"] - 12, box["y"] + 10  # empty background (top right)
+    pg.mouse.move(x, y)
+    pg.mouse.down()
+    for i in range(1, 11):
+        pg.mouse.move(x - 12 * i, y + 5 * i)
+        pg.wait_for_timeout(10)
+    pg.mouse.up()
+    o1 = pg.evaluate("[studio.editor.ox, studio.editor.oy]")
+    assert o1[0] - o0[0] == pytest.approx(-120, abs=1) and o1[1] - o0[1] == pytest.approx(50, abs=1)
+    h1 = centre(pg, "#overlay circle[data-key='front/waist']")
+    assert h1[0] - h0[0] == pytest.approx(-120, abs=1) and h1[1] - h0[1] == pytest.approx(50, abs=1)
+    assert pg.evaluate("studio.state.history.length") == 1  # panning edits nothing
+    # zoomed in far and panned: panels out of view; fit (f key, then the button) shows them all
+    pg.mouse.move(box["x"] + 50, box["y"] + 50)
+    for _ in range(3):
+        pg.mouse.wheel(0, -500)
+    pg.wait_for_function("studio.editor.zoom > 7", timeout=5000)
+
+    def all_in_view():
+        boxes = [pg.locator(f"#overlay circle[data-index='{i}']").bounding_box()
+                 for i in range(pg.locator("#overlay circle").count())]
+        return all(box["x"] <= b["x"] and b["x"] + b["width"] <= box["x"] + box["width"] and
+                   box["y"] <= b["y"] and b["y"] + b["height"] <= box["y"] + box["height"]
+                   for b in boxes)
+
+    assert not all_in_view()
+    pg.locator("#dx").blur()
+    pg.keyboard.press("f")
+    pg.wait_for_function("Math.abs(studio.editor.zoom - 1) < 1e-9", timeout=5000)
+    assert all_in_view()
+    pg.mouse.move(box["x"] + 50, box["y"] + 50)
+    pg.mouse.wheel(0, -1000)
+    pg.wait_for_function("studio.editor.zoom > 3", timeout=5000)
+    pg.click("#fit-btn")
+    pg.wait_for_function("Math.abs(studio.editor.zoom - 1) < 1e-9", timeout=5000)
+    assert all_in_view()
+    assert not pg.errors
+
+
+def corner_point(pg, panel, corner):
+    return pg.evaluate(f"""studio.geometry.panels.find((p) => p.name === '{panel}')
+        .loops[0].edges.find((e) => e.name === '{corner}').points[0]""")
+
+
+def test_a_drag_at_4x_moves_the_point_by_the_motion_over_the_zoom(skirt_page):
+    pg = skirt_page
+    corner = "#overlay circle[data-key='front/waist']"
+    before = corner_point(pg, "front", "waist")
+    x, y = centre(pg, corner)
+    pg.mouse.move(x, y)
+    pg.mouse.wheel(0, -1000)  # 4×
+    pg.wait_for_function("studio.editor.zoom > 3.9", timeout=5000)
+    assert pg.evaluate("studio.editor.zoom") == pytest.approx(4, rel=0.01)
+    k = pg.evaluate("studio.editor.k")
+    drag(pg, corner, 40, -20)
+    pg.wait_for_function("studio.state.history.length === 2", timeout=20000)
+    after = corner_point(pg, "front", "waist")
+    assert after[0] - before[0] == pytest.approx(40 / k, abs=1e-3)
+    assert after[1] - before[1] == pytest.approx(20 / k, abs=1e-3)
+    # the view stays zoomed after the edit (the page fetched the edited geometry)
+    assert pg.evaluate("studio.editor.k") == pytest.approx(k)
+    assert not pg.errors
+
+
+def test_live_outlines_and_length_readout_during_a_drag(skirt_page, figures):
+    pg = skirt_page
+    corner = "#overlay circle[data-key='front/waist']"
+    x, y = centre(pg, corner)
+    pg.mouse.move(x - 30, y + 40)
+    pg.mouse.wheel(0, -1000)  # zoomed on the skirt's waist corner
+    pg.wait_for_function("studio.editor.zoom > 3.9", timeout=5000)
+    x, y = centre(pg, corner)
+    # the outline paths of the front and back panels as drawn at rest
+    paths = "Array.from(document.querySelectorAll('#overlay path.outline')).map((p) => p.getAttribute('d'))"
+    rest = pg.evaluate(paths)
+    pg.mouse.move(x, y)
+    pg.mouse.down()
+    for i in range(1, 16):
+        pg.mouse.move(x + 2 * i, y)
+        pg.wait_for_timeout(20)
+    pg.wait_for_function("!document.getElementById('readout').hidden", timeout=5000)
+    pg.wait_for_function("studio.editor.drag && studio.editor.drag.live && "
+                         "studio.editor.drag.live.size >= 1", timeout=5000)
+    pg.wait_for_timeout(200)
+    live = pg.evaluate(paths)
+    assert live != rest
+    text = pg.inner_text("#readout")
+    assert re.search(r"front: .*\d+\.\d cm", text)
+    assert re.search(r"seam .*cm \| .*cm · Δ [+−]\d+\.\d mm", text), text
+    assert pg.locator("#readout").is_visible()
+    pg.screenshot(path=str(figures / "studio_zoomed.png"))
+    pg.keyboard.press("Escape")
+    pg.mouse.up()
+    pg.wait_for_timeout(300)
+    assert pg.locator("#readout").is_hidden()
+    assert pg.evaluate("studio.state.history.length") == 1
+    assert not pg.errors

@@ -61,8 +61,9 @@ async function api(path, { method = "GET", json, form, versioned = method !== "G
 const editor = new Editor($("mesh2d"), $("overlay"), {
   onDrag: dragPreview, onDrop: (h, offset) => applyEdit(h, offset),
   onSelect: (h) => { $("selected").textContent = `selected: ${h.key} (${h.op})`; },
-  onClickPanel: insertDart,
+  onClickPanel: insertDart, scaleEl: $("scale"), readoutEl: $("readout"),
 });
+$("fit-btn").onclick = () => editor.fit();
 studio.editor = editor;
 const view = new View3D($("view3d"), {
   onHover: (t, value) => {
@@ -277,7 +278,7 @@ $("redo-btn").onclick = () => step("redo");
 
 // Shortcuts: Ctrl+Z undoes the pattern, Ctrl+Shift+Z and Ctrl+Y redo it (Cmd on a Mac),
 // except in a text field, where they stay the field's own; Escape cancels a drag or the
-// selection.
+// selection; f fits the pattern to the 2D view.
 const TEXT_INPUTS = new Set(["text", "number", "search", "email", "url", "tel", "password"]);
 function inTextField(el) {
   if (!el) return false;
@@ -294,6 +295,10 @@ function cancelDrag() {
 }
 document.addEventListener("keydown", (e) => {
   if (e.key === "Escape") { if (editor.drag || editor.selected) { cancelDrag(); e.preventDefault(); } return; }
+  // f: fit the pattern to the 2D view (not in a text field)
+  if (e.key === "f" && !e.ctrlKey && !e.metaKey && !e.altKey && !inTextField(document.activeElement)) {
+    editor.fit(); e.preventDefault(); return;
+  }
   if (!(e.ctrlKey || e.metaKey) || e.altKey || inTextField(document.activeElement)) return;
   const k = e.key.toLowerCase();
   const which = k === "z" ? (e.shiftKey ? "redo" : "undo") : (k === "y" && !e.shiftKey ? "redo" : null);

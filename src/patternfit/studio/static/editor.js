@@ -1,17 +1,27 @@
 // The 2D pattern editor: panels side by side at true proportions, the mesh with its fit
 // colours drawn by WebGL (three.js, one draw call for 20K triangles, cheap to redraw every
 // frame of a drag), outlines and drag handles in an SVG on top. Lengths in metres.
+// One view transform maps pattern metres to screen pixels for drawing, hit-testing and
+// dragging: X = ox + (x + offset_p.x) k, Y = oy - (y + offset_p.y) k (k px per metre, the
+// zoom included). The wheel zooms about the pointer, dragging the background pans, fit()
+// fits the pattern to the view. While a handle is dragged the moved panels' outlines and
+// seams follow every preview, and the lengths of the edges and seams touching the point are
+// shown near the pointer.
 import * as THREE from "three";
 
 const SVGNS = "http://www.w3.org/2000/svg";
 const GAP = 0.08;  // space between panels [m]
 const PAD = 24;    // margin [px]
+const ZOOM = [0.5, 40];  // zoom limits, relative to the fitted view
 const SEAM_COLOURS = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
                       "#8c564b", "#e377c2", "#bcbd22", "#7f7f7f"];
 
 export class Editor {
-  constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel, onStale }) {
+  constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel, onStale, scaleEl, readoutEl }) {
     this.canvas = canvas; this.svg = svg;
+    this.scaleEl = scaleEl || null; this.readoutEl = readoutEl || null;
+    this.k = 1; this.fitK = 1; this.ox = PAD; this.oy = 0; this.userView = false; this.viewKey = null;
+    this.pan = null; this.readout = "";
     this.onDrag = onDrag; this.onDrop = onDrop; this.onSelect = onSelect;
     this.onClickPanel = onClickPanel;
     // called when a preview does not fit the mesh shown (its vertex count differs): the
@@ -27,12 +37,17 @@ export class Editor {
     svg.addEventListener("pointerdown", (e) => this.pointerDown(e));
     svg.addEventListener("pointermove", (e) => this.pointerMove(e));
     svg.addEventListener("pointerup", (e) => this.pointerUp(e));
+    svg.addEventListener("wheel", (e) => this.wheel(e), { passive: false });
   }
 
   // geometry from /api/geometry
   setGeometry(geo) {
     this.geo = geo; this.staleWarned = false;
     this.vertices = Float64Array.from(geo.vertices);
+    this.rest = this.vertices;  // the mesh at rest: live outlines move with the preview's displacement
+    this.embedCache = new Map();
+    const key = geo.panel_names.join("/");
+    if (key !== this.viewKey) { this.viewKey = key; this.userView = false; }
     const tp = geo.triangle_panel, tri = geo.triangles, v = this.vertices;
     const np = geo.panel_names.length;
     const lo = Array.from({ length: np }, () => [Infinity, Infinity]);
@@ -54,6 +69,14 @@ export class Editor {
     this.extent = [x0 - GAP, Math.max(...hi.map((h, p) => h[1] - lo[p][1]))];
     this.vertexPanel = new Int32Array(v.length / 2);
     for (let t = 0; t < tp.length; t++) for (let c = 0; c < 3; c++) this.vertexPanel[tri[3 * t + c]] = tp[t];
+    this.panelTriangles = Array.from({ length: np }, () => []);
+    for (let t = 0; t < tp.length; t++) this.panelTriangles[tp[t]].push(t);
+    // edge name -> [loop, edge] of each panel (seams name edges by panel and edge)
+    this.edgeIndex = geo.panels.map((panel) => {
+      const m = new Map();
+      panel.loops.forEach((loop, li) => loop.edges.forEach((e, ei) => m.set(e.name, [li, ei])));
+      return m;
+    });
     this.buildScene();
     this.layout();
   }
@@ -68,13 +91,56 @@ export class Editor {
     Object.assign(this.camera, { right: r.width, bottom: r.height });
     this.camera.updateProjectionMatrix();
     if (!this.geo) return;
-    this.k = Math.min((this.W - 2 * PAD) / this.extent[0], (this.H - 2 * PAD - 16) / this.extent[1]);
-    this.drawMesh(); this.drawOverlay();
+    this.fitK = Math.min((this.W - 2 * PAD) / this.extent[0], (this.H - 2 * PAD - 16) / this.extent[1]);
+    if (!this.userView) { this.k = this.fitK; this.ox = PAD; this.oy = this.H - PAD; }
+    this.redraw();
   }
 
-  // pattern point of panel p [m] -> screen [px]
-  sx(p, x) { return PAD + (x + this.offsets[p][0]) * this.k; }
-  sy(p, y) { return this.H - PAD - (y + this.offsets[p][1]) * this.k; }
+  redraw() { this.drawMesh(); this.drawOverlay(); this.showScale(); }
+
+  get zoom() { return this.k / this.fitK; }
+
+  // the whole pattern in view (the "fit" button, the f key)
+  fit() {
+    this.userView = false;
+    if (this.drag || !this.geo) return;
+    this.layout();
+  }
+
+  // zoom by ``factor`` about the screen point (X, Y) [px, relative to the editor]: the
+  // pattern point under it stays under it
+  zoomAt(X, Y, factor) {
+    if (!this.geo || this.drag) return;
+    const z = Math.min(ZOOM[1], Math.max(ZOOM[0], this.zoom * factor));
+    const k = z * this.fitK, f = k / this.k;
+    this.ox = X - (X - this.ox) * f; this.oy = Y + (this.oy - Y) * f; this.k = k;
+    this.userView = true;
+    this.redraw();
+  }
+
+  panBy(dx, dy) {
+    this.ox += dx; this.oy += dy; this.userView = true;
+    this.redraw();
+  }
+
+  wheel(e) {
+    e.preventDefault();
+    const r = this.svg.getBoundingClientRect();
+    const dy = e.deltaY * (e.deltaMode === 1 ? 40 : e.deltaMode === 2 ? 800 : 1);
+    this.zoomAt(e.clientX - r.left, e.clientY - r.top, 2 ** (-dy / 500));
+  }
+
+  showScale() {
+    if (!this.scaleEl || !this.geo) return;
+    const minor = 0.01 * this.k >= 6;
+    this.scaleEl.textContent = `zoom ${this.zoom.toFixed(2)}× · 1 px ≈ ${(1000 / this.k).toPrecision(2)} mm · grid 10 cm${minor ? " (1 cm)" : ""}`;
+  }
+
+  // pattern point of panel p [m] -> screen [px], and back
+  sx(p, x) { return this.ox + (x + this.offsets[p][0]) * this.k; }
+  sy(p, y) { return this.oy - (y + this.offsets[p][1]) * this.k; }
+  px(p, X) { return (X - this.ox) / this.k - this.offsets[p][0]; }
+  py(p, Y) { return (this.oy - Y) / this.k - this.offsets[p][1]; }
 
   // A drag preview: flat vertices (2n,) [m] of the mesh shown. Returns whether it was
   // drawn: not while the drag's preview is refused (the mesh stays at the last accepted
@@ -92,7 +158,131 @@ export class Editor {
       return false;
     }
     this.vertices = vertices; this.drawMesh();
+    if (this.drag) { this.drawLiveOutlines(); this.showReadout(); }
     return true;
+  }
+
+  // -- live outlines: each outline point follows the displacement of the mesh triangle it
+  // lies in (barycentric), so a preview of any edit moves the outlines with the mesh
+
+  // barycentric place of pattern point (x, y) of panel p in its nearest triangle
+  locate(p, x, y) {
+    const v = this.rest, tri = this.geo.triangles;
+    let best = null, bestScore = -Infinity;
+    for (const t of this.panelTriangles[p]) {
+      const a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+      const x0 = v[2 * a], y0 = v[2 * a + 1], x1 = v[2 * b], y1 = v[2 * b + 1], x2 = v[2 * c], y2 = v[2 * c + 1];
+      const det = (y1 - y2) * (x0 - x2) + (x2 - x1) * (y0 - y2);
+      if (Math.abs(det) < 1e-18) continue;
+      const l0 = ((y1 - y2) * (x - x2) + (x2 - x1) * (y - y2)) / det;
+      const l1 = ((y2 - y0) * (x - x2) + (x0 - x2) * (y - y2)) / det;
+      const l2 = 1 - l0 - l1, score = Math.min(l0, l1, l2);
+      if (score > bestScore) { bestScore = score; best = [a, b, c, l0, l1, l2]; if (score >= 0) break; }
+    }
+    return best;
+  }
+
+  // the embedding of panel p's outline points (cached until the next geometry)
+  embedding(p) {
+    let emb = this.embedCache.get(p);
+    if (!emb) {
+      emb = this.geo.panels[p].loops.map((loop) => loop.edges.map((e) => e.polyline.map((q) => this.locate(p, q[0], q[1]))));
+      this.embedCache.set(p, emb);
+    }
+    return emb;
+  }
+
+  moved(q, b) {
+    if (!b) return q;
+    const v = this.vertices, r = this.rest;
+    let dx = 0, dy = 0;
+    for (let c = 0; c < 3; c++) { const i = b[c]; dx += b[3 + c] * (v[2 * i] - r[2 * i]); dy += b[3 + c] * (v[2 * i + 1] - r[2 * i + 1]); }
+    return [q[0] + dx, q[1] + dy];
+  }
+
+  // panels whose mesh the preview moved
+  movedPanels() {
+    const v = this.vertices, r = this.rest, out = new Set();
+    if (v === r) return out;
+    for (let i = 0; i < this.vertexPanel.length; i++) {
+      if (Math.abs(v[2 * i] - r[2 * i]) > 1e-7 || Math.abs(v[2 * i + 1] - r[2 * i + 1]) > 1e-7) out.add(this.vertexPanel[i]);
+    }
+    return out;
+  }
+
+  // the polyline [m] of edge (li, ei) of panel p as the preview shows it
+  livePolyline(p, li, ei) {
+    const e = this.geo.panels[p].loops[li].edges[ei];
+    if (!this.drag || !this.drag.live || !this.drag.live.has(p)) return e.polyline;
+    const emb = this.embedding(p)[li][ei];
+    return e.polyline.map((q, j) => this.moved(q, emb[j]));
+  }
+
+  pathOf(p, pts) {
+    return pts.map((q, i) => `${i ? "L" : "M"}${this.sx(p, q[0]).toFixed(1)},${this.sy(p, q[1]).toFixed(1)}`).join("");
+  }
+
+  // redraw the outlines, seams and other handles of the panels the preview moved
+  drawLiveOutlines() {
+    const d = this.drag;
+    if (!d || !this.edgeEls) return;
+    d.live = d.live || new Set();
+    for (const p of this.movedPanels()) d.live.add(p);
+    for (const p of d.live) {
+      for (const { li, ei, els } of this.edgeEls[p]) {
+        const path = this.pathOf(p, this.livePolyline(p, li, ei));
+        for (const el of els) el.setAttribute("d", path);
+      }
+    }
+    for (const h of this.handleList) {
+      if (h === d.h || !d.live.has(h.p)) continue;
+      if (h.emb === undefined) h.emb = this.locate(h.p, h.x, h.y);
+      const q = this.moved([h.x, h.y], h.emb);
+      h.el.setAttribute("cx", this.sx(h.p, q[0])); h.el.setAttribute("cy", this.sy(h.p, q[1]));
+    }
+  }
+
+  // -- the length read-out: the edges touching the dragged handle [cm] and the seams on
+  // them, both sides and their difference [mm]
+  readoutText() {
+    const d = this.drag;
+    if (!d || !d.h.touch) return "";
+    const len = (pts) => { let s = 0; for (let i = 1; i < pts.length; i++) s += Math.hypot(pts[i][0] - pts[i - 1][0], pts[i][1] - pts[i - 1][1]); return s; };
+    const p = d.h.p, panel = this.geo.panels[p].name;
+    const edgeLen = (pname, ename) => {
+      const q = this.geo.panels.findIndex((x) => x.name === pname);
+      const at = q >= 0 && this.edgeIndex[q].get(ename);
+      return at ? len(this.livePolyline(q, at[0], at[1])) : NaN;
+    };
+    const lines = [], touched = new Set();
+    const parts = d.h.touch.map(([li, ei]) => {
+      const e = this.geo.panels[p].loops[li].edges[ei];
+      touched.add(`${panel}/${e.name}`);
+      return `${e.name} ${(100 * len(this.livePolyline(p, li, ei))).toFixed(1)} cm`;
+    });
+    lines.push(`${panel}: ${parts.join(" · ")}`);
+    for (const s of this.geo.seams) {
+      if (!touched.has(s.a.join("/")) && !touched.has(s.b.join("/"))) continue;
+      const a = edgeLen(...s.a), b = edgeLen(...s.b), diff = 1000 * (a - b);
+      lines.push(`seam ${s.name}: ${s.a.join("/")} ${(100 * a).toFixed(1)} cm | ${s.b.join("/")} ${(100 * b).toFixed(1)} cm · Δ ${diff >= 0 ? "+" : "−"}${Math.abs(diff).toFixed(1)} mm`);
+    }
+    return lines.join("\n");
+  }
+
+  showReadout(e) {
+    const el = this.readoutEl, d = this.drag;
+    this.readout = d && d.moved ? this.readoutText() : "";
+    if (!el) return;
+    if (!this.readout) { el.hidden = true; return; }
+    el.textContent = this.readout; el.hidden = false;
+    if (e) d.pointer = [e.clientX, e.clientY];
+    if (d.pointer) {
+      const r = this.svg.getBoundingClientRect();
+      const X = d.pointer[0] - r.left, Y = d.pointer[1] - r.top;
+      const w = el.offsetWidth, hgt = el.offsetHeight;
+      el.style.left = `${Math.max(2, X + 16 + w > this.W ? X - 16 - w : X + 16)}px`;
+      el.style.top = `${Math.max(2, Math.min(this.H - hgt - 2, Y + 16))}px`;
+    }
   }
 
   // The server accepted the preview for ``offset`` [m]: the drag moves again.
@@ -168,10 +358,11 @@ export class Editor {
     const h = new THREE.BufferGeometry();
     h.setAttribute("position", new THREE.BufferAttribute(new Float32Array(9), 3));
     this.hi = new THREE.LineLoop(h, new THREE.LineBasicMaterial({ color: 0x000000 }));
-    this.grid = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xeeeeee }));
+    this.grid = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xe2e2e2 }));
+    this.gridMinor = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xf3f3f3 }));
     // flat 2D: painter's order, no depth test
-    [this.grid, this.fill, this.wire, this.hi].forEach((o, i) => { o.renderOrder = i; o.material.depthTest = false; o.material.depthWrite = false; });
-    this.scene.add(this.grid, this.fill, this.wire, this.hi);
+    [this.gridMinor, this.grid, this.fill, this.wire, this.hi].forEach((o, i) => { o.renderOrder = i; o.material.depthTest = false; o.material.depthWrite = false; });
+    this.scene.add(this.gridMinor, this.grid, this.fill, this.wire, this.hi);
   }
 
   drawMesh() {
@@ -181,8 +372,8 @@ export class Editor {
     const X = new Float32Array(v.length / 2), Y = new Float32Array(v.length / 2);
     for (let i = 0; i < X.length; i++) {
       const p = this.vertexPanel[i];
-      X[i] = PAD + (v[2 * i] + this.offsets[p][0]) * k;
-      Y[i] = this.H - PAD - (v[2 * i + 1] + this.offsets[p][1]) * k;
+      X[i] = this.ox + (v[2 * i] + this.offsets[p][0]) * k;
+      Y[i] = this.oy - (v[2 * i + 1] + this.offsets[p][1]) * k;
     }
     const put = (attr, ids) => {
       const a = attr.array;
@@ -195,11 +386,16 @@ export class Editor {
     const t = this.highlighted;
     this.hi.visible = t >= 0 && t < tri.length / 3;
     if (this.hi.visible) put(this.hi.geometry.getAttribute("position"), [tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]]);
-    // 10 cm grid
-    const gl = [];
-    for (let x = PAD; x < this.W; x += 0.1 * k) gl.push(x, 0, 0, x, this.H, 0);
-    for (let y = this.H - PAD; y > 0; y -= 0.1 * k) gl.push(0, y, 0, this.W, y, 0);
-    this.grid.geometry.setAttribute("position", new THREE.Float32BufferAttribute(gl, 3));
+    // 10 cm grid, and a 1 cm one when zoomed in far enough; both follow the view
+    const lines = (step) => {
+      const gl = [], s = step * k;
+      for (let x = this.ox + Math.ceil(-this.ox / s) * s; x < this.W; x += s) gl.push(x, 0, 0, x, this.H, 0);
+      for (let y = this.oy + Math.ceil(-this.oy / s) * s; y < this.H; y += s) gl.push(0, y, 0, this.W, y, 0);
+      return new THREE.Float32BufferAttribute(gl, 3);
+    };
+    this.grid.geometry.setAttribute("position", lines(0.1));
+    this.gridMinor.visible = 0.01 * k >= 6;
+    if (this.gridMinor.visible) this.gridMinor.geometry.setAttribute("position", lines(0.01));
     this.renderer.render(this.scene, this.camera);
   }
 
@@ -220,32 +416,34 @@ export class Editor {
             const pts = loop.edges.map((e) => e.points[0]);
             const c = pts.reduce((s, q) => [s[0] + q[0] / pts.length, s[1] + q[1] / pts.length], [0, 0]);
             out.push({ p, x: c[0], y: c[1], key: `${panel.name}/${loop.name}`, op: "move_dart",
-                       args: { panel: panel.name, name: loop.name } });
+                       args: { panel: panel.name, name: loop.name }, touch: loop.edges.map((_, ei) => [li, ei]) });
           }
           return;
         }
-        for (const e of loop.edges) {
+        const n = loop.edges.length;
+        loop.edges.forEach((e, ei) => {
           const base = { panel: panel.name };
+          const prev = [li, (ei + n - 1) % n], self = [li, ei], next = [li, (ei + 1) % n];
           if (this.tool === "point") {
             out.push({ p, x: e.points[0][0], y: e.points[0][1], key: `${panel.name}/${e.name}`,
-                       op: "move_point", args: { ...base, corner: e.name }, partner: true });
+                       op: "move_point", args: { ...base, corner: e.name }, partner: true, touch: [prev, self] });
           } else if (this.tool === "edge") {
             const m = e.polyline[12];
             out.push({ p, x: m[0], y: m[1], key: `${panel.name}/${e.name}`, op: "move_edge",
-                       args: { ...base, edge: e.name }, partner: true });
+                       args: { ...base, edge: e.name }, partner: true, touch: [prev, self, next] });
           } else if (this.tool === "curve" && e.kind !== "arc") {
             if (e.kind === "line") {
               const m = e.polyline[12];
               out.push({ p, x: m[0], y: m[1], key: `${panel.name}/${e.name}/1`, op: "edit_curve",
-                         args: { ...base, edge: e.name, control: 1 }, partner: true });
+                         args: { ...base, edge: e.name, control: 1 }, partner: true, touch: [self] });
             } else {
               for (let c = 1; c < e.points.length - 1; c++) {
                 out.push({ p, x: e.points[c][0], y: e.points[c][1], key: `${panel.name}/${e.name}/${c}`,
-                           op: "edit_curve", args: { ...base, edge: e.name, control: c }, partner: true });
+                           op: "edit_curve", args: { ...base, edge: e.name, control: c }, partner: true, touch: [self] });
               }
             }
           }
-        }
+        });
       });
     });
     return out;
@@ -254,25 +452,28 @@ export class Editor {
   drawOverlay() {
     const svg = this.svg;
     while (svg.firstChild) svg.removeChild(svg.firstChild);
+    if (this.readoutEl && !this.drag) this.readoutEl.hidden = true;
     if (!this.geo) return;
+    this.edgeEls = this.geo.panels.map(() => []);
     const seamColour = new Map();
     this.geo.seams.forEach((s, i) => {
       const c = SEAM_COLOURS[i % SEAM_COLOURS.length];
       seamColour.set(s.a.join("/"), c); seamColour.set(s.b.join("/"), c);
     });
     this.geo.panels.forEach((panel, p) => {
-      for (const loop of panel.loops) {
-        for (const e of loop.edges) {
-          const d = e.polyline.map((q, i) => `${i ? "L" : "M"}${this.sx(p, q[0]).toFixed(1)},${this.sy(p, q[1]).toFixed(1)}`).join("");
-          const c = seamColour.get(`${panel.name}/${e.name}`);
-          if (c) this.el("path", { d, class: "seam", stroke: c });
-          this.el("path", { d, class: "outline" });
+      panel.loops.forEach((loop, li) => {
+        loop.edges.forEach((e, ei) => {
+          const d = this.pathOf(p, e.polyline);
+          const c = seamColour.get(`${panel.name}/${e.name}`), els = [];
+          if (c) els.push(this.el("path", { d, class: "seam", stroke: c }));
+          els.push(this.el("path", { d, class: "outline" }));
+          this.edgeEls[p].push({ li, ei, els });
           if (e.kind !== "line" && this.tool === "curve") {
             const cp = e.points.map((q, i) => `${i ? "L" : "M"}${this.sx(p, q[0])},${this.sy(p, q[1])}`).join("");
             this.el("path", { d: cp, stroke: "#88a", "stroke-dasharray": "3 3", fill: "none" });
           }
-        }
-      }
+        });
+      });
       const xs = panel.loops[0].edges.flatMap((e) => e.polyline.map((q) => q[0]));
       const ys = panel.loops[0].edges.flatMap((e) => e.polyline.map((q) => q[1]));
       const t = this.el("text", { x: this.sx(p, (Math.min(...xs) + Math.max(...xs)) / 2),
@@ -295,7 +496,11 @@ export class Editor {
   pointerDown(e) {
     const i = e.target.getAttribute && e.target.getAttribute("data-index");
     if (i === null || i === undefined) {
-      if (this.tool === "dart" && this.geo) this.clickPanel(e);
+      // the background: a drag pans the view, a click (dart tool) inserts a dart
+      if (!this.geo) return;
+      this.pan = { x0: e.clientX, y0: e.clientY, ox: this.ox, oy: this.oy, moved: false };
+      this.svg.setPointerCapture(e.pointerId);
+      e.preventDefault();
       return;
     }
     const h = this.handleList[+i];
@@ -306,8 +511,17 @@ export class Editor {
   }
 
   pointerMove(e) {
+    if (this.pan) {
+      const P = this.pan, dx = e.clientX - P.x0, dy = e.clientY - P.y0;
+      if (Math.hypot(dx, dy) > 2) P.moved = true;
+      if (!P.moved) return;
+      this.ox = P.ox + dx; this.oy = P.oy + dy; this.userView = true;
+      this.redraw();
+      return;
+    }
     if (!this.drag) return;
     const d = this.drag;
+    // screen motion / k: k is px per metre at the current zoom
     const raw = [(e.clientX - d.x0) / this.k, -(e.clientY - d.y0) / this.k];
     d.offset = this.snapOffset(raw);
     if (Math.hypot(e.clientX - d.x0, e.clientY - d.y0) > 2) d.moved = true;
@@ -315,23 +529,29 @@ export class Editor {
     // a refused preview holds the handle at the last accepted offset; the page still asks
     // for the new offsets, so that the drag moves again once one is accepted
     if (!d.refused) this.moveHandle(d, d.offset);
+    this.showReadout(e);
     this.onDrag(d.h, d.offset);
   }
 
   pointerUp(e) {
+    if (this.pan) {
+      const P = this.pan; this.pan = null;
+      if (!P.moved && this.tool === "dart" && this.geo) this.clickPanel(e);
+      return;
+    }
     if (!this.drag) return;
     const d = this.drag; this.drag = null;
+    this.readout = ""; if (this.readoutEl) this.readoutEl.hidden = true;
     if (d.moved) this.onDrop(d.h, d.offset);
     else { this.selected = d.h; this.drawOverlay(); this.onSelect(d.h); }
   }
 
-  // pattern coordinates [m] of a click, and the panel under it (by bounding box)
+  // pattern coordinates [m] of a click, and the panel under it
   clickPanel(e) {
     const r = this.svg.getBoundingClientRect();
     const X = e.clientX - r.left, Y = e.clientY - r.top;
     this.geo.panels.forEach((panel, p) => {
-      const x = (X - PAD) / this.k - this.offsets[p][0];
-      const y = (this.H - PAD - Y) / this.k - this.offsets[p][1];
+      const x = this.px(p, X), y = this.py(p, Y);
       const pts = panel.loops[0].edges.flatMap((ed) => ed.polyline);
       if (inside(pts, x, y)) this.onClickPanel(panel.name, [x, y]);
     });
