@@ -23,8 +23,10 @@ import numpy as np
 from .body.builtin import list_bodies, load_body
 from .body.mesh_io import BodyMeshError, load_body_mesh
 from .body.model import Body
+from .body.sdf import DistanceField
 from .defaults import DEFAULTS, Defaults
 from .errors import InputError
+from .fit.measures import FitMeasures, fit_measures
 from .fit.metrics import FitEvaluator, FitResult
 from .fit.outputs import write_fit_outputs
 from .edit import grade
@@ -131,6 +133,9 @@ class FitOutcome:
         Report entries the drape adds (``checks``, ``timing``, ``fitting_ratio_placed``...).
     seconds : float
         Wall time of meshing, draping and evaluating [s].
+    measures : FitMeasures or None
+        Gap [mm], ease at the girths [cm] and contact pressure [kPa]
+        (:mod:`patternfit.fit.measures`); None without a body (a saved state read back).
     """
 
     pattern: Pattern
@@ -143,6 +148,7 @@ class FitOutcome:
     extra: dict = field(default_factory=dict)
     seconds: float = 0.0
     state: str = "draped"
+    measures: FitMeasures | None = None
 
     @property
     def fitting_ratio(self) -> float:
@@ -164,7 +170,8 @@ class FitOutcome:
 
     def write(self, folder, *, pictures: bool = True, progress: Callable | None = None) -> dict:
         """Write every output into ``folder`` (report.json, fit_2d.png/.svg, fit_3d.png,
-        garment.glb/.obj, garment/) and return the report."""
+        garment.glb/.obj, garment/, and with :attr:`measures` sections.png and the report
+        keys ``gap_mm``, ``ease_cm``, ``pressure_kpa``) and return the report."""
         body = None if self.body is None else (self.body.vertices, self.body.faces)
         extra = dict(self.extra)
         if self.body is not None:
@@ -173,7 +180,20 @@ class FitOutcome:
             extra["fabric"] = self.fabric.name
         return write_fit_outputs(folder, self.pattern, self.mesh, self.positions, self.fit,
                                  state=self.state, body=body, pictures=pictures, extra=extra,
-                                 progress=progress)
+                                 progress=progress, measures=self.measures)
+
+
+def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMeasures:
+    """The fit measures of a drape, with the contact law and distance field its solver
+    used (the static engine's), else the body's default field and the drape's default
+    margin (3 mm)."""
+    s = getattr(d.solver, "settings", None)
+    s = s if isinstance(s, SolverSettings) else SolverSettings(contact_margin=0.003)
+    f = getattr(d.solver, "body", None)
+    return fit_measures(mesh.triangles, d.positions, body,
+                        f if isinstance(f, DistanceField) else None,
+                        reach=max(fabric.thickness, s.contact_margin),
+                        stiffness=s.contact_stiffness)
 
 
 def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
@@ -236,7 +256,8 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     extra = d.report_extra()
     extra["fitting_ratio_placed"] = evaluator.metrics(d.placed)[1]
     return FitOutcome(pat, m, b, fab, d.positions, evaluator(d.positions), drape=d,
-                      extra=extra, seconds=time.perf_counter() - t0)
+                      extra=extra, seconds=time.perf_counter() - t0,
+                      measures=_measures(d, m, b, fab))
 
 
 def _start_state(start, pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:

@@ -14,13 +14,14 @@ from ..pattern.model import Pattern
 from .colormap import FitScale, vertex_values
 from .export import export_garment
 from .metrics import FitResult
-from .pictures import FAILED_GREY, plot_3d_map, plot_flat_map
+from .pictures import FAILED_GREY, plot_3d_map, plot_flat_map, plot_sections
 from .report import failure, fit_report, write_report
 
 
 def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult, *,
                       state: str = "placed", body=None, pictures: bool = True,
-                      extra: dict[str, Any] | None = None, progress=None) -> dict[str, Any]:
+                      extra: dict[str, Any] | None = None, progress=None,
+                      measures=None) -> dict[str, Any]:
     """Write all outputs of one fit evaluation into ``folder`` and return the report.
 
     ``positions`` (n, 3) [m] is the garment's 3D state; ``body`` an optional
@@ -33,6 +34,9 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     must then report a failed fit; the pictures' titles then say "FAILED: <reason>"
     (:func:`~patternfit.fit.report.failure`: the drape's ``extra["checks"]["reasons"]``)
     instead of ϖ.
+
+    ``measures`` (a :class:`~patternfit.fit.measures.FitMeasures`, optional) adds the
+    report keys ``gap_mm``, ``ease_cm``, ``pressure_kpa`` and the picture ``sections.png``.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
@@ -46,12 +50,15 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     files.update({f"garment_{kind}": f"garment.{kind}" for kind in ("glb", "obj")})
     if pictures:
         files.update(fit_2d_png="fit_2d.png", fit_2d_svg="fit_2d.svg", fit_3d_png="fit_3d.png")
+        if measures is not None:
+            files["sections_png"] = "sections.png"
+    extra = {**(measures.report() if measures is not None else {}), **(extra or {})}
     # the report first: its checks decide whether the pictures show ϖ or "FAILED"
     report = fit_report(mesh, fit, state=state, extra={
         "garment": pattern.name, "size": pattern.meta.get("size"),
         "colour_scale": {"limit": scale.limit, "band": scale.band,
                          "description": scale.describe()},
-        "files": files, **(extra or {})})
+        "files": files, **extra})
     failed = failure(report)
     if failed:  # the exported garment is grey too: its colours would read as a fit
         rgb = np.broadcast_to(FAILED_GREY, rgb.shape).copy()
@@ -65,5 +72,8 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
         say("3D picture")
         plot_3d_map(positions, mesh, fit, folder / "fit_3d.png", scale=scale, body=body,
                     title=pattern.name, failed=failed)
+        if measures is not None:
+            say("girth sections")
+            plot_sections(measures.sections, folder / "sections.png", title=pattern.name)
     write_report(report, folder / "report.json")
     return report

@@ -178,3 +178,54 @@ def plot_3d_map(positions, mesh: GarmentMesh, fit: FitResult, path, *,
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return Path(path)
+
+
+def plot_sections(sections: dict, path, *, title: str | None = None) -> Path:
+    """Draw each girth's section, seen from above (bust, waist, hip horizontal: x across,
+    z front up; a bicep in the plane across the arm): the body's section (grey, filled
+    hull), the garment's section points (blue dots) and its convex hull (blue line),
+    titled with the girth's ease in cm ("not all around" where the garment leaves a gap);
+    girths the garment does not reach are left out.
+
+    ``sections``: name → :class:`~patternfit.fit.measures.Section`. Returns the path."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    # the girths the garment reaches at all (a skirt has no bust to show)
+    names = [k for k, s in sections.items() if len(s.garment)] or ["none"]
+    cols = min(len(names), 4)
+    rows = -(-len(names) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.4 * rows + 0.4), squeeze=False)
+    for ax in axes.ravel():
+        ax.set_axis_off()
+    for ax, name in zip(axes.ravel(), names):
+        s = sections.get(name)
+        ax.set_axis_on()
+        ax.set_aspect("equal")
+        ax.tick_params(labelsize=6)
+        if s is None:
+            ax.set_title("no girth measured", fontsize=9)
+            continue
+        if len(s.body_hull):
+            ax.fill(100 * s.body_hull[:, 0], 100 * s.body_hull[:, 1], color="0.82",
+                    edgecolor="0.45", lw=0.8, label="body")
+        if len(s.body):
+            ax.plot(100 * s.body[:, 0], 100 * s.body[:, 1], ".", color="0.35", ms=1)
+        if len(s.garment):
+            ax.plot(100 * s.garment[:, 0], 100 * s.garment[:, 1], ".", color="#1f5fbf", ms=2)
+        if len(s.garment_hull):
+            ax.plot(100 * s.garment_hull[:, 0], 100 * s.garment_hull[:, 1], "-",
+                    color="#1f5fbf", lw=1, label="garment")
+        head = (f"ease {s.ease_cm:+.1f} cm" if s.ease_cm is not None
+                else "not all around")
+        ax.set_title(f"{name}: {head}\nbody {s.body_cm:.1f} cm", fontsize=9,
+                     color="black" if s.covered else "0.45")
+        ax.set_xlabel("cm", fontsize=7)
+    fig.suptitle(f"{title + ' — ' if title else ''}girth sections, top view", fontsize=10)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

@@ -30,7 +30,11 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
     ``panels`` (name, area_2d_m2, area_3d_m2, fitting_ratio), ``fit_classes`` (area fraction
     per class), ``fit_thresholds``, ``stretch``, ``mesh`` (vertices, triangles,
     min_angle_deg, seams, seam_pairs, panels), ``state``, ``units`` and ``checks``.
-    ``extra`` is merged in at the top level (later stages add ``timing``...); its
+    ``extra`` is merged in at the top level (later stages add ``timing``...; a drape's fit
+    measures, :meth:`patternfit.fit.measures.FitMeasures.report`, add ``gap_mm`` (p5, p50,
+    p95 [mm]), ``ease_cm`` (girth name → garment − body girth [cm], the girths covered all
+    around) and ``pressure_kpa`` (p50, p95, p99, max [kPa] over the contact area, None
+    without contact)); its
     ``checks`` (the drape's) are merged into the report's.
 
     ``checks`` holds ``fit_finite`` (every number of the report is finite), ``passed``
@@ -64,7 +68,8 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
                      mesh.vertices, mesh.triangles),
                  "seams": len(mesh.seam_names), "seam_pairs": int(len(mesh.seam_pairs))},
         "units": {"length": "m", "area": "m^2", "fitting_ratio": "fraction (1.0 = 100%)",
-                  "area_change": "fraction (S3/S2 - 1)"},
+                  "area_change": "fraction (S3/S2 - 1)", "gap_mm": "mm", "ease_cm": "cm",
+                  "pressure_kpa": "kPa"},
     }
     extra = dict(extra or {})
     drape_checks = extra.pop("checks", None) or {}

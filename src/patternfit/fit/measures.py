@@ -1,0 +1,307 @@
+"""Apparel-science fit measures of a draped garment: body–garment gap, ease at the girths,
+contact pressure.
+
+ϖ (:mod:`patternfit.fit.metrics`) says whether the cloth is stretched; a pattern maker also
+reads *ease* (garment girth minus body girth, cm) and *clothing pressure* (kPa; about 1.3 kPa
+is comfortable, 2.0 kPa the most for daily wear, after Kawabata). Everything here is a pure
+function of the garment's triangles, its positions ``(n, 3)`` [m] (Y up), the body and the
+solver's contact law. Inside metres and newtons; the results are in mm, cm and kPa as named.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError
+
+from ..body.measure import Loop, cross_section
+from ..body.sdf import DistanceField
+from ..sim.solver import SolverSettings
+
+#: the girths measured, with the body's level of each (see :func:`girth_levels`)
+GIRTHS = ("bust", "waist", "hip", "thigh_left", "thigh_right", "bicep_left", "bicep_right")
+#: the thigh is measured this far below the crotch [m]
+THIGH_BELOW_CROTCH = 0.04
+#: the bicep is measured this share of the way from the shoulder point to the wrist [-]
+BICEP_AT = 0.3
+#: a girth counts as covered when no angular gap of the garment's section around the body
+#: section's centre exceeds this [deg]
+MAX_GAP_DEG = 30.0
+#: garment section points further than this from the body section are not part of it [m]
+SECTION_REACH = 0.25
+
+
+@dataclass(eq=False)
+class Section:
+    """One girth's cross-section of body and garment, in the section plane's 2D frame [m].
+
+    ``body`` (k, 2) and ``garment`` (g, 2): the section points; ``body_hull`` and
+    ``garment_hull``: the closed convex hull polygons (h, 2); ``body_cm``, ``garment_cm``:
+    their perimeters [cm]; ``ease_cm`` = garment − body [cm]; ``origin`` (3,), ``normal``
+    (3,): the plane [m]; ``covered``: whether the garment goes all around the body there.
+    """
+
+    name: str
+    origin: np.ndarray
+    normal: np.ndarray
+    body: np.ndarray
+    garment: np.ndarray
+    body_hull: np.ndarray
+    garment_hull: np.ndarray
+    body_cm: float
+    garment_cm: float
+    ease_cm: float | None
+    covered: bool
+
+
+@dataclass(eq=False)
+class FitMeasures:
+    """The measures of one drape.
+
+    gap_mm : (n,) float
+        Signed distance of every garment vertex to the body surface [mm], negative inside.
+    pressure_kpa : (n,) float
+        Contact pressure per vertex [kPa], 0 off the body.
+    contact : (n,) bool
+        Vertices within the contact distance (the contact area).
+    sections : dict of str to Section
+        The girths measured (covered or not).
+    """
+
+    gap_mm: np.ndarray
+    pressure_kpa: np.ndarray
+    contact: np.ndarray
+    vertex_area: np.ndarray
+    sections: dict = field(default_factory=dict)
+
+    def report(self) -> dict:
+        """``gap_mm`` (p5, p50, p95, area-weighted over the garment), ``ease_cm`` (girth name
+        → cm, only the girths the garment covers all around) and ``pressure_kpa`` (p50, p95,
+        p99, max over the contact area, ``contact_vertices``, ``contact_area_m2``); a value
+        that cannot be measured is None, never NaN."""
+        return {"gap_mm": gap_summary(self.gap_mm, self.vertex_area),
+                "ease_cm": {k: s.ease_cm for k, s in self.sections.items() if s.covered},
+                "pressure_kpa": pressure_summary(self.pressure_kpa, self.contact,
+                                                 self.vertex_area)}
+
+
+# --------------------------------------------------------------------------- per vertex
+def vertex_areas(triangles, positions) -> np.ndarray:
+    """A third of the 3D area of every triangle around each vertex: (n,) [m²]."""
+    t = np.asanyarray(triangles, dtype=np.int64)
+    x = np.asanyarray(positions, dtype=np.float64)
+    a = 0.5 * np.linalg.norm(np.cross(x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]), axis=1)
+    return np.bincount(t.ravel(), weights=np.repeat(a / 3.0, 3), minlength=len(x))
+
+
+def gap(positions, body_field: DistanceField) -> np.ndarray:
+    """Signed distance of each garment vertex to the body surface [mm], (n,), negative
+    inside; from the body's distance field (``positions`` (n, 3) [m]). A vertex resting on
+    the body reads the distance the solver keeps (the fabric thickness or the contact
+    margin, 3 mm for :func:`patternfit.sim.drape.drape`)."""
+    d, _ = body_field.query(positions)
+    return 1000.0 * d
+
+
+def contact_pressure(triangles, positions, body_field: DistanceField, *, reach: float,
+                     stiffness: float = SolverSettings().contact_stiffness,
+                     areas=None) -> tuple[np.ndarray, np.ndarray]:
+    """Contact pressure per vertex [kPa] and the contact vertices, from the solver's
+    contact penalty.
+
+    The solver (:func:`patternfit.sim.kernels.contact`) pushes a vertex closer than
+    ``reach`` [m] (``max(fabric.thickness, settings.contact_margin)``) out with the force
+    ``k_i (reach - d_i)`` [N], ``k_i = stiffness * A_i`` (``stiffness`` [N/m³], ``A_i`` the
+    vertex area [m²]); at rest that force balances gravity, membrane and bending, so the
+    contact force over the vertex area is ``stiffness * (reach - d_i)`` [Pa]. Evaluated at
+    the final positions (n, 3) [m] from the distance field. The solver stiffens the contact
+    of vertices it found inside the body (x4 per refresh); this estimate uses the base
+    stiffness, so there it reads low.
+
+    Returns ``pressure`` (n,) [kPa] (0 off the body) and ``contact`` (n,) bool
+    (``d < reach``: the contact area).
+    """
+    x = np.asanyarray(positions, dtype=np.float64)
+    a = vertex_areas(triangles, x) if areas is None else np.asanyarray(areas, dtype=np.float64)
+    d, _ = body_field.query(x)
+    pen = np.maximum(reach - d, 0.0)
+    force = stiffness * a * pen  # [N], the solver's penalty force
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.where(a > 0, force / np.where(a > 0, a, 1.0), 0.0)
+    return p / 1000.0, pen > 0.0
+
+
+def _weighted_percentiles(values, weights, qs) -> list[float]:
+    v = np.asanyarray(values, dtype=np.float64)
+    w = np.asanyarray(weights, dtype=np.float64)
+    ok = np.isfinite(v) & (w > 0)
+    v, w = v[ok], w[ok]
+    if len(v) == 0:
+        return [None] * len(qs)
+    order = np.argsort(v)
+    v, w = v[order], w[order]
+    c = (np.cumsum(w) - 0.5 * w) / w.sum()
+    return [float(np.interp(q / 100.0, c, v)) for q in qs]
+
+
+def gap_summary(gap_mm, areas) -> dict:
+    """``p5``, ``p50``, ``p95`` of the gap [mm], weighted by vertex area (None if none)."""
+    p5, p50, p95 = _weighted_percentiles(gap_mm, areas, (5, 50, 95))
+    return {"p5": p5, "p50": p50, "p95": p95}
+
+
+def pressure_summary(pressure_kpa, contact, areas) -> dict:
+    """``p50``, ``p95``, ``p99``, ``max`` of the pressure [kPa] over the contact vertices,
+    weighted by vertex area (None without contact), with ``contact_vertices`` and
+    ``contact_area_m2``."""
+    c = np.asanyarray(contact, dtype=bool)
+    p = np.asanyarray(pressure_kpa, dtype=np.float64)[c]
+    a = np.asanyarray(areas, dtype=np.float64)[c]
+    p50, p95, p99 = _weighted_percentiles(p, a, (50, 95, 99))
+    return {"p50": p50, "p95": p95, "p99": p99,
+            "max": float(p.max()) if len(p) and np.isfinite(p).all() else None,
+            "contact_vertices": int(c.sum()), "contact_area_m2": float(a.sum())}
+
+
+# --------------------------------------------------------------------------- girths
+def _frame(normal) -> np.ndarray:
+    """Rotation (3, 3) taking ``normal`` to +Y (rows: the plane's u, normal, w axes); the
+    identity for a horizontal plane, so that its 2D frame is (x, z)."""
+    n = np.asanyarray(normal, dtype=np.float64)
+    n = n / np.linalg.norm(n)
+    ref = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
+    u = ref - n * (ref @ n)
+    u /= np.linalg.norm(u)
+    w = np.cross(u, n)
+    return np.array([u, n, w])
+
+
+def plane_section(vertices, triangles, origin, normal) -> list[Loop]:
+    """The curves where the plane through ``origin`` (3,) [m] with ``normal`` (3,) cuts the
+    triangle mesh (vertices (n, 3) [m], triangles (m, 3)); closed loops for a closed mesh,
+    open chains (one per panel) for a garment. Points are in the rotated frame of
+    :func:`_frame` (its x, z columns are the plane's 2D coordinates), largest first."""
+    r = _frame(normal)
+    v = (np.asanyarray(vertices, dtype=np.float64) - origin) @ r.T
+    return cross_section(v, triangles, 0.0)
+
+
+def _hull(points2) -> tuple[np.ndarray, float]:
+    """Closed convex hull polygon (h + 1, 2) and its perimeter [m] of points (k, 2)."""
+    if len(points2) < 3:
+        return np.zeros((0, 2)), 0.0
+    try:
+        h = ConvexHull(points2)
+    except QhullError:
+        return np.zeros((0, 2)), 0.0
+    poly = points2[h.vertices]
+    return np.vstack([poly, poly[:1]]), float(h.area)
+
+
+def girth_levels(body) -> dict[str, tuple[np.ndarray, np.ndarray, str]]:
+    """Where each girth of :data:`GIRTHS` is measured on ``body``: name → (origin (3,) [m],
+    plane normal (3,), which body loops: ``"torso"`` the largest, ``"all_big"`` every large
+    loop (the hip: both legs' tops), ``"nearest"`` the loop nearest the origin).
+
+    Bust, waist, hip: horizontal at the body's landmark heights (``bust_height`` ...).
+    Thigh: horizontal, :data:`THIGH_BELOW_CROTCH` below the crotch, one leg each. Bicep:
+    perpendicular to the arm axis, :data:`BICEP_AT` of the way from shoulder to wrist."""
+    m, lm = body.measurements, body.landmarks
+    y0 = float(body.vertices[:, 1].min())
+    up = np.array([0.0, 1.0, 0.0])
+    out = {}
+    c = lm["torso_axis"][0]
+    for name, kind in (("bust", "torso"), ("waist", "torso"), ("hip", "all_big")):
+        out[name] = (np.array([c[0], y0 + m[f"{name}_height"], c[2]]), up, kind)
+    for side in ("left", "right"):
+        leg = lm[f"leg_axis_{side}"]
+        y = y0 + m["crotch_height"] - THIGH_BELOW_CROTCH
+        out[f"thigh_{side}"] = (np.array([leg[0][0], y, leg[0][2]]), up, "nearest")
+        s, w = lm[f"arm_axis_{side}"]
+        out[f"bicep_{side}"] = (s + BICEP_AT * (w - s), w - s, "nearest")
+    return out
+
+
+def _body_loops(loops: list[Loop], kind: str, centre2) -> list[Loop]:
+    if not loops:
+        return []
+    if kind == "torso":
+        return loops[:1]
+    if kind == "all_big":
+        return [lp for lp in loops if lp.area >= 0.3 * loops[0].area]
+    big = [lp for lp in loops if lp.area >= 0.03 * loops[0].area] or loops
+    return [min(big, key=lambda lp: np.linalg.norm(lp.centroid[[0, 2]] - centre2))]
+
+
+def girth_section(name, triangles, positions, body_vertices, body_faces, origin,
+                  normal, kind) -> Section | None:
+    """The body's and the garment's section for one girth (see :func:`ease`); None where
+    the body has no section there."""
+    centre2 = np.zeros(2)  # the origin, in the plane's own frame
+    body_loops = plane_section(body_vertices, body_faces, origin, normal)
+    chosen = _body_loops(body_loops, kind, centre2)
+    if not chosen:
+        return None
+    bp = np.concatenate([lp.points[:, [0, 2]] for lp in chosen])
+    bhull, bper = _hull(bp)
+    if bper <= 0:
+        return None
+    g_loops = plane_section(positions, triangles, origin, normal)
+    gp = (np.concatenate([lp.points[:, [0, 2]] for lp in g_loops]) if g_loops
+          else np.zeros((0, 2)))
+    if len(gp):
+        # a garment point belongs to this girth when the body point nearest it is one of
+        # the chosen loops' (a sleeve's section goes to the arm, not to the bust)
+        allb = np.concatenate([lp.points[:, [0, 2]] for lp in body_loops])
+        mine = np.concatenate([np.full(len(lp.points), any(lp is c for c in chosen))
+                               for lp in body_loops])
+        dist = np.linalg.norm(gp[:, None, :] - allb[None, :, :], axis=2)
+        near = dist.argmin(axis=1)
+        gp = gp[mine[near] & (dist.min(axis=1) < SECTION_REACH)]
+    covered = False
+    ghull, gper = _hull(gp)
+    if gper > 0:
+        c = bp.mean(axis=0)
+        ang = np.sort(np.degrees(np.arctan2(gp[:, 1] - c[1], gp[:, 0] - c[0])))
+        gaps = np.diff(np.concatenate([ang, ang[:1] + 360.0]))
+        covered = bool(gaps.max() <= MAX_GAP_DEG)
+    ease_cm = 100.0 * (gper - bper) if covered else None
+    return Section(name, np.asanyarray(origin, dtype=np.float64), np.asanyarray(normal, float),
+                   bp, gp, bhull, ghull, 100.0 * bper, 100.0 * gper, ease_cm, covered)
+
+
+def ease(triangles, positions, body) -> dict[str, Section]:
+    """The girths of :data:`GIRTHS` at the body's levels (:func:`girth_levels`) as
+    :class:`Section` s; ``ease_cm`` of each = garment girth − body girth [cm], None where the
+    garment does not go all around the body there.
+
+    A girth is a tape measure's: the perimeter of the convex hull of the section, since the
+    tape (and the cloth) bridges the body's hollows (between the breasts, the small of the
+    back); the body's girth is taken the same way from the body mesh in the same plane (for
+    bust, waist and hip that is the definition of the stored measurements). The garment's
+    section is where the plane cuts its triangles (``positions`` (n, 3) [m]); its points
+    that lie nearer another part of the body (a sleeve's, at bust height) are left out. A
+    garment covers a girth when its section leaves no angular gap over
+    :data:`MAX_GAP_DEG` around the body section's centre (a skirt covers no single thigh,
+    an open jacket no bust)."""
+    out = {}
+    for name, (origin, normal, kind) in girth_levels(body).items():
+        s = girth_section(name, triangles, positions, body.vertices, body.faces,
+                          origin, normal, kind)
+        if s is not None:
+            out[name] = s
+    return out
+
+
+def fit_measures(triangles, positions, body, body_field: DistanceField | None = None, *,
+                 reach: float, stiffness: float = SolverSettings().contact_stiffness
+                 ) -> FitMeasures:
+    """Gap, pressure and ease of a garment (triangles (m, 3), positions (n, 3) [m]) on
+    ``body`` (a :class:`~patternfit.body.model.Body`); ``body_field`` the distance field
+    the drape used (the body's default one when None), ``reach`` [m] and ``stiffness``
+    [N/m³] the solver's contact distance and stiffness (:func:`contact_pressure`)."""
+    f = body_field if body_field is not None else body.distance_field()
+    a = vertex_areas(triangles, positions)
+    p, c = contact_pressure(triangles, positions, f, reach=reach, stiffness=stiffness, areas=a)
+    return FitMeasures(gap(positions, f), p, c, a, ease(triangles, positions, body))

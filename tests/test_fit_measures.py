@@ -1,0 +1,127 @@
+"""Fit measures (gap, ease, contact pressure) on small synthetic meshes and one skirt."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from patternfit.body.sdf import DistanceField
+from patternfit.fit.measures import (contact_pressure, gap, gap_summary, girth_section,
+                                     plane_section, pressure_summary, vertex_areas)
+
+
+def _cylinder(r, y0=0.0, y1=1.0, n=96, rows=20, closed=False):
+    """A cylinder of radius ``r`` [m] around the Y axis: vertices (k, 3), triangles."""
+    a = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ys = np.linspace(y0, y1, rows)
+    v = np.array([[r * np.cos(t), y, r * np.sin(t)] for y in ys for t in a])
+    tri = []
+    for j in range(rows - 1):
+        for i in range(n):
+            p, q = j * n + i, j * n + (i + 1) % n
+            tri += [[p, p + n, q], [q, p + n, q + n]]
+    tri = np.array(tri)
+    if closed:  # caps, so the body is a closed surface
+        c0, c1 = len(v), len(v) + 1
+        v = np.vstack([v, [[0, y0, 0], [0, y1, 0]]])
+        top = (rows - 1) * n
+        caps = [[c0, (i + 1) % n, i] for i in range(n)] + \
+               [[c1, top + i, top + (i + 1) % n] for i in range(n)]
+        tri = np.vstack([tri, caps])
+    return v, tri
+
+
+def _field(fn, lo, hi, h):
+    """A DistanceField sampling the exact distance ``fn(points)`` on a grid."""
+    shape = tuple(int(np.ceil((b - a) / h)) + 1 for a, b in zip(lo, hi))
+    idx = np.indices(shape).reshape(3, -1).T
+    vals = fn(np.asarray(lo) + h * idx).reshape(shape)
+    return DistanceField(lo, h, vals)
+
+
+@pytest.mark.parametrize("e", [0.01, 0.03])
+def test_cylinder_ease_is_two_pi_e(e):
+    r = 0.15
+    bv, bt = _cylinder(r, closed=True)
+    gv, gt = _cylinder(r + e, 0.1, 0.9, rows=9)
+    for h in (0.2, 0.5, 0.8):
+        s = girth_section("hip", gt, gv, bv, bt, np.array([0.0, h, 0.0]),
+                          np.array([0.0, 1.0, 0.0]), "torso")
+        assert s.covered
+        assert s.ease_cm == pytest.approx(100 * 2 * np.pi * e, rel=0.02)
+        assert s.body_cm == pytest.approx(100 * 2 * np.pi * r, rel=0.01)
+
+
+def test_ease_needs_the_garment_all_around():
+    bv, bt = _cylinder(0.15, closed=True)
+    gv, gt = _cylinder(0.17, 0.1, 0.9, rows=9)
+    half = gv[:, 2] > 0  # keep only the front half of the garment
+    keep = half[gt].all(axis=1)
+    s = girth_section("hip", gt[keep], gv, bv, bt, np.array([0.0, 0.5, 0.0]),
+                      np.array([0.0, 1.0, 0.0]), "torso")
+    assert not s.covered and s.ease_cm is None
+    above = girth_section("hip", gt, gv, bv, bt, np.array([0.0, 0.95, 0.0]),
+                          np.array([0.0, 1.0, 0.0]), "torso")
+    assert above.ease_cm is None  # the garment ends below that height
+
+
+def test_oblique_plane_section_of_a_cylinder_is_its_ellipse():
+    v, t = _cylinder(0.1, -1, 1, rows=41)
+    loops = plane_section(v, t, np.zeros(3), np.array([0.0, 1.0, 0.0]))
+    assert loops[0].girth == pytest.approx(2 * np.pi * 0.1, rel=0.01)
+
+
+def test_gap_of_a_sheet_over_a_flat_body_is_its_height():
+    field = _field(lambda p: p[:, 1], (-0.5, -0.2, -0.5), (0.5, 0.2, 0.5), 0.01)
+    x, z = np.meshgrid(np.linspace(-0.3, 0.3, 7), np.linspace(-0.3, 0.3, 7))
+    pos = np.column_stack([x.ravel(), np.full(x.size, 0.012), z.ravel()])
+    g = gap(pos, field)
+    np.testing.assert_allclose(g, 12.0, atol=1e-3)
+    s = gap_summary(g, np.ones(len(g)))
+    assert s["p5"] == pytest.approx(12.0, abs=1e-3) and s["p95"] == pytest.approx(12.0, abs=1e-3)
+    assert gap_summary([], []) == {"p5": None, "p50": None, "p95": None}
+
+
+def test_pressure_of_a_vertex_pressed_into_a_sphere_is_force_over_area():
+    R, k, reach = 0.1, 1e7, 0.003
+    field = _field(lambda p: np.linalg.norm(p, axis=1) - R, (-0.2,) * 3, (0.2,) * 3, 0.004)
+    # a small square patch: its centre vertex carries area A; pressed so that the solver's
+    # penalty pushes it out with force F: depth reach - d = F / (k A)
+    s = 0.01
+    pos = np.array([[0, 0, 0], [s, 0, 0], [s, s, 0], [0, s, 0], [-s, s, 0], [-s, 0, 0],
+                    [-s, -s, 0], [0, -s, 0], [s, -s, 0]], dtype=float)
+    tri = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5], [0, 5, 6], [0, 6, 7],
+                    [0, 7, 8], [0, 8, 1]])
+    A = vertex_areas(tri, pos)[0]
+    assert A == pytest.approx(4 * s * s / 3)
+    F = 0.2  # [N]
+    d = reach - F / (k * A)
+    pos = pos + [0.0, 0.0, R + d] - [0, 0, 0]
+    pos[1:, 2] += 0.05  # the others off the body
+    p, contact = contact_pressure(tri, pos, field, reach=reach, stiffness=k,
+                                  areas=vertex_areas(tri, pos))
+    assert contact[0] and not contact[1:].any()
+    assert p[0] == pytest.approx(F / A / 1000.0, rel=0.02)  # kPa
+    summ = pressure_summary(p, contact, np.ones(len(p)))
+    assert summ["max"] == pytest.approx(p[0]) and summ["contact_vertices"] == 1
+    none = pressure_summary(p, np.zeros(len(p), bool), np.ones(len(p)))
+    assert none["p95"] is None and none["max"] is None
+
+
+def test_skirt_on_average_woman(tmp_path):
+    import json
+
+    import patternfit as pf
+    o = pf.drape_and_evaluate("skirt", "female_average", "cotton", triangles=1500)
+    assert o.passed
+    r = o.measures.report()
+    # reads: hip ease 7.8 cm, gap p5/p50/p95 3/24/162 mm, pressure p95 0.10 kPa
+    assert 0.0 < r["ease_cm"]["hip"] < 15.0
+    assert r["pressure_kpa"]["p95"] < 5.0
+    assert 2.0 < r["gap_mm"]["p5"] < r["gap_mm"]["p50"] < r["gap_mm"]["p95"]
+    assert "bust" not in r["ease_cm"] and "thigh_left" not in r["ease_cm"]
+    out = o.write(tmp_path, pictures=True)
+    saved = json.loads((tmp_path / "report.json").read_text())
+    for key in ("gap_mm", "ease_cm", "pressure_kpa"):
+        assert saved[key] == out[key]
+    assert (tmp_path / "sections.png").stat().st_size > 1000
