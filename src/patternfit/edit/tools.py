@@ -161,28 +161,34 @@ def _match_partners(old: Pattern, new: Pattern, edited: set) -> Pattern:
 
 def _solve_corners(pattern: Pattern, free: list, *, iterations: int = 20) -> Pattern:
     """``pattern`` with the corners ``free`` ((panel, edge starting there)) moved by the
-    smallest steps that make every seam touching them have equal sides: Gauss–Newton with
-    minimum-norm steps on the length differences [m] (Jacobian by finite differences),
-    each step halved until it reduces them."""
+    smallest steps that make every seam touching them have equal sides, each step halved
+    until it reduces the differences (:func:`_equal_sides`)."""
     touched = set().union(*(_corner_edges(pattern, c) for c in free))
     seams = [s for s in pattern.seams
              if (s.a.panel, s.a.edge) in touched or (s.b.panel, s.b.edge) in touched]
+    return _equal_sides(pattern, free, seams, iterations=iterations, h=1e-7, halvings=8)
 
+
+def _equal_sides(pattern: Pattern, corners: list, seams, *, iterations: int, h: float,
+                 halvings: int) -> Pattern:
+    """``pattern`` with the ``corners`` ((panel, edge starting there)) moved so that every
+    one of ``seams`` has sides of equal length: Gauss–Newton with minimum-norm steps on the
+    length differences [m], the Jacobian by finite differences of step ``h`` [m], each step
+    halved up to ``halvings`` times until it reduces the differences."""
     def moved(x):
         out = pattern
-        for (pname, ename), d in zip(free, x.reshape(-1, 2)):
+        for (pname, ename), d in zip(corners, x.reshape(-1, 2)):
             if d.any():
                 out = out.with_panel(move_corner(out.panel(pname), ename, d))
         return out
 
     def residual(x):
         pat = moved(x)
-        return np.array([pat.seam_side_length(s.a) - pat.seam_side_length(s.b)
+        return np.array([pat.seam_side_length(s.b) - pat.seam_side_length(s.a)
                          for s in seams])
 
-    x = np.zeros(2 * len(free))
+    x = np.zeros(2 * len(corners))
     r = residual(x)
-    h = 1e-7
     for _ in range(iterations):
         if np.abs(r).max(initial=0.0) <= 0.1 * tol.merge:
             break
@@ -192,11 +198,12 @@ def _solve_corners(pattern: Pattern, free: list, *, iterations: int = 20) -> Pat
             e[j] = h
             J[:, j] = (residual(x + e) - r) / h
         step = np.linalg.lstsq(J, r, rcond=None)[0]
-        for _ in range(8):
-            r_try = residual(x - step)
+        r_try = residual(x - step)
+        for _ in range(halvings):
             if np.linalg.norm(r_try) < np.linalg.norm(r):
                 break
             step = 0.5 * step
+            r_try = residual(x - step)
         x, r = x - step, r_try
     return moved(x)
 
@@ -275,32 +282,8 @@ def close_seams(pattern: Pattern, *, iterations: int = 12) -> Pattern:
         for key in ((s.b.panel, s.b.edge), (s.b.panel, edges[(k + 1) % len(edges)].name)):
             if key not in corners:
                 corners.append(key)
-
-    def moved(x):
-        out = pattern
-        for (pname, ename), d in zip(corners, x.reshape(-1, 2)):
-            if d.any():
-                out = out.with_panel(move_corner(out.panel(pname), ename, d))
-        return out
-
-    def residual(pat):
-        return np.array([pat.seam_side_length(s.b) - pat.seam_side_length(s.a)
-                         for s in pat.seams])
-
-    x = np.zeros(2 * len(corners))
-    r = residual(pattern)
-    h = 1e-5
-    for _ in range(iterations):
-        if np.abs(r).max(initial=0.0) <= 0.1 * tol.merge:
-            break
-        J = np.empty((len(r), len(x)))
-        for j in range(len(x)):
-            e = np.zeros_like(x)
-            e[j] = h
-            J[:, j] = (residual(moved(x + e)) - r) / h
-        x = x - np.linalg.lstsq(J, r, rcond=None)[0]
-        r = residual(moved(x))
-    return moved(x)
+    return _equal_sides(pattern, corners, pattern.seams, iterations=iterations, h=1e-5,
+                        halvings=0)
 
 
 def _panel_edges(panel: Panel) -> set:
