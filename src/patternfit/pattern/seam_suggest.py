@@ -20,7 +20,8 @@ pattern maker reads, each a factor in [0, 1] with its reason in words:
   right edge meets a back's left edge), along the grain the same way (both shoulder edges
   face up); two horizontal edges may also stack (a yoke's lower edge on a back's upper
   edge). Two edges across their pieces facing the same way along the grain are openings
-  (hem to hem, waist to waist).
+  (hem to hem, waist to waist); two facing down may be (cuffs). Not used between a sleeve
+  and another piece: a sleeve's grain runs along the arm.
 - **orientation**: ``reverse`` is True when both outlines run the same way round.
 
 One global assignment, greedy on the score: each edge is sewn at most once. Then the
@@ -207,7 +208,7 @@ def _pieces(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece):
             return 1.0, "left and right pieces joined at the centre"
         return 0.0, ""
     if a.panel == b.panel:
-        return 0.6, "two edges of one piece"
+        return 0.45, "two edges of one piece"
     kinds = {pa.kind, pb.kind}
     if kinds == {"front", "back"}:
         return 1.0, "front to back"
@@ -251,6 +252,8 @@ def _notch_factor(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece, reverse: bool):
 
 
 def _grain(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece):
+    if (pa.kind == "sleeve") != (pb.kind == "sleeve"):
+        return 1.0, ""   # a sleeve's grain runs along the arm, not with the body's
     na, nb = a.normal, b.normal
     wrap = -na[0] * nb[0] + na[1] * nb[1]
     flat = abs(na[1]) > 0.7 and abs(nb[1]) > 0.7

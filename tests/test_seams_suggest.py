@@ -1,0 +1,176 @@
+"""Seam suggestion for unsewn patterns (issue 20 item 3): the built-ins with their seams
+removed, with and without edge names, a DXF round trip without the side file (written by
+the ``convert`` command), left and right legs, notches, sleeve-cap ease, openings."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from patternfit.cli.main import app
+from patternfit.pattern import Edge, Loop, Panel, Pattern, check_pattern, load_pattern
+from patternfit.pattern.library import GARMENTS, build
+from patternfit.pattern.seam_suggest import openings, suggest_seams
+
+runner = CliRunner()
+
+
+def key(seam):
+    return frozenset([(seam.a.panel, seam.a.edge), (seam.b.panel, seam.b.edge)])
+
+
+def generic_names(pattern):
+    """The pattern with every outline edge called ``e<k>`` (as a DXF without a side file
+    names them), seams renamed alike."""
+    rename, panels = {}, []
+    for p in pattern.panels:
+        edges = tuple(replace(e, name=f"e{k}") for k, e in enumerate(p.outline.edges))
+        rename.update({(p.name, e.name): f"e{k}" for k, e in enumerate(p.outline.edges)})
+        panels.append(replace(p, outline=replace(p.outline, edges=edges)))
+    seams = tuple(replace(s, a=replace(s.a, edge=rename[(s.a.panel, s.a.edge)]),
+                          b=replace(s.b, edge=rename[(s.b.panel, s.b.edge)]))
+                  for s in pattern.seams)
+    return replace(pattern, panels=tuple(panels), seams=seams)
+
+
+def precision_recall(truth, suggestions):
+    real = {key(s): s for s in truth.seams}
+    got = {key(s.seam): s.seam for s in suggestions}
+    hits = set(real) & set(got)
+    reverse_ok = all(real[k].reverse == got[k].reverse for k in hits)
+    return len(hits) / max(len(got), 1), len(hits) / len(real), reverse_ok
+
+
+@pytest.mark.parametrize("names", ["named", "generic"])
+@pytest.mark.parametrize("garment", GARMENTS)
+def test_built_ins_without_seams_get_their_seams_back(garment, names):
+    truth = build(garment, "M")
+    if names == "generic":
+        truth = generic_names(truth)
+    found = suggest_seams(replace(truth, seams=()))
+    precision, recall, reverse_ok = precision_recall(truth, found)
+    print(f"{garment} ({names} edges): precision {precision:.2f}, recall {recall:.2f}")
+    assert precision == 1.0 and recall == 1.0
+    assert reverse_ok
+    for s in found:
+        assert 0.0 <= s.score <= 1.0 and s.reasons
+    check_pattern(replace(truth, seams=tuple(s.seam for s in found)))
+
+
+@pytest.mark.parametrize("names", ["named", "generic"])
+def test_the_left_leg_is_never_sewn_to_the_right_leg(names):
+    trousers = build("trousers", "M")
+    if names == "generic":
+        trousers = generic_names(trousers)
+    # whatever order the pieces come in
+    for panels in (trousers.panels, trousers.panels[::-1],
+                   trousers.panels[1::2] + trousers.panels[0::2]):
+        found = suggest_seams(replace(trousers, panels=panels, seams=()))
+        for s in found:
+            a, b = s.seam.a, s.seam.b
+            if a.panel[-1] != b.panel[-1]:
+                # left to right only along the centre front or back (the crotch)
+                assert {a.panel, b.panel} in ({"front_r", "front_l"}, {"back_r", "back_l"})
+                # the crotch edges (named, or by position when the names are generic)
+                assert key(s.seam) in {key(t) for t in trousers.seams}
+                if names == "named":
+                    assert a.edge == b.edge == "crotch"
+
+
+def test_suggestions_leave_sewn_edges_alone_and_sew_each_edge_once():
+    skirt = build("skirt", "M")
+    some = replace(skirt, seams=skirt.seams[:2])
+    found = suggest_seams(some)
+    assert {key(s.seam) for s in found} == {key(s) for s in skirt.seams[2:]}
+    sides = [(x.panel, x.edge) for s in suggest_seams(replace(skirt, seams=()))
+             for x in (s.seam.a, s.seam.b)]
+    assert len(sides) == len(set(sides))
+
+
+def test_openings_of_the_built_ins():
+    assert {g: openings(build(g, "M")) for g in GARMENTS} == \
+        {"coat": 4, "skirt": 2, "trousers": 3, "dress": 4}
+    skirt = build("skirt", "M")
+    assert openings(replace(skirt, seams=())) == 2   # each panel's own outline
+    closed = replace(skirt, seams=skirt.seams + (
+        replace(skirt.seams[0], name="x", a=replace(skirt.seams[0].a, edge="hem"),
+                b=replace(skirt.seams[0].b, edge="hem")),))
+    assert openings(closed) == 1
+
+
+def _notched(pattern, notches):
+    return replace(pattern, meta={**pattern.meta, "notches": notches})
+
+
+def test_notches_decide_between_edges_of_equal_length():
+    """Generic names: the skirt's side seams notched at 0.3 on the front and mirrored
+    (0.7) on the back are found; notched where they do not match, they are not."""
+    skirt = generic_names(build("skirt", "M"))
+    bare = replace(skirt, seams=())
+    truth = {key(s) for s in skirt.seams}
+    front = {s.a.edge: [0.3] for s in skirt.seams}
+    back = {s.b.edge: [0.7] for s in skirt.seams}
+    found = suggest_seams(_notched(bare, {"front": front, "back": back}))
+    assert {key(s.seam) for s in found} == truth
+    assert all(any("notches match" in r for r in s.reasons) for s in found)
+    wrong = {s.b.edge: [0.3] for s in skirt.seams}  # not mirrored: they do not meet
+    assert suggest_seams(_notched(bare, {"front": front, "back": wrong})) == []
+
+
+def _rect(name, w, h, names=("bottom", "right", "top", "left")):
+    pts = [(0, 0), (w, 0), (w, h), (0, h)]
+    return Panel(name, Loop("outline", tuple(
+        Edge.line(n, pts[k], pts[(k + 1) % 4]) for k, n in enumerate(names))))
+
+
+def test_a_sleeve_cap_eases_into_its_armhole_but_two_bodies_do_not():
+    """A sleeve's top edge 3 cm longer than a front's side edge: suggested as cap ease
+    with the ease measured; the same lengths between two unnamed pieces: a small ease at
+    most, scored lower."""
+    from patternfit.pattern import Seam, SeamSide
+
+    front = _rect("FRONT", 0.30, 0.40)
+    sleeve = _rect("SLEEVE", 0.43, 0.30, names=("cuff", "under_r", "cap", "under_l"))
+    tube = Seam("under", SeamSide("SLEEVE", "under_r"), SeamSide("SLEEVE", "under_l"))
+    found = suggest_seams(Pattern("t", (front, sleeve), (tube,)))
+    cap = [s for s in found if {s.seam.a.edge, s.seam.b.edge} == {"cap", "left"}
+           or {s.seam.a.edge, s.seam.b.edge} == {"cap", "right"}]
+    assert cap and any("sleeve cap easing 3.0 cm" in r for r in cap[0].reasons)
+    assert cap[0].seam.ease == pytest.approx(0.43 / 0.40 - 1, abs=1e-4)
+    tube = replace(tube, a=SeamSide("p2", "right"), b=SeamSide("p2", "left"))
+    plain = suggest_seams(Pattern("t", (_rect("p1", 0.30, 0.40), _rect("p2", 0.43, 0.30)),
+                                  (tube,)))
+    assert all(s.score < cap[0].score for s in plain)
+
+
+def _midpoints(pattern):
+    return {(p.name, e.name): e.point_at(0.5) for p in pattern.panels
+            for e in p.outline.edges}
+
+
+@pytest.mark.parametrize("garment", ["skirt", "trousers", "coat"])
+def test_a_dxf_round_trip_without_the_side_file_gets_its_seams_back(garment, tmp_path):
+    src, dxf = tmp_path / f"{garment}.json", tmp_path / f"{garment}.dxf"
+    truth = build(garment, "M")
+    from patternfit.pattern import save_pattern
+    save_pattern(truth, src)
+    result = runner.invoke(app, ["convert", str(src), str(dxf)])
+    assert result.exit_code == 0, result.output
+    (tmp_path / f"{garment}.seams.json").unlink()
+    from patternfit.api import read_pattern
+    read = read_pattern(dxf)
+    assert read.seams == ()
+    # the DXF names edges e0, e1...: match them to ours by their midpoints
+    ours, theirs = _midpoints(load_pattern(src)), _midpoints(read)
+    named = {}
+    for k, q in theirs.items():
+        near = min(ours, key=lambda o: np.linalg.norm(ours[o] - q) if o[0] == k[0] else 1e9)
+        assert np.linalg.norm(ours[near] - q) < 1e-3
+        named[k] = near
+    found = suggest_seams(read)
+    got = {frozenset([named[(s.seam.a.panel, s.seam.a.edge)],
+                      named[(s.seam.b.panel, s.seam.b.edge)]]) for s in found}
+    real = {key(s) for s in truth.seams}
+    print(f"{garment} DXF: {len(got & real)} of {len(real)} seams, {len(got)} suggested")
+    assert got == real
