@@ -37,6 +37,7 @@ from ..pattern.errors import PatternError
 from ..pattern.io import load_pattern
 from ..pattern.library import build
 from ..pattern.model import Pattern
+from ..pattern.seam_suggest import check_sewn
 from ..sim.drape import Drape, drape, redrape
 from ..sim.fabrics import Fabric, get_fabric
 
@@ -179,8 +180,11 @@ class DesignSession:
 
     def redrape(self, *, progress: Callable | None = None) -> Drape:
         """Drape the current state: warm-started from the last drape when the mesh kept its
-        topology, from the placement otherwise. Records ϖ and the checks in the history."""
+        topology, from the placement otherwise. Records ϖ and the checks in the history.
+        A pattern of several pieces not sewn together is refused
+        (:func:`~patternfit.pattern.seam_suggest.check_sewn`)."""
         st = self.state
+        check_sewn(st.pattern)
         same = (self._drape is not None
                 and np.array_equal(self._drape.solver.triangles, st.mesh.triangles)
                 and _sewing(self._drape.pattern) == _sewing(st.pattern))

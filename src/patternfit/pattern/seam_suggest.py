@@ -40,10 +40,11 @@ import numpy as np
 
 from ..constants import limits, tol
 from ..defaults import DEFAULTS
+from .errors import PatternError
 from .model import Panel, Pattern, Seam, SeamSide
 from .validate import measured_ease, seam_slack
 
-__all__ = ["SeamSuggestion", "openings", "suggest_seams"]
+__all__ = ["SeamSuggestion", "check_sewn", "openings", "suggest_seams"]
 
 #: how much longer a sleeve cap may be than its armhole [m] (2-4 cm is usual)
 CAP_EASE = 0.04
@@ -267,7 +268,7 @@ def _grain(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece):
     factor = 0.25 + 0.75 * 0.5 * (1.0 + cos)
     if cos > 0.8:
         return factor, ("one edge stacked on the other" if stack > wrap else
-                        "the edges face each other as the pieces wrap the body (grain)")
+                        "the edges face each other (grain)")
     return factor, "the edges face the wrong ways for the grain" if cos < 0 else ""
 
 
@@ -405,3 +406,27 @@ def _keep_openings(pattern: Pattern, found: list[SeamSuggestion]) -> list[SeamSu
         del keep[min(gains, key=lambda k: (keep[k].score, -_height(pattern, keep[k].seam)))]
         have = openings(pattern, pattern.seams + tuple(s.seam for s in keep))
     return keep
+
+
+def check_sewn(pattern: Pattern, *, source=None) -> None:
+    """Refuse (:class:`PatternError`) a pattern of several pieces that cannot be draped as
+    one garment: no seams at all, or a piece sewn to no other piece while others are sewn
+    (its own darts do not count). A one-piece garment (a wrap) passes. The message names
+    the fix: ``patternfit seams <source> --suggest --accept`` (``source``: the file the
+    pattern came from, if any)."""
+    if len(pattern.panels) < 2:
+        return
+    fix = f"patternfit seams {source or 'PATTERN'} --suggest --accept"
+    sewn = {side.panel for s in pattern.seams if s.a.panel != s.b.panel
+            for side in (s.a, s.b)}
+    if not sewn:
+        raise PatternError(f"pattern '{pattern.name}' has {len(pattern.panels)} pieces and no "
+                           f"seams between them, so it would drape as loose pieces; sew it "
+                           f"first: {fix} (or add seams with --set)", file=source)
+    loose = [p.name for p in pattern.panels if p.name not in sewn]
+    if loose:
+        raise PatternError(f"piece{'s' if len(loose) > 1 else ''} "
+                           f"{', '.join(repr(n) for n in loose)} of pattern '{pattern.name}' "
+                           f"{'are' if len(loose) > 1 else 'is'} sewn to no other piece; sew "
+                           f"{'them' if len(loose) > 1 else 'it'} first: {fix} (or --set)",
+                           file=source, panel=loose[0])
