@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import math
 import reprlib
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -17,7 +18,7 @@ from ..constants import UNITS
 from ..files import atomic_write_text, read_json_file
 from .edges import KINDS, Edge
 from .errors import PatternError
-from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
+from .model import Loop, Notch, Panel, Pattern, Placement, Seam, SeamSide
 from .validate import check_pattern, check_size
 
 FORMAT = "patternfit-pattern"
@@ -134,7 +135,36 @@ def _panel_from_dict(d: Any, scale: float, index: int) -> Panel:
         translation=json_vec3(pl.get("translation"), scale, "placement translation",
                               panel=name),
         rotation=json_vec3(pl.get("rotation"), 1.0, "placement rotation", panel=name))
-    return Panel(name, outline, inner, grain, placement)
+    panel = Panel(name, outline, inner, grain, placement)
+    return replace(panel, notches=notches_from_json(
+        json_field(d, "notches", list, "panel", [], panel=name), panel))
+
+
+def notches_from_json(raw: list, panel: Panel) -> tuple[Notch, ...]:
+    """The notches of ``panel`` from their JSON list ``[{"edge", "t", "kind"}]``; a
+    :class:`PatternError` naming the panel for an edge it does not have or ``t`` outside
+    [0, 1]."""
+    names = set(panel.edges())
+    out = []
+    for i, n in enumerate(raw):
+        what = f"notch #{i}"
+        edge = json_field(n, "edge", str, what, panel=panel.name)
+        if edge not in names:
+            raise PatternError(f"{what} is on edge '{edge}', which the panel does not have",
+                               panel=panel.name, edge=edge)
+        t = json_number(json_field(n, "t", (int, float), what, panel=panel.name, edge=edge),
+                        f"{what}: t", panel=panel.name, edge=edge)
+        if not 0.0 <= t <= 1.0:
+            raise PatternError(f"{what}: t = {t:g} is outside [0, 1] (a fraction of the "
+                               "edge's arc length)", panel=panel.name, edge=edge)
+        kind = json_field(n, "kind", str, what, "slit", panel=panel.name, edge=edge)
+        out.append(Notch(edge, t, kind))
+    return tuple(out)
+
+
+def notches_to_json(panel: Panel) -> list[dict]:
+    """The JSON list of the panel's notches."""
+    return [{"edge": n.edge, "t": float(n.t), "kind": n.kind} for n in panel.notches]
 
 
 def _side_from_dict(d: Any, seam: str, outline_edges) -> SeamSide:
@@ -252,7 +282,8 @@ def pattern_to_dict(pattern: Pattern, *, units: str = "m") -> dict:
             placement["rotation"] = list(pl.rotation)
         panels.append({"name": p.name, "grainline": list(p.grainline), "placement": placement,
                        "outline": _loop_to_dict(p.outline, s),
-                       "inner": [_loop_to_dict(lp, s) for lp in p.inner]})
+                       "inner": [_loop_to_dict(lp, s) for lp in p.inner],
+                       **({"notches": notches_to_json(p)} if p.notches else {})})
     seams = [{"name": sm.name, "reverse": sm.reverse,
               "a": {"panel": sm.a.panel, "edge": sm.a.edge, "range": [sm.a.start, sm.a.end]},
               "b": {"panel": sm.b.panel, "edge": sm.b.edge, "range": [sm.b.start, sm.b.end]},

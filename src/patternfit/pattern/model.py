@@ -85,10 +85,26 @@ class Placement:
 
 
 @dataclass(frozen=True)
+class Notch:
+    """A notch: a mark on an edge where pieces are matched when sewing.
+
+    ``edge`` names an edge of the panel (outline or inner loop), ``t`` is the arc-length
+    fraction along it in [0, 1] (a notch at a turn point is at ``t = 0`` of the edge that
+    starts there), ``kind`` the notch's shape (``"slit"``, the usual cut; others as the file
+    names them).
+    """
+
+    edge: str
+    t: float
+    kind: str = "slit"
+
+
+@dataclass(frozen=True)
 class Panel:
     """One piece of fabric: an outline, optional inner loops, a grainline and a name.
 
-    ``grainline`` is the warp direction in the panel frame, a unit 2-vector.
+    ``grainline`` is the warp direction in the panel frame, a unit 2-vector. ``notches``
+    mark places on its edges (:class:`Notch`).
     """
 
     name: str
@@ -96,9 +112,11 @@ class Panel:
     inner: tuple[Loop, ...] = ()
     grainline: tuple[float, float] = (0.0, 1.0)
     placement: Placement = field(default_factory=Placement)
+    notches: tuple[Notch, ...] = ()
 
     def __post_init__(self):
         object.__setattr__(self, "inner", tuple(self.inner))
+        object.__setattr__(self, "notches", tuple(self.notches))
         g = np.asarray(self.grainline, dtype=np.float64)
         with np.errstate(over="ignore"):
             n = float(np.linalg.norm(g))
