@@ -18,7 +18,7 @@ from ..constants import UNITS
 from ..files import atomic_write_text, read_json_file
 from .edges import KINDS, Edge
 from .errors import PatternError
-from .model import Loop, Notch, Panel, Pattern, Placement, Seam, SeamSide
+from .model import InnerLine, Loop, Notch, Panel, Pattern, Placement, Seam, SeamSide
 from .validate import check_pattern, check_size
 
 FORMAT = "patternfit-pattern"
@@ -135,7 +135,23 @@ def _panel_from_dict(d: Any, scale: float, index: int) -> Panel:
         translation=json_vec3(pl.get("translation"), scale, "placement translation",
                               panel=name),
         rotation=json_vec3(pl.get("rotation"), 1.0, "placement rotation", panel=name))
-    panel = Panel(name, outline, inner, grain, placement)
+    lines = []
+    for i, ln in enumerate(json_field(d, "lines", list, "panel", [], panel=name)):
+        what = f"line #{i}"
+        pts = json_field(ln, "points", list, what, panel=name)
+        if len(pts) < 2:
+            raise PatternError(f"{what} needs at least 2 points, got {len(pts)}", panel=name)
+        lines.append(InnerLine(json_field(ln, "name", str, what, f"line{i}", panel=name),
+                               [json_point(q, scale, f"{what} point", panel=name)
+                                for q in pts]))
+    drills = [json_point(q, scale, "drill hole", panel=name)
+              for q in json_field(d, "drill_holes", list, "panel", [], panel=name)]
+    cut = [json_point(q, scale, "cut line point", panel=name)
+           for q in json_field(d, "cut_line", list, "panel", [], panel=name)]
+    if 0 < len(cut) < 3:
+        raise PatternError(f"the cut line needs at least 3 points, got {len(cut)}", panel=name)
+    panel = Panel(name, outline, inner, grain, placement, lines=tuple(lines),
+                  drill_holes=tuple(drills), cut_line=tuple(cut))
     return replace(panel, notches=notches_from_json(
         json_field(d, "notches", list, "panel", [], panel=name), panel))
 
@@ -263,6 +279,22 @@ def _edge_to_dict(e: Edge, scale: float) -> dict:
     return d
 
 
+def _marks_to_dict(p: Panel, scale: float) -> dict:
+    """The panel's notches, internal lines, drill holes and cut line, those it has."""
+    def pts(points):
+        return [[x / scale, y / scale] for x, y in points]
+    out: dict[str, Any] = {}
+    if p.notches:
+        out["notches"] = notches_to_json(p)
+    if p.lines:
+        out["lines"] = [{"name": ln.name, "points": pts(ln.points)} for ln in p.lines]
+    if p.drill_holes:
+        out["drill_holes"] = pts(p.drill_holes)
+    if p.cut_line:
+        out["cut_line"] = pts(p.cut_line)
+    return out
+
+
 def _loop_to_dict(loop: Loop, scale: float) -> dict:
     return {"name": loop.name, "edges": [_edge_to_dict(e, scale) for e in loop.edges]}
 
@@ -283,14 +315,18 @@ def pattern_to_dict(pattern: Pattern, *, units: str = "m") -> dict:
         panels.append({"name": p.name, "grainline": list(p.grainline), "placement": placement,
                        "outline": _loop_to_dict(p.outline, s),
                        "inner": [_loop_to_dict(lp, s) for lp in p.inner],
-                       **({"notches": notches_to_json(p)} if p.notches else {})})
-    seams = [{"name": sm.name, "reverse": sm.reverse,
-              "a": {"panel": sm.a.panel, "edge": sm.a.edge, "range": [sm.a.start, sm.a.end]},
-              "b": {"panel": sm.b.panel, "edge": sm.b.edge, "range": [sm.b.start, sm.b.end]},
-              **({"ease": float(sm.ease)} if sm.ease else {})}
-             for sm in pattern.seams]
+                       **_marks_to_dict(p, s)})
     return {"format": FORMAT, "version": VERSION, "units": units, "name": pattern.name,
-            "meta": pattern.meta, "panels": panels, "seams": seams}
+            "meta": pattern.meta, "panels": panels, "seams": seams_to_json(pattern.seams)}
+
+
+def seams_to_json(seams) -> list[dict]:
+    """The JSON list of seams (the pattern file's ``seams``, also the DXF side file's)."""
+    return [{"name": sm.name, "reverse": sm.reverse,
+             "a": {"panel": sm.a.panel, "edge": sm.a.edge, "range": [sm.a.start, sm.a.end]},
+             "b": {"panel": sm.b.panel, "edge": sm.b.edge, "range": [sm.b.start, sm.b.end]},
+             **({"ease": float(sm.ease)} if sm.ease else {})}
+            for sm in seams]
 
 
 def load_pattern(path) -> Pattern:
