@@ -100,12 +100,18 @@ def test_openings_of_the_built_ins():
 
 
 def _notched(pattern, notches):
-    return replace(pattern, meta={**pattern.meta, "notches": notches})
+    """``pattern`` with ``Panel.notches`` {panel: {edge: [t]}} as a reader gives them."""
+    from patternfit.pattern.model import Notch
+
+    return replace(pattern, panels=tuple(
+        replace(p, notches=tuple(Notch(e, t) for e, ts in notches.get(p.name, {}).items()
+                                 for t in ts)) for p in pattern.panels))
 
 
 def test_notches_decide_between_edges_of_equal_length():
     """Generic names: the skirt's side seams notched at 0.3 on the front and mirrored
-    (0.7) on the back are found; notched where they do not match, they are not."""
+    (0.7) on the back are found; notched where they do not match, they are not; corner
+    notches (t = 0) say nothing about the match."""
     skirt = generic_names(build("skirt", "M"))
     bare = replace(skirt, seams=())
     truth = {key(s) for s in skirt.seams}
@@ -116,6 +122,9 @@ def test_notches_decide_between_edges_of_equal_length():
     assert all(any("notches match" in r for r in s.reasons) for s in found)
     wrong = {s.b.edge: [0.3] for s in skirt.seams}  # not mirrored: they do not meet
     assert suggest_seams(_notched(bare, {"front": front, "back": wrong})) == []
+    corners = {s.b.edge: [0.0, 0.7] for s in skirt.seams}
+    assert {key(s.seam) for s in suggest_seams(
+        _notched(bare, {"front": front, "back": corners}))} == truth
 
 
 def _rect(name, w, h, names=("bottom", "right", "top", "left")):

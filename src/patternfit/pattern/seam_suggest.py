@@ -13,8 +13,8 @@ pattern maker reads, each a factor in [0, 1] with its reason in words:
 - **edge names** when the file has them: the same name on both sides; a hem, waist,
   neckline, cuff or armhole edge is an opening unless the other piece is a band, collar,
   cuff, yoke (or, for an armhole, a sleeve).
-- **notches** (``Panel.notches`` when the reader gives them): the same count at mirrored
-  positions; an unnotched edge of a notched piece is rarely sewn.
+- **notches** (``Panel.notches``, as the DXF reader gives them): the same count at
+  mirrored positions; an unnotched edge of a notched piece is rarely sewn.
 - **grain and symmetry**: pieces laid right side up, seen from outside, meet at a seam as
   they wrap the body: across the grain their outward normals point opposite ways (a front's
   right edge meets a back's left edge), along the grain the same way (both shoulder edges
@@ -128,19 +128,14 @@ def _kind_and_side(panel: Panel) -> tuple[str | None, str | None]:
     return kind, side
 
 
-def _notches(pattern: Pattern, panel: Panel) -> dict[str, list[float]]:
-    """{edge: sorted arc-length fractions} of the panel's notches: ``Panel.notches``
-    (``Notch(edge, t, kind)``) where the reader gives them, else the DXF reader's
-    ``meta["notches"]`` ({panel: {edge: [fractions]}})."""
+def _notches(panel: Panel) -> dict[str, list[float]]:
+    """{edge: sorted arc-length fractions} of the panel's notches (``Panel.notches``)
+    along its edges, those at a turn point (t = 0) left out: they mark a corner, not where
+    along the edge the pieces meet."""
     out: dict[str, list[float]] = {}
-    for n in getattr(panel, "notches", ()) or ():
-        out.setdefault(n.edge, []).append(float(n.t))
-    if not out:
-        given = (pattern.meta.get("notches") or {}) if isinstance(pattern.meta, dict) else {}
-        per = given.get(panel.name) if isinstance(given, dict) else None
-        if isinstance(per, dict):
-            out = {str(k): [float(t) for t in v] for k, v in per.items()
-                   if isinstance(v, (list, tuple))}
+    for n in panel.notches:
+        if tol.notch_match < n.t < 1.0 - tol.notch_match:
+            out.setdefault(n.edge, []).append(float(n.t))
     return {k: sorted(v) for k, v in out.items()}
 
 
@@ -152,7 +147,7 @@ def _features(pattern: Pattern, sewn: set) -> tuple[dict, list[_Edge]]:
         poly = panel.outline.polygon(16) @ frame.T
         lo, hi = poly.min(axis=0), poly.max(axis=0)
         orient = 1.0 if panel.outline.signed_area() >= 0 else -1.0
-        notches = _notches(pattern, panel)
+        notches = _notches(panel)
         kind, side = _kind_and_side(panel)
         pieces[panel.name] = _Piece(kind, side, orient, 0.5 * (lo + hi), float(hi[1]),
                                     float(hi[1] - lo[1]), any(notches.values()))
