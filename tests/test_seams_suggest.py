@@ -183,3 +183,46 @@ def test_a_dxf_round_trip_without_the_side_file_gets_its_seams_back(garment, tmp
     real = {key(s) for s in truth.seams}
     print(f"{garment} DXF: {len(got & real)} of {len(real)} seams, {len(got)} suggested")
     assert got == real
+
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+def _moved_panel(panel, angle, shift, roll, backwards):
+    """``panel`` turned by ``angle`` [rad] with its grainline, moved by ``shift`` [m], its
+    outline started ``roll`` edges later and, with ``backwards``, traversed the other way
+    round: the same piece, as another tool might write it."""
+    c, s = np.cos(angle), np.sin(angle)
+    m = np.array([[c, -s], [s, c]])
+    edges = [e.transformed(m, np.asarray(shift)) for e in panel.outline.edges]
+    edges = edges[roll % len(edges):] + edges[:roll % len(edges)]
+    if backwards:
+        edges = [e.reversed() for e in edges[::-1]]
+    g = m @ np.asarray(panel.grainline)
+    return replace(panel, outline=replace(panel.outline, edges=tuple(edges)),
+                   grainline=(float(g[0]), float(g[1])))
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(garment=st.sampled_from(["skirt", "trousers", "coat"]), data=st.data())
+def test_suggestions_do_not_depend_on_how_a_file_lays_out_its_pieces(garment, data):
+    """Each piece turned (with its grain), moved, its outline started elsewhere and maybe
+    run the other way: the same seams come back, ``reverse`` telling whether the two
+    outlines now run the same way round."""
+    truth = generic_names(build(garment, "M"))
+    flipped = {}
+    panels = []
+    for p in truth.panels:
+        backwards = data.draw(st.booleans())
+        flipped[p.name] = backwards
+        panels.append(_moved_panel(
+            p, data.draw(st.floats(-np.pi, np.pi)),
+            (data.draw(st.floats(-2, 2)), data.draw(st.floats(-2, 2))),
+            data.draw(st.integers(0, 11)), backwards))
+    found = suggest_seams(replace(truth, panels=tuple(panels), seams=()))
+    real = {key(s): s for s in truth.seams}
+    assert {key(s.seam) for s in found} == set(real)
+    for s in found:
+        want = real[key(s.seam)].reverse != (flipped[s.seam.a.panel] != flipped[s.seam.b.panel])
+        assert s.seam.reverse == want
