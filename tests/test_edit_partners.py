@@ -227,3 +227,27 @@ def test_correction_moves_keep_the_ease_ratio():
         la, lb = new.seam_side_length(s.a), new.seam_side_length(s.b)
         assert abs(max(la, lb) - (1 + s.ease) * min(la, lb)) <= RATIO_TOL
     assert new.panel("front") != p.panel("front")
+
+
+def test_the_correction_loop_keeps_an_eased_garment_eased():
+    """``loop.correct`` on a skirt drafted 70 % wide with its front 10 % taller (eased
+    side and hip seams): the corrected pattern's seams keep their length ratio within
+    0.1 mm, and the correction did move the seams (it widened the skirt)."""
+    from dataclasses import replace as _replace
+
+    from patternfit.body.builtin import load_body
+    from patternfit.edit import add_seam
+    from patternfit.loop import DesignSession
+    from patternfit.loop.correct import CorrectionSettings, correct
+
+    skirt = build("skirt", "S")
+    p = grade(grade(_replace(skirt, seams=()), None, 0.7, 1.0), "front", 1.0, 1.1)
+    for s in skirt.seams:
+        p = add_seam(p, s.a, s.b, name=s.name)
+    session = DesignSession(p, load_body("female_average"), "stretch_knit", 900, 0.97)
+    result = correct(session, settings=CorrectionSettings(threshold=0.97, max_iterations=2))
+    assert len(session.history) >= 2 and result.pattern is session.pattern
+    assert ratio_misfit(p, session.pattern) <= RATIO_TOL
+    widened = [session.pattern.seam_side_length(s.a) - p.seam_side_length(s.a)
+               for s in p.seams]
+    assert max(abs(w) for w in widened) > 5e-3
