@@ -52,6 +52,9 @@ CAP_EASE = 0.04
 SMALL_EASE = 0.05
 #: the share of a piece's height within which an edge "reaches the top" [-]
 TOP_SHARE = 0.1
+#: how many edges next in length each edge is compared with [-]: keeps the work linear in
+#: the number of edges (50,000 allowed) while every pair of a garment's few hundred is seen
+WINDOW = 64
 
 _KINDS = {
     "front": {"fr", "frt", "frnt", "ft", "front", "cf", "ftorso", "fronts"},
@@ -267,14 +270,34 @@ def _grain(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece):
     return factor, "the edges face the wrong ways for the grain" if cos < 0 else ""
 
 
+def _scored(edges: list, pieces: dict, counts: dict, i: int, j: int, min_score: float):
+    """[(score, -|length difference|, i, j, reverse, reasons)] for edges ``i`` and ``j``
+    when the pair may be sewn and scores at least ``min_score``, else []."""
+    a, b = edges[i], edges[j]
+    pa, pb = pieces[a.panel], pieces[b.panel]
+    if a.panel == b.panel and abs(a.index - b.index) in (1, counts[a.panel] - 1):
+        return []
+    reverse = pa.orient == pb.orient
+    score, reasons = 1.0, []
+    for factor, why in (_length(a, b, pa, pb), _pieces(a, b, pa, pb), _names(a, b, pa, pb),
+                        _notch_factor(a, b, pa, pb, reverse), _grain(a, b, pa, pb)):
+        score *= factor
+        if why:
+            reasons.append(why)
+        if score < min_score:
+            return []
+    return [(score, -abs(a.length - b.length), i, j, reverse, tuple(reasons))]
+
+
 def suggest_seams(pattern: Pattern, *, min_score: float = DEFAULTS.seam_score
                   ) -> list[SeamSuggestion]:
     """Seams offered for the free outline edges of ``pattern`` (edges already sewn on any
     span are left alone), best first.
 
     Each pair of edges on different pieces (or non-adjacent edges of one piece) whose
-    lengths allow a seam is scored (see the module's text); pairs are taken greedily by
-    score, each edge once, and those scoring at least ``min_score`` [0, 1] are returned.
+    lengths allow a seam is scored (see the module's text; each edge against the
+    ``WINDOW`` edges next to it in length); pairs are taken greedily by score, each edge
+    once, and those scoring at least ``min_score`` [0, 1] are returned.
     Each seam covers both edges whole, with ``ease`` measured from their lengths
     (:func:`~patternfit.pattern.validate.measured_ease`) and ``reverse`` from the outlines'
     directions.
@@ -282,29 +305,14 @@ def suggest_seams(pattern: Pattern, *, min_score: float = DEFAULTS.seam_score
     sewn = {(side.panel, side.edge) for s in pattern.seams for side in (s.a, s.b)}
     pieces, edges = _features(pattern, sewn)
     counts = {p.name: len(p.outline.edges) for p in pattern.panels}
-    lengths = np.array([e.length for e in edges])
-    top = 1.0 + limits.seam_ease
-    ii, jj = np.nonzero(np.triu((lengths[:, None] <= top * lengths[None, :] + tol.seam_length)
-                                & (lengths[None, :] <= top * lengths[:, None] + tol.seam_length),
-                                1))
+    lengths = [e.length for e in edges]
+    order = sorted(range(len(edges)), key=lengths.__getitem__)
     found = []
-    for i, j in zip(ii.tolist(), jj.tolist()):
-        a, b = edges[i], edges[j]
-        pa, pb = pieces[a.panel], pieces[b.panel]
-        if a.panel == b.panel and (abs(a.index - b.index) in (1, counts[a.panel] - 1)):
-            continue
-        reverse = pa.orient == pb.orient
-        score, reasons = 1.0, []
-        for factor, why in (_length(a, b, pa, pb), _pieces(a, b, pa, pb),
-                            _names(a, b, pa, pb), _notch_factor(a, b, pa, pb, reverse),
-                            _grain(a, b, pa, pb)):
-            score *= factor
-            if why:
-                reasons.append(why)
-            if score < min_score:
-                break
-        if score >= min_score:
-            found.append((score, -abs(a.length - b.length), i, j, reverse, tuple(reasons)))
+    for pos, i in enumerate(order):
+        for j in order[pos + 1:pos + 1 + WINDOW]:
+            if lengths[j] > (1.0 + limits.seam_ease) * lengths[i] + tol.seam_length:
+                break  # sorted by length: every later edge needs more ease than allowed
+            found.extend(_scored(edges, pieces, counts, min(i, j), max(i, j), min_score))
     found.sort(key=lambda f: (-f[0], -f[1], f[2], f[3]))
     used: set[int] = set()
     names: set[str] = {s.name for s in pattern.seams}
