@@ -331,41 +331,55 @@ def suggest_seams(pattern: Pattern, *, min_score: float = DEFAULTS.seam_score
     return _keep_openings(pattern, out)
 
 
+class _Corners:
+    """The corners of a pattern's outlines, those sewn together by ``seams`` made one:
+    a corner is (panel, k), the start of outline edge k; a seam sews the point at each end
+    of side ``a`` to the point at the matching end of side ``b`` (``reverse``: start to
+    end), and where both points are corners (a side starting at 0 or ending at 1 of its
+    edge) they become one."""
+
+    def __init__(self, pattern: Pattern, seams):
+        self.index = {(p.name, e.name): (p.name, k, len(p.outline.edges))
+                      for p in pattern.panels for k, e in enumerate(p.outline.edges)}
+        self.parent: dict = {}
+        self.sewn: set = set()
+        for seam in seams:
+            if (seam.a.panel, seam.a.edge) not in self.index or \
+                    (seam.b.panel, seam.b.edge) not in self.index:
+                continue   # a seam on an inner loop (a dart) joins no outline corner
+            self.sewn |= {(seam.a.panel, seam.a.edge), (seam.b.panel, seam.b.edge)}
+            b_ends = (seam.b.end, seam.b.start) if seam.reverse else (seam.b.start, seam.b.end)
+            for fa, fb in zip((seam.a.start, seam.a.end), b_ends):
+                ca, cb = self.corner(seam.a, fa), self.corner(seam.b, fb)
+                if ca is not None and cb is not None:
+                    self.union(ca, cb)
+
+    def corner(self, side, fraction: float):
+        """The corner at ``fraction`` 0 or 1 of the side's edge, else None."""
+        if fraction not in (0.0, 1.0):
+            return None
+        pname, k, n = self.index[(side.panel, side.edge)]
+        return (pname, k if fraction == 0.0 else (k + 1) % n)
+
+    def find(self, x):
+        while self.parent.get(x, x) != x:
+            x = self.parent[x]
+        return x
+
+    def union(self, x, y):
+        self.parent[self.find(x)] = self.find(y)
+
+
 def openings(pattern: Pattern, seams=None) -> int:
     """How many openings (loops of unsewn outline edges) the garment has when ``seams``
     (default: its own) are sewn: the outline edges no seam touches, linked at the corners
-    that the whole-edge seams sew together, counted as connected runs."""
-    seams = pattern.seams if seams is None else seams
-    index = {(p.name, e.name): (p.name, k, len(p.outline.edges))
-             for p in pattern.panels for k, e in enumerate(p.outline.edges)}
-    parent: dict = {}
-
-    def find(x):
-        while parent.get(x, x) != x:
-            x = parent[x]
-        return x
-
-    def union(x, y):
-        parent[find(x)] = find(y)
-
-    def ends(side):
-        pname, k, n = index[(side.panel, side.edge)]
-        return (pname, k), (pname, (k + 1) % n)
-
-    sewn = set()
-    for s in seams:
-        if (s.a.panel, s.a.edge) not in index or (s.b.panel, s.b.edge) not in index:
-            continue   # a seam on an inner loop (a dart) opens nothing
-        sewn |= {(s.a.panel, s.a.edge), (s.b.panel, s.b.edge)}
-        if (s.a.start, s.a.end, s.b.start, s.b.end) != (0.0, 1.0, 0.0, 1.0):
-            continue
-        (a0, a1), (b0, b1) = ends(s.a), ends(s.b)
-        union(a0, b1 if s.reverse else b0)
-        union(a1, b0 if s.reverse else b1)
-    free = [ends(SeamSide(p, e)) for (p, e) in index if (p, e) not in sewn]
+    that the seams sew together (:class:`_Corners`), counted as connected runs."""
+    corners = _Corners(pattern, pattern.seams if seams is None else seams)
+    free = [(corners.corner(SeamSide(p, e), 0.0), corners.corner(SeamSide(p, e), 1.0))
+            for (p, e) in corners.index if (p, e) not in corners.sewn]
     for c0, c1 in free:
-        union(c0, c1)
-    return len({find(c0) for c0, _ in free})
+        corners.union(c0, c1)
+    return len({corners.find(c0) for c0, _ in free})
 
 
 def _needed_openings(pattern: Pattern) -> int:
