@@ -226,3 +226,67 @@ def test_suggestions_do_not_depend_on_how_a_file_lays_out_its_pieces(garment, da
     for s in found:
         want = real[key(s.seam)].reverse != (flipped[s.seam.a.panel] != flipped[s.seam.b.panel])
         assert s.seam.reverse == want
+
+
+def _shirt():
+    """A set-in-sleeve shirt as a CAD file would give it: front and back bodices, a left and
+    a right sleeve whose cap is 3 cm longer than the two armholes together, no seams.
+    Returns (pattern, the seams a pattern maker sews, each side with its span)."""
+    from patternfit.pattern import Seam, SeamSide
+
+    def piece(name, pts, names):
+        pts = np.asarray(pts, dtype=float) / 100
+        return Panel(name, Loop("outline", tuple(
+            Edge.line(n, pts[k], pts[(k + 1) % len(pts)]) for k, n in enumerate(names))))
+
+    body = [(-20, 0), (20, 0), (20, 40), (14, 55), (6, 58), (-6, 58), (-14, 55), (-20, 40)]
+    front = piece("FRONT", body, ["hem", "side_l", "armhole_l", "shoulder_l", "neck",
+                                  "shoulder_r", "armhole_r", "side_r"])
+    back = piece("BACK", body, ["hem", "side_r", "armhole_r", "shoulder_r", "neck",
+                                "shoulder_l", "armhole_l", "side_l"])
+    half = (2 * np.hypot(6, 15) + 3) / 2
+    sleeve = [(-12, 0), (12, 0), (half, 50), (-half, 50)]
+    names = ["cuff", "under_l", "cap", "under_r"]
+    pattern = Pattern("shirt", (front, back, piece("SLEEVE_L", sleeve, names),
+                                piece("SLEEVE_R", sleeve, names)), meta={"anchor": "neck"})
+    sewn = [Seam(n, SeamSide("FRONT", n), SeamSide("BACK", n))
+            for n in ("side_l", "side_r", "shoulder_l", "shoulder_r")]
+    for s in ("L", "R"):
+        sl = f"SLEEVE_{s}"
+        first, second = ("BACK", "FRONT") if s == "L" else ("FRONT", "BACK")
+        sewn += [Seam("u" + s, SeamSide(sl, "under_l"), SeamSide(sl, "under_r")),
+                 Seam("c1" + s, SeamSide(sl, "cap", 0.0, 0.5),
+                      SeamSide(first, f"armhole_{s.lower()}")),
+                 Seam("c2" + s, SeamSide(sl, "cap", 0.5, 1.0),
+                      SeamSide(second, f"armhole_{s.lower()}"))]
+    return pattern, replace(pattern, seams=tuple(sewn))
+
+
+def span_key(seam):
+    return frozenset([(x.panel, x.edge, x.start, x.end) for x in (seam.a, seam.b)])
+
+
+@pytest.mark.parametrize("names", ["named", "generic"])
+def test_a_set_in_sleeve_cap_is_sewn_to_both_armholes_with_its_ease(names):
+    """Each sleeve's cap is split between the front and the back armhole of its own side,
+    meeting at the shoulder seam, its 3 cm of ease spread over both halves; the sleeve is
+    sewn into a tube; the cuffs, neck and hem stay open."""
+    from patternfit.mesh.triangulate import mesh_pattern
+
+    bare, truth = _shirt()
+    if names == "generic":
+        truth = generic_names(truth)
+        bare = replace(truth, seams=())
+    found = suggest_seams(bare)
+    assert {span_key(s.seam) for s in found} == {span_key(s) for s in truth.seams}
+    caps = [s for s in found if (s.seam.a.start, s.seam.a.end) != (0.0, 1.0)]
+    assert len(caps) == 4
+    for s in caps:
+        assert s.seam.ease == pytest.approx((np.hypot(6, 15) + 1.5) / np.hypot(6, 15) - 1,
+                                            abs=1e-4)
+        assert any("meet at a corner" in r for r in s.reasons)
+    sewn = replace(bare, seams=tuple(s.seam for s in found))
+    check_pattern(sewn)
+    assert openings(sewn) == 4
+    mesh = mesh_pattern(sewn, triangles=800)
+    assert len(mesh.seam_names) == 10 and len(mesh.seam_pairs) > 0

@@ -24,7 +24,9 @@ pattern maker reads, each a factor in [0, 1] with its reason in words:
   and another piece: a sleeve's grain runs along the arm.
 - **orientation**: ``reverse`` is True when both outlines run the same way round.
 
-One global assignment, greedy on the score: each edge is sewn at most once. Then the
+One global assignment, greedy on the score: each edge is sewn at most once. A piece then
+still sewn to no other piece (a sleeve) has its top edge split between two edges meeting at
+a corner (a set-in cap between the front and back armholes). Then the
 garment must keep its openings (:func:`openings`): a top and a bottom one, the arms' for a
 garment hung from the neck, the second leg's for one with left and right pieces; while it
 has fewer, the lowest-scored suggestion whose removal opens one is dropped (two cuffs or
@@ -200,13 +202,31 @@ def _is_centre(e: _Edge, p: _Piece) -> bool:
     return (e.middle[0] - p.centre[0]) * inward > 0
 
 
+def _wearer_side(e: _Edge, p: _Piece) -> str | None:
+    """The wearer's side an edge of a front or back piece without a side of its own lies
+    on, seen from outside: a front's right edge is on the wearer's left, a back's on the
+    wearer's right; None near the middle or on other pieces."""
+    if p.kind not in ("front", "back") or p.side:
+        return None
+    off = e.middle[0] - p.centre[0]
+    if abs(off) < 0.1 * (e.span[1] - e.span[0] + abs(off)):
+        return None
+    return "left" if (off > 0) == (p.kind == "front") else "right"
+
+
 def _pieces(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece):
+    for mine, other, pe in ((pa, b, pb), (pb, a, pa)):
+        where = _wearer_side(other, pe)
+        if mine.side and where and where != mine.side:
+            return 0.0, ""   # a left sleeve is not sewn into the right armhole
     if pa.side and pb.side and pa.side != pb.side:
         if pa.kind == pb.kind and pa.kind not in ("sleeve", "cuff") and \
                 _is_centre(a, pa) and _is_centre(b, pb):
             return 1.0, "left and right pieces joined at the centre"
         return 0.0, ""
     if a.panel == b.panel:
+        if pa.kind == "sleeve":
+            return 1.0, "a sleeve sewn into a tube"
         return 0.45, "two edges of one piece"
     kinds = {pa.kind, pb.kind}
     if kinds == {"front", "back"}:
@@ -225,7 +245,10 @@ def _opening(name: str) -> str | None:
 
 
 def _names(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece):
-    for e, other in ((a, pb), (b, pa)):
+    for e, own, other in ((a, pa, pb), (b, pb, pa)):
+        side = next((_SIDES[t] for t in _tokens(e.name) if t in _SIDES), None)
+        if side and not own.side and other.side and side != other.side:
+            return 0.0, ""   # a left sleeve is not sewn into the right armhole
         word = _opening(e.name)
         if word and other.kind not in _ATTACH and not (word.startswith("arm")
                                                         and other.kind == "sleeve"):
@@ -328,7 +351,109 @@ def suggest_seams(pattern: Pattern, *, min_score: float = DEFAULTS.seam_score
         seam = Seam(name, SeamSide(a.panel, a.name), SeamSide(b.panel, b.name), reverse,
                     measured_ease(a.length, b.length))
         out.append(SeamSuggestion(seam, round(float(score), 4), reasons))
+    out = _two_spans(pattern, pieces, edges, used, out, min_score)
     return _keep_openings(pattern, out)
+
+
+def _rise(pattern: Pattern, e: _Edge) -> float:
+    """How high the start of edge ``e`` lies on its piece, along the grain, as a share of
+    the piece's height [-]."""
+    panel = pattern.panel(e.panel)
+    g = np.asarray(panel.grainline, dtype=np.float64)
+    along = panel.outline.polygon(8) @ g
+    return float((panel.edge(e.name).start @ g - along.min()) / max(float(np.ptp(along)),
+                                                                    1e-12))
+
+
+def _loose(pattern: Pattern, seams) -> set[str]:
+    """The pieces sewn to no other piece by ``seams``."""
+    sewn = {side.panel for s in seams if s.a.panel != s.b.panel for side in (s.a, s.b)}
+    return {p.name for p in pattern.panels} - sewn
+
+
+def _two_spans(pattern: Pattern, pieces: dict, edges: list, used: set, found: list,
+               min_score: float) -> list[SeamSuggestion]:
+    """``found`` with the edges of pieces still sewn to no other piece (a sleeve, sewn only
+    into its own tube) each sewn to two edges of other pieces that meet at a corner (a cap
+    to the front and back armholes, meeting at the shoulder seam): the edge is split at the
+    share of the first one's length, so the ease spreads evenly. The two edges may be free
+    or suggested to each other (then that suggestion gives way), must not look like two
+    openings (necklines), and the split edge must reach the top of its piece (a cap, not a
+    cuff). Only where the three outlines run the same way round. Scored as a pair would
+    be, with the two lengths added; of the two corners where the edges meet, the higher one
+    on its piece takes the middle of the split edge (a cap's top meets the shoulder)."""
+    seams = pattern.seams + tuple(s.seam for s in found)
+    loose = _loose(pattern, seams)
+    if not loose:
+        return found
+    at = {(e.panel, e.name): k for k, e in enumerate(edges)}
+    paired = {}
+    for n, s in enumerate(found):
+        i, j = at.get((s.seam.a.panel, s.seam.a.edge)), at.get((s.seam.b.panel, s.seam.b.edge))
+        if i is not None and j is not None:
+            paired[frozenset((i, j))] = n
+    open_ = [k for k in range(len(edges)) if k not in used]
+    spare = open_ + [k for pair in paired for k in pair]
+    corners = {}
+    triples = []
+    for i in (k for k in open_ if edges[k].panel in loose):
+        e, pe = edges[i], pieces[edges[i].panel]
+        if e.top < pe.top - TOP_SHARE * pe.height:
+            continue   # a cap is the top of its piece (not a cuff)
+        for f1 in spare:
+            for f2 in spare:
+                a, b = edges[f1], edges[f2]
+                if len({a.panel, b.panel, e.panel}) < 3 or \
+                        not pieces[a.panel].orient == pieces[b.panel].orient == pe.orient:
+                    continue
+                if _grain(a, b, pieces[a.panel], pieces[b.panel])[0] <= 0.3:
+                    continue   # the two look like openings (the front and back necklines)
+                broken = paired.get(frozenset((f1, f2)))
+                if (f1 not in open_ or f2 not in open_) and broken is None:
+                    continue   # one of them is sewn to a third edge
+                if broken not in corners:
+                    corners[broken] = _Corners(pattern, pattern.seams + tuple(
+                        s.seam for n, s in enumerate(found) if n != broken))
+                c = corners[broken]
+                # with reverse the span [0, t] is sewn end to start to the first edge, so
+                # the first edge starts where the second one ends
+                if c.find(c.corner(SeamSide(a.panel, a.name), 0.0)) != \
+                        c.find(c.corner(SeamSide(b.panel, b.name), 1.0)):
+                    continue
+                both = _Edge(a.panel, a.name, a.index, a.length + b.length, a.normal,
+                             a.middle, a.span, a.top, ())
+                score, reasons = 1.0, []
+                for factor, why in (_length(e, both, pe, pieces[a.panel]),
+                                    min(_pieces(e, a, pe, pieces[a.panel]),
+                                        _pieces(e, b, pe, pieces[b.panel])),
+                                    min(_names(e, a, pe, pieces[a.panel]),
+                                        _names(e, b, pe, pieces[b.panel]))):
+                    score *= factor
+                    reasons += [why] if why else []
+                if score >= min_score:
+                    # a cap's top meets the shoulder: of the two corners where the edges
+                    # meet, the junction is the higher one on its piece
+                    triples.append((score, _rise(pattern, a), i, f1, f2, broken,
+                                    tuple(reasons) + (
+                        f"one edge sewn to two that meet at a corner ({a.panel}.{a.name}, "
+                        f"{b.panel}.{b.name})",)))
+    triples.sort(key=lambda t: (-t[0], -t[1], t[2], t[3], t[4]))
+    taken, dropped, added = set(), set(), []
+    for score, _, i, f1, f2, broken, reasons in triples:
+        if {i, f1, f2} & taken:
+            continue
+        taken |= {i, f1, f2}
+        if broken is not None:
+            dropped.add(broken)
+        e, a, b = edges[i], edges[f1], edges[f2]
+        t = round(a.length / (a.length + b.length), 6)
+        for side, other, span in ((e, a, (0.0, t)), (e, b, (t, 1.0))):
+            seam = Seam(f"{side.panel}.{side.name}+{other.panel}.{other.name}",
+                        SeamSide(side.panel, side.name, *span),
+                        SeamSide(other.panel, other.name), True,
+                        measured_ease((span[1] - span[0]) * side.length, other.length))
+            added.append(SeamSuggestion(seam, round(float(score), 4), reasons))
+    return [s for n, s in enumerate(found) if n not in dropped] + added
 
 
 class _Corners:
