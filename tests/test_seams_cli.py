@@ -68,7 +68,16 @@ def test_set_and_remove_seams(bare_skirt, tmp_path):
     assert [(s["name"], s["ease"]) for s in doc["seams"]] == [("s1", 0.0), ("s2", 0.05)]
     r = run("seams", out, "--remove", "s1", "--out", tmp_path / "two.json", "--json")
     assert [s["name"] for s in json.loads(r.output)["seams"]] == ["s2"]
+    r = run("seams", bare_skirt, "--set", "h1=front.hem@0-0.5:back.hem@0.5-1", "--set",
+            "h2=front.hem@0.5-1:back.hem@0-0.5", "--out", tmp_path / "h.json", "--json")
+    assert r.exit_code == 0, r.output
+    rows = json.loads(r.output)["seams"]
+    assert [(s["a"]["start"], s["a"]["end"], s["b"]["start"]) for s in rows] == \
+        [(0.0, 0.5, 0.5), (0.5, 1.0, 0.0)]
+    assert rows[0]["a"]["length_cm"] == pytest.approx(32.0, abs=0.1)
     for bad, words in (("s3=front.hem:back.hip_r", "limit"), ("s3=front:back.hem", "PANEL.EDGE"),
+                       ("s3=front.hem@0-x:back.hem", "@START-END"),
+                       ("s3=front.hem@0.7-0.2:back.hem", "before end"),
                        ("s3=front.side_r:back.side_r:x", "number"),
                        ("s3=front.nope:back.hem", "nope")):
         r = run("seams", bare_skirt, "--set", bad, "--out", tmp_path / "x.json")

@@ -17,10 +17,20 @@ from .show import print_seam_suggestions, print_seams
 
 
 def _side(text: str, spec: str) -> dict:
+    """PANEL.EDGE[@START-END] (arc-length fractions) → a seam side dict."""
+    text, at, span = text.partition("@")
     panel, dot, edge = text.partition(".")
     if not (panel and dot and edge):
-        fail(f"--set {spec}: a side is PANEL.EDGE, got {text!r}")
-    return {"panel": panel, "edge": edge}
+        fail(f"--set {spec}: a side is PANEL.EDGE[@START-END], got {text!r}")
+    side = {"panel": panel, "edge": edge}
+    if at:
+        start, dash, end = span.partition("-")
+        try:
+            side.update(start=float(start), end=float(end))
+        except ValueError:
+            fail(f"--set {spec}: a span is @START-END, fractions of the edge such as "
+                 f"@0-0.5, got {span!r}")
+    return side
 
 
 def _parse_set(spec: str) -> tuple[str, dict, dict, float | None]:
@@ -47,8 +57,9 @@ def seams(
                                  "edges, with their score and reasons."),
     set_: Optional[List[str]] = typer.Option(None, "--set", help="Sew a seam: NAME=A_PANEL."
                                              "EDGE:B_PANEL.EDGE[:ease] (ease = longer / "
-                                             "shorter - 1, measured when left out); replaces "
-                                             "a seam of that name. Repeatable."),
+                                             "shorter - 1, measured when left out; a side "
+                                             "may be part of its edge: PANEL.EDGE@0-0.5); "
+                                             "replaces a seam of that name. Repeatable."),
     remove: Optional[List[str]] = typer.Option(None, "--remove", help="Unpick the seam NAME. "
                                                "Repeatable."),
     accept: bool = typer.Option(False, "--accept", help="Sew every suggested seam."),
