@@ -355,14 +355,13 @@ def suggest_seams(pattern: Pattern, *, min_score: float = DEFAULTS.seam_score
     return _keep_openings(pattern, out)
 
 
-def _rise(pattern: Pattern, e: _Edge) -> float:
-    """How high the start of edge ``e`` lies on its piece, along the grain, as a share of
+def _rise(pattern: Pattern, panel: str, point) -> float:
+    """How high ``point`` (2,) [m] lies on piece ``panel`` along its grain, as a share of
     the piece's height [-]."""
-    panel = pattern.panel(e.panel)
-    g = np.asarray(panel.grainline, dtype=np.float64)
-    along = panel.outline.polygon(8) @ g
-    return float((panel.edge(e.name).start @ g - along.min()) / max(float(np.ptp(along)),
-                                                                    1e-12))
+    p = pattern.panel(panel)
+    g = np.asarray(p.grainline, dtype=np.float64)
+    along = p.outline.polygon(8) @ g
+    return float((np.asarray(point) @ g - along.min()) / max(float(np.ptp(along)), 1e-12))
 
 
 def _loose(pattern: Pattern, seams) -> set[str]:
@@ -433,7 +432,9 @@ def _two_spans(pattern: Pattern, pieces: dict, edges: list, used: set, found: li
                 if score >= min_score:
                     # a cap's top meets the shoulder: of the two corners where the edges
                     # meet, the junction is the higher one on its piece
-                    triples.append((score, _rise(pattern, a), i, f1, f2, broken,
+                    triples.append((score, _rise(pattern, a.panel,
+                                                  pattern.panel(a.panel).edge(a.name).start),
+                                    i, f1, f2, broken,
                                     tuple(reasons) + (
                         f"one edge sewn to two that meet at a corner ({a.panel}.{a.name}, "
                         f"{b.panel}.{b.name})",)))
@@ -519,15 +520,9 @@ def _needed_openings(pattern: Pattern) -> int:
 def _height(pattern: Pattern, seam: Seam) -> float:
     """How high the seam reaches on its pieces: the higher end of its sides along the
     grain, as a share of the piece's height [-] (the larger of the two)."""
-    out = 0.0
-    for side in (seam.a, seam.b):
-        panel = pattern.panel(side.panel)
-        g = np.asarray(panel.grainline, dtype=np.float64)
-        along = panel.outline.polygon(8) @ g
-        e = panel.edge(side.edge)
-        top = max(float(e.start @ g), float(e.end @ g))
-        out = max(out, (top - along.min()) / max(float(np.ptp(along)), 1e-12))
-    return out
+    return max(_rise(pattern, side.panel, end) for side in (seam.a, seam.b)
+               for end in (pattern.panel(side.panel).edge(side.edge).start,
+                           pattern.panel(side.panel).edge(side.edge).end))
 
 
 def _keep_openings(pattern: Pattern, found: list[SeamSuggestion]) -> list[SeamSuggestion]:
