@@ -6,6 +6,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from patternfit.cli.main import app
@@ -183,10 +185,6 @@ def test_a_dxf_round_trip_without_the_side_file_gets_its_seams_back(garment, tmp
     real = {key(s) for s in truth.seams}
     print(f"{garment} DXF: {len(got & real)} of {len(real)} seams, {len(got)} suggested")
     assert got == real
-
-
-from hypothesis import HealthCheck, given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
 
 
 def _moved_panel(panel, angle, shift, roll, backwards):
