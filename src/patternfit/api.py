@@ -14,6 +14,7 @@ Lengths are metres, times seconds inside; pattern files state their own units.
 from __future__ import annotations
 
 import time
+from fnmatch import fnmatchcase
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -24,10 +25,12 @@ from .body.builtin import list_bodies, load_body
 from .body.mesh_io import BodyMeshError, load_body_mesh
 from .body.model import Body
 from .body.sdf import DistanceField
+from .body.builtin import list_body_sets
 from .defaults import DEFAULTS, Defaults
 from .errors import InputError
 from .fit.measures import FitMeasures, fit_measures
 from .fit.metrics import FitEvaluator, FitResult
+from .fit.measures import GIRTHS
 from .fit.outputs import write_fit_outputs
 from .edit import grade
 from .loop.correct import Correction, CorrectionSettings, correct
@@ -41,6 +44,7 @@ from .pattern.errors import PatternError
 from .pattern.formats import load_any_pattern, save_any_pattern
 from .pattern.library import GARMENTS, build
 from .pattern.model import Pattern
+from .pattern.sizes import SIZE_NAMES
 from .sim.drape import Drape, drape
 from .sim.fabrics import FABRICS, Fabric, FabricError, get_fabric
 from .sim.newton_engine import drape_with
@@ -53,11 +57,17 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "drape_and_evaluate", "evaluate_saved", "list_bodies", "list_fabrics",
            "list_garments", "mesh_garment", "place_and_evaluate", "placed_fitting_ratio",
            "read_body", "read_fabric", "read_pattern", "save_any_pattern", "save_garment"]
+__all__ += ["GIRTHS", "SolverSettings", "list_body_sets", "list_sizes", "read_bodies", "with_distance_field"]
 
 
 def list_garments() -> list[str]:
     """Names of the built-in garments."""
     return list(GARMENTS)
+
+
+def list_sizes() -> list[str]:
+    """Names of the sizes every built-in garment is drafted in (S, M, L, XL)."""
+    return list(SIZE_NAMES)
 
 
 def list_fabrics() -> list[str]:
@@ -97,6 +107,60 @@ def read_body(source: Body | str | Path, *, units: str | None = None) -> Body:
     except ValueError:
         raise BodyMeshError(f"neither a built-in body ({', '.join(list_bodies())}) nor a "
                             "mesh file", file=str(source)) from None
+
+
+#: suffixes of the body meshes :func:`read_bodies` takes from a folder
+BODY_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf", ".npz")
+
+
+def read_bodies(spec: str | Path, *, units: str | None = None) -> list[Body]:
+    """Several bodies: a folder (every body mesh in it, :data:`BODY_SUFFIXES`, sorted by
+    name), or comma-separated items, each a body set (:func:`list_body_sets`, such as
+    ``population``), a body name or alias, a shell pattern over the names of every set
+    (``women_*``) or a mesh file.
+
+    Returns the bodies in order, each once. Raises :class:`BodyMeshError` naming the item
+    that is none of these, or a folder without body meshes, and ``ValueError`` when two
+    bodies share a name (a batch tells its rows apart by it)."""
+    path = Path(str(spec))
+    if path.is_dir():
+        files = sorted(p for p in path.iterdir() if p.suffix.lower() in BODY_SUFFIXES)
+        if not files:
+            raise BodyMeshError(f"holds no body mesh ({', '.join(BODY_SUFFIXES)})", file=path)
+        bodies = [read_body(p, units=units) for p in files]
+    else:
+        sets = list_body_sets()
+        known = sorted({n for members in sets.values() for n in members})
+        names: list = []
+        for item in (s.strip() for s in str(spec).split(",")):
+            if not item:
+                raise BodyMeshError("an empty body name in the list", file=str(spec))
+            if item in sets:
+                names += sets[item]
+            elif any(c in item for c in "*?["):
+                hits = [n for n in known if fnmatchcase(n, item)]
+                if not hits:
+                    raise BodyMeshError(f"no body name matches; known: {', '.join(known)}",
+                                        file=item)
+                names += hits
+            else:
+                names.append(item)
+        bodies = [read_body(n, units=units) for n in dict.fromkeys(names)]
+    seen: dict[str, int] = {}
+    for b in bodies:
+        seen[b.name] = seen.get(b.name, 0) + 1
+    twice = sorted(n for n, k in seen.items() if k > 1)
+    if twice:
+        raise ValueError(f"bodies: two bodies named {', '.join(twice)}; rename the files")
+    return bodies
+
+
+def with_distance_field(body: Body) -> Body:
+    """``body`` with the distance field that the drape, the placement and the fit measures
+    use computed and kept on it, so that a copy sent to another process (pickled, as a
+    batch shares it) carries the field instead of building it again. Returns ``body``."""
+    body.distance_field()
+    return body
 
 
 def read_fabric(source: Fabric | str | Path) -> Fabric:
