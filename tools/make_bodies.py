@@ -11,11 +11,11 @@ Each body is an anny (Apache-2.0, NAVER; MakeHuman CC0 assets) mesh without eyes
 tongue, posed in a relaxed A-pose with straight elbows, turned to Y up / facing +Z, feet on
 y = 0, and stored with its measurements and landmarks (see ``patternfit.body.builtin``).
 
-The population bodies each aim at one row of :data:`SIZE_CHART`: anny's weight is searched
-(bisection) until bust + waist + hip [m] equals the row's, at the row's stature; the other
-phenotypes stay at anny's middle (muscle, proportions 0.5). One parameter cannot hit three
-girths, so the measured girths (printed, and in docs/bodies.md) differ from the row's by a
-few centimetres; the set spans the chart, it does not reproduce it.
+The population bodies each aim at one row of :data:`SIZE_CHART`
+(:func:`patternfit.body.anny.anny_body_from_girths`: anny's weight searched until bust +
+waist + hip equals the row's at its stature, the body widened where anny's range ends
+first). Their measured girths (printed, and in docs/bodies.md) differ from the row's by a
+few centimetres: the set spans the chart, it does not reproduce it.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from patternfit.body.anny import BUILTIN_PHENOTYPES, anny_body
+from patternfit.body.anny import BUILTIN_PHENOTYPES, anny_body, anny_body_from_girths
 from patternfit.body.builtin import save_body
 
 OUT = Path(__file__).resolve().parents[1] / "src" / "patternfit" / "data" / "bodies"
@@ -46,24 +46,12 @@ SIZE_CHART = {
     "men_xxl": (0.0, 1.83, 1.26, 1.14, 1.18),
 }
 
-#: bisection steps on anny's weight (0-1): 2^-7 of the range, well under a centimetre of girth
-_STEPS = 7
-
-
-def _girths(body) -> float:
-    m = body.measurements
-    return m["bust"] + m["waist"] + m["hip"]
-
 
 def population_body(name: str):
-    """The body of :data:`SIZE_CHART` row ``name``: weight searched for the girths' sum."""
-    gender, stature, *girths = SIZE_CHART[name]
-    lo, hi, body = 0.0, 1.0, None
-    for _ in range(_STEPS):
-        weight = 0.5 * (lo + hi)
-        body = anny_body(name=name, gender=gender, weight=weight, muscle=0.5, stature=stature)
-        lo, hi = (weight, hi) if _girths(body) < sum(girths) else (lo, weight)
-    return body
+    """The body of :data:`SIZE_CHART` row ``name`` (:func:`anny_body_from_girths`)."""
+    gender, stature, bust, waist, hip = SIZE_CHART[name]
+    return anny_body_from_girths(name=name, gender=gender, stature=stature, bust=bust,
+                                 waist=waist, hip=hip)
 
 
 def _save(body, path: Path) -> None:

@@ -22,10 +22,12 @@ from typing import Callable
 import numpy as np
 
 from .body.builtin import list_bodies, load_body
-from .body.mesh_io import BodyMeshError, load_body_mesh
+from .body.mesh_io import HEIGHT_RANGE, BodyMeshError, load_body_mesh
 from .body.model import Body
 from .body.sdf import DistanceField
 from .body.builtin import list_body_sets
+from .body.anny import anny_body_from_girths
+from .arguments import number
 from .defaults import DEFAULTS, Defaults
 from .errors import InputError
 from .fit.measures import FitMeasures, fit_measures
@@ -57,7 +59,8 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "drape_and_evaluate", "evaluate_saved", "list_bodies", "list_fabrics",
            "list_garments", "mesh_garment", "place_and_evaluate", "placed_fitting_ratio",
            "read_body", "read_fabric", "read_pattern", "save_any_pattern", "save_garment"]
-__all__ += ["GIRTHS", "SolverSettings", "list_body_sets", "list_sizes", "read_bodies", "with_distance_field"]
+__all__ += ["GIRTHS", "SolverSettings", "body_from_measurements", "list_body_sets",
+            "list_sizes", "read_bodies", "with_distance_field"]
 
 
 def list_garments() -> list[str]:
@@ -153,6 +156,22 @@ def read_bodies(spec: str | Path, *, units: str | None = None) -> list[Body]:
     if twice:
         raise ValueError(f"bodies: two bodies named {', '.join(twice)}; rename the files")
     return bodies
+
+
+def body_from_measurements(*, gender: float, height: float, bust: float, waist: float,
+                           hip: float, name: str = "custom") -> Body:
+    """An anny body (the optional extra ``patternfit[anny]``) of ``height`` [m] whose bust
+    (chest), waist and hip girths [m] add up to the given ones; ``gender`` 0 = male,
+    1 = female. Its own girths, in ``measurements``, differ from the given ones by a few
+    centimetres (:func:`patternfit.body.anny.anny_body_from_girths` says why). About 7
+    anny bodies are built on the way (a minute on a laptop CPU).
+
+    Raises ``ValueError`` naming a measurement out of range, ``ImportError`` saying how to
+    install anny when it is missing."""
+    number(height, "height", low=HEIGHT_RANGE[0], high=HEIGHT_RANGE[1], unit="m",
+           rule=f"expected a standing height in metres within {list(HEIGHT_RANGE)}")
+    return anny_body_from_girths(gender=gender, stature=height, bust=bust, waist=waist,
+                                 hip=hip, name=name)
 
 
 def with_distance_field(body: Body) -> Body:

@@ -73,11 +73,13 @@ def _csv_line(row: dict) -> str:
 
 
 def _cell(v):
+    """A CSV cell: empty for None, floats to 6 digits, text on one line (a row is a line:
+    see :func:`read_rows`)."""
     if v is None:
         return ""
     if isinstance(v, float):
         return f"{v:.6g}"
-    return v
+    return " ".join(str(v).splitlines())
 
 
 def _parse(raw: dict) -> dict:
@@ -98,7 +100,8 @@ def read_rows(path) -> list[dict]:
     last line (a batch killed mid-write) is dropped. Missing file: no rows.
 
     Raises :class:`InputError` naming the file when its header is not this batch's
-    columns (another file, or a batch of an older layout)."""
+    columns (another file, or a batch of an older layout), and the line of a row that is
+    not one (cells missing, a number that is none)."""
     path = Path(path)
     if not path.is_file():
         return []
@@ -109,7 +112,16 @@ def read_rows(path) -> list[dict]:
     if text and tuple(reader.fieldnames or ()) != COLUMNS:
         raise InputError("is not a patternfit batch result (its header differs); give "
                          "another --out folder", file=path)
-    return [_parse(r) for r in reader if None not in r and None not in r.values()]
+    rows = []
+    for r in reader:
+        if None in r or None in r.values():  # a short or long line: not a row written here
+            raise InputError(f"holds a line of {len(r) - (None in r)} cells, not "
+                             f"{len(COLUMNS)}", file=path, place=f"line {reader.line_num}")
+        try:
+            rows.append(_parse(r))
+        except ValueError as exc:
+            raise InputError(str(exc), file=path, place=f"line {reader.line_num}") from None
+    return rows
 
 
 class ResultLog:

@@ -31,8 +31,19 @@ def _dir():
     return files("patternfit") / "data" / "bodies"
 
 
+#: size words a body set's names may end with (``women_xs``), listed in this order
+_SIZE_WORDS = ("xxs", "xs", "s", "m", "l", "xl", "xxl", "xxxl")
+
+
+def _in_size_order(name: str):
+    stem, _, size = name.rpartition("_")
+    return (stem, _SIZE_WORDS.index(size), "") if size in _SIZE_WORDS else (name, -1, name)
+
+
 def _names(folder) -> list[str]:
-    return sorted(p.name[:-4] for p in folder.iterdir() if p.name.endswith(".npz"))
+    """The bodies in ``folder`` by name, a common stem's sizes from small to large."""
+    return sorted((p.name[:-4] for p in folder.iterdir() if p.name.endswith(".npz")),
+                  key=_in_size_order)
 
 
 def list_bodies() -> list[str]:
@@ -41,7 +52,8 @@ def list_bodies() -> list[str]:
 
 
 def list_body_sets() -> dict[str, list[str]]:
-    """The body sets: set name -> names of its bodies, sorted; ``"builtin"`` is
+    """The body sets: set name -> names of its bodies, sorted (sizes from small to large:
+    ``women_xs``, ``women_s``...); ``"builtin"`` is
     :func:`list_bodies`, every other set is a sub-folder of the shipped bodies."""
     sets = {"builtin": list_bodies()}
     for p in sorted(_dir().iterdir(), key=lambda p: p.name):
