@@ -16,8 +16,8 @@ import pytest
 pytest.importorskip("ray")
 
 from patternfit.api import read_body  # noqa: E402
-from patternfit.batch import (ResultLog, Task, TaskOptions, read_rows,  # noqa: E402
-                              run_on_ray)
+from patternfit.batch import (Inputs, ResultLog, Task, TaskOptions,  # noqa: E402
+                              read_rows, run_on_ray)
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 ARGS = ["batch", "--pattern", "skirt", "--sizes", "S,M", "--bodies",
@@ -87,8 +87,8 @@ def test_a_task_that_raises_on_a_worker_is_a_failed_row(tmp_path):
     tasks = [Task("skirt", "S", "female_thin", str(tmp_path / "missing_fabric.json")),
              Task(str(tmp_path / "missing_pattern.json"), "S", "female_thin", "cotton")]
     log = ResultLog(tmp_path, resume=False)
-    run_on_ray(tasks, {"female_thin": body}, log,
-               TaskOptions(triangles=300, time_limit=5.0, out=str(tmp_path)), workers=1)
+    run_on_ray(tasks, Inputs({"female_thin": body}, {}, {}), log,
+               TaskOptions(triangles=300, time_limit=5.0), workers=1)
     rows = read_rows(log.path)
     assert [r["status"] for r in rows] == ["failed", "failed"]
     assert "FabricError" in rows[0]["reasons"] and "PatternError" in rows[1]["reasons"]

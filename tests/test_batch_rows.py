@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from patternfit.batch import (COLUMNS, ResultLog, Task, TaskOptions, parse_sizes, plan,
-                              read_rows, run_local, run_task, summary_lines, verdict_of,
-                              write_matrix)
+from patternfit.batch import (COLUMNS, Inputs, ResultLog, Task, TaskOptions, parse_sizes,
+                              plan, read_rows, run_local, run_task, summary_lines,
+                              verdict_of, write_matrix)
 from patternfit.batch.rows import CSV_NAME, failed_row
 from patternfit.errors import InputError
 
@@ -117,11 +117,11 @@ def test_the_matrix_has_a_cell_per_task(tmp_path):
 
 def test_a_drape_that_raises_is_a_failed_row(tmp_path):
     task = Task("skirt", "M", "female_average", str(tmp_path / "no_such_fabric.json"))
-    options = TaskOptions(triangles=300, time_limit=5.0, out=str(tmp_path))
+    options = TaskOptions(triangles=300, time_limit=5.0)
     row = run_task(task, "female_average", options)
     assert row["status"] == "failed" and row["checks_passed"] is False
     assert "FabricError" in row["reasons"] and "no_such_fabric" in row["reasons"]
     log = ResultLog(tmp_path / "batch", resume=False)
-    run_local([task], {"female_average": "female_average"}, log, options)
+    run_local([task], Inputs({"female_average": "female_average"}, {}, {}), log, options)
     assert [r["status"] for r in read_rows(log.path)] == ["failed"]
     assert failed_row(task, "x")["failed_checks"] == "error"

@@ -11,9 +11,9 @@ from .cluster import RAY_MISSING, hard_limit, run_local, run_on_ray, start_ray
 from .matrix import summary_lines, verdict_of, write_matrix
 from .rows import COLUMNS, CSV_NAME, ResultLog, Task, plan, read_rows
 from .run import parse_sizes, run_batch
-from .work import TaskOptions, outcome_row, run_task, write_thumbnail
+from .work import Inputs, TaskOptions, outcome_row, run_task, thumbnail_png
 
-__all__ = ["COLUMNS", "CSV_NAME", "RAY_MISSING", "ResultLog", "Task", "TaskOptions",
+__all__ = ["COLUMNS", "CSV_NAME", "Inputs", "RAY_MISSING", "ResultLog", "Task", "TaskOptions",
            "hard_limit", "outcome_row", "parse_sizes", "plan", "read_rows", "run_batch",
            "run_local", "run_on_ray", "run_task", "start_ray", "summary_lines", "verdict_of",
-           "write_matrix", "write_thumbnail"]
+           "thumbnail_png", "write_matrix"]

@@ -15,8 +15,9 @@ import time
 from typing import Callable
 
 from ..api import with_distance_field
+from ..files import atomic_write_bytes
 from .rows import ResultLog, Task, failed_row
-from .work import TaskOptions, run_task
+from .work import PNG, Inputs, TaskOptions, run_task
 
 #: Ray is an optional extra (``patternfit[batch]``); the message says how to get it
 RAY_MISSING = ("the batch runs on Ray, which is not installed: pip install "
@@ -31,16 +32,13 @@ def hard_limit(options: TaskOptions) -> float:
     return 2.0 * options.time_limit + 60.0
 
 
-def run_local(tasks: list[Task], bodies: dict, log: ResultLog, options: TaskOptions, *,
+def run_local(tasks: list[Task], inputs: Inputs, log: ResultLog, options: TaskOptions, *,
               progress: Callable | None = None) -> None:
     """Drape ``tasks`` one after another in this process (no Ray), appending each row to
-    ``log``; ``bodies`` maps a body name to its :class:`~patternfit.api.Body`.
-    ``progress(row)`` is called after each row."""
+    ``log``; ``progress(row)`` is called after each row."""
     for task in tasks:
-        row = run_task(task, bodies[task.body], options)
-        log.append(row)
-        if progress:
-            progress(row)
+        body, pattern, fabric = inputs.of(task)
+        _record(log, run_task(task, body, options, pattern, fabric), progress)
 
 
 def _ray():
@@ -65,24 +63,29 @@ def start_ray(workers: int, address: str | None):
     return ray, True
 
 
-def run_on_ray(tasks: list[Task], bodies: dict, log: ResultLog, options: TaskOptions, *,
+def run_on_ray(tasks: list[Task], inputs: Inputs, log: ResultLog, options: TaskOptions, *,
                workers: int = 2, address: str | None = None,
                progress: Callable | None = None, poll: float = 0.5) -> None:
-    """Drape ``tasks`` on Ray (see the module's docstring), appending each row to ``log`` as
-    it arrives; ``progress(row)`` is called after each. A task that raises, crashes its
+    """Drape ``tasks`` on Ray (see the module's docstring): the bodies (with their distance
+    field), patterns and fabrics of ``inputs`` go into the object store once each; each row
+    is appended to ``log`` as it arrives; ``progress(row)`` is called after each. A task that raises, crashes its
     worker or runs past :func:`hard_limit` becomes a failed row."""
     ray, started = start_ray(workers, address)
     limit = hard_limit(options)
     pending: dict = {}
     try:
         remote = ray.remote(num_cpus=1, max_retries=0)(run_task)
-        shared = {name: ray.put(with_distance_field(body)) for name, body in bodies.items()}
+        shared = Inputs({k: ray.put(with_distance_field(b)) for k, b in inputs.bodies.items()},
+                        {k: ray.put(p) for k, p in inputs.patterns.items()},
+                        {k: ray.put(f) for k, f in inputs.fabrics.items()})
         slots = max(1, int(ray.cluster_resources().get("CPU", workers)))
         todo = list(reversed(tasks))
         while todo or pending:
             while todo and len(pending) < slots:
                 task = todo.pop()
-                pending[remote.remote(task, shared[task.body], options)] = (task, time.monotonic())
+                body, pattern, fabric = shared.of(task)
+                pending[remote.remote(task, body, options, pattern, fabric)] = \
+                    (task, time.monotonic())
             ready, _ = ray.wait(list(pending), num_returns=1, timeout=poll)
             now = time.monotonic()
             for ref in ready:
@@ -108,6 +111,10 @@ def run_on_ray(tasks: list[Task], bodies: dict, log: ResultLog, options: TaskOpt
 
 
 def _record(log: ResultLog, row: dict, progress: Callable | None) -> None:
+    """Write the row's thumbnail (see :data:`~patternfit.batch.work.PNG`), then the row."""
+    png = row.pop(PNG, None)
+    if png is not None:
+        atomic_write_bytes(log.folder / row["thumbnail"], png)
     log.append(row)
     if progress:
         progress(row)

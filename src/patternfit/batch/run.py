@@ -11,7 +11,7 @@ from ..arguments import number
 from .cluster import run_local, run_on_ray
 from .matrix import write_matrix
 from .rows import ResultLog, plan
-from .work import TaskOptions
+from .work import Inputs, TaskOptions
 
 
 def parse_sizes(sizes: str, pattern: str) -> list[str]:
@@ -60,10 +60,10 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     number(workers, "--workers", low=0, integer=True)
     number(time_limit, "--time-limit", low=0.0, low_open=True, unit="s")
     size_list = parse_sizes(sizes, pattern)
-    read_pattern(pattern, size=size_list[0])  # refuse a bad pattern before any drape
-    fabric_list = [f.strip() for f in fabrics.split(",")]
-    for f in fabric_list:
-        read_fabric(f)
+    fabric_list = list(dict.fromkeys(f.strip() for f in fabrics.split(",")))
+    # read here, once: the workers get objects, not files (they may be other machines)
+    inputs = Inputs({}, {(pattern, s): read_pattern(pattern, size=s) for s in size_list},
+                    {f: read_fabric(f) for f in fabric_list})
     body_list = read_bodies(bodies)
     tasks = plan([pattern], size_list, [b.name for b in body_list], fabric_list)
     log = ResultLog(out, resume=resume)
@@ -71,15 +71,15 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     todo = [t for t in tasks if t not in done]
     if on_plan:
         on_plan(len(tasks), len(tasks) - len(todo))
-    options = TaskOptions(triangles=triangles, time_limit=float(time_limit), out=str(out),
+    options = TaskOptions(triangles=triangles, time_limit=float(time_limit),
                           thumbnails=thumbnails)
     needed = {t.body for t in todo}
-    shared = {b.name: b for b in body_list if b.name in needed}
+    inputs.bodies.update((b.name, b) for b in body_list if b.name in needed)
     try:
         if todo and workers == 0 and not address:
-            run_local(todo, shared, log, options, progress=progress)
+            run_local(todo, inputs, log, options, progress=progress)
         elif todo:
-            run_on_ray(todo, shared, log, options, workers=max(workers, 1), address=address,
+            run_on_ray(todo, inputs, log, options, workers=max(workers, 1), address=address,
                        progress=progress)
     finally:  # also after Ctrl-C: the rows so far in Parquet and in the matrix
         files = {"csv": log.path, "parquet": log.write_parquet()}

@@ -12,15 +12,18 @@ import time
 import traceback
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
 from ..api import GIRTHS, SolverSettings, drape_and_evaluate
-from ..files import atomic_write_bytes
 from .rows import Task, failed_row
 
 #: the thumbnails' folder inside a batch folder
 THUMBS = "thumbs"
+#: the key of a row that carries its thumbnail (PNG bytes) from the worker to the driver,
+#: which writes it (a worker on another machine has no access to the batch folder)
+PNG = "thumbnail_png"
 
 
 @dataclass(frozen=True)
@@ -32,16 +35,28 @@ class TaskOptions:
     time_limit : float
         The solver's time limit per drape [s]; the batch cancels a task that runs far
         beyond it (:func:`patternfit.batch.cluster.hard_limit`).
-    out : str
-        The batch folder; thumbnails go to its ``thumbs/``.
     thumbnails : bool
         Whether to draw a thumbnail per drape.
     """
 
     triangles: int
     time_limit: float
-    out: str
     thumbnails: bool = True
+
+
+class Inputs(NamedTuple):
+    """What the tasks drape, read once on the driver: body name -> Body, (pattern, size) ->
+    Pattern, fabric -> Fabric (a name or file instead of an object is read by the task)."""
+
+    bodies: dict
+    patterns: dict
+    fabrics: dict
+
+    def of(self, task: Task) -> tuple:
+        """(body, pattern, fabric) of ``task``."""
+        return (self.bodies[task.body], self.patterns.get((task.pattern, task.size),
+                                                          task.pattern),
+                self.fabrics.get(task.fabric, task.fabric))
 
 
 def worker_id() -> str:
@@ -107,21 +122,23 @@ def outcome_row(task: Task, outcome, *, seconds: float, worker: str) -> dict:
             "residual_p99": checks.get("residual_p99"), "seconds": seconds, "worker": worker}
 
 
-def run_task(task: Task, body, options: TaskOptions) -> dict:
+def run_task(task: Task, body, options: TaskOptions, pattern=None, fabric=None) -> dict:
     """Drape ``task`` on ``body`` (a :class:`~patternfit.api.Body`, its distance field
-    already on it) and return its row; an exception becomes a failed row naming it, a
+    already on it, or a name) in ``pattern`` and ``fabric`` (objects read on the driver;
+    the task's own names or files when None) and return its row, with the thumbnail's PNG
+    bytes under :data:`PNG`. An exception becomes a failed row naming it; a
     KeyboardInterrupt stops."""
     t0 = time.perf_counter()
     worker = worker_id()
     try:
-        outcome = drape_and_evaluate(task.pattern, body, task.fabric, size=task.size,
-                                     triangles=options.triangles,
+        outcome = drape_and_evaluate(task.pattern if pattern is None else pattern, body,
+                                     task.fabric if fabric is None else fabric,
+                                     size=task.size, triangles=options.triangles,
                                      settings=SolverSettings(time_limit=options.time_limit))
         row = outcome_row(task, outcome, seconds=time.perf_counter() - t0, worker=worker)
         if options.thumbnails:
-            name = thumbnail_name(task)
-            write_thumbnail(Path(options.out) / THUMBS / name, outcome)
-            row["thumbnail"] = f"{THUMBS}/{name}"
+            row["thumbnail"] = f"{THUMBS}/{thumbnail_name(task)}"
+            row[PNG] = thumbnail_png(outcome)
     except Exception as exc:  # a failed drape is a failed row, never a failed batch
         where = traceback.extract_tb(exc.__traceback__)[-1]
         first = (str(exc).strip().splitlines() or [""])[0]
@@ -141,11 +158,11 @@ def _shaded(rgba, tri):
     return out
 
 
-def write_thumbnail(path: Path, outcome, *, pixels: int = 180) -> Path:
+def thumbnail_png(outcome, *, pixels: int = 180) -> bytes:
     """A small front view of the drape: the body in grey, the garment coloured by its area
     change (red stretched, yellow unchanged, blue compressed, ±10%), drawn back to front, lit
     from the front, framed on the
-    garment. ``pixels`` is the height; written atomically."""
+    garment: PNG bytes, ``pixels`` high."""
     # matplotlib without pyplot: no global state, safe in any worker
     from matplotlib import colormaps
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -177,4 +194,4 @@ def write_thumbnail(path: Path, outcome, *, pixels: int = 180) -> Path:
     ax.axis("off")
     buf = io.BytesIO()
     FigureCanvasAgg(fig).print_png(buf)
-    return atomic_write_bytes(path, buf.getvalue())
+    return buf.getvalue()
