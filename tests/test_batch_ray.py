@@ -88,7 +88,7 @@ def test_a_task_that_raises_on_a_worker_is_a_failed_row(tmp_path):
              Task(str(tmp_path / "missing_pattern.json"), "S", "female_thin", "cotton")]
     log = ResultLog(tmp_path, resume=False)
     run_on_ray(tasks, Inputs({"female_thin": body}, {}, {}), log,
-               TaskOptions(triangles=300, time_limit=5.0), workers=1)
+               TaskOptions(triangles=300, time_limit=60.0), workers=1)
     rows = read_rows(log.path)
     assert [r["status"] for r in rows] == ["failed", "failed"]
     assert "FabricError" in rows[0]["reasons"] and "PatternError" in rows[1]["reasons"]

@@ -68,8 +68,8 @@ def run_on_ray(tasks: list[Task], inputs: Inputs, log: ResultLog, options: TaskO
                progress: Callable | None = None, poll: float = 0.5) -> None:
     """Drape ``tasks`` on Ray (see the module's docstring): the bodies (with their distance
     field), patterns and fabrics of ``inputs`` go into the object store once each; each row
-    is appended to ``log`` as it arrives; ``progress(row)`` is called after each. A task that raises, crashes its
-    worker or runs past :func:`hard_limit` becomes a failed row."""
+    is appended to ``log`` as it arrives; ``progress(row)`` is called after each. A task
+    that raises, crashes its worker or runs past :func:`hard_limit` becomes a failed row."""
     ray, started = start_ray(workers, address)
     limit = hard_limit(options)
     pending: dict = {}

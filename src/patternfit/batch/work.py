@@ -161,15 +161,14 @@ def _shaded(rgba, tri):
 def thumbnail_png(outcome, *, pixels: int = 180) -> bytes:
     """A small front view of the drape: the body in grey, the garment coloured by its area
     change (red stretched, yellow unchanged, blue compressed, ±10%), drawn back to front, lit
-    from the front, framed on the
-    garment: PNG bytes, ``pixels`` high."""
+    from the front, framed on the garment: PNG bytes, ``pixels`` high."""
     # matplotlib without pyplot: no global state, safe in any worker
     from matplotlib import colormaps
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.collections import PolyCollection
     from matplotlib.figure import Figure
 
-    faces, colours, depth = [], [], []
+    faces, colours = [], []
     body = outcome.body
     if body is not None:
         tri = body.vertices[body.faces]

@@ -22,8 +22,8 @@ def batch(
     sizes: str = typer.Option("all", "--sizes", "-s",
                               help="Comma-separated sizes (S,M,L,XL) or 'all'."),
     bodies: str = typer.Option("population", "--bodies", "-b",
-                               help="A body set (`patternfit bodies --sets`: population, "
-                                    "builtin), comma-separated body names or patterns "
+                               help="A body set (`patternfit bodies --set all`: "
+                                    "population, builtin), comma-separated body names or patterns "
                                     "(women_*), or a folder of body meshes."),
     fabrics: str = typer.Option(DEFAULTS.fabric, "--fabrics", "-f",
                                 help="Comma-separated fabric presets or fabric JSON files."),
@@ -34,7 +34,8 @@ def batch(
     address: str = typer.Option(None, "--address", help="Join a running Ray cluster "
                                 "(ray://HOST:10001 or HOST:6379) instead of starting one."),
     time_limit: float = typer.Option(DEFAULTS.time_limit, help="The solver's time limit per "
-                                     "drape [s]; a task running far past it is cancelled.",
+                                     "drape, in seconds; a task running far past it is "
+                                     "cancelled.",
                                      callback=finite),
     thumbnails: bool = typer.Option(True, help="Draw a thumbnail per drape for the matrix."),
     out: Path = typer.Option(..., "--out", "-o", help="Batch folder: results.csv, "
