@@ -22,7 +22,7 @@ def main(body_set: str | None = None) -> None:
         list_bodies(), key=lambda n: (n.split("_")[0], order.index(n.split("_")[1])
                                       if n.split("_")[-1] in order else 9))
     out = OUT.with_name(f"bodies_{body_set}.png") if body_set else OUT
-    pl = pv.Plotter(off_screen=True, window_size=(400 * len(names), 1600), shape=(2, 1))
+    pl = pv.Plotter(off_screen=True, window_size=(300 * len(names), 1400), shape=(2, 1))
     for row, (view, dx) in enumerate((("xy", np.array([1.15, 0, 0])),
                                       ("zy", np.array([0, 0, 0.75])))):
         pl.subplot(row, 0)
