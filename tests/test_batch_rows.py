@@ -28,6 +28,9 @@ def test_the_plan_holds_every_4_tuple_once():
     tasks = plan(["skirt"], ["S", "M", "S"], ["a", "b"], ["cotton", "denim"])
     assert len(tasks) == 2 * 2 * 2 == len(set(tasks))
     assert tasks[0] == Task("skirt", "S", "a", "cotton")
+    for bad in ("", " ", "two\nlines", "cr\r"):
+        with pytest.raises(ValueError, match="body: .* cannot name a task"):
+            plan(["skirt"], ["S"], ["a", bad], ["cotton"])
 
 
 def test_sizes_all_and_lists(tmp_path):
@@ -74,34 +77,46 @@ def test_another_csv_is_refused_by_name(tmp_path):
         read_rows(tmp_path / CSV_NAME)
 
 
+def _one_line(s: str) -> bool:
+    return bool(s.strip()) and " ".join(s.splitlines()) == s
+
+
 @settings(max_examples=40, deadline=None)
-@given(st.lists(st.tuples(st.text(min_size=1, max_size=12), st.text(max_size=40),
+@given(st.lists(st.tuples(st.text(min_size=1, max_size=12).filter(_one_line),
+                          st.text(max_size=40),
                           st.floats(allow_nan=False, allow_infinity=False, width=32)),
                 min_size=1, max_size=6, unique_by=lambda t: t[0]))
 def test_any_text_round_trips(tmp_path_factory, items):
     folder = tmp_path_factory.mktemp("rows")
     log = ResultLog(folder, resume=True)
-    for body, reason, ratio in items:
-        log.append(_row(Task("skirt", "M", body, "cotton"), ratio=ratio, reasons=reason))
+    for task, (_, reason, ratio) in zip(plan(["skirt"], ["M"], [b for b, _, _ in items],
+                                             ["cotton"]), items):
+        log.append(_row(task, ratio=ratio, reasons=reason))
     back = read_rows(folder / CSV_NAME)
-    assert [r["body"] for r in back] == [" ".join(b.splitlines()) for b, _, _ in items]
+    assert [r["body"] for r in back] == [b for b, _, _ in items]
     for r, (_, reason, ratio) in zip(back, items):
         assert r["fitting_ratio"] == pytest.approx(ratio, rel=1e-5, abs=1e-30)
         assert (r["reasons"] or "") == " ".join(reason.splitlines())
 
 
 def test_verdicts_and_one_line_per_size():
-    t = plan(["skirt"], ["S", "M"], ["a", "b", "c"], ["cotton"])
-    rows = [_row(t[0], ratio=0.95), _row(t[1], ratio=0.80, ease_hip_cm=-2.0, ease_waist_cm=3.0),
+    t = plan(["skirt"], ["S", "M"], ["a", "b", "c", "d"], ["cotton"])
+    rows = [_row(t[0], ratio=0.95, pressure_p99_kpa=1.9),
+            _row(t[1], ratio=0.80, ease_hip_cm=-2.0, ease_waist_cm=3.0),
             _row(t[2], status="failed", failed_checks="on_body"),
-            _row(t[3], verdict="too tight", ease_waist_cm=-1.0),
-            _row(t[4], verdict="fits"), _row(t[5], verdict="fits")]
-    assert [verdict_of(r) for r in rows] == ["fits", "tight", "failed", "too tight", "fits",
-                                             "fits"]
-    lines = summary_lines(rows)
-    assert lines == ["skirt in cotton, S: fits 1 of 3 bodies; tight on 1 at the hip; "
-                     "failed on 1 (on_body 1)",
-                     "skirt in cotton, M: fits 2 of 3 bodies; too tight on 1 at the waist"]
+            _row(t[3], ratio=1.1, pressure_p99_kpa=8.2, ease_hip_cm=0.7, ease_waist_cm=2.0),
+            _row(t[4], verdict="too tight", ease_waist_cm=-1.0, pressure_p99_kpa=0.5),
+            _row(t[5], verdict="fits", pressure_p99_kpa=3.0), _row(t[6], verdict="fits"),
+            _row(t[7], status="failed", failed_checks="seams crossings", verdict="fits")]
+    # the drape's own verdict wins; without one, pressure p99 > 2 kPa is too tight, ϖ < 0.9
+    # tight; a failed drape is failed whatever it reads
+    assert [verdict_of(r) for r in rows] == ["fits", "tight", "failed", "too tight",
+                                             "too tight", "fits", "fits", "failed"]
+    assert summary_lines(rows) == [
+        "skirt in cotton, S: fits 1 of 4 bodies; tight on 1 at the hip; too tight on 1 at "
+        "the hip; failed on 1 (on_body 1)",
+        "skirt in cotton, M: fits 2 of 4 bodies; too tight on 1 at the waist; failed on 1 "
+        "(seams 1, crossings 1)"]
 
 
 def test_the_matrix_has_a_cell_per_task(tmp_path):

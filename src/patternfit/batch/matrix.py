@@ -1,6 +1,7 @@
 """The fit matrix of a batch: sizes × bodies, one panel per (pattern, fabric), coloured by
-the verdict (or ϖ where the rows carry none), as ``matrix.png`` and ``matrix.html`` (each
-cell with its drape's thumbnail), and a one-line answer per size."""
+the verdict (estimated from the contact pressure and ϖ where the rows carry none), as
+``matrix.png`` and ``matrix.html`` (each cell with its drape's thumbnail), and a one-line
+answer per size."""
 
 from __future__ import annotations
 
@@ -19,15 +20,22 @@ VERDICT_COLOURS = {"too tight": "#b2182b", "tight": "#ef8a62", "fits": "#4dac26"
                    "loose": "#67a9cf", "too loose": "#2166ac"}
 FAILED = "#404040"
 MISSING = "#f0f0f0"
+#: contact pressure [kPa] above which a garment is too tight for daily wear (Kawabata's
+#: 2.0 kPa, the figure issue 21 uses); only for rows without a verdict of their own
+PRESSURE_LIMIT_KPA = 2.0
 
 
 def verdict_of(row: dict, threshold: float = DEFAULTS.threshold) -> str:
-    """A row's verdict: ``failed``, the drape's own verdict, else from ϖ: ``fits`` at
-    ``threshold`` [-] or above, ``tight`` below (ϖ cannot tell a loose garment)."""
+    """A row's verdict: ``failed``, the drape's own verdict, else an estimate: ``too
+    tight`` when the contact pressure p99 exceeds :data:`PRESSURE_LIMIT_KPA`, ``tight``
+    when ϖ is below ``threshold`` [-], ``fits`` otherwise (neither tells a loose garment;
+    one that slid off is a failed drape)."""
     if row["status"] != "ok":
         return "failed"
     if row.get("verdict"):
         return row["verdict"]
+    if (row.get("pressure_p99_kpa") or 0.0) > PRESSURE_LIMIT_KPA:
+        return "too tight"
     return "fits" if row["fitting_ratio"] >= threshold else "tight"
 
 
@@ -87,30 +95,21 @@ def summary_lines(rows: list[dict], threshold: float = DEFAULTS.threshold) -> li
     return out
 
 
-def _cell_colour(row, threshold, cmap):
+def _cell_colour(row, threshold):
     v = verdict_of(row, threshold)
-    if v == "failed":
-        return FAILED
-    if row.get("verdict"):
-        return VERDICT_COLOURS.get(v, "#999999")
-    from matplotlib.colors import to_hex
-
-    return to_hex(cmap(np.clip((row["fitting_ratio"] - 0.8) / 0.4, 0.0, 1.0)))
+    return FAILED if v == "failed" else VERDICT_COLOURS.get(v, "#999999")
 
 
 def write_matrix(folder, rows: list[dict], threshold: float = DEFAULTS.threshold, *,
                  tasks=None) -> dict:
     """Write ``matrix.png`` and ``matrix.html`` of ``rows`` into ``folder`` (atomically),
-    with a cell for every task of ``tasks`` (the plan) when given;
-    returns ``{"png", "html", "lines"}`` (paths and :func:`summary_lines`). Cells are
-    coloured by verdict when the rows carry one, else by ϖ from 80% (red) through 100%
-    (yellow) to 120% (blue); failed drapes dark grey, tasks without a row light grey."""
-    from matplotlib import colormaps
+    with a cell for every task of ``tasks`` (the plan) when given; returns ``{"png",
+    "html", "lines"}`` (paths and :func:`summary_lines`). Cells are coloured by
+    :func:`verdict_of`; failed drapes dark grey, tasks without a row light grey."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     folder = Path(folder)
-    cmap = colormaps["RdYlBu"]
     panels, sizes, bodies = _axes(rows, tasks)
     lines = summary_lines(rows, threshold)
     by_key = {(r["pattern"], r["fabric"], r["size"], r["body"]): r for r in rows}
@@ -124,7 +123,7 @@ def write_matrix(folder, rows: list[dict], threshold: float = DEFAULTS.threshold
         for i, size in enumerate(sizes):
             for j, body in enumerate(bodies):
                 row = by_key.get((pattern, fabric, size, body))
-                colour = MISSING if row is None else _cell_colour(row, threshold, cmap)
+                colour = MISSING if row is None else _cell_colour(row, threshold)
                 ax.add_patch(_rect(j, i, colour))
                 if row is not None:  # a failed drape's ϖ is no fit: not shown
                     ax.text(j + 0.5, i + 0.5, f"{100 * row['fitting_ratio']:.0f}"
@@ -146,7 +145,7 @@ def write_matrix(folder, rows: list[dict], threshold: float = DEFAULTS.threshold
     FigureCanvasAgg(fig).print_png(buf)
     png = atomic_write_bytes(folder / "matrix.png", buf.getvalue())
     page = atomic_write_text(folder / "matrix.html",
-                                      _html(rows, panels, sizes, bodies, lines, threshold, cmap))
+                             _html(rows, panels, sizes, bodies, lines, threshold))
     return {"png": png, "html": page, "lines": lines}
 
 
@@ -157,14 +156,15 @@ def _rect(x, y, colour):
 
 
 def _legend(rows) -> str:
+    words = ("too tight dark red, tight orange, fits green, loose light blue, too loose blue; "
+             "dark grey: failed drape (no fit); ϖ % in the cells")
     if any(r.get("verdict") for r in rows):
-        return ("colours: the drape's verdict (too tight dark red, tight orange, fits green, "
-                "loose light blue, too loose blue); dark grey: failed drape")
-    return ("colours: ϖ, 80% red - 100% yellow - 120% blue (no verdict in the rows); "
-            "dark grey: failed drape, no result")
+        return f"colours: the drape's verdict: {words}"
+    return (f"colours: verdict estimated (the rows carry none): too tight = pressure p99 > "
+            f"{PRESSURE_LIMIT_KPA:g} kPa, tight = ϖ below the threshold; {words}")
 
 
-def _html(rows, panels, sizes, bodies, lines, threshold, cmap) -> str:
+def _html(rows, panels, sizes, bodies, lines, threshold) -> str:
     by_key = {(r["pattern"], r["fabric"], r["size"], r["body"]): r for r in rows}
     esc = html.escape
     out = ["<!doctype html><html><head><meta charset='utf-8'><title>fit matrix</title>",
@@ -185,7 +185,7 @@ def _html(rows, panels, sizes, bodies, lines, threshold, cmap) -> str:
                 if row is None:
                     out.append(f"<td style='background:{MISSING}'>no result yet</td>")
                     continue
-                colour = _cell_colour(row, threshold, cmap)
+                colour = _cell_colour(row, threshold)
                 ratio = row["fitting_ratio"]
                 text = verdict_of(row, threshold)
                 if row["status"] == "ok":

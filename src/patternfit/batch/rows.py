@@ -48,7 +48,15 @@ FLOATS = {"fitting_ratio", "fitting_ratio_symmetric", *(f"ease_{g}_cm" for g in 
 
 def plan(patterns, sizes, bodies, fabrics) -> list[Task]:
     """Every (pattern, size, body, fabric) of the four lists, in that nesting order, each
-    once (strings; bodies by name)."""
+    once (strings; bodies by name).
+
+    Raises ``ValueError`` naming a value that cannot name a task in a row: empty, blank or
+    on several lines."""
+    for key, values in zip(Task._fields, (patterns, sizes, bodies, fabrics)):
+        for v in values:
+            if not str(v).strip() or " ".join(str(v).splitlines()) != str(v):
+                raise ValueError(f"{key}: {str(v)!r} cannot name a task (blank, or a line "
+                                 "break in it)")
     tasks = [Task(str(p), str(s), str(b), str(f))
              for p in patterns for s in sizes for b in bodies for f in fabrics]
     return list(dict.fromkeys(tasks))
