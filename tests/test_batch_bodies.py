@@ -70,3 +70,23 @@ def test_a_shared_body_carries_its_distance_field(monkeypatch):
     monkeypatch.setattr(DistanceField, "from_mesh", no_build)
     field = copy.distance_field()  # the drape's, the placement's and the measures' field
     assert np.array_equal(field.values, body.distance_field().values)
+
+
+def test_the_commands_list_a_set_and_refuse_half_measurements():
+    import json
+
+    from typer.testing import CliRunner
+
+    from patternfit.cli.main import app
+
+    runner = CliRunner()
+    got = runner.invoke(app, ["bodies", "--set", "population", "--json"])
+    assert got.exit_code == 0, got.output
+    listed = json.loads(got.stdout)["bodies"]
+    assert {b["set"] for b in listed} == {"population"} and len(listed) >= 10
+    assert runner.invoke(app, ["bodies", "--set", "kids"]).exit_code == 2
+    half = runner.invoke(app, ["body", "--from-measurements", "--height", "1.7", "--bust",
+                               "0.9", "--out", "b.ply"])
+    assert half.exit_code == 2 and "--waist, --hip" in half.output
+    stray = runner.invoke(app, ["body", "--hip", "1.0", "--out", "b.ply"])
+    assert stray.exit_code == 2 and "--from-measurements" in stray.output
