@@ -29,8 +29,8 @@ from patternfit.body.builtin import save_body
 OUT = Path(__file__).resolve().parents[1] / "src" / "patternfit" / "data" / "bodies"
 
 #: the population's targets: name -> (anny gender, stature, bust or chest, waist, hip) [m].
-#: Women's XS-XXL and men's XS-XXL, in the ranges of common ready-to-wear charts (EN 13402-3
-#: body dimensions: women's bust 80-118 cm, men's chest 86-126 cm); no brand's chart.
+#: Women's XS-XXL and men's XS-XXL: targets we picked to span common ready-to-wear charts
+#: (steps of 6-10 cm in bust / chest); no standard's and no brand's chart.
 SIZE_CHART = {
     "women_xs": (1.0, 1.60, 0.80, 0.62, 0.86),
     "women_s": (1.0, 1.63, 0.86, 0.68, 0.92),

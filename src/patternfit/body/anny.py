@@ -131,7 +131,7 @@ def anny_body_from_girths(*, gender: float, stature: float, bust: float, waist: 
                           hip: float, name: str = "custom") -> Body:
     """An anny body of ``stature`` [m] whose bust (chest) + waist + hip [m] add up to the
     given ones: anny's weight is searched by bisection (muscle and proportions at 0.5);
-    where its range ends first (anny's heaviest women have a waist near 0.73 m) the body
+    where its range ends first (at weight 1 anny's women have a waist of about 0.75 m) the body
     is widened, x and z scaled about its waist axis, which scales every horizontal girth by
     one factor (``meta["widened"]``). One parameter and a scale cannot hit three girths:
     the body's own girths are in its ``measurements`` and differ from the given ones by a
