@@ -140,3 +140,26 @@ def test_a_drape_that_raises_is_a_failed_row(tmp_path):
     run_local([task], Inputs({"female_average": "female_average"}, {}, {}), log, options)
     assert [r["status"] for r in read_rows(log.path)] == ["failed"]
     assert failed_row(task, "x")["failed_checks"] == "error"
+
+
+def test_the_command_line_loads_neither_ray_nor_the_solver_for_help():
+    import subprocess
+    import sys
+
+    code = ("import sys; import patternfit.cli.main; "
+            "print(sorted(m for m in ('ray', 'patternfit.api', 'patternfit.batch') "
+            "if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "[]"
+
+
+def test_without_ray_the_batch_says_how_to_get_it(monkeypatch):
+    import sys
+
+    from patternfit.batch import RAY_MISSING, start_ray
+
+    monkeypatch.setitem(sys.modules, "ray", None)
+    with pytest.raises(ImportError, match=r"patternfit\[batch\].*--workers 0") as info:
+        start_ray(2, None)
+    assert str(info.value) == RAY_MISSING
