@@ -14,6 +14,7 @@ Lengths are metres, times seconds inside; pattern files state their own units.
 from __future__ import annotations
 
 import time
+from fnmatch import fnmatchcase
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -21,12 +22,15 @@ from typing import Callable
 import numpy as np
 
 from .body.builtin import list_bodies, load_body
-from .body.mesh_io import BodyMeshError, load_body_mesh
+from .body.mesh_io import HEIGHT_RANGE, BodyMeshError, load_body_mesh
 from .body.model import Body
 from .body.sdf import DistanceField
+from .body.builtin import list_body_sets
+from .body.anny import anny_body_from_girths
+from .arguments import number
 from .defaults import DEFAULTS, Defaults
 from .errors import InputError
-from .fit.measures import FitMeasures, fit_measures
+from .fit.measures import GIRTHS, FitMeasures, fit_measures
 from .fit.metrics import FitEvaluator, FitResult
 from .fit.outputs import write_fit_outputs
 from .edit import add_seam, grade, remove_seam, set_seam_ease
@@ -43,6 +47,7 @@ from .pattern.library import GARMENTS, build
 from .pattern.model import Pattern, Seam
 from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
+from .pattern.sizes import SIZE_NAMES
 from .sim.drape import Drape, drape
 from .sim.fabrics import FABRICS, Fabric, FabricError, get_fabric
 from .sim.newton_engine import drape_with
@@ -50,18 +55,24 @@ from .sim.placement import place_on_body, place_on_cylinders
 from .sim.solver import SolverSettings
 
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
-           "DesignSession", "FabricError", "FitOutcome", "InputError", "PatternError",
-           "SeamSuggestion", "accept_seams", "add_seam", "check_sewn", "correct",
-           "correct_design", "design_session", "drafted_too_small", "drape_and_evaluate",
-           "evaluate_saved", "list_bodies", "list_fabrics", "list_garments", "mesh_garment",
-           "place_and_evaluate", "placed_fitting_ratio", "read_body", "read_fabric",
+           "DesignSession", "FabricError", "FitOutcome", "GIRTHS", "InputError", "PatternError",
+           "SeamSuggestion", "SolverSettings", "accept_seams", "add_seam",
+           "body_from_measurements", "check_sewn", "correct", "correct_design", "design_session",
+           "drafted_too_small", "drape_and_evaluate", "evaluate_saved", "list_bodies",
+           "list_body_sets", "list_fabrics", "list_garments", "list_sizes", "mesh_garment",
+           "place_and_evaluate", "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric",
            "read_pattern", "remove_seam", "save_any_pattern", "save_garment", "seam_table",
-           "set_seam_ease", "suggest_seams", "write_pattern"]
+           "set_seam_ease", "suggest_seams", "with_distance_field", "write_pattern"]
 
 
 def list_garments() -> list[str]:
     """Names of the built-in garments."""
     return list(GARMENTS)
+
+
+def list_sizes() -> list[str]:
+    """Names of the sizes every built-in garment is drafted in (S, M, L, XL)."""
+    return list(SIZE_NAMES)
 
 
 def list_fabrics() -> list[str]:
@@ -154,6 +165,76 @@ def read_body(source: Body | str | Path, *, units: str | None = None) -> Body:
     except ValueError:
         raise BodyMeshError(f"neither a built-in body ({', '.join(list_bodies())}) nor a "
                             "mesh file", file=str(source)) from None
+
+
+#: suffixes of the body meshes :func:`read_bodies` takes from a folder
+BODY_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf", ".npz")
+
+
+def read_bodies(spec: str | Path, *, units: str | None = None) -> list[Body]:
+    """Several bodies: a folder (every body mesh in it, :data:`BODY_SUFFIXES`, sorted by
+    name), or comma-separated items, each a body set (:func:`list_body_sets`, such as
+    ``population``), a body name or alias, a shell pattern over the names of every set
+    (``women_*``) or a mesh file.
+
+    Returns the bodies in order, each once. Raises :class:`BodyMeshError` naming the item
+    that is none of these, or a folder without body meshes, and ``ValueError`` when two
+    bodies share a name (a batch tells its rows apart by it)."""
+    path = Path(str(spec))
+    if path.is_dir():
+        files = sorted(p for p in path.iterdir() if p.suffix.lower() in BODY_SUFFIXES)
+        if not files:
+            raise BodyMeshError(f"holds no body mesh ({', '.join(BODY_SUFFIXES)})", file=path)
+        bodies = [read_body(p, units=units) for p in files]
+    else:
+        sets = list_body_sets()
+        known = sorted({n for members in sets.values() for n in members})
+        names: list = []
+        for item in (s.strip() for s in str(spec).split(",")):
+            if not item:
+                raise BodyMeshError("an empty body name in the list", file=str(spec))
+            if item in sets:
+                names += sets[item]
+            elif any(c in item for c in "*?["):
+                hits = [n for n in known if fnmatchcase(n, item)]
+                if not hits:
+                    raise BodyMeshError(f"no body name matches; known: {', '.join(known)}",
+                                        file=item)
+                names += hits
+            else:
+                names.append(item)
+        bodies = [read_body(n, units=units) for n in dict.fromkeys(names)]
+    seen: dict[str, int] = {}
+    for b in bodies:
+        seen[b.name] = seen.get(b.name, 0) + 1
+    twice = sorted(n for n, k in seen.items() if k > 1)
+    if twice:
+        raise ValueError(f"bodies: two bodies named {', '.join(twice)}; rename the files")
+    return bodies
+
+
+def body_from_measurements(*, gender: float, height: float, bust: float, waist: float,
+                           hip: float, name: str = "custom") -> Body:
+    """An anny body (the optional extra ``patternfit[anny]``) of ``height`` [m] whose bust
+    (chest), waist and hip girths [m] add up to the given ones; ``gender`` 0 = male,
+    1 = female. Its own girths, in ``measurements``, differ from the given ones by a few
+    centimetres (:func:`patternfit.body.anny.anny_body_from_girths` says why). About 7
+    anny bodies are built on the way (a minute on a laptop CPU).
+
+    Raises ``ValueError`` naming a measurement out of range, ``ImportError`` saying how to
+    install anny when it is missing."""
+    number(height, "height", low=HEIGHT_RANGE[0], high=HEIGHT_RANGE[1], unit="m",
+           rule=f"expected a standing height in metres within {list(HEIGHT_RANGE)}")
+    return anny_body_from_girths(gender=gender, stature=height, bust=bust, waist=waist,
+                                 hip=hip, name=name)
+
+
+def with_distance_field(body: Body) -> Body:
+    """``body`` with the distance field that the drape, the placement and the fit measures
+    use computed and kept on it, so that a copy sent to another process (pickled, as a
+    batch shares it) carries the field instead of building it again. Returns ``body``."""
+    body.distance_field()
+    return body
 
 
 def read_fabric(source: Fabric | str | Path) -> Fabric:

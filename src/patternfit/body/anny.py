@@ -118,3 +118,45 @@ def anny_body(*, gender: float = 0.5, weight: float = 0.5, muscle: float = 0.5,
                        "assets (CC0)", phenotype=values, pose="A-pose, straight elbows",
                 frame="metres, Y up, facing +Z, left +X, feet on y = 0")
     return Body(v, faces, name=name, measurements=meas, landmarks=lm, meta=meta)
+
+
+#: bisection steps on anny's weight (0-1) in :func:`anny_body_from_girths`: 2^-7 of the
+#: range, under a centimetre of girth
+GIRTH_STEPS = 7
+#: the relative miss of bust + waist + hip beyond which the body is widened (or narrowed)
+GIRTH_MISS = 0.02
+
+
+def anny_body_from_girths(*, gender: float, stature: float, bust: float, waist: float,
+                          hip: float, name: str = "custom") -> Body:
+    """An anny body of ``stature`` [m] whose bust (chest) + waist + hip [m] add up to the
+    given ones: anny's weight is searched by bisection (muscle and proportions at 0.5);
+    where its range ends first (at weight 1 anny's women have a waist of about 0.75 m) the body
+    is widened, x and z scaled about its waist axis, which scales every horizontal girth by
+    one factor (``meta["widened"]``). One parameter and a scale cannot hit three girths:
+    the body's own girths are in its ``measurements`` and differ from the given ones by a
+    few centimetres."""
+    number(gender, "gender", low=0.0, high=1.0)
+    for key, x in dict(bust=bust, waist=waist, hip=hip).items():
+        number(x, key, low=0.4, high=2.5, unit="m", rule="expected a girth in metres "
+               "within [0.4, 2.5]")
+    target = bust + waist + hip
+
+    def girths(b):
+        return b.measurements["bust"] + b.measurements["waist"] + b.measurements["hip"]
+
+    lo, hi, body = 0.0, 1.0, None
+    for _ in range(GIRTH_STEPS):
+        weight = 0.5 * (lo + hi)
+        body = anny_body(name=name, gender=gender, weight=weight, muscle=0.5, stature=stature)
+        lo, hi = (weight, hi) if girths(body) < target else (lo, weight)
+    scale = target / girths(body)
+    if abs(scale - 1.0) <= GIRTH_MISS:
+        return body
+    v = body.vertices.copy()
+    axis = body.landmarks["waist"][[0, 2]]
+    v[:, [0, 2]] = axis + scale * (v[:, [0, 2]] - axis)
+    v = v.astype(np.float32).astype(np.float64)  # stored as float32: measure that
+    meas, lm = measure(v, body.faces)
+    return Body(v, body.faces, name=name, measurements=meas, landmarks=lm,
+                meta={**body.meta, "widened": round(float(scale), 4)})

@@ -2,7 +2,9 @@
 
 Six anny bodies: ``female_thin``, ``female_average``, ``female_heavy``, ``male_thin``,
 ``male_average``, ``male_heavy``, and the paper's names as aliases ("fat man", "thin woman",
-"thin man"). Provenance and licence: ``docs/bodies.md``.
+"thin man"); and body sets in sub-folders, such as ``population`` (women's and men's bodies
+spanning a size chart, XS to XXL, for fitting a size range). Provenance and licence:
+``docs/bodies.md``.
 """
 
 from __future__ import annotations
@@ -29,9 +31,45 @@ def _dir():
     return files("patternfit") / "data" / "bodies"
 
 
+#: size words a body set's names may end with (``women_xs``), listed in this order
+_SIZE_WORDS = ("xxs", "xs", "s", "m", "l", "xl", "xxl", "xxxl")
+
+
+def _in_size_order(name: str):
+    stem, _, size = name.rpartition("_")
+    return (stem, _SIZE_WORDS.index(size), "") if size in _SIZE_WORDS else (name, -1, name)
+
+
+def _names(folder) -> list[str]:
+    """The bodies in ``folder`` by name, a common stem's sizes from small to large."""
+    return sorted((p.name[:-4] for p in folder.iterdir() if p.name.endswith(".npz")),
+                  key=_in_size_order)
+
+
 def list_bodies() -> list[str]:
-    """Names of the built-in bodies, sorted."""
-    return sorted(p.name[:-4] for p in _dir().iterdir() if p.name.endswith(".npz"))
+    """Names of the built-in bodies, sorted (not those of the body sets)."""
+    return _names(_dir())
+
+
+def list_body_sets() -> dict[str, list[str]]:
+    """The body sets: set name -> names of its bodies, sorted (sizes from small to large:
+    ``women_xs``, ``women_s``...); ``"builtin"`` is
+    :func:`list_bodies`, every other set is a sub-folder of the shipped bodies."""
+    sets = {"builtin": list_bodies()}
+    for p in sorted(_dir().iterdir(), key=lambda p: p.name):
+        if p.is_dir() and _names(p):
+            sets[p.name] = _names(p)
+    return sets
+
+
+def _resource(canon: str):
+    """The shipped file of body ``canon``: a built-in, else a member of a body set."""
+    res = _dir() / f"{canon}.npz"
+    if not res.is_file():
+        for name, members in list_body_sets().items():
+            if name != "builtin" and canon in members:
+                return _dir() / name / f"{canon}.npz"
+    return res
 
 
 def _canonical(name: str) -> str:
@@ -40,17 +78,20 @@ def _canonical(name: str) -> str:
 
 
 def load_body(name: str) -> Body:
-    """The built-in body ``name`` (or an alias such as ``"fat man"``).
+    """The built-in body ``name`` (or an alias such as ``"fat man"``), or a body of a body
+    set (:func:`list_body_sets`).
 
     Returns a :class:`Body` with vertices (n, 3) [m], Y up, feet on y = 0, facing +Z, and its
     stored measurements [m] and landmarks [m]. Raises ``ValueError`` naming the known bodies
     when ``name`` is not one of them.
     """
     canon = _canonical(name)
-    res = _dir() / f"{canon}.npz"
+    res = _resource(canon)
     if not res.is_file():
+        sets = [s for s in list_body_sets() if s != "builtin"]
         raise ValueError(f"name: no built-in body {name!r}; known: {', '.join(list_bodies())} "
-                         f"(aliases: {', '.join(sorted(ALIASES))})")
+                         f"(aliases: {', '.join(sorted(ALIASES))}; body sets: "
+                         f"{', '.join(sets) or 'none'}, listed by `patternfit bodies --set`)")
     with as_file(res) as path:
         return read_body(path, name=canon)
 

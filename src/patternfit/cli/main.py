@@ -11,6 +11,7 @@ from . import studio  # noqa: F401
 from . import loop  # noqa: F401
 from . import fabric  # noqa: F401
 from . import seams  # noqa: F401
+from . import batch  # noqa: F401
 from .app import app
 
 __all__ = ["app"]

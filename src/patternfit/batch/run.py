@@ -1,0 +1,93 @@
+"""A batch from start to end: the tasks of a pattern over sizes × bodies × fabrics, run on Ray
+(or in this process), each row written as it arrives, then Parquet and the fit matrix."""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from ..api import (DEFAULTS, list_garments, list_sizes, read_bodies, read_fabric,
+                   read_pattern)
+from ..arguments import number
+from .cluster import run_local, run_on_ray
+from .matrix import write_matrix
+from .rows import ResultLog, plan
+from .work import Inputs, TaskOptions
+
+
+def parse_sizes(sizes: str, pattern: str) -> list[str]:
+    """``"S,M,L"`` or ``"all"`` (every size of a built-in garment) as a list. A pattern
+    file is drafted in one size: its list is that one label. Raises ``ValueError`` naming
+    ``--sizes``."""
+    built_in = pattern in list_garments()
+    if sizes.strip().lower() == "all":
+        if not built_in:
+            raise ValueError("--sizes: 'all' needs a built-in garment; a pattern file is "
+                             "drafted in one size: give its label, such as --sizes M")
+        return list_sizes()
+    out = [s.strip().upper() for s in sizes.split(",")]
+    if not all(out):
+        raise ValueError(f"--sizes: an empty size in {sizes!r}")
+    if built_in:
+        wrong = [s for s in out if s not in list_sizes()]
+        if wrong:
+            raise ValueError(f"--sizes: {', '.join(wrong)} not one of "
+                             f"{', '.join(list_sizes())} (or 'all')")
+    elif len(out) > 1:
+        raise ValueError("--sizes: a pattern file is drafted in one size; give one label")
+    return list(dict.fromkeys(out))
+
+
+def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
+              triangles: int = DEFAULTS.triangles, workers: int = 2,
+              address: str | None = None, resume: bool = False,
+              time_limit: float = DEFAULTS.time_limit, thumbnails: bool = True,
+              threshold: float = DEFAULTS.threshold, on_plan: Callable | None = None,
+              progress: Callable | None = None) -> dict:
+    """Drape ``pattern`` (a built-in garment or a pattern file) in every size of ``sizes``
+    on every body of ``bodies`` (see :func:`patternfit.api.read_bodies`) in every fabric of
+    ``fabrics`` (comma-separated presets or files), one task per (pattern, size, body,
+    fabric), and write into ``out``: ``results.csv`` (a row per task as it arrives),
+    ``results.parquet`` (with pyarrow), ``thumbs/``, ``matrix.png``, ``matrix.html``.
+
+    ``workers`` CPUs of a local Ray cluster (0: a plain loop in this process, no Ray), or
+    the cluster at ``address``; ``resume`` skips the tasks ``out`` already holds a row of;
+    ``time_limit`` is the solver's limit per drape [s]. ``on_plan(total, done)`` is called
+    once the tasks are known, ``progress(row)`` after each row. On KeyboardInterrupt the rows
+    written stay and the Parquet file and matrix are still written, then it propagates.
+
+    Returns ``{"tasks", "skipped", "rows", "failed", "files", "lines"}``.
+    """
+    number(workers, "--workers", low=0, integer=True)
+    number(time_limit, "--time-limit", low=0.0, low_open=True, unit="s")
+    size_list = parse_sizes(sizes, pattern)
+    fabric_list = list(dict.fromkeys(f.strip() for f in fabrics.split(",")))
+    # read here, once: the workers get objects, not files (they may be other machines)
+    inputs = Inputs({}, {(pattern, s): read_pattern(pattern, size=s) for s in size_list},
+                    {f: read_fabric(f) for f in fabric_list})
+    body_list = read_bodies(bodies)
+    tasks = plan([pattern], size_list, [b.name for b in body_list], fabric_list)
+    log = ResultLog(out, resume=resume)
+    done = log.done()
+    todo = [t for t in tasks if t not in done]
+    if on_plan:
+        on_plan(len(tasks), len(tasks) - len(todo))
+    options = TaskOptions(triangles=triangles, time_limit=float(time_limit),
+                          thumbnails=thumbnails)
+    needed = {t.body for t in todo}
+    inputs.bodies.update((b.name, b) for b in body_list if b.name in needed)
+    try:
+        if todo and workers == 0 and not address:
+            run_local(todo, inputs, log, options, progress=progress)
+        elif todo:
+            run_on_ray(todo, inputs, log, options, workers=max(workers, 1), address=address,
+                       progress=progress)
+    finally:  # also after Ctrl-C: the rows so far in Parquet and in the matrix
+        files = {"csv": log.path, "parquet": log.write_parquet()}
+        matrix = write_matrix(out, log.rows, threshold, tasks=tasks) if log.rows \
+            else None
+    if matrix:
+        files |= {"png": matrix["png"], "html": matrix["html"]}
+    return {"tasks": len(tasks), "skipped": len(tasks) - len(todo), "rows": len(log.rows),
+            "failed": sum(r["status"] != "ok" for r in log.rows), "files": files,
+            "lines": matrix["lines"] if matrix else []}
+

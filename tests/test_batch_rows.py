@@ -1,0 +1,165 @@
+"""The batch's bookkeeping without Ray: the plan, the result rows appended and read back to
+resume (a partial last line from a killed batch dropped), the matrix and its one-line
+answers, and a task whose drape raises becoming a failed row."""
+
+from __future__ import annotations
+
+import csv
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from patternfit.batch import (COLUMNS, Inputs, ResultLog, Task, TaskOptions, parse_sizes,
+                              plan, read_rows, run_local, run_task, summary_lines,
+                              verdict_of, write_matrix)
+from patternfit.batch.rows import CSV_NAME, failed_row
+from patternfit.errors import InputError
+
+
+def _row(task, status="ok", ratio=0.97, **extra):
+    row = {**task._asdict(), "status": status, "fitting_ratio": ratio,
+           "fitting_ratio_symmetric": ratio, "checks_passed": status == "ok",
+           "seconds": 1.5, "worker": "host:1"}
+    return row | extra
+
+
+def test_the_plan_holds_every_4_tuple_once():
+    tasks = plan(["skirt"], ["S", "M", "S"], ["a", "b"], ["cotton", "denim"])
+    assert len(tasks) == 2 * 2 * 2 == len(set(tasks))
+    assert tasks[0] == Task("skirt", "S", "a", "cotton")
+    for bad in ("", " ", "two\nlines", "cr\r"):
+        with pytest.raises(ValueError, match="body: .* cannot name a task"):
+            plan(["skirt"], ["S"], ["a", bad], ["cotton"])
+
+
+def test_sizes_all_and_lists(tmp_path):
+    assert parse_sizes("all", "skirt") == ["S", "M", "L", "XL"]
+    assert parse_sizes("s, m", "skirt") == ["S", "M"]
+    with pytest.raises(ValueError, match="--sizes: XXXL"):
+        parse_sizes("M,XXXL", "skirt")
+    with pytest.raises(ValueError, match="one size"):
+        parse_sizes("all", str(tmp_path / "my.json"))
+
+
+def test_rows_survive_a_resume_and_a_killed_write(tmp_path):
+    log = ResultLog(tmp_path, resume=False)
+    done = plan(["skirt"], ["S", "M"], ["a"], ["cotton"])
+    log.append(_row(done[0], ease_hip_cm=4.25, reasons="line one\nline two, \"quoted\""))
+    log.append(_row(done[1], status="failed", ratio=None, failed_checks="on_body"))
+    # a batch killed in the middle of its third write leaves half a line
+    with open(tmp_path / CSV_NAME, "a") as fh:
+        fh.write("skirt,L,a,cot")
+    with pytest.raises(InputError, match="--resume"):
+        ResultLog(tmp_path, resume=False)
+    again = ResultLog(tmp_path, resume=True)
+    assert again.done() == set(done)
+    assert again.rows[0]["ease_hip_cm"] == 4.25 and again.rows[0]["fitting_ratio"] == 0.97
+    assert again.rows[0]["reasons"] == "line one line two, \"quoted\""
+    assert again.rows[1]["status"] == "failed" and again.rows[1]["fitting_ratio"] is None
+    assert again.rows[1]["checks_passed"] is False
+    # the partial line is gone from the file, the next row starts a line of its own
+    again.append(_row(Task("skirt", "L", "a", "cotton")))
+    with open(tmp_path / CSV_NAME, newline="") as fh:
+        lines = list(csv.reader(fh))
+    assert lines[0] == list(COLUMNS) and len(lines) == 4
+    assert all(len(line) == len(COLUMNS) for line in lines)
+    assert [r["size"] for r in read_rows(tmp_path / CSV_NAME)] == ["S", "M", "L"]
+
+
+def test_another_csv_is_refused_by_name(tmp_path):
+    (tmp_path / CSV_NAME).write_text("a,b,c\n1,2,3\n")
+    with pytest.raises(InputError, match="not a patternfit batch result"):
+        ResultLog(tmp_path, resume=True)
+    header = ",".join(COLUMNS)
+    (tmp_path / CSV_NAME).write_text(header + "\nskirt,S,a,cotton,ok\n")
+    with pytest.raises(InputError, match="line 2"):
+        read_rows(tmp_path / CSV_NAME)
+
+
+def _one_line(s: str) -> bool:
+    return bool(s.strip()) and " ".join(s.splitlines()) == s
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.text(min_size=1, max_size=12).filter(_one_line),
+                          st.text(max_size=40),
+                          st.floats(allow_nan=False, allow_infinity=False, width=32)),
+                min_size=1, max_size=6, unique_by=lambda t: t[0]))
+def test_any_text_round_trips(tmp_path_factory, items):
+    folder = tmp_path_factory.mktemp("rows")
+    log = ResultLog(folder, resume=True)
+    for task, (_, reason, ratio) in zip(plan(["skirt"], ["M"], [b for b, _, _ in items],
+                                             ["cotton"]), items):
+        log.append(_row(task, ratio=ratio, reasons=reason))
+    back = read_rows(folder / CSV_NAME)
+    assert [r["body"] for r in back] == [b for b, _, _ in items]
+    for r, (_, reason, ratio) in zip(back, items):
+        assert r["fitting_ratio"] == pytest.approx(ratio, rel=1e-5, abs=1e-30)
+        assert (r["reasons"] or "") == " ".join(reason.splitlines())
+
+
+def test_verdicts_and_one_line_per_size():
+    t = plan(["skirt"], ["S", "M"], ["a", "b", "c", "d"], ["cotton"])
+    rows = [_row(t[0], ratio=0.95, pressure_p99_kpa=1.9),
+            _row(t[1], ratio=0.80, ease_hip_cm=-2.0, ease_waist_cm=3.0),
+            _row(t[2], status="failed", failed_checks="on_body"),
+            _row(t[3], ratio=1.1, pressure_p99_kpa=8.2, ease_hip_cm=0.7, ease_waist_cm=2.0),
+            _row(t[4], verdict="too tight", ease_waist_cm=-1.0, pressure_p99_kpa=0.5),
+            _row(t[5], verdict="fits", pressure_p99_kpa=3.0), _row(t[6], verdict="fits"),
+            _row(t[7], status="failed", failed_checks="seams crossings", verdict="fits")]
+    # the drape's own verdict wins; without one, pressure p99 > 2 kPa is too tight, ϖ < 0.9
+    # tight; a failed drape is failed whatever it reads
+    assert [verdict_of(r) for r in rows] == ["fits", "tight", "failed", "too tight",
+                                             "too tight", "fits", "fits", "failed"]
+    assert summary_lines(rows) == [
+        "skirt in cotton, S: fits 1 of 4 bodies; tight on 1 at the hip; too tight on 1 at "
+        "the hip; failed on 1 (on_body 1)",
+        "skirt in cotton, M: fits 2 of 4 bodies; too tight on 1 at the waist; failed on 1 "
+        "(seams 1, crossings 1)"]
+
+
+def test_the_matrix_has_a_cell_per_task(tmp_path):
+    t = plan(["skirt"], ["S", "M"], ["a", "b"], ["cotton"])
+    rows = [_row(t[0]), _row(t[1], status="failed", failed_checks="seams", reasons="open")]
+    out = write_matrix(tmp_path, rows, tasks=t)
+    assert out["png"].stat().st_size > 1000
+    page = out["html"].read_text()
+    assert page.count("<td") == 4 and page.count("no result yet") == 2
+    assert "ϖ 97.0%" in page and "seams: open" in page
+    assert "ϖ" not in page.split("seams: open")[0].rsplit("<td", 1)[1]  # no ϖ on a failure
+
+
+def test_a_drape_that_raises_is_a_failed_row(tmp_path):
+    task = Task("skirt", "M", "female_average", str(tmp_path / "no_such_fabric.json"))
+    options = TaskOptions(triangles=300, time_limit=5.0)
+    row = run_task(task, "female_average", options)
+    assert row["status"] == "failed" and row["checks_passed"] is False
+    assert "FabricError" in row["reasons"] and "no_such_fabric" in row["reasons"]
+    log = ResultLog(tmp_path / "batch", resume=False)
+    run_local([task], Inputs({"female_average": "female_average"}, {}, {}), log, options)
+    assert [r["status"] for r in read_rows(log.path)] == ["failed"]
+    assert failed_row(task, "x")["failed_checks"] == "error"
+
+
+def test_the_command_line_loads_neither_ray_nor_the_solver_for_help():
+    import subprocess
+    import sys
+
+    code = ("import sys; import patternfit.cli.main; "
+            "print(sorted(m for m in ('ray', 'patternfit.api', 'patternfit.batch') "
+            "if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "[]"
+
+
+def test_without_ray_the_batch_says_how_to_get_it(monkeypatch):
+    import sys
+
+    from patternfit.batch import RAY_MISSING, start_ray
+
+    monkeypatch.setitem(sys.modules, "ray", None)
+    with pytest.raises(ImportError, match=r"patternfit\[batch\].*--workers 0") as info:
+        start_ray(2, None)
+    assert str(info.value) == RAY_MISSING
