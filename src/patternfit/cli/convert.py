@@ -8,7 +8,7 @@ from typing import Optional
 
 import typer
 
-from .app import app, console, print_json
+from .app import SIZE_HELP, app, console, print_json
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -26,12 +26,13 @@ def convert(
     units: str = typer.Option("m", "--units", help="Length unit of a patternfit JSON output "
                               "(m, cm, mm, in)."),
     paper: str = typer.Option("a4", "--paper", help="PDF tile paper: a4 or letter."),
+    size: Optional[str] = typer.Option(None, "--size", "-s", help=SIZE_HELP),
     json_out: bool = typer.Option(False, "--json", help="Print machine-readable results."),
 ) -> None:
     """Convert a sewing pattern between formats (lengths keep their true size)."""
     from .. import api
 
-    pattern = api.read_pattern(source)
+    pattern = api.read_pattern(source, size=size)
     written = api.save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
     suggested = pattern.meta.get("suggested_seams", [])
     warnings = pattern.meta.get("warnings", [])

@@ -183,7 +183,11 @@ def _document(pattern: Pattern) -> Drawing:
         else:
             pieces.append(piece_of(panel, size, notches))
     others = graded_pieces(meta)
-    rows = [pieces] + list(others.values())
+    order = [str(x) for x in meta.get("sizes", [])] if isinstance(meta.get("sizes"), list) else []
+    rows = [others[k] if k in others else pieces for k in order if k in others or k == size]
+    if pieces not in rows:  # the sizes list does not name the panels' size
+        rows.insert(0, pieces)
+    rows += [others[k] for k in others if k not in order]
     used: set[str] = set()
     y = 0.0
     for row in rows:
