@@ -148,7 +148,7 @@ def panels_from_piece(piece: RawPiece, name: str, *, prefer_sew: bool = True,
     foreign : the file comes from another tool (see :func:`.dxf_curves.loop_from_points`).
     """
     piece = unfolded(piece)
-    on_sew = bool(prefer_sew and piece.sew)
+    on_sew = bool(piece.sew and (prefer_sew or not piece.cut))
     ring = piece.sew[0] if on_sew else piece.cut[0]
     outline = loop_from_points(ring, piece.turns, "outline", "e", foreign=foreign)
     inner = tuple(loop_from_points(q, piece.turns, f"inner{k}", f"i{k}_e", foreign=foreign)
