@@ -411,3 +411,31 @@ def test_random_halves_unfold_to_the_mirrored_polyline(tmp_path, half, repeats, 
     assert abs(panel.area() - shoelace(full)) <= perimeter * tol.dxf_span
     poly = panel.outline.polygon(64)
     assert poly[:, 0].min() == pytest.approx(-poly[:, 0].max(), abs=tol.dxf_span)
+
+
+# -- bad input ------------------------------------------------------------------------------------
+def test_a_quantity_that_is_not_a_count_is_refused_naming_the_piece(tmp_path):
+    path = accumark(tmp_path / "q.dxf", [{"name": "CUFF", "quantity": "two", "runs": sleeve()}])
+    with pytest.raises(PatternError, match="Quantity: two") as info:
+        load_dxf(path)
+    assert info.value.file == str(path) and info.value.panel == "CUFF--0"
+
+
+def test_a_damaged_grade_in_a_pattern_file_is_refused_on_writing(tmp_path):
+    p = load_dxf(graded(accumark, tmp_path / "g.dxf"))
+    p.meta["grade"]["34"][0]["cut"] = [[0.0, 0.1, 0.2]]  # an odd number of coordinates
+    with pytest.raises(PatternError, match="graded size"):
+        save_dxf(p, tmp_path / "out.dxf")
+    assert not (tmp_path / "out.dxf").exists()
+
+
+def test_a_piece_with_only_a_sew_line_is_read_on_it(tmp_path):
+    doc = ezdxf.new("R12")
+    blk = doc.blocks.new("P")
+    blk.add_polyline2d([(0, 0), (200, 0), (200, 300), (0, 300)], close=True,
+                       dxfattribs={"layer": "14"})
+    doc.modelspace().add_blockref("P", (0, 0))
+    doc.saveas(tmp_path / "s.dxf")
+    for prefer in (True, False):
+        (panel,) = load_dxf(tmp_path / "s.dxf", prefer_sew=prefer).panels
+        assert panel.area() == pytest.approx(0.06) and panel.cut_line == ()
