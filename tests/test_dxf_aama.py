@@ -439,3 +439,18 @@ def test_a_piece_with_only_a_sew_line_is_read_on_it(tmp_path):
     for prefer in (True, False):
         (panel,) = load_dxf(tmp_path / "s.dxf", prefer_sew=prefer).panels
         assert panel.area() == pytest.approx(0.06) and panel.cut_line == ()
+
+
+def test_astm_variant_boundary_and_internal_line_layers(tmp_path):
+    doc = ezdxf.new("R12")
+    blk = doc.blocks.new("P")
+    blk.add_polyline2d([(0, 0), (200, 0), (200, 300), (0, 300)], close=True,
+                       dxfattribs={"layer": "84"})
+    blk.add_line((50, 50), (50, 250), dxfattribs={"layer": "85"})
+    blk.add_text("Piece Name: BACK", dxfattribs={"layer": "1"})
+    doc.modelspace().add_blockref("P", (0, 0))
+    doc.modelspace().add_text("Units: METRIC", dxfattribs={"layer": "1"})
+    doc.saveas(tmp_path / "astm.dxf")
+    (panel,) = load_dxf(tmp_path / "astm.dxf").panels
+    assert panel.name == "BACK" and panel.area() == pytest.approx(0.06)
+    assert np.allclose(panel.lines[0].points, [(0.05, 0.05), (0.05, 0.25)])

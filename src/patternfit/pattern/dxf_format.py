@@ -3,7 +3,8 @@ read into a :class:`RawPiece`, the file's points by meaning, in metres, nothing 
 
 A DXF-AAMA file is DXF R12 with one block per piece and size; inside a block, layers carry
 the meaning (ASTM D6673 numbering, :data:`LAYERS`). Piece text reads ``Piece Name: front``,
-``Size: M``, ``Quantity: 2``; the style text in the entities section carries ``Units:
+``Size: M``, ``Quantity: 2`` (the ASTM variant's layers 84 and 85, boundary and internal
+lines, are read as 1 and 8); the style text in the entities section carries ``Units:
 METRIC`` (millimetres) or ``Units: ENGLISH`` (inches) and ``Sample Size:`` (the base size).
 """
 
@@ -24,14 +25,16 @@ from .dxf_entities import (closed_loops, entity_name, entity_points, layer_of, w
 from ..geometry import polygon_area
 from .errors import PatternError
 
-__all__ = ["LAYERS", "RawPiece", "field", "file_scale", "read_document", "read_piece", "texts"]
+__all__ = ["ASTM_LAYERS", "LAYERS", "PIECE_LAYERS", "RawPiece", "field", "file_scale", "read_document", "read_piece", "texts"]
 
 #: ASTM D6673 layer numbers by meaning.
 LAYERS = {"boundary": 1, "turn_points": 2, "curve_points": 3, "notches": 4,
           "grade_reference": 5, "mirror": 6, "grain": 7, "internal": 8, "stripe": 9,
           "plaid": 10, "cutout": 11, "drill_holes": 13, "sew": 14, "annotation": 15}
+#: the ASTM D6673 variant's layers for the boundary and internal lines, read as AAMA's
+ASTM_LAYERS = {84: LAYERS["boundary"], 85: LAYERS["internal"]}
 #: layers whose closed loop makes a block a piece
-PIECE_LAYERS = (LAYERS["boundary"], LAYERS["sew"])
+PIECE_LAYERS = (LAYERS["boundary"], LAYERS["sew"], 84)
 _BINARY_DXF = b"AutoCAD Binary DXF\r\n\x1a\x00"
 _UNIT = {"METRIC": 0.001, "ENGLISH": 0.0254}
 _INSUNITS = {1: 0.0254, 2: 0.3048, 4: 0.001, 5: 0.01, 6: 1.0}
@@ -178,6 +181,7 @@ def read_piece(block, scale: float) -> RawPiece | None:
     for e in block:
         try:
             layer = layer_of(e)
+            layer = ASTM_LAYERS.get(layer, layer)
             if e.dxftype() == "POINT":
                 at = np.array(tuple(e.dxf.location)[:2]).reshape(1, 2) * scale
                 points.setdefault(layer, []).append(within_extent(at, e, where)[0])
