@@ -25,7 +25,8 @@ from .dxf_entities import (closed_loops, entity_name, entity_points, layer_of, w
 from ..geometry import polygon_area
 from .errors import PatternError
 
-__all__ = ["ASTM_LAYERS", "LAYERS", "PIECE_LAYERS", "RawPiece", "field", "file_scale", "read_document", "read_piece", "texts"]
+__all__ = ["ASTM_LAYERS", "LAYERS", "PIECE_LAYERS", "RawPiece", "field", "file_scale",
+           "read_document", "read_piece", "texts"]
 
 #: ASTM D6673 layer numbers by meaning.
 LAYERS = {"boundary": 1, "turn_points": 2, "curve_points": 3, "notches": 4,
@@ -91,7 +92,8 @@ def file_scale(doc, said: set[str], msp_texts: list[str], blocks) -> tuple[float
 
 
 def _points(a) -> list:
-    return np.asarray(a, dtype=np.float64).reshape(-1, 2).tolist()
+    # to the nanometre: every size of a graded style is kept in the pattern's JSON
+    return np.round(np.asarray(a, dtype=np.float64).reshape(-1, 2), 9).tolist()
 
 
 def _array(a) -> np.ndarray:
@@ -108,6 +110,8 @@ class RawPiece:
         open polylines (a closed one ends where it starts). drills : drill holes (layer 13).
         folds : mirror lines (layer 6), (2, 2) each. grain : the grain line's direction.
         name, size, quantity : the block's ``Piece Name:``, ``Size:``, ``Quantity:`` text.
+        ours : the block says ``Source: patternfit`` (drawn by our writer from a panel: its
+        edges end at its turn points and are not merged on reading).
     """
 
     block: str
@@ -123,6 +127,7 @@ class RawPiece:
     drills: np.ndarray = dc_field(default_factory=lambda: np.zeros((0, 2)))
     folds: list = dc_field(default_factory=list)
     grain: tuple[float, float] | None = None
+    ours: bool = False
 
     def to_json(self) -> dict:
         """The piece as JSON-able lists [m] (how a graded pattern keeps its other sizes)."""
@@ -133,7 +138,8 @@ class RawPiece:
                 "notches": [_points(q) for q in self.notches],
                 "lines": [_points(q) for q in self.lines], "drills": _points(self.drills),
                 "folds": [_points(q) for q in self.folds],
-                "grain": list(self.grain) if self.grain is not None else None}
+                "grain": list(self.grain) if self.grain is not None else None,
+                "ours": self.ours}
 
     @classmethod
     def from_json(cls, d: dict) -> "RawPiece":
@@ -147,7 +153,8 @@ class RawPiece:
                        [_array(q) for q in d.get("notches", [])],
                        [_array(q) for q in d.get("lines", [])], _array(d.get("drills", [])),
                        [_array(q) for q in d.get("folds", [])],
-                       None if grain is None else (float(grain[0]), float(grain[1])))
+                       None if grain is None else (float(grain[0]), float(grain[1])),
+                       d.get("ours") is True)
         except (KeyError, TypeError, ValueError, AttributeError) as exc:
             raise PatternError(f"a graded size's piece is malformed ({why(exc)})") from None
 
@@ -201,7 +208,8 @@ def read_piece(block, scale: float) -> RawPiece | None:
         return None
     words = texts(block)
     piece = RawPiece(block.name, field(words, "Piece Name"), field(words, "Size"),
-                     _quantity(field(words, "Quantity"), where))
+                     _quantity(field(words, "Quantity"), where),
+                     ours=field(words, "Source") == "patternfit")
     piece.cut = sorted(cut, key=lambda q: -abs(polygon_area(q)))
     piece.sew = sorted(sew, key=lambda q: -abs(polygon_area(q)))
     piece.cutouts = closed_loops(by_layer.get(LAYERS["cutout"], []))

@@ -8,7 +8,8 @@ stays within ``tol.dxf_sample`` of them; a turn point (layer 2) at every edge en
 points (layer 3) between; notches as 6 mm slits into the fabric (layer 4: the panel's own,
 else one at the middle of every seam side); internal lines (layer 8), drill holes (layer 13),
 inner loops as cut-outs (layer 11), the grain line (layer 7) and the piece text (``Piece
-Name``, ``Size``, ``Quantity``). A left/right pair (``meta["pairs"]``) whose right panel is
+Name``, ``Size``, ``Quantity``, and ``Source: patternfit``, which tells our reader to keep
+an edge between every two turn points). A left/right pair (``meta["pairs"]``) whose right panel is
 still the left one turned over is written once with ``Quantity: 2``.
 """
 
@@ -80,7 +81,7 @@ def piece_of(panel: Panel, size: str | None, notches: list[np.ndarray], *, name:
         cutouts=[p for p, _ in inner],
         turns=np.vstack([turns] + [t for _, t in inner]), notches=notches,
         lines=[np.asarray(ln.points) for ln in panel.lines],
-        drills=np.asarray(panel.drill_holes).reshape(-1, 2), grain=panel.grainline)
+        drills=np.asarray(panel.drill_holes).reshape(-1, 2), grain=panel.grainline, ours=True)
 
 
 def _block_name(name: str, used: set[str]) -> str:
@@ -138,6 +139,8 @@ def _add_piece(doc, piece: RawPiece, used: set[str], graded: bool):
         block.add_line(at(centre - half * g), at(centre + half * g), dxfattribs=layer("grain"))
     height = max(3.0, min(12.0, 0.03 * float(np.min(hi - lo)) * _MM))
     texts = [f"Piece Name: {name}", f"Size: {piece.size or ''}", f"Quantity: {piece.quantity}"]
+    if piece.ours:  # read back edge by edge; other sizes kept from another tool are not
+        texts.append("Source: patternfit")
     for k, text in enumerate(texts):
         block.add_text(text, dxfattribs={**layer("boundary"), "height": height,
                                          "insert": at(centre + (0.02, -0.02 - 0.02 * k))})
