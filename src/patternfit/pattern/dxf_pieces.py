@@ -34,7 +34,8 @@ def _reflect(p: np.ndarray, a: np.ndarray, d: np.ndarray) -> np.ndarray:
 def _unfold_loop(loop: np.ndarray, a: np.ndarray, d: np.ndarray, block: str
                  ) -> tuple[np.ndarray, list[np.ndarray]]:
     """A closed half outline (k, 2) whose side along the fold line (through ``a`` along
-    ``d``) is replaced by its mirror image; and the two points where the halves join."""
+    ``d``) is replaced by its mirror image; and the points where the halves join smoothly
+    (no corner over 25° there)."""
     off = np.abs((loop - a) @ np.array([-d[1], d[0]]))
     on = off < tol.dxf_fit
     n = len(loop)
@@ -59,7 +60,9 @@ def _unfold_loop(loop: np.ndarray, a: np.ndarray, d: np.ndarray, block: str
     s, e = (start + best[0]) % n, (start + best[1]) % n
     half = np.roll(loop, -e, axis=0)[: (s - e) % n + 1]  # from the fold's end round to its start
     full = np.vstack([half, _reflect(half, a, d)[::-1][1:-1]])
-    return full, [half[0], half[-1]]
+    sharp = set(corners(full))
+    smooth = [i for i in (0, len(half) - 1) if i not in sharp]
+    return full, [full[i] for i in smooth]
 
 
 def unfolded(piece: RawPiece) -> RawPiece:
@@ -81,9 +84,8 @@ def unfolded(piece: RawPiece) -> RawPiece:
     cut, sew, joins = [], [], []
     for src, dst in ((piece.cut[:1], cut), (piece.sew[:1], sew)):
         for loop in src:
-            full, ends = _unfold_loop(loop, a, d, piece.block)
-            smooth = set(range(len(full))) - set(corners(full))
-            joins += [q for q in ends if any(np.allclose(full[i], q) for i in smooth)]
+            full, smooth = _unfold_loop(loop, a, d, piece.block)
+            joins += smooth
             dst.append(full)
     turns = dedupe_points(both(piece.turns))
     if joins and len(turns):
