@@ -463,3 +463,22 @@ def test_another_size_of_our_own_file_reads_as_the_original_and_skips_the_side_f
             [len(q.outline.edges) for q in b.panels]  # merged as another tool's file
         assert b.seams == () and any("describes size 36" in w for w in b.meta["warnings"])
     assert "warnings" not in load_dxf(out).meta
+
+
+def test_the_piece_limit_counts_the_blocks_of_one_size(tmp_path, monkeypatch):
+    import dataclasses
+
+    import patternfit.pattern.dxf as dxf
+
+    monkeypatch.setattr(dxf, "limits", dataclasses.replace(dxf.limits, panels=5))
+    square = [np.array([a, b]) for a, b in [((0, 0), (200, 0)), ((200, 0), (200, 300)),
+                                            ((200, 300), (0, 300)), ((0, 300), (0, 0))]]
+    blocks = [{"name": f"P{k}", "size": s, "runs": square} for s in SIZES for k in range(4)]
+    path = accumark(tmp_path / "many.dxf", blocks, sample="34")
+    p = load_dxf(path, size="38")  # 12 blocks, 4 a size: within the limit of 5 panels
+    assert len(p.panels) == 4 and p.meta["size"] == "38"
+    blocks += [{"name": "P9", "size": "36", "runs": square},
+               {"name": "ALL", "runs": square}]  # no size: in every size
+    accumark(path, blocks, sample="34")
+    with pytest.raises(PatternError, match="6 blocks with a boundary in size 36"):
+        load_dxf(path)

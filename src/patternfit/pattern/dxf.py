@@ -18,6 +18,7 @@ Everything inside is metres.
 from __future__ import annotations
 
 import json
+from collections import Counter
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -104,11 +105,15 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None)
     # pieces we drew from panels keep an edge between every two turn points (exact round
     # trip); files written before blocks said so are ours throughout
     author_ours = (field(msp_texts, "Author") or "") == "patternfit"
-    # count the blocks that can be pieces before fitting any
-    drawn = sum(any(layer_of(e) in PIECE_LAYERS for e in b) for b in blocks)
-    if drawn > limits.panels:
-        raise PatternError(f"the DXF has {drawn} blocks with a boundary, more than the limit "
-                           f"of {limits.panels} panels")
+    # count the blocks that can be pieces, per size, before reading or fitting any
+    drawn = Counter(field(texts(b), "Size") or None for b in blocks
+                    if any(layer_of(e) in PIECE_LAYERS for e in b))
+    every = drawn.pop(None, 0)  # blocks without a size are in every size
+    size_most, most = max(drawn.items(), key=lambda kv: kv[1], default=(None, 0))
+    if every + most > limits.panels:
+        where = f" in size {size_most}" if size_most is not None else ""
+        raise PatternError(f"the DXF has {every + most} blocks with a boundary{where}, more "
+                           f"than the limit of {limits.panels} panels")
     pieces = []
     for block in blocks:
         try:

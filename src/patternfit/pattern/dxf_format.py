@@ -207,7 +207,7 @@ def read_piece(block, scale: float) -> RawPiece | None:
     if not (cut or sew):
         return None
     words = texts(block)
-    piece = RawPiece(block.name, field(words, "Piece Name"), field(words, "Size"),
+    piece = RawPiece(block.name, field(words, "Piece Name"), field(words, "Size") or None,
                      _quantity(field(words, "Quantity"), where),
                      ours=field(words, "Source") == "patternfit")
     piece.cut = sorted(cut, key=lambda q: -abs(polygon_area(q)))
