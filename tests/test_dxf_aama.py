@@ -1,12 +1,13 @@
 """DXF-AAMA / ASTM D6673 reading rules, one per test, on files written here with ezdxf the
-way Gerber AccuMark and CLO write them (never with our writer).
+way Gerber AccuMark and CLO write them (our writer only where a test reads back what it
+wrote).
 
 AccuMark (``shared/AAMA-ASTM.md``): R12, one block per piece and size, the cut line a closed
 POLYLINE on layer 1 with every turn point repeated, turn points on layer 2, notches as short
 LINEs on layer 4, mirror line 6, grain line 7, internal lines 8, drill holes 13 (POINTs), sew
-line 14; piece text ``Piece Name:``, ``Size:``, ``Quantity:``; style text ``Style Name:``,
-``Sample Size:``, ``Grade Rule Table:``, ``UNITS: ENGLISH`` (inches). CLO: LWPOLYLINE in
-millimetres ($INSUNITS 4), curves as dense short segments, no turn points.
+line 14; piece text ``Piece Name:``, ``SIZE:``, ``QUANTITY:`` (keys in any case); style text
+``Style Name:``, ``Sample Size:``, ``Grade Rule Table:``, ``UNITS: ENGLISH`` (inches). CLO:
+LWPOLYLINE in millimetres ($INSUNITS 4), curves as dense short segments, no turn points.
 
 Areas are checked against the shoelace formula of the file's own polyline.
 """
@@ -107,8 +108,8 @@ def accumark(path, blocks, *, sample=None, scale=25.4, style="STYLE1", table=Non
             blk.add_point(tuple(np.asarray(d) / scale), dxfattribs={"layer": "13"})
         blk.add_line((100 / scale, 100 / scale), (100 / scale, 300 / scale),
                      dxfattribs={"layer": "7"})
-        texts = [f"Piece Name: {b['name']}", f"Quantity: {b.get('quantity', 1)}",
-                 "Category: SHELL"] + ([f"Size: {b['size']}"] if b.get("size") else [])
+        texts = [f"Piece Name: {b['name']}", f"QUANTITY: {b.get('quantity', 1)}",
+                 "Category: SHELL"] + ([f"SIZE: {b['size']}"] if b.get("size") else [])
         for j, t in enumerate(texts):
             blk.add_text(t, dxfattribs={"layer": "1", "insert": (2, 2 + j)})
         msp.add_blockref(blk.name, (k * 1000 / scale, 0))
