@@ -14,6 +14,8 @@ Areas are checked against the shoelace formula of the file's own polyline.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import ezdxf
 import numpy as np
 import pytest
@@ -327,8 +329,11 @@ def test_write_read_round_trip_keeps_everything(tmp_path):
     skirt, sleeve_l = p.panel("SKIRT"), p.panel("SLEEVE_L")
     seams = (Seam("cap", SeamSide("SLEEVE_L", sleeve_l.outline.edges[2].name),
                   SeamSide("SKIRT", skirt.outline.edges[2].name), ease=0.5),)
-    p = type(p)(p.name, p.panels, seams, p.meta)
+    v_notch = replace(skirt.notches[0], kind="v")  # a kind AAMA's layer 4 cannot say
+    p = type(p)(p.name, p.panels, seams, p.meta).with_panel(
+        replace(skirt, notches=(v_notch, *skirt.notches[1:])))
     back = load_dxf(save_dxf(p, tmp_path / "out.dxf"))
+    assert back.panel("SKIRT").notches[0].kind == "v"
     assert back.seams == p.seams and back.seams[0].ease == 0.5
     assert back.meta["sizes"] == p.meta["sizes"] and back.meta["size"] == "36"
     assert back.meta["pairs"] == p.meta["pairs"]
