@@ -87,9 +87,14 @@ def load_any_pattern(path, *, size: str | None = None) -> Pattern:
         pattern.meta.setdefault("source_format", "patternfit")
     has = pattern.meta.get("size")
     if size is not None and str(size).strip().upper() != str(has).strip().upper():
+        graded = pattern.meta.get("sizes")
+        others = [str(g) for g in graded if str(g) != str(has)] \
+            if isinstance(graded, list) else []
+        hint = (f" (its graded DXF's other sizes, {', '.join(others)}, are kept only to be "
+                "written back: read the DXF in that size)" if others else "")
         raise PatternError(f"no size '{size}' in the file: it holds one size"
-                           f"{f' ({has})' if has is not None else ''}; a size is picked from "
-                           "a built-in garment's sizes or a graded DXF's", file=path)
+                           f"{f' ({has})' if has is not None else ''}{hint}; a size is picked "
+                           "from a built-in garment's sizes or a graded DXF's", file=path)
     return pattern
 
 
