@@ -219,6 +219,9 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
         :func:`read_fabric`).
     triangles : int
         Target triangle count of the garment mesh.
+    size : str, optional
+        A built-in garment's size (default ``Defaults.size``) or a graded DXF's (default its
+        sample size); see :func:`read_pattern`.
     engine : str
         ``"static"`` (equilibrium, default) or ``"newton"`` (dynamic; optional extra).
     settings : SolverSettings, optional
