@@ -14,6 +14,7 @@ Areas are checked against the shoelace formula of the file's own polyline.
 
 from __future__ import annotations
 
+import json
 from dataclasses import replace
 
 import ezdxf
@@ -191,8 +192,11 @@ def test_size_picks_another_size_and_an_unknown_one_is_refused(tmp_path, writer)
 def test_size_on_the_command_line(tmp_path):
     path = graded(accumark, tmp_path / "g.dxf")
     runner = CliRunner()
-    out = runner.invoke(app, ["convert", str(path), str(tmp_path / "g38.json"), "--size", "38"])
+    out = runner.invoke(app, ["convert", str(path), str(tmp_path / "g38.json"), "--size", "38",
+                              "--json"])
     assert out.exit_code == 0, out.output
+    said = json.loads(out.output)
+    assert said["size"] == "38" and said["sizes"] == ["34", "36", "38"]
     p = api.read_pattern(tmp_path / "g38.json")
     assert p.meta["size"] == "38"
     assert p.panel("FRONT").area() == pytest.approx(shoelace(ring(half_front(1.06))) * MM**2,

@@ -39,12 +39,15 @@ def convert(
     result = {"source": str(source), "source_format": pattern.meta.get("source_format"),
               "pattern": pattern.name, "panels": [p.name for p in pattern.panels],
               "seams": len(pattern.seams), "suggested_seams": suggested,
-              "warnings": warnings, "written": [str(p) for p in written]}
+              "warnings": warnings, "written": [str(p) for p in written],
+              "size": pattern.meta.get("size"), "sizes": pattern.meta.get("sizes", [])}
     if json_out:
         print_json(result)
         return
+    graded = (f", size {result['size']} of {', '.join(map(str, result['sizes']))} (--size "
+              "for another)" if len(result["sizes"]) > 1 else "")
     console.print(f"read {source} ({result['source_format']}): {len(pattern.panels)} pieces, "
-                  f"{len(pattern.seams)} seams")
+                  f"{len(pattern.seams)} seams{graded}", highlight=False)
     for w in warnings:
         console.print(f"[yellow]warning:[/] {w}", highlight=False)
     if suggested:
