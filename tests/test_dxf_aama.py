@@ -172,7 +172,7 @@ def test_multi_size_file_is_one_pattern_in_the_sample_size(tmp_path, writer):
     assert set(p.meta["grade"]) == {"34", "38"}
     for panel, runs in zip(p.panels, (half_front(1.0), sleeve(1.0))):
         assert panel.area() == pytest.approx(shoelace(ring(runs)) * MM**2, rel=1e-3)
-    assert _min_angle(p) >= 24.0
+    assert _min_angle(p) >= 25.0 - 1e-6  # as asked
 
 
 @pytest.mark.parametrize("writer", [accumark, clo])
@@ -242,7 +242,7 @@ def test_mirror_line_unfolds_the_half_piece(tmp_path):
     assert d.max() < 5e-4
     for e in panel.outline.edges:
         assert not (abs(e.start[0]) < 1e-6 and abs(e.end[0]) < 1e-6), e
-    assert _min_angle(load_dxf(path)) >= 24.0
+    assert _min_angle(load_dxf(path)) >= 25.0 - 1e-6  # as asked
 
 
 def test_a_mirror_line_off_the_boundary_is_refused(tmp_path):
@@ -271,7 +271,7 @@ def test_cut_and_sew_line_both_kept_the_sew_line_is_the_outline(tmp_path):
     (panel,) = load_dxf(path).panels
     assert panel.area() == pytest.approx(0.3 * 0.5, rel=1e-6)
     assert shoelace(panel.cut_line) == pytest.approx(0.32 * 0.54, rel=1e-6)
-    assert _min_angle(load_dxf(path)) >= 24.0
+    assert _min_angle(load_dxf(path)) >= 25.0 - 1e-6  # as asked
     cut_only = load_dxf(path, prefer_sew=False).panels[0]
     assert cut_only.area() == pytest.approx(0.32 * 0.54, rel=1e-6) and cut_only.cut_line == ()
 
