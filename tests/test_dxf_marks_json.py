@@ -69,3 +69,13 @@ def test_bad_marks_are_refused_naming_the_panel(key, value, words):
     with pytest.raises(PatternError, match=words) as info:
         pattern_from_dict(d)
     assert info.value.panel == d["panels"][1]["name"]
+
+
+def test_a_notch_on_an_edge_the_panel_lost_is_refused_before_writing(tmp_path):
+    from patternfit.pattern import save_pattern
+
+    p = build("skirt", "M")
+    lost = p.with_panel(replace(p.panels[0], notches=(Notch("gone", 0.5),)))
+    with pytest.raises(PatternError, match="'gone'") as info:
+        save_pattern(lost, tmp_path / "p.json")
+    assert info.value.panel == p.panels[0].name and not (tmp_path / "p.json").exists()

@@ -341,7 +341,10 @@ def load_pattern(path) -> Pattern:
 
 
 def save_pattern(pattern: Pattern, path, *, units: str = "m") -> Path:
-    """Validate ``pattern`` and write it atomically to ``path`` in ``units``."""
+    """Validate ``pattern`` (its notches too: a file is written only if it reads back) and
+    write it atomically to ``path`` in ``units``."""
     check_pattern(pattern)
+    for panel in pattern.panels:
+        notches_from_json(notches_to_json(panel), panel)
     atomic_write_text(path, json.dumps(pattern_to_dict(pattern, units=units), indent=1) + "\n")
     return Path(path)
