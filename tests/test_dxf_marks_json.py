@@ -79,3 +79,8 @@ def test_a_notch_on_an_edge_the_panel_lost_is_refused_before_writing(tmp_path):
     with pytest.raises(PatternError, match="'gone'") as info:
         save_pattern(lost, tmp_path / "p.json")
     assert info.value.panel == p.panels[0].name and not (tmp_path / "p.json").exists()
+    from patternfit.pattern.dxf import save_dxf
+
+    with pytest.raises(PatternError, match="'gone'"):
+        save_dxf(lost, tmp_path / "p.dxf")
+    assert not (tmp_path / "p.dxf").exists()

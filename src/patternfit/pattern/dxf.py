@@ -35,8 +35,8 @@ from .dxf_pieces import copy_names, panels_from_piece
 from .dxf_write import dxf_text
 from .errors import PatternError
 from .formats import check_imported
-from .io import (json_field, json_point, json_vec3, notches_from_json, notches_to_json,
-                 seams_from_json, seams_to_json, shown)
+from .io import (check_notches, json_field, json_point, json_vec3, notches_from_json,
+                 notches_to_json, seams_from_json, seams_to_json, shown)
 from .model import Loop, Pattern, Placement, Seam, SeamSide
 from .validate import check_pattern
 
@@ -85,6 +85,7 @@ def save_dxf(pattern: Pattern, path, *, sidecar: bool = True) -> Path:
 
     Seams whose sides differ in length are allowed (:func:`formats.check_imported`)."""
     check_imported(pattern)  # seams of unequal length may come from elsewhere and go back
+    check_notches(pattern)
     atomic_write_text(path, dxf_text(pattern))
     if sidecar:
         atomic_write_text(sidecar_path(path), json.dumps(_sidecar(pattern), indent=1) + "\n")
