@@ -153,7 +153,7 @@ def _pairs(pattern: Pattern) -> dict[str, str]:
     pairs = pattern.meta.get("pairs") if isinstance(pattern.meta, dict) else None
     out: dict[str, str] = {}
     names = {p.name for p in pattern.panels}
-    for base, members in (pairs or {}).items():
+    for base, members in (pairs.items() if isinstance(pairs, dict) else ()):
         if not (isinstance(members, list) and len(members) == 2 and set(members) <= names):
             continue
         left, right = pattern.panel(members[0]), pattern.panel(members[1])
