@@ -146,7 +146,7 @@ class RawPiece:
         """The piece :meth:`to_json` wrote; a :class:`PatternError` when it is malformed."""
         try:
             grain = d.get("grain")
-            return cls(str(d["block"]), d.get("name"), d.get("size"), int(d.get("quantity", 1)),
+            piece = cls(str(d["block"]), d.get("name"), d.get("size"), int(d.get("quantity", 1)),
                        [_array(q) for q in d.get("cut", [])],
                        [_array(q) for q in d.get("sew", [])],
                        [_array(q) for q in d.get("cutouts", [])], _array(d.get("turns", [])),
@@ -157,6 +157,11 @@ class RawPiece:
                        d.get("ours") is True)
         except (KeyError, TypeError, ValueError, AttributeError) as exc:
             raise PatternError(f"a graded size's piece is malformed ({why(exc)})") from None
+        loops = piece.cut + piece.sew
+        if not loops or any(len(q) < 3 for q in loops + piece.cutouts):
+            raise PatternError(f"a graded size's piece '{piece.block}' has no closed line of "
+                               "3 points or more")
+        return piece
 
 
 def _quantity(text: str | None, where: dict) -> int:
