@@ -432,8 +432,9 @@ def test_a_quantity_that_is_not_a_count_is_refused_naming_the_piece(tmp_path):
 def test_a_damaged_grade_in_a_pattern_file_is_refused_on_writing(tmp_path):
     p = load_dxf(graded(accumark, tmp_path / "g.dxf"))
     p.meta["grade"]["34"][0]["cut"] = [[0.0, 0.1, 0.2]]  # an odd number of coordinates
-    with pytest.raises(PatternError, match="graded size"):
+    with pytest.raises(PatternError, match="graded size") as info:
         save_dxf(p, tmp_path / "out.dxf")
+    assert info.value.file == str(tmp_path / "out.dxf")
     assert not (tmp_path / "out.dxf").exists()
 
 

@@ -86,7 +86,11 @@ def save_dxf(pattern: Pattern, path, *, sidecar: bool = True) -> Path:
     Seams whose sides differ in length are allowed (:func:`formats.check_imported`)."""
     check_imported(pattern)  # seams of unequal length may come from elsewhere and go back
     check_notches(pattern)
-    atomic_write_text(path, dxf_text(pattern))
+    try:
+        text = dxf_text(pattern)
+    except PatternError as exc:  # the grade kept in meta is damaged
+        raise exc.located(path) from None
+    atomic_write_text(path, text)
     if sidecar:
         atomic_write_text(sidecar_path(path), json.dumps(_sidecar(pattern), indent=1) + "\n")
     return Path(path)
