@@ -80,21 +80,24 @@ def list_fabrics() -> list[str]:
     return list(FABRICS)
 
 
-def read_pattern(source: Pattern | str | Path, *, size: str = DEFAULTS.size) -> Pattern:
-    """A pattern: a :class:`Pattern` as is, a built-in garment name (in ``size``), or a file
-    in any format patternfit reads (patternfit JSON, GarmentCode JSON, DXF-AAMA).
+def read_pattern(source: Pattern | str | Path, *, size: str | None = None) -> Pattern:
+    """A pattern: a :class:`Pattern` as is, a built-in garment name (in ``size``, default
+    ``Defaults.size``), or a file in any format patternfit reads (patternfit JSON,
+    GarmentCode JSON, DXF-AAMA; ``size`` picks a size of a graded DXF, default its sample
+    size, see :func:`~patternfit.pattern.formats.load_any_pattern`).
 
-    Raises :class:`PatternError` naming the file and the place."""
+    Raises :class:`PatternError` naming the file and the place (a size the file does not
+    have: naming the sizes it has)."""
     if isinstance(source, Pattern):
         return source
     name = str(source)
     if name in GARMENTS:
-        return build(name, size)
+        return build(name, size or DEFAULTS.size)
     path = Path(name)
     if not (path.suffix or path.exists()):
         raise PatternError(f"neither a built-in garment ({', '.join(GARMENTS)}) nor a file",
                            file=name)
-    return load_any_pattern(path)
+    return load_any_pattern(path, size=size)
 
 
 def suggest_seams(pattern: Pattern | str | Path, *, size: str = DEFAULTS.size,
@@ -245,7 +248,7 @@ def read_fabric(source: Fabric | str | Path) -> Fabric:
 
 
 def mesh_garment(pattern: Pattern | str, *, triangles: int = DEFAULTS.triangles,
-                 size: str = DEFAULTS.size, **options) -> GarmentMesh:
+                 size: str | None = None, **options) -> GarmentMesh:
     """The garment mesh of ``pattern`` (a pattern, built-in name or file): every panel
     triangulated to about ``triangles`` triangles in all, seams matched."""
     return mesh_pattern(read_pattern(pattern, size=size), triangles=triangles, **options)
@@ -337,7 +340,7 @@ def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMea
 def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                        body: Body | str | Path = DEFAULTS.body,
                        fabric: Fabric | str | Path = DEFAULTS.fabric, *,
-                       triangles: int = DEFAULTS.triangles, size: str = DEFAULTS.size,
+                       triangles: int = DEFAULTS.triangles, size: str | None = None,
                        units: str | None = None, engine: str = "static",
                        settings: SolverSettings | None = None,
                        clearance: float = DEFAULTS.clearance, device: str | None = None,
@@ -354,6 +357,9 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
         :func:`read_fabric`).
     triangles : int
         Target triangle count of the garment mesh.
+    size : str, optional
+        A built-in garment's size (default ``Defaults.size``) or a graded DXF's (default its
+        sample size); see :func:`read_pattern`.
     engine : str
         ``"static"`` (equilibrium, default) or ``"newton"`` (dynamic; optional extra).
     settings : SolverSettings, optional
@@ -448,7 +454,7 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
 
 
 def place_and_evaluate(pattern: Pattern | str | Path = "coat", *, triangles: int = 22000,
-                       size: str = DEFAULTS.size, tight: float = DEFAULTS.tight,
+                       size: str | None = None, tight: float = DEFAULTS.tight,
                        loose: float = DEFAULTS.loose) -> FitOutcome:
     """Mesh ``pattern`` and place it isometrically (every panel rolled onto a cylinder), with
     its fit: ϖ is 100% and the map one neutral colour (the paper's Fig. 8(b))."""
@@ -471,7 +477,7 @@ def design_session(pattern: Pattern | str | Path = DEFAULTS.garment,
                    body: Body | str | Path = DEFAULTS.body,
                    fabric: Fabric | str | Path = DEFAULTS.fabric, *,
                    triangles: int = DEFAULTS.triangles, threshold: float = DEFAULTS.threshold,
-                   size: str = DEFAULTS.size, units: str | None = None,
+                   size: str | None = None, units: str | None = None,
                    relax: float = 1.0) -> DesignSession:
     """A :class:`DesignSession` (edits with the mesh following, undo/redo, drapes, save)
     of ``pattern`` on ``body`` in ``fabric``; see :func:`read_pattern`, :func:`read_body`,

@@ -80,6 +80,11 @@ def finite(value):
     return value
 
 
+#: help of every command's --size (a built-in garment's size, or a graded DXF's)
+SIZE_HELP = ("Size: of a built-in garment (S–XL, default M) or of a graded DXF file (default "
+             "its sample size).")
+
+
 def triangles_option(default, help: str = "Target triangle count."):
     """The ``--triangles``/``-n`` option of every command that meshes: 1 to
     ``limits.triangles``, so that a typo cannot ask for more memory than the machine has."""

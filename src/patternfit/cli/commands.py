@@ -13,7 +13,7 @@ import typer
 from rich.table import Table
 
 from ..defaults import DEFAULTS
-from .app import app, console, fail, finite, print_json, triangles_option
+from .app import SIZE_HELP, app, console, fail, finite, print_json, triangles_option
 from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
                    run_correction)
 
@@ -72,7 +72,7 @@ def mesh(
     triangles: int = triangles_option(DEFAULTS.mesh_triangles),
     min_angle: float = typer.Option(25.0, help="Minimum triangle angle [degrees].",
                                     callback=finite),
-    size: str = typer.Option(DEFAULTS.size, "--size", "-s", help="Size of a built-in garment."),
+    size: Optional[str] = typer.Option(None, "--size", "-s", help=SIZE_HELP),
     out: Path = Out,
     json_out: bool = Json,
 ) -> None:

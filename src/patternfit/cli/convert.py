@@ -8,7 +8,7 @@ from typing import Optional
 
 import typer
 
-from .app import app, console, print_json
+from .app import SIZE_HELP, app, console, print_json
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -26,24 +26,28 @@ def convert(
     units: str = typer.Option("m", "--units", help="Length unit of a patternfit JSON output "
                               "(m, cm, mm, in)."),
     paper: str = typer.Option("a4", "--paper", help="PDF tile paper: a4 or letter."),
+    size: Optional[str] = typer.Option(None, "--size", "-s", help=SIZE_HELP),
     json_out: bool = typer.Option(False, "--json", help="Print machine-readable results."),
 ) -> None:
     """Convert a sewing pattern between formats (lengths keep their true size)."""
     from .. import api
 
-    pattern = api.read_pattern(source)
+    pattern = api.read_pattern(source, size=size)
     written = api.save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
     suggested = pattern.meta.get("suggested_seams", [])
     warnings = pattern.meta.get("warnings", [])
     result = {"source": str(source), "source_format": pattern.meta.get("source_format"),
               "pattern": pattern.name, "panels": [p.name for p in pattern.panels],
               "seams": len(pattern.seams), "suggested_seams": suggested,
-              "warnings": warnings, "written": [str(p) for p in written]}
+              "warnings": warnings, "written": [str(p) for p in written],
+              "size": pattern.meta.get("size"), "sizes": pattern.meta.get("sizes", [])}
     if json_out:
         print_json(result)
         return
+    graded = (f", size {result['size']} of {', '.join(map(str, result['sizes']))} (--size "
+              "for another)" if len(result["sizes"]) > 1 else "")
     console.print(f"read {source} ({result['source_format']}): {len(pattern.panels)} pieces, "
-                  f"{len(pattern.seams)} seams")
+                  f"{len(pattern.seams)} seams{graded}", highlight=False)
     for w in warnings:
         console.print(f"[yellow]warning:[/] {w}", highlight=False)
     if suggested:

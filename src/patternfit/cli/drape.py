@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Optional
 
 import typer
 
 from ..defaults import DEFAULTS
-from .app import app, fail, finite, print_json, triangles_option
+from .app import SIZE_HELP, app, fail, finite, print_json, triangles_option
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
                    say_guessed_units)
 
@@ -22,8 +23,7 @@ def drape(
     pattern: str = typer.Option(DEFAULTS.garment, "--pattern", "-p",
                                 help="Built-in garment name or a pattern file (JSON, "
                                      "GarmentCode JSON, DXF)."),
-    size: str = typer.Option(DEFAULTS.size, "--size", "-s",
-                             help="Size of a built-in garment: S–XL."),
+    size: Optional[str] = typer.Option(None, "--size", "-s", help=SIZE_HELP),
     fabric: str = typer.Option(DEFAULTS.fabric, "--fabric", "-f",
                                help="Fabric preset name or a fabric JSON file."),
     triangles: int = triangles_option(DEFAULTS.triangles),

@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
+from typing import Optional
 
 import typer
 
 from ..defaults import DEFAULTS
-from .app import app, console, fail, finite, print_json, triangles_option
+from .app import SIZE_HELP, app, console, fail, finite, print_json, triangles_option
 from .show import exit_if_correction_failed, run_correction, say_guessed_units, show_iteration
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
@@ -27,8 +28,7 @@ def correct_command(
                                          "from its height when not given."),
     pattern: str = typer.Option(..., "--pattern", "-p",
                                 help="Built-in garment name or a pattern file."),
-    size: str = typer.Option(DEFAULTS.size, "--size", "-s",
-                             help="Size of a built-in garment: S–XL."),
+    size: Optional[str] = typer.Option(None, "--size", "-s", help=SIZE_HELP),
     fabric: str = typer.Option(DEFAULTS.fabric, "--fabric", "-f",
                                help="Fabric preset name or a fabric JSON file."),
     triangles: int = triangles_option(DEFAULTS.triangles),

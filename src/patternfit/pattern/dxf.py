@@ -18,6 +18,7 @@ Everything inside is metres.
 from __future__ import annotations
 
 import json
+from collections import Counter
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -34,8 +35,8 @@ from .dxf_pieces import copy_names, panels_from_piece
 from .dxf_write import dxf_text
 from .errors import PatternError
 from .formats import check_imported
-from .io import (json_field, json_point, json_vec3, notches_from_json, notches_to_json,
-                 seams_from_json, seams_to_json, shown)
+from .io import (check_notches, json_field, json_point, json_vec3, notches_from_json,
+                 notches_to_json, seams_from_json, seams_to_json, shown)
 from .model import Loop, Pattern, Placement, Seam, SeamSide
 from .validate import check_pattern
 
@@ -71,7 +72,9 @@ def _sidecar(pattern: Pattern) -> dict:
                                     for lp in p.inner],
                           "grainline": list(p.grainline), "placement": placement,
                           "notches": notches_to_json(p)}
+    size = pattern.meta.get("size") if isinstance(pattern.meta, dict) else None
     return {"format": SIDE_FORMAT, "version": 1, "units": "m", "name": pattern.name,
+            **({"size": str(size)} if size is not None else {}),
             "panels": panels, "seams": seams_to_json(pattern.seams)}
 
 
@@ -82,7 +85,12 @@ def save_dxf(pattern: Pattern, path, *, sidecar: bool = True) -> Path:
 
     Seams whose sides differ in length are allowed (:func:`formats.check_imported`)."""
     check_imported(pattern)  # seams of unequal length may come from elsewhere and go back
-    atomic_write_text(path, dxf_text(pattern))
+    check_notches(pattern)
+    try:
+        text = dxf_text(pattern)
+    except PatternError as exc:  # the grade kept in meta is damaged
+        raise exc.located(path) from None
+    atomic_write_text(path, text)
     if sidecar:
         atomic_write_text(sidecar_path(path), json.dumps(_sidecar(pattern), indent=1) + "\n")
     return Path(path)
@@ -99,13 +107,18 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None)
     blocks = [b for b in doc.blocks if not b.name.startswith("*")]
     scale, unit_says = file_scale(doc, said, msp_texts, blocks) if units is None else \
         (UNITS[units], f"units={units!r}")
-    # our own files keep an edge between every two turn points (exact round trip)
-    foreign = (field(msp_texts, "Author") or "") != "patternfit"
-    # count the blocks that can be pieces before fitting any
-    drawn = sum(any(layer_of(e) in PIECE_LAYERS for e in b) for b in blocks)
-    if drawn > limits.panels:
-        raise PatternError(f"the DXF has {drawn} blocks with a boundary, more than the limit "
-                           f"of {limits.panels} panels")
+    # pieces we drew from panels keep an edge between every two turn points (exact round
+    # trip); files written before blocks said so are ours throughout
+    author_ours = (field(msp_texts, "Author") or "") == "patternfit"
+    # count the blocks that can be pieces, per size, before reading or fitting any
+    drawn = Counter(field(texts(b), "Size") or None for b in blocks
+                    if any(layer_of(e) in PIECE_LAYERS for e in b))
+    every = drawn.pop(None, 0)  # blocks without a size are in every size
+    size_most, most = max(drawn.items(), key=lambda kv: kv[1], default=(None, 0))
+    if every + most > limits.panels:
+        where = f" in size {size_most}" if size_most is not None else ""
+        raise PatternError(f"the DXF has {every + most} blocks with a boundary{where}, more "
+                           f"than the limit of {limits.panels} panels")
     pieces = []
     for block in blocks:
         try:
@@ -119,6 +132,7 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None)
     if not pieces:
         raise PatternError("the DXF has no pattern pieces (no block with a closed boundary "
                            "on layer 1)")
+    marked = any(p.ours for p in pieces)
     sample = field(msp_texts, "Sample Size") or None
     chosen = pick_size(sizes_of(pieces), size, sample)
     panels, names, pairs = [], set(), {}
@@ -127,7 +141,8 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None)
         while any(n in names for n in copy_names(name, piece.quantity)):
             name += "_2"
         try:
-            made = panels_from_piece(piece, name, prefer_sew=prefer_sew, foreign=foreign)
+            ours = piece.ours or (author_ours and not marked)
+            made = panels_from_piece(piece, name, prefer_sew=prefer_sew, foreign=not ours)
         except PatternError:
             raise
         except Exception as exc:  # a fit that fails on damaged geometry, of whatever kind
@@ -282,8 +297,10 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
     """Read a DXF-AAMA file into a :class:`Pattern` [m].
 
     sidecar : side file with seams, edge names and placement; by default ``<name>.seams.json``
-        beside the DXF when it exists. Without one, ``meta["suggested_seams"]`` lists seams
-        offered by :func:`suggest_seams` and the pattern has none.
+        beside the DXF when it exists. It is applied to the size it was written with only
+        (another size is read without it, with a warning). Without one,
+        ``meta["suggested_seams"]`` lists seams offered by :func:`suggest_seams` and the
+        pattern has none.
     units : ``"mm"``, ``"cm"``, ``"in"`` or ``"m"`` to override the file's (``Units:`` style
         text, else ``$INSUNITS``, else millimetres).
     prefer_sew : the outline is the sew line (layer 14) where a piece has one, the cut line
@@ -309,8 +326,16 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
     except Exception as exc:  # ezdxf raises many kinds on a damaged file
         raise PatternError(f"cannot read DXF: {why(exc)}", file=path) from exc
     side_path = Path(sidecar) if sidecar is not None else sidecar_path(path)
-    if sidecar is not None or side_path.exists():
-        side = read_json_file(side_path, error=PatternError)
+    side = read_json_file(side_path, error=PatternError) \
+        if sidecar is not None or side_path.exists() else None
+    drawn_in = side.get("size") if isinstance(side, dict) else None
+    if drawn_in is not None and str(drawn_in) != str(pattern.meta.get("size")):
+        # the side file names the edges of the size it was written with
+        pattern.meta.setdefault("warnings", []).append(
+            f"{side_path.name} describes size {drawn_in}, not the size {pattern.meta.get('size')}"
+            " read: its seams, edge names and placement are not applied")
+        side = None
+    if side is not None:
         try:
             out = _with_sidecar(pattern, side)
             warnings = check_imported(out)

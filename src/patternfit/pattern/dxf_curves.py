@@ -68,8 +68,9 @@ def _densified(p: np.ndarray, step: float) -> np.ndarray:
     the next."""
     seg = np.diff(p, axis=0)
     n = np.maximum(1, np.ceil(np.linalg.norm(seg, axis=1) / step).astype(np.int64))
-    f = np.concatenate([np.arange(k) / k for k in n])
     idx = np.repeat(np.arange(len(seg)), n)
+    first = np.cumsum(n) - n  # where each segment's points start
+    f = (np.arange(int(n.sum())) - first[idx]) / n[idx]
     return np.vstack([p[idx] + f[:, None] * seg[idx], p[-1:]])
 
 

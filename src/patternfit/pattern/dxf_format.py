@@ -3,7 +3,8 @@ read into a :class:`RawPiece`, the file's points by meaning, in metres, nothing 
 
 A DXF-AAMA file is DXF R12 with one block per piece and size; inside a block, layers carry
 the meaning (ASTM D6673 numbering, :data:`LAYERS`). Piece text reads ``Piece Name: front``,
-``Size: M``, ``Quantity: 2``; the style text in the entities section carries ``Units:
+``Size: M``, ``Quantity: 2`` (the ASTM variant's layers 84 and 85, boundary and internal
+lines, are read as 1 and 8); the style text in the entities section carries ``Units:
 METRIC`` (millimetres) or ``Units: ENGLISH`` (inches) and ``Sample Size:`` (the base size).
 """
 
@@ -24,14 +25,17 @@ from .dxf_entities import (closed_loops, entity_name, entity_points, layer_of, w
 from ..geometry import polygon_area
 from .errors import PatternError
 
-__all__ = ["LAYERS", "RawPiece", "field", "file_scale", "read_document", "read_piece", "texts"]
+__all__ = ["ASTM_LAYERS", "LAYERS", "PIECE_LAYERS", "RawPiece", "field", "file_scale",
+           "read_document", "read_piece", "texts"]
 
 #: ASTM D6673 layer numbers by meaning.
 LAYERS = {"boundary": 1, "turn_points": 2, "curve_points": 3, "notches": 4,
           "grade_reference": 5, "mirror": 6, "grain": 7, "internal": 8, "stripe": 9,
           "plaid": 10, "cutout": 11, "drill_holes": 13, "sew": 14, "annotation": 15}
+#: the ASTM D6673 variant's layers for the boundary and internal lines, read as AAMA's
+ASTM_LAYERS = {84: LAYERS["boundary"], 85: LAYERS["internal"]}
 #: layers whose closed loop makes a block a piece
-PIECE_LAYERS = (LAYERS["boundary"], LAYERS["sew"])
+PIECE_LAYERS = (LAYERS["boundary"], LAYERS["sew"], 84)
 _BINARY_DXF = b"AutoCAD Binary DXF\r\n\x1a\x00"
 _UNIT = {"METRIC": 0.001, "ENGLISH": 0.0254}
 _INSUNITS = {1: 0.0254, 2: 0.3048, 4: 0.001, 5: 0.01, 6: 1.0}
@@ -88,7 +92,8 @@ def file_scale(doc, said: set[str], msp_texts: list[str], blocks) -> tuple[float
 
 
 def _points(a) -> list:
-    return np.asarray(a, dtype=np.float64).reshape(-1, 2).tolist()
+    # to the nanometre: every size of a graded style is kept in the pattern's JSON
+    return np.round(np.asarray(a, dtype=np.float64).reshape(-1, 2), 9).tolist()
 
 
 def _array(a) -> np.ndarray:
@@ -105,6 +110,8 @@ class RawPiece:
         open polylines (a closed one ends where it starts). drills : drill holes (layer 13).
         folds : mirror lines (layer 6), (2, 2) each. grain : the grain line's direction.
         name, size, quantity : the block's ``Piece Name:``, ``Size:``, ``Quantity:`` text.
+        ours : the block says ``Source: patternfit`` (drawn by our writer from a panel: its
+        edges end at its turn points and are not merged on reading).
     """
 
     block: str
@@ -120,6 +127,7 @@ class RawPiece:
     drills: np.ndarray = dc_field(default_factory=lambda: np.zeros((0, 2)))
     folds: list = dc_field(default_factory=list)
     grain: tuple[float, float] | None = None
+    ours: bool = False
 
     def to_json(self) -> dict:
         """The piece as JSON-able lists [m] (how a graded pattern keeps its other sizes)."""
@@ -130,23 +138,30 @@ class RawPiece:
                 "notches": [_points(q) for q in self.notches],
                 "lines": [_points(q) for q in self.lines], "drills": _points(self.drills),
                 "folds": [_points(q) for q in self.folds],
-                "grain": list(self.grain) if self.grain is not None else None}
+                "grain": list(self.grain) if self.grain is not None else None,
+                "ours": self.ours}
 
     @classmethod
     def from_json(cls, d: dict) -> "RawPiece":
         """The piece :meth:`to_json` wrote; a :class:`PatternError` when it is malformed."""
         try:
             grain = d.get("grain")
-            return cls(str(d["block"]), d.get("name"), d.get("size"), int(d.get("quantity", 1)),
+            piece = cls(str(d["block"]), d.get("name"), d.get("size"), int(d.get("quantity", 1)),
                        [_array(q) for q in d.get("cut", [])],
                        [_array(q) for q in d.get("sew", [])],
                        [_array(q) for q in d.get("cutouts", [])], _array(d.get("turns", [])),
                        [_array(q) for q in d.get("notches", [])],
                        [_array(q) for q in d.get("lines", [])], _array(d.get("drills", [])),
                        [_array(q) for q in d.get("folds", [])],
-                       None if grain is None else (float(grain[0]), float(grain[1])))
+                       None if grain is None else (float(grain[0]), float(grain[1])),
+                       d.get("ours") is True)
         except (KeyError, TypeError, ValueError, AttributeError) as exc:
             raise PatternError(f"a graded size's piece is malformed ({why(exc)})") from None
+        loops = piece.cut + piece.sew
+        if not loops or any(len(q) < 3 for q in loops + piece.cutouts):
+            raise PatternError(f"a graded size's piece '{piece.block}' has no closed line of "
+                               "3 points or more")
+        return piece
 
 
 def _quantity(text: str | None, where: dict) -> int:
@@ -178,6 +193,7 @@ def read_piece(block, scale: float) -> RawPiece | None:
     for e in block:
         try:
             layer = layer_of(e)
+            layer = ASTM_LAYERS.get(layer, layer)
             if e.dxftype() == "POINT":
                 at = np.array(tuple(e.dxf.location)[:2]).reshape(1, 2) * scale
                 points.setdefault(layer, []).append(within_extent(at, e, where)[0])
@@ -196,8 +212,9 @@ def read_piece(block, scale: float) -> RawPiece | None:
     if not (cut or sew):
         return None
     words = texts(block)
-    piece = RawPiece(block.name, field(words, "Piece Name"), field(words, "Size"),
-                     _quantity(field(words, "Quantity"), where))
+    piece = RawPiece(block.name, field(words, "Piece Name"), field(words, "Size") or None,
+                     _quantity(field(words, "Quantity"), where),
+                     ours=field(words, "Source") == "patternfit")
     piece.cut = sorted(cut, key=lambda q: -abs(polygon_area(q)))
     piece.sew = sorted(sew, key=lambda q: -abs(polygon_area(q)))
     piece.cutouts = closed_loops(by_layer.get(LAYERS["cutout"], []))

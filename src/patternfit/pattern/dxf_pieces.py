@@ -34,7 +34,8 @@ def _reflect(p: np.ndarray, a: np.ndarray, d: np.ndarray) -> np.ndarray:
 def _unfold_loop(loop: np.ndarray, a: np.ndarray, d: np.ndarray, block: str
                  ) -> tuple[np.ndarray, list[np.ndarray]]:
     """A closed half outline (k, 2) whose side along the fold line (through ``a`` along
-    ``d``) is replaced by its mirror image; and the two points where the halves join."""
+    ``d``) is replaced by its mirror image; and the points where the halves join smoothly
+    (no corner over 25° there)."""
     off = np.abs((loop - a) @ np.array([-d[1], d[0]]))
     on = off < tol.dxf_fit
     n = len(loop)
@@ -59,7 +60,9 @@ def _unfold_loop(loop: np.ndarray, a: np.ndarray, d: np.ndarray, block: str
     s, e = (start + best[0]) % n, (start + best[1]) % n
     half = np.roll(loop, -e, axis=0)[: (s - e) % n + 1]  # from the fold's end round to its start
     full = np.vstack([half, _reflect(half, a, d)[::-1][1:-1]])
-    return full, [half[0], half[-1]]
+    sharp = set(corners(full))
+    smooth = [i for i in (0, len(half) - 1) if i not in sharp]
+    return full, [full[i] for i in smooth]
 
 
 def unfolded(piece: RawPiece) -> RawPiece:
@@ -81,9 +84,8 @@ def unfolded(piece: RawPiece) -> RawPiece:
     cut, sew, joins = [], [], []
     for src, dst in ((piece.cut[:1], cut), (piece.sew[:1], sew)):
         for loop in src:
-            full, ends = _unfold_loop(loop, a, d, piece.block)
-            smooth = set(range(len(full))) - set(corners(full))
-            joins += [q for q in ends if any(np.allclose(full[i], q) for i in smooth)]
+            full, smooth = _unfold_loop(loop, a, d, piece.block)
+            joins += smooth
             dst.append(full)
     turns = dedupe_points(both(piece.turns))
     if joins and len(turns):
@@ -97,21 +99,29 @@ def unfolded(piece: RawPiece) -> RawPiece:
                    drills=dedupe_points(both(piece.drills)), folds=[])
 
 
+def _first_of_each(rows: np.ndarray) -> np.ndarray:
+    """Indices of the rows (k, d) [m] kept when every row within ``tol.dxf_repeat`` (in
+    each coordinate) of an earlier one is dropped."""
+    if len(rows) < 2:
+        return np.arange(len(rows))
+    pairs = cKDTree(rows).query_pairs(tol.dxf_repeat, p=np.inf, output_type="ndarray")
+    drop = np.zeros(len(rows), dtype=bool)
+    drop[pairs.max(axis=1) if len(pairs) else []] = True
+    return np.flatnonzero(~drop)
+
+
 def dedupe_points(p: np.ndarray) -> np.ndarray:
     """Points (k, 2) [m] without those within ``tol.dxf_repeat`` of an earlier one."""
-    keep: list[np.ndarray] = []
-    for q in np.asarray(p, dtype=np.float64).reshape(-1, 2):
-        if all(np.linalg.norm(q - k) >= tol.dxf_repeat for k in keep):
-            keep.append(q)
-    return np.array(keep).reshape(-1, 2)
+    p = np.asarray(p, dtype=np.float64).reshape(-1, 2)
+    return p[_first_of_each(p)]
 
 
 def _distinct(marks: list[np.ndarray]) -> list[np.ndarray]:
-    out: list[np.ndarray] = []
-    for m in marks:
-        if not any(np.allclose(m, o, atol=tol.dxf_repeat) for o in out):
-            out.append(m)
-    return out
+    """Notch marks ((2, 2) each) without repeats (a mark on the mirror line and its image)."""
+    if not marks:
+        return []
+    rows = np.array([np.asarray(m, dtype=np.float64).reshape(4) for m in marks])
+    return [marks[i] for i in _first_of_each(rows)]
 
 
 def mirrored(panel: Panel, name: str) -> Panel:
@@ -148,15 +158,16 @@ def panels_from_piece(piece: RawPiece, name: str, *, prefer_sew: bool = True,
     foreign : the file comes from another tool (see :func:`.dxf_curves.loop_from_points`).
     """
     piece = unfolded(piece)
-    on_sew = bool(prefer_sew and piece.sew)
+    on_sew = bool(piece.sew and (prefer_sew or not piece.cut))
     ring = piece.sew[0] if on_sew else piece.cut[0]
     outline = loop_from_points(ring, piece.turns, "outline", "e", foreign=foreign)
     inner = tuple(loop_from_points(q, piece.turns, f"inner{k}", f"i{k}_e", foreign=foreign)
                   for k, q in enumerate(piece.cutouts))
     cut = dedupe(piece.cut[0], closed=True) if on_sew and piece.cut else np.zeros((0, 2))
+    lines = [dedupe(q, closed=False) for q in piece.lines]
     panel = Panel(name, outline, inner, piece.grain or (0.0, 1.0),
-                  lines=tuple(InnerLine(f"line{k}", dedupe(q, closed=False))
-                              for k, q in enumerate(piece.lines) if len(dedupe(q, False)) >= 2),
+                  lines=tuple(InnerLine(f"line{k}", q) for k, q in enumerate(lines)
+                              if len(q) >= 2),
                   drill_holes=piece.drills, cut_line=cut)
     # marks on the cut line reach the sew line across the allowance
     allowance = 0.0

@@ -8,7 +8,8 @@ stays within ``tol.dxf_sample`` of them; a turn point (layer 2) at every edge en
 points (layer 3) between; notches as 6 mm slits into the fabric (layer 4: the panel's own,
 else one at the middle of every seam side); internal lines (layer 8), drill holes (layer 13),
 inner loops as cut-outs (layer 11), the grain line (layer 7) and the piece text (``Piece
-Name``, ``Size``, ``Quantity``). A left/right pair (``meta["pairs"]``) whose right panel is
+Name``, ``Size``, ``Quantity``, and ``Source: patternfit``, which tells our reader to keep
+an edge between every two turn points). A left/right pair (``meta["pairs"]``) whose right panel is
 still the left one turned over is written once with ``Quantity: 2``.
 """
 
@@ -80,7 +81,7 @@ def piece_of(panel: Panel, size: str | None, notches: list[np.ndarray], *, name:
         cutouts=[p for p, _ in inner],
         turns=np.vstack([turns] + [t for _, t in inner]), notches=notches,
         lines=[np.asarray(ln.points) for ln in panel.lines],
-        drills=np.asarray(panel.drill_holes).reshape(-1, 2), grain=panel.grainline)
+        drills=np.asarray(panel.drill_holes).reshape(-1, 2), grain=panel.grainline, ours=True)
 
 
 def _block_name(name: str, used: set[str]) -> str:
@@ -138,6 +139,8 @@ def _add_piece(doc, piece: RawPiece, used: set[str], graded: bool):
         block.add_line(at(centre - half * g), at(centre + half * g), dxfattribs=layer("grain"))
     height = max(3.0, min(12.0, 0.03 * float(np.min(hi - lo)) * _MM))
     texts = [f"Piece Name: {name}", f"Size: {piece.size or ''}", f"Quantity: {piece.quantity}"]
+    if piece.ours:  # read back edge by edge; other sizes kept from another tool are not
+        texts.append("Source: patternfit")
     for k, text in enumerate(texts):
         block.add_text(text, dxfattribs={**layer("boundary"), "height": height,
                                          "insert": at(centre + (0.02, -0.02 - 0.02 * k))})
@@ -150,7 +153,7 @@ def _pairs(pattern: Pattern) -> dict[str, str]:
     pairs = pattern.meta.get("pairs") if isinstance(pattern.meta, dict) else None
     out: dict[str, str] = {}
     names = {p.name for p in pattern.panels}
-    for base, members in (pairs or {}).items():
+    for base, members in (pairs.items() if isinstance(pairs, dict) else ()):
         if not (isinstance(members, list) and len(members) == 2 and set(members) <= names):
             continue
         left, right = pattern.panel(members[0]), pattern.panel(members[1])
@@ -183,7 +186,11 @@ def _document(pattern: Pattern) -> Drawing:
         else:
             pieces.append(piece_of(panel, size, notches))
     others = graded_pieces(meta)
-    rows = [pieces] + list(others.values())
+    order = [str(x) for x in meta.get("sizes", [])] if isinstance(meta.get("sizes"), list) else []
+    rows = [others[k] if k in others else pieces for k in order if k in others or k == size]
+    if pieces not in rows:  # the sizes list does not name the panels' size
+        rows.insert(0, pieces)
+    rows += [others[k] for k in others if k not in order]
     used: set[str] = set()
     y = 0.0
     for row in rows:

@@ -64,8 +64,12 @@ def sniff_format(path) -> str:
                        "{\"panels\": ...})", file=path)
 
 
-def load_any_pattern(path) -> Pattern:
+def load_any_pattern(path, *, size: str | None = None) -> Pattern:
     """Read a pattern from any supported file (see module doc); errors name file, panel, edge.
+
+    size : of a graded DXF, the size to read (default its sample size). A JSON file holds
+        one size: a ``size`` other than its ``meta["size"]`` is refused, as is a size a DXF
+        does not have, naming the file and the sizes it has.
 
     ``pattern.meta["source_format"]`` says which reader was used.
     """
@@ -73,13 +77,24 @@ def load_any_pattern(path) -> Pattern:
     if kind == "dxf":
         from .dxf import load_dxf
 
-        return load_dxf(path)
+        return load_dxf(path, size=size)
     if kind == "garmentcode":
         from .garmentcode import load_garmentcode
 
-        return load_garmentcode(path)
-    pattern = load_pattern(path)
-    pattern.meta.setdefault("source_format", "patternfit")
+        pattern = load_garmentcode(path)
+    else:
+        pattern = load_pattern(path)
+        pattern.meta.setdefault("source_format", "patternfit")
+    has = pattern.meta.get("size")
+    if size is not None and str(size).strip().upper() != str(has).strip().upper():
+        graded = pattern.meta.get("sizes")
+        others = [str(g) for g in graded if str(g) != str(has)] \
+            if isinstance(graded, list) else []
+        hint = (f" (its graded DXF's other sizes, {', '.join(others)}, are kept only to be "
+                "written back: read the DXF in that size)" if others else "")
+        raise PatternError(f"no size '{size}' in the file: it holds one size"
+                           f"{f' ({has})' if has is not None else ''}{hint}; a size is picked "
+                           "from a built-in garment's sizes or a graded DXF's", file=path)
     return pattern
 
 

@@ -178,6 +178,13 @@ def notches_from_json(raw: list, panel: Panel) -> tuple[Notch, ...]:
     return tuple(out)
 
 
+def check_notches(pattern: Pattern) -> None:
+    """A :class:`PatternError` naming the panel for a notch on an edge the panel does not
+    have or at ``t`` outside [0, 1] (an edit may have renamed or removed its edge)."""
+    for panel in pattern.panels:
+        notches_from_json(notches_to_json(panel), panel)
+
+
 def notches_to_json(panel: Panel) -> list[dict]:
     """The JSON list of the panel's notches."""
     return [{"edge": n.edge, "t": float(n.t), "kind": n.kind} for n in panel.notches]
@@ -341,7 +348,9 @@ def load_pattern(path) -> Pattern:
 
 
 def save_pattern(pattern: Pattern, path, *, units: str = "m") -> Path:
-    """Validate ``pattern`` and write it atomically to ``path`` in ``units``."""
+    """Validate ``pattern`` (its notches too: a file is written only if it reads back) and
+    write it atomically to ``path`` in ``units``."""
     check_pattern(pattern)
+    check_notches(pattern)
     atomic_write_text(path, json.dumps(pattern_to_dict(pattern, units=units), indent=1) + "\n")
     return Path(path)
