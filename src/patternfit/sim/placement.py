@@ -242,6 +242,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     x = np.zeros((mesh.n_vertices, 3))
     torso = np.asarray(lm["torso_axis"])[:, [0, 2]].mean(axis=0)
     legs: dict[str, list[int]] = {}
+    arms: dict[str, list[int]] = {}
     for pi, panel in enumerate(pattern.panels):
         part = panel.placement.part
         ids = mesh.panel_vertices(pi)
@@ -251,11 +252,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
         elif part.startswith("leg"):
             legs.setdefault(part, []).append(pi)
         elif part.startswith("arm"):
-            axis = np.asarray(lm[f"arm_axis_{part.split('_')[1]}"])[:, [0, 2]].mean(axis=0)
-            r = max(0.07 + clearance, np.ptp(uv[:, 0]) / (0.97 * math.pi))
-            ring = Ellipse(r, r, axis)
-            s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
-            x[ids] = roll_panel(_centred(uv), ring, s0=s0, height=dy)
+            arms.setdefault(part, []).append(pi)
         else:
             x[ids] = _place_torso(panel, uv, body, torso, dy, clearance, width_limit,
                                   arm_gap)
@@ -286,7 +283,92 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             uv[:, 0] -= anchor + gap
             rolled = roll_panel(uv, ring, s0=ring.arc_length(theta), height=dy)
             x[ids] = (rolled - pivot) @ turn.T + pivot
+    placed = np.zeros(mesh.n_vertices, dtype=bool)
+    for pi, panel in enumerate(pattern.panels):
+        if not panel.placement.part.startswith("arm"):
+            placed[mesh.panel_vertices(pi)] = True
+    for part, panels in arms.items():
+        _place_arm(pattern, mesh, body, part, panels, x, x[placed], torso, clearance)
     return x + [0.0, _sewing_lift(mesh, x, body, clearance), 0.0]
+
+
+def _arm_radius(body, top, direction) -> float:
+    """Radius [m] of the upper arm: the 95th percentile of the body's distance from the arm
+    axis between a quarter and half of the way from the shoulder to the wrist."""
+    v = body.vertices - top
+    t = v @ direction
+    length = float(np.linalg.norm(np.asarray(body.landmarks["arm_axis_left"][1])
+                                  - np.asarray(body.landmarks["arm_axis_left"][0])))
+    radial = np.linalg.norm(v - np.outer(t, direction), axis=1)
+    sel = (t > 0.25 * length) & (t < 0.5 * length) & (radial < 0.12)
+    return float(np.percentile(radial[sel], 95)) if sel.sum() > 10 else 0.05
+
+
+class _Clearance:
+    """Whether points clear what is placed already: outside the placed cloth's outline
+    round the torso axis (by angle, in height bands) and outside the body."""
+
+    def __init__(self, placed, centre, body, margin: float, *, bins: int = 72,
+                 band: float = 0.02):
+        self.centre, self.bins, self.band = centre, bins, band
+        self.field, self.margin = body.distance_field(0.005), margin
+        self.y0 = float(placed[:, 1].min()) if len(placed) else 0.0
+        self.radius: dict[tuple[int, int], float] = {}
+        for key, r in zip(self._keys(placed), self._radial(placed)):
+            self.radius[key] = max(self.radius.get(key, 0.0), float(r))
+
+    def _radial(self, p):
+        return np.hypot(p[:, 0] - self.centre[0], p[:, 2] - self.centre[1])
+
+    def _keys(self, p):
+        ang = np.arctan2(p[:, 0] - self.centre[0], p[:, 2] - self.centre[1])
+        a = np.floor((ang + math.pi) / (2 * math.pi) * self.bins).astype(int) % self.bins
+        b = np.floor((p[:, 1] - self.y0) / self.band).astype(int)
+        return list(zip(b.tolist(), a.tolist()))
+
+    def clear(self, p) -> bool:
+        d, _ = self.field.query(p)
+        if d.min() < self.margin:
+            return False
+        r = self._radial(p)
+        for (b, a), ri in zip(self._keys(p), r):
+            for db in (-1, 0, 1):
+                for da in (-1, 0, 1):
+                    if ri < self.radius.get((b + db, (a + da) % self.bins), 0.0) + self.margin:
+                        return False
+        return True
+
+
+def _place_arm(pattern: Pattern, mesh: GarmentMesh, body, part: str, panels: list[int],
+               x: np.ndarray, placed, torso, clearance: float) -> None:
+    """Roll the panels of one arm onto a cylinder round the arm's axis (from the shoulder to
+    the wrist: the cylinder follows the arm's slant, a rotation, so still isometric), each
+    panel's top towards the shoulder: a one-piece sleeve (side ``"outer"``) centred on the
+    top of the arm, a two-piece sleeve's halves on its front and back. The sleeve starts at
+    the shoulder, or as far down the arm as it takes to clear the cloth already placed and
+    the body; the sewing phase pulls it up to its armhole. Writes ``x`` in place."""
+    which = part.split("_")[1]
+    top, bottom = (np.asarray(p, dtype=np.float64) for p in body.landmarks[f"arm_axis_{which}"])
+    direction = (bottom - top) / np.linalg.norm(bottom - top)
+    turn = rotation_between((0.0, -1.0, 0.0), direction)
+    width = sum(np.ptp(mesh.vertices[mesh.panel_vertices(p)][:, 0]) for p in panels)
+    r = max(_arm_radius(body, top, direction) + clearance, width / (0.97 * 2 * math.pi))
+    ring = Ellipse(r, r)
+    outer = 0.5 * math.pi if which == "left" else 1.5 * math.pi  # +x of the turned cylinder
+    rolled = {}
+    for pi in panels:
+        uv = _centred(mesh.vertices[mesh.panel_vertices(pi)])
+        uv[:, 1] -= uv[:, 1].max()
+        side = pattern.panels[pi].placement.side
+        theta = {"front": 0.0, "back": math.pi}.get(side, outer)
+        rolled[pi] = roll_panel(uv, ring, s0=ring.arc_length(theta)) @ turn.T
+    everything = np.concatenate(list(rolled.values()))
+    room = _Clearance(placed, torso, body, 0.5 * clearance)
+    for t in np.arange(0.0, 0.40, 0.01):
+        if room.clear(everything + top + t * direction):
+            break
+    for pi, p in rolled.items():
+        x[mesh.panel_vertices(pi)] = p + top + t * direction
 
 
 def _sewing_lift(mesh: GarmentMesh, x, body, clearance: float, *, most: float = 0.06) -> float:
