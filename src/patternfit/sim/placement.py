@@ -13,13 +13,16 @@ back; rolled panels keep their outward normal.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
 from ..arguments import array
 from ..geometry import rotation_between
 from ..mesh.garment import GarmentMesh
-from ..pattern.model import Panel, Pattern
+from ..pattern.model import Pattern
+from ..pattern.roles import panel_roles
+from .panel_frames import PlacementWarning, implausible_placements, upright_frames
 
 #: default axis position (x, z) [m] and radius [m] of each body part, for a body-free placement
 PART_AXES = {
@@ -167,11 +170,15 @@ def place_on_cylinders(pattern: Pattern, mesh: GarmentMesh, *,
 
 
 # -- on a body ---------------------------------------------------------------------------------
-def _vertical_offset(pattern: Pattern, mesh: GarmentMesh, body) -> float:
+def _vertical_offset(pattern: Pattern, flat: np.ndarray, mesh: GarmentMesh, roles,
+                     body) -> float:
     """Shift [m] that brings the drafted garment to its height on the body: its top 1 cm
     above the neck base when :attr:`Pattern.anchor` is ``"neck"``, else above the waist
-    (the rule the on-body check measures the drape against)."""
-    top = float(mesh.vertices[:, 1].max())
+    (the rule the on-body check measures the drape against). The top is that of the body
+    panels: sleeves, hoods and collars rise above the neck."""
+    tops = [flat[mesh.panel_vertices(i), 1].max() for i, p in enumerate(pattern.panels)
+            if roles[p.name].kind not in ("sleeve", "cuff", "hood", "collar")]
+    top = float(max(tops) if tops else flat[:, 1].max())
     m = body.measurements
     if pattern.anchor == "neck":
         return m["neck_base_height"] + 0.01 - top
@@ -189,7 +196,7 @@ def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, flo
     return float(np.abs(d[:, 0]).max()), float(d[:, 1].max()), float(-d[:, 1].min())
 
 
-def _place_torso(panel: Panel, uv, body, centre, dy, clearance, width_limit,
+def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
                  arm_gap) -> np.ndarray:
     """Front/back torso panel: rolled on an ellipse clear of the body, or on a winged profile
     when too wide to wrap."""
@@ -203,12 +210,12 @@ def _place_torso(panel: Panel, uv, body, centre, dy, clearance, width_limit,
     if grow <= width_limit:
         if grow > 1:
             ring = Ellipse(ring.a * grow, ring.b * grow, centre)
-        s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
+        s0 = 0.0 if side == "front" else 0.5 * ring.perimeter
         return roll_panel(uv, ring, s0=s0, height=dy)
     # too wide to wrap (kimono sleeves): torso round the body, sleeves on wings either side
     # of the arms
-    side = 1.0 if panel.placement.side == "front" else -1.0
-    wings = WingedProfile(ring.a, ring.b, min(arm_gap, 0.8 * ring.b), centre, side=side)
+    facing = 1.0 if side == "front" else -1.0
+    wings = WingedProfile(ring.a, ring.b, min(arm_gap, 0.8 * ring.b), centre, side=facing)
     return roll_panel(uv, wings, height=dy)
 
 
@@ -226,35 +233,55 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
                   width_limit: float = 1.6) -> np.ndarray:
     """Place every panel of ``mesh`` around ``body`` (a :class:`patternfit.body.Body`).
 
+    Each panel's body part and side come from :func:`~patternfit.pattern.roles.panel_roles`
+    (its stated placement, name, seams and shape). Each panel is first turned upright in its
+    flat frame (:func:`upright_turn`: its grain line, or an explicit placement's up, along
+    the body's height; a band's length across it; a sleeve's cap towards the shoulder), and
+    where the panels' flat frames do not agree in height (seams joining edges at different
+    heights: another tool's frames) they are stacked so that their seams meet
+    (:func:`stacked_heights`).
+
     Torso panels are rolled onto an elliptic cylinder around the torso axis that clears the
     body by ``clearance`` [m] and holds the front and back panels side by side (enlarged up
     to ``width_limit`` times; wider panels keep their middle round the body and continue
     outwards in front of / behind the arms, :class:`WingedProfile`). Leg panels are
     rolled onto a circular cylinder around their leg, the front panel from the front midline
     and the back one from the back midline round the outside, so that the crotch seams start
-    at the midline. A panel with an explicit 3D placement (``Placement.translation`` /
-    ``rotation``, as GarmentCode files carry) keeps it. Returns positions (n, 3) [m], one per
-    flat vertex.
+    at the midline. Sleeves are rolled round the arm's axis (:func:`_place_arm`).
+
+    Panels with an explicit 3D placement (``Placement.translation`` / ``rotation``, as
+    GarmentCode files carry) keep it when it is plausible on this body
+    (:func:`implausible_placements`); otherwise the whole garment is placed here, with a
+    :class:`PlacementWarning` naming the panels. Returns positions (n, 3) [m], one per flat
+    vertex.
     """
+    bad = implausible_placements(pattern, mesh, body)
+    keep = not bad
+    if bad:
+        warnings.warn(PlacementWarning(
+            f"the imported 3D placement of {len(bad)} panel(s) is not around the body and was "
+            f"replaced by patternfit's: {'; '.join(bad)}"), stacklevel=2)
+    roles = panel_roles(pattern)
+    flat = upright_frames(pattern, mesh, roles)
     lm = body.landmarks
-    dy = _vertical_offset(pattern, mesh, body)
+    dy = _vertical_offset(pattern, flat, mesh, roles, body)
     arm_gap = 0.5 * body.measurements.get("bicep", 0.32) / math.pi + clearance + 0.02
     x = np.zeros((mesh.n_vertices, 3))
     torso = np.asarray(lm["torso_axis"])[:, [0, 2]].mean(axis=0)
     legs: dict[str, list[int]] = {}
     arms: dict[str, list[int]] = {}
     for pi, panel in enumerate(pattern.panels):
-        part = panel.placement.part
+        role = roles[panel.name]
         ids = mesh.panel_vertices(pi)
-        uv = mesh.vertices[ids]
-        if panel.placement.explicit:
-            x[ids] = panel.placement.transform(uv)  # an imported file's own placement
-        elif part.startswith("leg"):
-            legs.setdefault(part, []).append(pi)
-        elif part.startswith("arm"):
-            arms.setdefault(part, []).append(pi)
+        uv = flat[ids]
+        if panel.placement.explicit and keep:
+            x[ids] = panel.placement.transform(mesh.vertices[ids])  # the file's own placement
+        elif role.part.startswith("leg"):
+            legs.setdefault(role.part, []).append(pi)
+        elif role.part.startswith("arm"):
+            arms.setdefault(role.part, []).append(pi)
         else:
-            x[ids] = _place_torso(panel, uv, body, torso, dy, clearance, width_limit,
+            x[ids] = _place_torso(role.side, uv, body, torso, dy, clearance, width_limit,
                                   arm_gap)
     for part, panels in legs.items():
         side = part.split("_")[1]
@@ -264,16 +291,15 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
         turn = rotation_between((0.0, -1.0, 0.0), bottom - top)
         pivot = np.array([top[0], top[1], top[2]])
         d = abs(axis[0] - torso[0])
-        width = sum(np.ptp(mesh.vertices[mesh.panel_vertices(p)][:, 0]) for p in panels)
+        width = sum(np.ptp(flat[mesh.panel_vertices(p)][:, 0]) for p in panels)
         r = _leg_radius(d, 1.05 * width + 2 * clearance)
         ring = Ellipse(r, r, axis)
         cross = math.asin(min(d / r, 1.0))  # angle where the circle meets the midline
         towards_mid = 1.0 if axis[0] < torso[0] else -1.0  # +x is towards the midline
         for pi in panels:
-            panel = pattern.panels[pi]
             ids = mesh.panel_vertices(pi)
-            uv = mesh.vertices[ids].copy()
-            front = panel.placement.side == "front"
+            uv = flat[ids].copy()
+            front = roles[pattern.panels[pi].name].side != "back"
             theta = (cross if front else math.pi - cross) if towards_mid > 0 \
                 else (-cross if front else math.pi + cross)
             # +u runs towards +x on the front and -x on the back
@@ -285,10 +311,11 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             x[ids] = (rolled - pivot) @ turn.T + pivot
     placed = np.zeros(mesh.n_vertices, dtype=bool)
     for pi, panel in enumerate(pattern.panels):
-        if not panel.placement.part.startswith("arm"):
+        if not roles[panel.name].part.startswith("arm"):
             placed[mesh.panel_vertices(pi)] = True
     for part, panels in arms.items():
-        _place_arm(pattern, mesh, body, part, panels, x, x[placed], torso, clearance)
+        sides = [roles[pattern.panels[p].name].side for p in panels]
+        _place_arm(flat, mesh, body, part, panels, sides, x, x[placed], torso, clearance)
     return x + [0.0, _sewing_lift(mesh, x, body, clearance), 0.0]
 
 
@@ -339,8 +366,8 @@ class _Clearance:
         return True
 
 
-def _place_arm(pattern: Pattern, mesh: GarmentMesh, body, part: str, panels: list[int],
-               x: np.ndarray, placed, torso, clearance: float) -> None:
+def _place_arm(flat: np.ndarray, mesh: GarmentMesh, body, part: str, panels: list[int],
+               sides: list[str], x: np.ndarray, placed, torso, clearance: float) -> None:
     """Roll the panels of one arm onto a cylinder round the arm's axis (from the shoulder to
     the wrist: the cylinder follows the arm's slant, a rotation, so still isometric), each
     panel's top towards the shoulder: a one-piece sleeve (side ``"outer"``) centred on the
@@ -351,15 +378,14 @@ def _place_arm(pattern: Pattern, mesh: GarmentMesh, body, part: str, panels: lis
     top, bottom = (np.asarray(p, dtype=np.float64) for p in body.landmarks[f"arm_axis_{which}"])
     direction = (bottom - top) / np.linalg.norm(bottom - top)
     turn = rotation_between((0.0, -1.0, 0.0), direction)
-    width = sum(np.ptp(mesh.vertices[mesh.panel_vertices(p)][:, 0]) for p in panels)
+    width = sum(np.ptp(flat[mesh.panel_vertices(p)][:, 0]) for p in panels)
     r = max(_arm_radius(body, top, direction) + clearance, width / (0.97 * 2 * math.pi))
     ring = Ellipse(r, r)
     outer = 0.5 * math.pi if which == "left" else 1.5 * math.pi  # +x of the turned cylinder
     rolled = {}
-    for pi in panels:
-        uv = _centred(mesh.vertices[mesh.panel_vertices(pi)])
+    for pi, side in zip(panels, sides):
+        uv = _centred(flat[mesh.panel_vertices(pi)])
         uv[:, 1] -= uv[:, 1].max()
-        side = pattern.panels[pi].placement.side
         theta = {"front": 0.0, "back": math.pi}.get(side, outer)
         rolled[pi] = roll_panel(uv, ring, s0=ring.arc_length(theta)) @ turn.T
     everything = np.concatenate(list(rolled.values()))

@@ -1,0 +1,143 @@
+"""The panels' flat frames made ready for placement, and imported 3D placements judged.
+
+Our own patterns are drafted upright (y up, the hem of every body panel at y = 0), so each
+panel's flat frame already says where it goes in height. Other tools' frames do not: a DXF
+piece may lie turned in the marker, a GarmentCode sleeve is drafted along x, every
+GarmentCode panel has its own origin. :func:`upright_frames` turns each panel so that its
+"up" is +y and, where the seams say the frames disagree in height, stacks them so that the
+seams meet. :func:`implausible_placements` says which imported 3D placements are not around
+the body (older GarmentCode templates put panels at the feet or 25 m below). Metres.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..mesh.garment import GarmentMesh
+from ..pattern.model import Pattern
+from ..pattern.roles import PanelRole
+
+#: seams between body panels whose sides' mean heights differ by more than this [m] mean
+#: the flat frames are not drafted in one height frame
+FRAME_MISMATCH = 0.05
+#: an imported placement is implausible when a panel's median distance from the body
+#: surface exceeds this [m], ...
+PLACED_FAR = 0.25
+#: ... or more than this share of its vertices lie inside the body [-]
+PLACED_INSIDE = 0.3
+
+
+class PlacementWarning(UserWarning):
+    """An imported placement was not used (it is not around the body)."""
+
+
+def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
+                  roles: dict[str, PanelRole]) -> np.ndarray | None:
+    """The direction (2,) in panel ``pi``'s flat frame that should point up the body (for a
+    sleeve: towards the shoulder); None to keep the frame as it is."""
+    panel = pattern.panels[pi]
+    uv = mesh.vertices[mesh.panel_vertices(pi)]
+    if role.kind in ("waistband", "collar", "cuff"):
+        size = np.ptp(uv, axis=0)
+        return None if size[0] >= size[1] else np.array([1.0, 0.0])  # length across the body
+    if role.part.startswith("arm"):
+        # towards the cap: the edges sewn to body panels
+        mids = [panel.edge(side.edge).point_at([0.5])[0]
+                for seam in pattern.seams for side, other in ((seam.a, seam.b), (seam.b, seam.a))
+                if side.panel == panel.name and not roles[other.panel].part.startswith("arm")]
+        if mids:
+            d = np.mean(mids, axis=0) - uv.mean(axis=0)
+            axis = np.array([1.0, 0.0]) if np.ptp(uv[:, 0]) > np.ptp(uv[:, 1]) else \
+                np.array([0.0, 1.0])
+            along = float(d @ axis)
+            if abs(along) > 1e-6:
+                return axis * np.sign(along)
+    if panel.placement.rotation is not None and any(panel.placement.rotation):
+        up = panel.placement.rotation_matrix().T @ np.array([0.0, 1.0, 0.0])
+        if np.hypot(up[0], up[1]) > 0.5:
+            return up[:2] / np.hypot(up[0], up[1])
+    return np.asarray(panel.grainline, dtype=np.float64)
+
+
+def upright_turn(up) -> np.ndarray:
+    """(2, 2) rotation turning the unit direction ``up`` (2,) onto +y (points: ``p @ M.T``);
+    a rotation keeps every length and the right side up."""
+    u = np.asarray(up, dtype=np.float64)
+    u = u / np.linalg.norm(u)
+    return np.array([[u[1], -u[0]], [u[0], u[1]]])
+
+
+def _side_height(pattern: Pattern, flat: np.ndarray, mesh: GarmentMesh, side) -> float:
+    ids, _ = mesh.edge_vertices(side.panel, side.edge)
+    return float(flat[ids, 1].mean())
+
+
+def upright_frames(pattern: Pattern, mesh: GarmentMesh,
+                   roles: dict[str, PanelRole]) -> np.ndarray:
+    """Flat positions (n, 2) [m] of ``mesh`` with every panel turned upright about its own
+    centre (:func:`upright_turn`) and, when seams between body panels join edges more than
+    :data:`FRAME_MISMATCH` apart in height, body panels shifted in height, panel by panel
+    from the first along the seams, so that each seam's two sides meet at one mean height.
+    Arm panels keep their height (they are placed along the arm)."""
+    flat = mesh.vertices.copy()
+    for pi in range(len(pattern.panels)):
+        role = roles[pattern.panels[pi].name]
+        up = _up_direction(pattern, mesh, pi, role, roles)
+        if up is None or abs(up[0]) < 1e-9 and up[1] > 0:
+            continue
+        ids = mesh.panel_vertices(pi)
+        c = flat[ids].mean(axis=0)
+        flat[ids] = (flat[ids] - c) @ upright_turn(up).T + c
+    body = {p.name for p in pattern.panels if not roles[p.name].part.startswith("arm")}
+    seams = [s for s in pattern.seams
+             if s.a.panel in body and s.b.panel in body and s.a.panel != s.b.panel]
+
+    def mismatch(s) -> float:
+        return _side_height(pattern, flat, mesh, s.a) - _side_height(pattern, flat, mesh, s.b)
+
+    if not seams or max(abs(mismatch(s)) for s in seams) <= FRAME_MISMATCH:
+        return flat
+    index = {p.name: i for i, p in enumerate(pattern.panels)}
+    done = {next(p.name for p in pattern.panels if p.name in body)}
+    grew = True
+    while grew:
+        grew = False
+        for s in seams:
+            for here, there in ((s.a, s.b), (s.b, s.a)):
+                if here.panel in done and there.panel not in done:
+                    shift = (_side_height(pattern, flat, mesh, here)
+                             - _side_height(pattern, flat, mesh, there))
+                    flat[mesh.panel_vertices(index[there.panel]), 1] += shift
+                    done.add(there.panel)
+                    grew = True
+    return flat
+
+
+def implausible_placements(pattern: Pattern, mesh: GarmentMesh, body, *,
+                           spacing: float = 0.005) -> list[str]:
+    """The panels whose explicit 3D placement is not around ``body``, each with the reason:
+    not finite, outside the body's height (below the feet, above the head), its median
+    distance from the body surface over :data:`PLACED_FAR`, or more than
+    :data:`PLACED_INSIDE` of it inside the body. Empty when every explicit placement is
+    plausible (or there is none)."""
+    field = None
+    height = float(body.vertices[:, 1].max())
+    out = []
+    for pi, panel in enumerate(pattern.panels):
+        if not panel.placement.explicit:
+            continue
+        x = panel.placement.transform(mesh.vertices[mesh.panel_vertices(pi)])
+        if not np.isfinite(x).all():
+            out.append(f"{panel.name} (not finite)")
+            continue
+        y = float(np.median(x[:, 1]))
+        if not -0.05 <= y <= height + 0.05:
+            out.append(f"{panel.name} (at height {y:.2f} m; the body spans 0–{height:.2f} m)")
+            continue
+        field = field or body.distance_field(spacing)
+        d, _ = field.query(x)
+        if float(np.median(d)) > PLACED_FAR:
+            out.append(f"{panel.name} ({float(np.median(d)):.2f} m from the body)")
+        elif float(np.mean(d < 0)) > PLACED_INSIDE:
+            out.append(f"{panel.name} ({float(np.mean(d < 0)) * 100:.0f}% inside the body)")
+    return out
