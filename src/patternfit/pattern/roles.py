@@ -50,8 +50,8 @@ _SHORT_KIND = {"sl": "sleeve", "cf": "bodice", "cb": "bodice"}
 class PanelRole:
     """A panel's role: ``kind`` (one of :data:`KINDS`), the body ``part`` it dresses
     (``torso``, ``arm_left``, ``arm_right``, ``leg_left``, ``leg_right``), the ``side`` it
-    faces (``front``, ``back``, or ``outer`` for a one-piece sleeve centred on the top of the
-    arm) and ``why``: the evidence, in words."""
+    faces (``front``, ``back``, ``outer`` for a one-piece sleeve centred on the top of the
+    arm; ``left`` or ``right`` for a hood's halves) and ``why``: the evidence, in words."""
 
     kind: str
     part: str
@@ -273,14 +273,17 @@ def _sides(pattern, shapes, links, kinds, prefix) -> dict[str, str]:
     for p in pattern.panels:
         n = p.name
         by_name = _side_from_name(n, prefix[n])
-        if by_name:
+        t = p.placement.translation
+        if kinds[n] == "sleeve" and any(o == n for _, o, _ in links[n]):
+            sides[n] = "outer"  # a tube: centred on the top of the arm
+        elif kinds[n] == "hood" and not by_name:
+            sides[n] = _hand(pattern, p, shapes, links, kinds, prefix, {})  # hood halves
+        elif by_name:
             sides[n] = by_name
-        elif p.placement.translation is not None:
-            sides[n] = "back" if p.placement.translation[2] < 0 else "front"
+        elif t is not None and abs(t[2]) > 1e-3:
+            sides[n] = "back" if t[2] < 0 else "front"
         elif trusted or stated[n] not in ("front", "back"):
             sides[n] = stated[n]
-        elif kinds[n] == "sleeve" and any(o == n for _, o, _ in links[n]):
-            sides[n] = "outer"  # a tube: centred on the top of the arm
         else:
             sides[n] = None
     # what is left: a body panel sewn to one with a side faces the other way; the deeper
@@ -315,7 +318,7 @@ def _hand(pattern, panel, shapes, links, kinds, prefix, sides) -> str:
             x = shapes[o].outer(oe)
             if kinds[panel.name] == "leg":
                 x = -x  # the crotch is on the leg's inner side
-            front = sides[o] != "back"
+            front = sides.get(o) != "back"
             return "left" if (x > 0) == front else "right"
     return "left"
 

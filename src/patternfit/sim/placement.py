@@ -210,8 +210,8 @@ def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
     if grow <= width_limit:
         if grow > 1:
             ring = Ellipse(ring.a * grow, ring.b * grow, centre)
-        s0 = 0.0 if side == "front" else 0.5 * ring.perimeter
-        return roll_panel(uv, ring, s0=s0, height=dy)
+        theta = {"front": 0.0, "left": 0.5 * math.pi, "back": math.pi}.get(side, 1.5 * math.pi)
+        return roll_panel(uv, ring, s0=ring.arc_length(theta), height=dy)
     # too wide to wrap (kimono sleeves): torso round the body, sleeves on wings either side
     # of the arms
     facing = 1.0 if side == "front" else -1.0
