@@ -104,23 +104,36 @@ def _hand_from_name(name: str, prefix: str) -> str | None:
     return None
 
 
+def upright_turn(up) -> np.ndarray:
+    """(2, 2) rotation turning the unit direction ``up`` (2,) onto +y (points: ``p @ M.T``);
+    a rotation keeps every length and the right side up."""
+    u = np.asarray(up, dtype=np.float64)
+    u = u / np.linalg.norm(u)
+    return np.array([[u[1], -u[0]], [u[0], u[1]]])
+
+
 class _Shape:
-    """A panel's outline points (k, 2) [m] and, per edge, its mid point and whether it is
-    straight."""
+    """A panel's outline points (k, 2) [m] and its edges, turned so that its grain line
+    (warp along the body's height) is +y."""
 
     def __init__(self, panel):
         self.panel = panel
-        self.points = panel.outline.polygon(16)
+        self.turn = upright_turn(panel.grainline)
+        self.points = panel.outline.polygon(16) @ self.turn.T
         self.lo, self.hi = self.points.min(axis=0), self.points.max(axis=0)
         self.size = self.hi - self.lo
         self.centre = self.points.mean(axis=0)
         self.edges = panel.edges()
 
+    def line(self, edge: str) -> np.ndarray:
+        """The edge as a polyline (17, 2) [m], turned."""
+        return self.edges[edge].polyline(16) @ self.turn.T
+
     def mid(self, edge: str) -> np.ndarray:
-        return self.edges[edge].point_at([0.5])[0]
+        return self.edges[edge].point_at([0.5])[0] @ self.turn.T
 
     def at_top(self, edge: str) -> bool:
-        e = self.edges[edge].polyline(16)
+        e = self.line(edge)
         return float(e[:, 1].mean()) >= self.hi[1] - TOP_SHARE * self.size[1]
 
     def outer(self, edge: str) -> float:
@@ -130,7 +143,7 @@ class _Shape:
 
     def across(self, edge: str) -> bool:
         """Whether ``edge`` runs more across the panel than up it (a shoulder, a waist)."""
-        d = self.edges[edge].end - self.edges[edge].start
+        d = self.turn @ (self.edges[edge].end - self.edges[edge].start)
         return abs(float(d[0])) > abs(float(d[1]))
 
     def forked(self) -> bool:
@@ -217,15 +230,22 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
                 else ("sewn below a bodice" if sewn_up else "a body panel without shoulders")
 
 
+def _mirrored_legs(a: _Shape, b: _Shape, kind: str) -> bool:
+    """Whether two sewn leg panels are the left and right of one side (mirror images, sewn
+    along the crotch: front to front, back to back): the same area within 1 %; a leg's
+    front and back differ (the back's crotch extension is the longer)."""
+    return kind == "leg" and abs(a.panel.area() - b.panel.area()) < 0.01 * a.panel.area()
+
+
 def _is_armhole(shape: _Shape, edge: str) -> bool:
     """An edge at the top outer corner of a panel, curved, and not its highest point."""
-    e = shape.edges[edge].polyline(16)
+    e = shape.line(edge)
     return shape.curved(edge) and float(e[:, 1].min()) < shape.hi[1] - 0.05
 
 
 def _cap_of(shape: _Shape, edge: str) -> bool:
     """Whether ``edge`` lies at an end of the panel's long axis (a sleeve cap)."""
-    e = shape.edges[edge].polyline(16)
+    e = shape.line(edge)
     axis = int(np.argmax(shape.size))
     span = shape.size[axis]
     m = float(e[:, axis].mean())
@@ -286,22 +306,23 @@ def _sides(pattern, shapes, links, kinds, prefix) -> dict[str, str]:
             sides[n] = stated[n]
         else:
             sides[n] = None
-    # what is left: a body panel sewn to one with a side faces the other way; the deeper
-    # neckline is the front
-    for _ in range(len(pattern.panels)):
-        for p in pattern.panels:
-            n = p.name
-            if sides[n] is not None:
-                continue
-            known = [sides[o] for _, o, _ in links[n] if o != n and sides.get(o)
+    # what is left: the deeper neckline is the front (else the first panel listed), and a
+    # panel sewn to one of the same kind with a side faces the other way
+    while any(v is None for v in sides.values()):
+        todo = [p.name for p in pattern.panels if sides[p.name] is None]
+        grew = False
+        for n in todo:
+            known = [(sides[o], _mirrored_legs(shapes[n], shapes[o], kinds[n]))
+                     for e, o, _ in links[n] if o != n and sides.get(o) in ("front", "back")
                      and kinds[o] == kinds[n]]
             if known:
-                sides[n] = "back" if known[0] == "front" else "front"
-    todo = [p.name for p in pattern.panels if sides[p.name] is None]
-    if todo:
-        deepest = max(todo, key=lambda n: (shapes[n].top_dip(), -todo.index(n)))
-        for n in todo:
-            sides[n] = "front" if n == deepest or kinds[n] not in ("bodice",) else "back"
+                side, same = known[0]
+                sides[n] = side if same else ("back" if side == "front" else "front")
+                grew = True
+        if not grew:
+            bodices = [n for n in todo if kinds[n] == "bodice"]
+            first = max(bodices, key=lambda n: shapes[n].top_dip()) if bodices else todo[0]
+            sides[first] = "front"
     return sides
 
 
@@ -313,13 +334,16 @@ def _hand(pattern, panel, shapes, links, kinds, prefix, sides) -> str:
     t = panel.placement.translation
     if t is not None and abs(t[0]) > 1e-3:
         return "left" if t[0] > 0 else "right"
-    for e, o, oe in links[panel.name]:
-        if o != panel.name and kinds[o] in ("bodice", "skirt", "sleeve", "leg"):
-            x = shapes[o].outer(oe)
-            if kinds[panel.name] == "leg":
-                x = -x  # the crotch is on the leg's inner side
+    n = panel.name
+    if kinds[n] == "leg":  # the crotch, sewn to the other leg's, is on the leg's inner side
+        for e, o, _ in links[n]:
+            if o != n and kinds[o] == "leg" and sides.get(o) == sides.get(n):
+                front = sides.get(n) != "back"
+                return "left" if (shapes[n].outer(e) < 0) == front else "right"
+    for e, o, oe in links[n]:
+        if o != n and kinds[o] in ("bodice", "skirt"):
             front = sides.get(o) != "back"
-            return "left" if (x > 0) == front else "right"
+            return "left" if (shapes[o].outer(oe) > 0) == front else "right"
     return "left"
 
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
-from ..pattern.roles import PanelRole
+from ..pattern.roles import PanelRole, panel_roles, upright_turn
 
 #: seams between body panels whose sides' mean heights differ by more than this [m] mean
 #: the flat frames are not drafted in one height frame
@@ -23,8 +23,13 @@ FRAME_MISMATCH = 0.05
 #: an imported placement is implausible when a panel's median distance from the body
 #: surface exceeds this [m], ...
 PLACED_FAR = 0.25
-#: ... or more than this share of its vertices lie inside the body [-]
+#: ... or more than this share of its vertices lie inside the body [-], or the top of the
+#: body panels lies farther than this [m] from the height the garment hangs from
 PLACED_INSIDE = 0.3
+PLACED_HEIGHT = 0.15
+
+#: body measurement giving the height of each anchor (:attr:`Pattern.anchor`) [m]
+ANCHOR_HEIGHT = {"waist": "waist_height", "neck": "neck_base_height"}
 
 
 class PlacementWarning(UserWarning):
@@ -57,14 +62,6 @@ def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
         if np.hypot(up[0], up[1]) > 0.5:
             return up[:2] / np.hypot(up[0], up[1])
     return np.asarray(panel.grainline, dtype=np.float64)
-
-
-def upright_turn(up) -> np.ndarray:
-    """(2, 2) rotation turning the unit direction ``up`` (2,) onto +y (points: ``p @ M.T``);
-    a rotation keeps every length and the right side up."""
-    u = np.asarray(up, dtype=np.float64)
-    u = u / np.linalg.norm(u)
-    return np.array([[u[1], -u[0]], [u[0], u[1]]])
 
 
 def _side_height(pattern: Pattern, flat: np.ndarray, mesh: GarmentMesh, side) -> float:
@@ -118,15 +115,21 @@ def implausible_placements(pattern: Pattern, mesh: GarmentMesh, body, *,
     """The panels whose explicit 3D placement is not around ``body``, each with the reason:
     not finite, outside the body's height (below the feet, above the head), its median
     distance from the body surface over :data:`PLACED_FAR`, or more than
-    :data:`PLACED_INSIDE` of it inside the body. Empty when every explicit placement is
+    :data:`PLACED_INSIDE` of it inside the body; or, all of them near the body, the body
+    panels' top farther than :data:`PLACED_HEIGHT` from the height the garment hangs from
+    (:attr:`Pattern.anchor`: a garment at the feet). Empty when every explicit placement is
     plausible (or there is none)."""
     field = None
     height = float(body.vertices[:, 1].max())
     out = []
+    roles = panel_roles(pattern)
+    tops = {}
     for pi, panel in enumerate(pattern.panels):
         if not panel.placement.explicit:
             continue
         x = panel.placement.transform(mesh.vertices[mesh.panel_vertices(pi)])
+        if roles[panel.name].kind not in ("sleeve", "cuff", "hood", "collar"):
+            tops[panel.name] = float(x[:, 1].max())
         if not np.isfinite(x).all():
             out.append(f"{panel.name} (not finite)")
             continue
@@ -140,4 +143,12 @@ def implausible_placements(pattern: Pattern, mesh: GarmentMesh, body, *,
             out.append(f"{panel.name} ({float(np.median(d)):.2f} m from the body)")
         elif float(np.mean(d < 0)) > PLACED_INSIDE:
             out.append(f"{panel.name} ({float(np.mean(d < 0)) * 100:.0f}% inside the body)")
+    if tops and not out:  # each panel near the body: is the garment at its height?
+        anchor = pattern.anchor
+        want = float(body.measurements[ANCHOR_HEIGHT[anchor]])
+        top = max(tops.values())
+        if abs(top - want) > PLACED_HEIGHT:
+            where = "neck base" if anchor == "neck" else "waist"
+            out += [f"{n} (the garment's top at {top:.2f} m, its {where} at {want:.2f} m)"
+                    for n in tops]
     return out
