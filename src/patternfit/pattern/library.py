@@ -247,13 +247,15 @@ def _fit_length(make: Callable[[float], Edge], target: float, lo: float, hi: flo
 
 
 def _sleeve(*, front: float, back: float, ease: float, cap_height: float, length: float,
-            cuff: float) -> Panel:
+            cuff: float, full_length: float) -> Panel:
     """A one-piece set-in sleeve for the left arm, drafted as seen from outside (its centre
     line on the top of the arm, +x towards the back): its cap's back half ``cap_back`` is
     ``(1 + ease)`` times the back armhole ``back`` [m] long and its front half ``cap_front``
     as much longer than the front armhole ``front`` [m]; the front cap is the more scooped,
-    as the front armhole is. The underarm edges have equal lengths (the cuff is shifted by
-    the difference of the cap's halves)."""
+    as the front armhole is. The sleeve narrows from its width under the cap to ``cuff`` [m]
+    at ``full_length`` [m]; a shorter sleeve is that one cut off (a short sleeve's hem
+    stays as wide as the upper arm). The underarm edges have equal lengths (the hem is
+    shifted by the difference of the cap's halves)."""
     y0 = length - cap_height
 
     def half(w: float, sign: float, full: float) -> Edge:  # from the underarm up to the top
@@ -263,7 +265,8 @@ def _sleeve(*, front: float, back: float, ease: float, cap_height: float, length
     cap_b = _fit_length(lambda w: half(w, 1.0, 0.68), (1 + ease) * back, 0.02, 0.5)
     cap_f = _fit_length(lambda w: half(w, -1.0, 0.58), (1 + ease) * front, 0.02, 0.5)
     wb, wf = float(cap_b.start[0]), -float(cap_f.start[0])
-    cb, cf = cuff / 2 + (wb - wf) / 2, cuff / 2 - (wb - wf) / 2
+    hem = wb + wf + (cuff - wb - wf) * min(1.0, y0 / max(full_length - cap_height, 1e-9))
+    cb, cf = hem / 2 + (wb - wf) / 2, hem / 2 - (wb - wf) / 2
     edges = (Edge.line("hem", (-cf, 0.0), (cb, 0.0)),
              Edge.line("underarm_b", (cb, 0.0), (wb, y0)),
              replace(cap_b, name="cap_back"),
@@ -286,7 +289,8 @@ def shirt(m: Measurements, *, ease: float = 0.10, length: float | None = None,
     length : float, optional
         From the neck point to the hem [m] (default: back length + 27 cm).
     sleeve_length : float, optional
-        From the top of the cap to the hem [m] (default: arm length + 3 cm).
+        From the top of the cap to the hem [m] (default: arm length + 3 cm, to the wrist;
+        a shorter sleeve keeps the long one's width where it is cut).
     cap_ease : float
         How much longer the sleeve cap is than the armhole [m] (2–4 cm in a set-in sleeve),
         shared by the front and back halves in proportion; stated as the cap seams' ``ease``.
@@ -315,7 +319,7 @@ def shirt(m: Measurements, *, ease: float = 0.10, length: float | None = None,
     la_f, la_b = front.edge("armhole_l").length, back.edge("armhole_l").length
     left = _sleeve(front=la_f, back=la_b, ease=cap_ease / (la_f + la_b),
                    cap_height=cap_height, length=sleeve_length or (m.arm_length + 0.03),
-                   cuff=m.wrist + 0.10)
+                   cuff=m.wrist + 0.10, full_length=m.arm_length + 0.03)
     right = _mirror_panel(left, "sleeve_r", Placement("arm_right", "outer"))
     seams = list(_seams("front", "back", [f"{e}_{s}" for s in "rl" for e in ("side", "shoulder")]))
     for s, sleeve in (("l", left), ("r", right)):

@@ -50,13 +50,11 @@ def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
         mids = [panel.edge(side.edge).point_at([0.5])[0]
                 for seam in pattern.seams for side, other in ((seam.a, seam.b), (seam.b, seam.a))
                 if side.panel == panel.name and not roles[other.panel].part.startswith("arm")]
-        if mids:
+        if mids:  # snapped to the frame's axes: a drafted sleeve runs along x or y
             d = np.mean(mids, axis=0) - uv.mean(axis=0)
-            axis = np.array([1.0, 0.0]) if np.ptp(uv[:, 0]) > np.ptp(uv[:, 1]) else \
-                np.array([0.0, 1.0])
-            along = float(d @ axis)
-            if abs(along) > 1e-6:
-                return axis * np.sign(along)
+            k = int(np.argmax(np.abs(d)))
+            if abs(d[k]) > 1e-6:
+                return np.eye(2)[k] * np.sign(d[k])
     if panel.placement.rotation is not None and any(panel.placement.rotation):
         up = panel.placement.rotation_matrix().T @ np.array([0.0, 1.0, 0.0])
         if np.hypot(up[0], up[1]) > 0.5:
