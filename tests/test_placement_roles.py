@@ -165,3 +165,36 @@ def test_grain_line_says_which_way_is_up():
     x = place_on_body(lying, mesh2, body)
     assert np.ptp(x[:, 1]) == pytest.approx(np.ptp(upright[:, 1]), abs=0.02)
     assert x[:, 1].max() == pytest.approx(upright[:, 1].max(), abs=0.02)
+
+
+def drape_checked(pattern, body_name, triangles):
+    from patternfit.sim.drape import drape
+    body = load_body(body_name)
+    mesh = mesh_pattern(pattern, triangles=triangles)
+    d = drape(pattern, mesh, body)
+    assert d.result.checks.passed, d.result.checks
+    assert d.onbody.passed, d.onbody.reasons
+    return d
+
+
+@pytest.mark.parametrize("name, body", [("dress", "female_average"), ("tee", "male_average")])
+def test_garmentcode_dress_and_tee_drape_with_every_check_passing(name, body):
+    with pytest.warns(PlacementWarning):
+        d = drape_checked(gc(name), body, 1000)
+    assert abs(d.onbody.anchor_offset_mm) < 50  # hangs from the neck, not the waist
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, body", [("shirt", "male_average"), ("hoodie", "male_average"),
+                                        ("jumpsuit", "female_average")])
+def test_garmentcode_garments_drape_with_every_check_passing(name, body):
+    with pytest.warns(PlacementWarning):
+        d = drape_checked(gc(name), body, 2000)
+    assert abs(d.onbody.anchor_offset_mm) < 50
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, gender", [("shirt", "male"), ("gathered_skirt", "female")])
+@pytest.mark.parametrize("build_", ["thin", "average", "heavy"])
+def test_new_built_ins_drape_on_every_body_of_their_gender(name, gender, build_):
+    drape_checked(build(name, "M"), f"{gender}_{build_}", 3000)
