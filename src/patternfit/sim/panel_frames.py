@@ -22,11 +22,11 @@ from ..pattern.roles import PanelRole, panel_roles, upright_turn
 FRAME_MISMATCH = 0.05
 #: an imported placement is implausible when a panel's median distance from the body
 #: surface exceeds this [m], ...
-PLACED_FAR = 0.25
+PLACED_FAR = 0.40
 #: ... or more than this share of its vertices lie inside the body [-], or the top of the
 #: body panels lies farther than this [m] from the height the garment hangs from
 PLACED_INSIDE = 0.3
-PLACED_HEIGHT = 0.15
+PLACED_HEIGHT = 0.25
 
 #: body measurement giving the height of each anchor (:attr:`Pattern.anchor`) [m]
 ANCHOR_HEIGHT = {"waist": "waist_height", "neck": "neck_base_height"}
