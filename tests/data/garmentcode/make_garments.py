@@ -124,10 +124,11 @@ def jumpsuit():
             leg = leg.with_edge(_longer(leg.edge("hip"), 26.0 / 23.6))
         panels.append(replace(leg, placement=Placement()))
     seams = seams + list(legs.seams) + [
-        Seam("waist_fl", SeamSide("front_l", "waist"), SeamSide("front", "hem", 0.0, 0.5)),
-        Seam("waist_fr", SeamSide("front_r", "waist"), SeamSide("front", "hem", 0.5, 1.0)),
-        Seam("waist_bl", SeamSide("back_l", "waist"), SeamSide("back", "hem", 0.5, 1.0)),
-        Seam("waist_br", SeamSide("back_r", "waist"), SeamSide("back", "hem", 0.0, 0.5))]
+        # the front's hem runs from the body's right to its left, the back's the other way
+        Seam("waist_fl", SeamSide("front_l", "waist"), SeamSide("front", "hem", 0.5, 1.0)),
+        Seam("waist_fr", SeamSide("front_r", "waist"), SeamSide("front", "hem", 0.0, 0.5)),
+        Seam("waist_bl", SeamSide("back_l", "waist"), SeamSide("back", "hem", 0.0, 0.5)),
+        Seam("waist_br", SeamSide("back_r", "waist"), SeamSide("back", "hem", 0.5, 1.0))]
     p = Pattern("jumpsuit", tuple(panels), tuple(seams))
     write(p, "jumpsuit", {"front": "ftorso", "back": "btorso", "front_l": "pant_f_l",
                           "front_r": "pant_f_r", "back_l": "pant_b_l", "back_r": "pant_b_r"},
