@@ -1,9 +1,12 @@
 """Isometric placement of the panels around the body before sewing (paper Sec. 6.1).
 
-Each panel is rolled onto a vertical elliptic cylinder around the body part it dresses (a
-cylinder is developable: rolling keeps every length, so ϖ = 1 before sewing), or laid in a
-plane in front of / behind the body when it is too wide to wrap (kimono sleeves). Seams that
-do not coincide after placement are closed by the sewing phase of the solver.
+Each panel is rolled onto a cylinder around the body part it dresses (a cylinder is
+developable: rolling keeps every length, so ϖ = 1 before sewing): a vertical elliptic one
+round the torso, one along each leg's and each arm's slant, or laid in a plane in front of /
+behind the body when it is too wide to wrap (kimono sleeves). The part and side come from
+the pattern (:mod:`patternfit.pattern.roles`), the panels' upright frames and an imported
+placement's plausibility from :mod:`patternfit.sim.panel_frames`. Seams that do not coincide
+after placement are closed by the sewing phase of the solver.
 
 World frame: metres, y up, the body facing +z, its left side at +x. A panel is drafted right
 side up as seen from outside, so its +u runs towards +x on the front and towards −x on the
@@ -155,16 +158,19 @@ def _centred(uv: np.ndarray) -> np.ndarray:
 def place_on_cylinders(pattern: Pattern, mesh: GarmentMesh, *,
                        clearance: float = 0.03) -> np.ndarray:
     """Body-free placement: every panel on a circular cylinder around its part's default axis
-    (``PART_AXES``), centred on the front or back meridian; the cylinder grows when a panel
-    would wrap more than half way round. Returns positions (n, 3) [m]."""
+    (``PART_AXES``; the part from :func:`~patternfit.pattern.roles.panel_roles`), centred on
+    the front or back meridian; the cylinder grows when a panel would wrap more than half
+    way round. Returns positions (n, 3) [m]."""
     x = np.zeros((mesh.n_vertices, 3))
+    roles = panel_roles(pattern)
     for pi, panel in enumerate(pattern.panels):
         ids = mesh.panel_vertices(pi)
         uv = _centred(mesh.vertices[ids])
-        axis, r = PART_AXES.get(panel.placement.part, PART_AXES["torso"])
+        role = roles[panel.name]
+        axis, r = PART_AXES.get(role.part, PART_AXES["torso"])
         r = max(r + clearance, np.ptp(uv[:, 0]) / (0.95 * math.pi))
         ring = Ellipse(r, r, axis)
-        s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
+        s0 = 0.0 if role.side != "back" else 0.5 * ring.perimeter
         x[ids] = roll_panel(uv, ring, s0=s0)
     return x
 
@@ -198,7 +204,8 @@ def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, flo
 
 def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
                  arm_gap) -> np.ndarray:
-    """Front/back torso panel: rolled on an ellipse clear of the body, or on a winged profile
+    """A torso panel: rolled on an ellipse clear of the body, centred on its ``side``
+    (front, back, or the body's left / right for a hood's halves), or on a winged profile
     when too wide to wrap."""
     y0, y1 = uv[:, 1].min() + dy, uv[:, 1].max() + dy
     hw, front, back = _torso_extent(body, y0, y1, centre)
@@ -235,11 +242,12 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
 
     Each panel's body part and side come from :func:`~patternfit.pattern.roles.panel_roles`
     (its stated placement, name, seams and shape). Each panel is first turned upright in its
-    flat frame (:func:`upright_turn`: its grain line, or an explicit placement's up, along
-    the body's height; a band's length across it; a sleeve's cap towards the shoulder), and
-    where the panels' flat frames do not agree in height (seams joining edges at different
-    heights: another tool's frames) they are stacked so that their seams meet
-    (:func:`stacked_heights`).
+    flat frame (its grain line, or an explicit placement's up, along the body's height; a
+    band's length across it; a sleeve's cap towards the shoulder), and where the panels'
+    flat frames do not agree in height (seams joining edges at different heights: another
+    tool's frames) they are stacked so that their seams meet
+    (:func:`~patternfit.sim.panel_frames.upright_frames`). The top of the body panels goes
+    1 cm above the body's neck base or waist (:attr:`Pattern.anchor`).
 
     Torso panels are rolled onto an elliptic cylinder around the torso axis that clears the
     body by ``clearance`` [m] and holds the front and back panels side by side (enlarged up
