@@ -42,7 +42,6 @@ def _drapes_on_the_body(name, tmp_path):
     d = drape(back, mesh, body)
     assert d.result.checks.passed, d.result.checks
     assert d.onbody.passed, d.onbody.reasons
-    assert abs(d.onbody.anchor_offset_mm) < 60
 
 
 @pytest.mark.parametrize("name", ["dress", "coat"])

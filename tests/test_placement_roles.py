@@ -200,3 +200,23 @@ def test_garmentcode_garments_drape_with_every_check_passing(name, body):
 @pytest.mark.parametrize("build_", ["thin", "average", "heavy"])
 def test_new_built_ins_drape_on_every_body_of_their_gender(name, gender, build_):
     drape_checked(build(name, "M"), f"{gender}_{build_}", 3000)
+
+
+@pytest.mark.parametrize("name", ["dress", "jumpsuit"])
+def test_panels_drawn_in_their_own_frames_are_stacked_by_their_seams(name):
+    # GarmentCode draws each panel from its own origin: the skirt's waist and the bodice's
+    # hem start at different heights; stacked, the two sides of every seam between body
+    # panels meet in height
+    from patternfit.sim.panel_frames import upright_frames
+    pattern = gc(name)
+    mesh = mesh_pattern(pattern, triangles=800)
+    roles = panel_roles(pattern)
+    flat = upright_frames(pattern, mesh, roles)
+    body = {n for n, r in roles.items() if not r.part.startswith("arm")}
+    before, after = [], []
+    for k, s in enumerate(pattern.seams):
+        if s.a.panel in body and s.b.panel in body and s.a.panel != s.b.panel:
+            pairs = mesh.seam_pairs[mesh.seam_index == k]
+            before.append(abs(np.median(np.diff(mesh.vertices[pairs, 1], axis=1))))
+            after.append(abs(np.median(np.diff(flat[pairs, 1], axis=1))))
+    assert max(before) > 0.1 and max(after) < 0.02

@@ -62,11 +62,6 @@ def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
     return np.asarray(panel.grainline, dtype=np.float64)
 
 
-def _side_height(pattern: Pattern, flat: np.ndarray, mesh: GarmentMesh, side) -> float:
-    ids, _ = mesh.edge_vertices(side.panel, side.edge)
-    return float(flat[ids, 1].mean())
-
-
 def upright_frames(pattern: Pattern, mesh: GarmentMesh,
                    roles: dict[str, PanelRole]) -> np.ndarray:
     """Flat positions (n, 2) [m] of ``mesh`` with every panel turned upright about its own
@@ -84,25 +79,24 @@ def upright_frames(pattern: Pattern, mesh: GarmentMesh,
         c = flat[ids].mean(axis=0)
         flat[ids] = (flat[ids] - c) @ upright_turn(up).T + c
     body = {p.name for p in pattern.panels if not roles[p.name].part.startswith("arm")}
-    seams = [s for s in pattern.seams
+    index = {p.name: i for i, p in enumerate(pattern.panels)}
+    # per seam between two body panels: its sewn vertex pairs (a's side first)
+    seams = [(s, mesh.seam_pairs[mesh.seam_index == k]) for k, s in enumerate(pattern.seams)
              if s.a.panel in body and s.b.panel in body and s.a.panel != s.b.panel]
 
-    def mismatch(s) -> float:
-        return _side_height(pattern, flat, mesh, s.a) - _side_height(pattern, flat, mesh, s.b)
+    def mismatch(pairs) -> float:  # how far side a lies above side b [m]
+        return float(np.median(flat[pairs[:, 0], 1] - flat[pairs[:, 1], 1]))
 
-    if not seams or max(abs(mismatch(s)) for s in seams) <= FRAME_MISMATCH:
+    if not seams or max(abs(mismatch(pairs)) for _, pairs in seams) <= FRAME_MISMATCH:
         return flat
-    index = {p.name: i for i, p in enumerate(pattern.panels)}
     done = {next(p.name for p in pattern.panels if p.name in body)}
     grew = True
     while grew:
         grew = False
-        for s in seams:
-            for here, there in ((s.a, s.b), (s.b, s.a)):
+        for s, pairs in seams:
+            for here, there, sign in ((s.a, s.b, 1.0), (s.b, s.a, -1.0)):
                 if here.panel in done and there.panel not in done:
-                    shift = (_side_height(pattern, flat, mesh, here)
-                             - _side_height(pattern, flat, mesh, there))
-                    flat[mesh.panel_vertices(index[there.panel]), 1] += shift
+                    flat[mesh.panel_vertices(index[there.panel]), 1] += sign * mismatch(pairs)
                     done.add(there.panel)
                     grew = True
     return flat

@@ -8,7 +8,8 @@ rotation per panel, stitches by edge index; none of patternfit's own keys (no
 GarmentCode's (``ftorso``, ``lfsleeve``, ``pant_b_r``...). Placements: the tee's panels all
 lie at the feet (y = 0), the shirt's 25 m below, the jumpsuit's 25 m below; the dress and
 the hoodie carry none (every translation and rotation zero, as a template that leaves
-placement to the simulator).
+placement to the simulator). Every panel is drawn in its own frame, its lowest left corner at
+the origin.
 """
 
 import json
@@ -41,6 +42,11 @@ def write(pattern: Pattern, name: str, rename: dict, placement) -> None:
     panels = {}
     for old, entry in spec["panels"].items():
         del entry["patternfit_placement"]
+        # every panel in its own frame, its lowest left corner at the origin, as GarmentCode
+        # draws them: the frames no longer say how the panels stand in height
+        lo = [min(v[k] for v in entry["vertices"]) for k in (0, 1)]
+        entry["vertices"] = [[round(v[0] - lo[0], 6), round(v[1] - lo[1], 6)]
+                             for v in entry["vertices"]]
         entry["translation"], entry["rotation"] = placement(rename[old], entry)
         panels[rename[old]] = entry
     spec["panels"] = panels
