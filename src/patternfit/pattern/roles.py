@@ -32,6 +32,9 @@ import numpy as np
 BAND_ASPECT = 4.0
 #: a tube or crotch-sewn panel at least this long [m] is a leg, else a sleeve
 LEG_LENGTH = 0.60
+#: a sleeve has less than this share of the area of the panel it is sewn into [-] (a shirt's
+#: sleeve 0.6 of its front; a skirt's front and back are alike)
+SLEEVE_AREA = 0.8
 #: the share of a panel's height [-] that counts as its top (shoulders, armholes, necklines)
 TOP_SHARE = 0.30
 
@@ -216,7 +219,8 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
         if kinds[n] is None and any(
                 o != n and kinds[o] in (None, "bodice") and shapes[o].at_top(oe)
                 and abs(shapes[o].outer(oe)) > 0.5 and sh.curved(e)
-                and shapes[o].length > sh.size[0] for e, o, oe in links[n]
+                and sh.panel.area() < SLEEVE_AREA * shapes[o].panel.area()
+                for e, o, oe in links[n]
                 if _is_armhole(shapes[o], oe) and _cap_of(sh, e)):
             kinds[n], why[n] = "sleeve", "sewn by a curved end into an armhole"
     for n in open_:

@@ -65,9 +65,10 @@ def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
 def upright_frames(pattern: Pattern, mesh: GarmentMesh,
                    roles: dict[str, PanelRole]) -> np.ndarray:
     """Flat positions (n, 2) [m] of ``mesh`` with every panel turned upright about its own
-    centre (:func:`upright_turn`) and, when seams between body panels join edges more than
-    :data:`FRAME_MISMATCH` apart in height, body panels shifted in height, panel by panel
-    from the first along the seams, so that each seam's two sides meet at one mean height.
+    centre (:func:`~patternfit.pattern.roles.upright_turn`) and, when a seam between body
+    panels joins edges more than :data:`FRAME_MISMATCH` apart in height at both of its ends,
+    body panels shifted in height, panel by panel from the first along the seams, so that
+    each seam's two sides meet at the end where they met best.
     Arm panels keep their height (they are placed along the arm)."""
     flat = mesh.vertices.copy()
     for pi in range(len(pattern.panels)):
@@ -84,8 +85,12 @@ def upright_frames(pattern: Pattern, mesh: GarmentMesh,
     seams = [(s, mesh.seam_pairs[mesh.seam_index == k]) for k, s in enumerate(pattern.seams)
              if s.a.panel in body and s.b.panel in body and s.a.panel != s.b.panel]
 
-    def mismatch(pairs) -> float:  # how far side a lies above side b [m]
-        return float(np.median(flat[pairs[:, 0], 1] - flat[pairs[:, 1], 1]))
+    def mismatch(pairs) -> float:
+        """How far side a lies above side b [m], at the end of the seam where they meet
+        best: frames shifted apart differ at both ends, a side eased or graded longer (a
+        hem let down) at one end only."""
+        d = flat[pairs[[0, -1], 0], 1] - flat[pairs[[0, -1], 1], 1]
+        return float(d[np.argmin(np.abs(d))])
 
     if not seams or max(abs(mismatch(pairs)) for _, pairs in seams) <= FRAME_MISMATCH:
         return flat
