@@ -220,3 +220,16 @@ def test_panels_drawn_in_their_own_frames_are_stacked_by_their_seams(name):
             before.append(abs(np.median(np.diff(mesh.vertices[pairs, 1], axis=1))))
             after.append(abs(np.median(np.diff(flat[pairs, 1], axis=1))))
     assert max(before) > 0.1 and max(after) < 0.02
+
+
+@pytest.mark.parametrize("name", ["dress", "jumpsuit", "tee", "shirt"])
+def test_roles_of_garmentcode_garments_without_names(name):
+    # panels called P1, P2... and no placement: parts from seams and shapes alone; the
+    # front is the deeper neckline, and panels sewn to it take their sides from it
+    pattern = gc(name)
+    bare, names = unnamed(pattern)
+    roles = panel_roles(bare)
+    for old, (kind, part, side) in EXPECTED[name][1].items():
+        got = roles[names[old]]
+        assert (got.kind, got.part, got.side) == (kind, part, side), (old, got)
+    assert bare.anchor == EXPECTED[name][0]

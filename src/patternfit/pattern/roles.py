@@ -319,6 +319,11 @@ def _sides(pattern, shapes, links, kinds, prefix) -> dict[str, str]:
             known = [(sides[o], _mirrored_legs(shapes[n], shapes[o], kinds[n]))
                      for e, o, _ in links[n] if o != n and sides.get(o) in ("front", "back")
                      and kinds[o] == kinds[n]]
+            # a panel sewn across (a waist seam) to one of another kind faces the same way
+            known += [(sides[o], True) for e, o, oe in links[n]
+                      if o != n and sides.get(o) in ("front", "back") and kinds[o] != kinds[n]
+                      and shapes[n].across(e) and shapes[o].across(oe)
+                      and kinds[o] in ("bodice", "skirt", "leg")]
             if known:
                 side, same = known[0]
                 sides[n] = side if same else ("back" if side == "front" else "front")
