@@ -99,7 +99,10 @@ def test_builtin_seams_pair_matching_heights(name):
     pattern = build(name, "M")
     mesh = mesh_pattern(pattern, triangles=1500)
     y = mesh.vertices[:, 1]
+    arm = {p.name for p in pattern.panels if p.placement.part.startswith("arm")}
     for si, seam in enumerate(pattern.seams):
+        if (seam.a.panel in arm) != (seam.b.panel in arm):
+            continue  # a set-in sleeve's flat frame runs along the arm, not the body
         pairs = mesh.seam_pairs[mesh.seam_index == si]
         dy = np.abs(y[pairs[:, 0]] - y[pairs[:, 1]])
         assert dy.max() < 0.035, (seam.name, dy.max())

@@ -164,7 +164,8 @@ def test_builtin_garments_sewable_in_all_sizes(name):
         assert p.meta["size"] == size
         for seam in p.seams:
             la, lb = p.seam_side_length(seam.a), p.seam_side_length(seam.b)
-            assert abs(la - lb) < 1e-3, seam.name
+            # equal sides, or the longer within the seam's stated ease (a cap, a gather)
+            assert max(la, lb) - min(la, lb) * (1 + seam.ease) < 1e-3, seam.name
         areas.append(p.area())
         # every panel edge is either sewn or a free edge (hem, waist, neckline, cuff...)
         for panel in p.panels:

@@ -27,7 +27,12 @@ back. Export adds keys GarmentCode ignores, ``patternfit_placement`` per panel (
 side, grain line, and whether the 3D placement is explicit) and ``patternfit_seam_names`` at
 the top, so that our own patterns come back unchanged.
 A file without it gets part ``"torso"`` and its side from the sign of the translation's z
-(front: z >= 0), with the file's explicit 3D placement.
+(front: z >= 0), with the file's explicit 3D placement. The reader judges neither: placement
+reads each panel's body part from its name, seams and shape
+(:func:`patternfit.pattern.roles.panel_roles`) and uses the file's 3D placement only where
+it is around the body (:func:`patternfit.sim.panel_frames.implausible_placements`; older
+templates put the panels at the feet or 25 m below), re-placing the garment with a warning
+naming the panels otherwise.
 """
 
 from __future__ import annotations

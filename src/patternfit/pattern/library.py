@@ -17,7 +17,7 @@ import numpy as np
 from .edges import Edge
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
 from .sizes import SIZE_NAMES, Measurements, size_chart
-from .validate import check_pattern
+from .validate import check_pattern, measured_ease
 
 _MIRROR = np.diag([-1.0, 1.0])
 
@@ -236,6 +236,147 @@ def dress(m: Measurements, *, ease: float = 0.06, length: float | None = None) -
     return Pattern("dress", (front, back), _seams("front", "back", edges))
 
 
+# -- shirt with set-in sleeves -------------------------------------------------------------
+def _fit_length(make: Callable[[float], Edge], target: float, lo: float, hi: float) -> Edge:
+    """The edge ``make(w)`` whose length is ``target`` [m], ``w`` found by bisection in
+    [lo, hi] (the length grows with ``w``)."""
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if make(mid).length < target else (lo, mid)
+    return make(0.5 * (lo + hi))
+
+
+def _sleeve(*, front: float, back: float, ease: float, cap_height: float, length: float,
+            cuff: float, full_length: float) -> Panel:
+    """A one-piece set-in sleeve for the left arm, drafted as seen from outside (its centre
+    line on the top of the arm, +x towards the back): its cap's back half ``cap_back`` is
+    ``(1 + ease)`` times the back armhole ``back`` [m] long and its front half ``cap_front``
+    as much longer than the front armhole ``front`` [m]; the front cap is the more scooped,
+    as the front armhole is. The sleeve narrows from its width under the cap to ``cuff`` [m]
+    at ``full_length`` [m]; a shorter sleeve is that one cut off (a short sleeve's hem
+    stays as wide as the upper arm). The underarm edges have equal lengths (the hem is
+    shifted by the difference of the cap's halves)."""
+    y0 = length - cap_height
+
+    def half(w: float, sign: float, full: float) -> Edge:  # from the underarm up to the top
+        return Edge.cubic("cap", (sign * w, y0), (sign * full * w, y0 + 0.12 * cap_height),
+                          (sign * 0.45 * w, length), (0.0, length))
+
+    cap_b = _fit_length(lambda w: half(w, 1.0, 0.68), (1 + ease) * back, 0.02, 0.5)
+    cap_f = _fit_length(lambda w: half(w, -1.0, 0.58), (1 + ease) * front, 0.02, 0.5)
+    wb, wf = float(cap_b.start[0]), -float(cap_f.start[0])
+    hem = wb + wf + (cuff - wb - wf) * min(1.0, y0 / max(full_length - cap_height, 1e-9))
+    cb, cf = hem / 2 + (wb - wf) / 2, hem / 2 - (wb - wf) / 2
+    edges = (Edge.line("hem", (-cf, 0.0), (cb, 0.0)),
+             Edge.line("underarm_b", (cb, 0.0), (wb, y0)),
+             replace(cap_b, name="cap_back"),
+             replace(cap_f.reversed(), name="cap_front"),
+             Edge.line("underarm_f", (-wf, y0), (-cf, 0.0)))
+    return Panel("sleeve_l", Loop("outline", edges), placement=Placement("arm_left", "outer"))
+
+
+def shirt(m: Measurements, *, ease: float = 0.10, length: float | None = None,
+          sleeve_length: float | None = None, cap_ease: float = 0.03,
+          cap_height: float = 0.11) -> Pattern:
+    """A hip-length shirt with long set-in sleeves: front, back and two one-piece sleeves.
+
+    Parameters
+    ----------
+    m : Measurements
+        Body measurements [m].
+    ease : float
+        Girth added at the chest and hip [m].
+    length : float, optional
+        From the neck point to the hem [m] (default: back length + 27 cm).
+    sleeve_length : float, optional
+        From the top of the cap to the hem [m] (default: arm length + 3 cm, to the wrist;
+        a shorter sleeve keeps the long one's width where it is cut).
+    cap_ease : float
+        How much longer the sleeve cap is than the armhole [m] (2–4 cm in a set-in sleeve),
+        shared by the front and back halves in proportion; stated as the cap seams' ``ease``.
+    cap_height : float
+        From the underarm line of the sleeve to the top of its cap [m].
+    """
+    total = length or (m.back_length + 0.27)
+    bw = (m.bust + ease) / 4
+    hw = max((m.hip + ease) / 4, bw)
+    nw = m.neck / 6 + 0.01
+    tip = np.array([m.shoulder / 2, total - 0.045])
+    y_pit = tip[1] - (m.bust / 8 + 0.085)
+
+    def panel(name: str, neck_depth: float, scoop: float, side: str) -> Panel:
+        under = np.array([bw, y_pit])
+        half = [Edge.line("side_l", (hw, 0.0), under),
+                Edge.cubic("armhole_l", under, (bw - scoop, y_pit),
+                           (tip[0] - 0.3 * scoop, y_pit + 0.45 * (tip[1] - y_pit)), tip),
+                Edge.line("shoulder_l", tip, (nw, total))]
+        loop = _symmetric_loop(half, _neckline(nw, total, neck_depth),
+                               Edge.line("hem", (-hw, 0.0), (hw, 0.0)))
+        return Panel(name, loop, placement=Placement("torso", side))
+
+    front = panel("front", m.neck / 6 + 0.02, 0.06, "front")
+    back = _mirror_panel(panel("back", 0.02, 0.03, "back"), "back", Placement("torso", "back"))
+    la_f, la_b = front.edge("armhole_l").length, back.edge("armhole_l").length
+    left = _sleeve(front=la_f, back=la_b, ease=cap_ease / (la_f + la_b),
+                   cap_height=cap_height, length=sleeve_length or (m.arm_length + 0.03),
+                   cuff=m.wrist + 0.10, full_length=m.arm_length + 0.03)
+    right = _mirror_panel(left, "sleeve_r", Placement("arm_right", "outer"))
+    seams = list(_seams("front", "back", [f"{e}_{s}" for s in "rl" for e in ("side", "shoulder")]))
+    for s, sleeve in (("l", left), ("r", right)):
+        name = f"sleeve_{s}"
+        for half, body in (("front", front), ("back", back)):
+            la = body.edge(f"armhole_{s}").length
+            lc = sleeve.edge(f"cap_{half}").length
+            seams.append(Seam(f"cap_{half}_{s}", SeamSide(name, f"cap_{half}"),
+                              SeamSide(half, f"armhole_{s}"),
+                              ease=measured_ease(lc, la)))
+        seams.append(Seam(f"underarm_{s}", SeamSide(name, "underarm_b"),
+                          SeamSide(name, "underarm_f")))
+    return Pattern("shirt", (front, back, left, right), tuple(seams))
+
+
+# -- gathered skirt ------------------------------------------------------------------------
+def gathered_skirt(m: Measurements, *, ease: float = 0.02, length: float = 0.58,
+                   gather: float = 1.6, band: float = 0.04) -> Pattern:
+    """A skirt of two straight panels gathered into a waistband (front and back halves).
+
+    ``length`` is the skirt's length below the band [m]; ``gather`` the ratio of the skirt's
+    waist to the band's (1.6: 1.6 cm of skirt gathered into each cm of band; at most
+    ``1 + limits.seam_ease``), stated as the waist seams' ``ease``; ``band`` the band's
+    height [m]. The band's quarter is ``(waist + ease) / 4`` wide.
+    """
+    bw = (m.waist + ease) / 4
+    sw = gather * bw
+
+    def skirt_panel(name: str, side: str) -> Panel:
+        loop = _symmetric_loop([Edge.line("side_l", (sw, 0.0), (sw, length))],
+                               Edge.line("waist", (sw, length), (-sw, length)),
+                               Edge.line("hem", (-sw, 0.0), (sw, 0.0)))
+        return Panel(name, loop, placement=Placement("torso", side))
+
+    def band_panel(name: str, side: str) -> Panel:
+        top = length + band
+        loop = _symmetric_loop([Edge.line("side_l", (bw, length), (bw, top))],
+                               Edge.line("top", (bw, top), (-bw, top)),
+                               Edge.line("bottom", (-bw, length), (bw, length)))
+        return Panel(name, loop, placement=Placement("torso", side))
+
+    front, band_front = skirt_panel("front", "front"), band_panel("band_front", "front")
+    back = _mirror_panel(skirt_panel("back", "back"), "back", Placement("torso", "back"))
+    band_back = _mirror_panel(band_panel("band_back", "back"), "band_back",
+                              Placement("torso", "back"))
+    sides = [f"side_{s}" for s in "rl"]
+    gathered = measured_ease(2 * sw, 2 * bw)
+    seams = (_seams("front", "back", sides)
+             + tuple(replace(s, name=f"band_{s.name}")
+                     for s in _seams("band_front", "band_back", sides))
+             + (Seam("waist_front", SeamSide("front", "waist"), SeamSide("band_front", "bottom"),
+                     ease=gathered),
+                Seam("waist_back", SeamSide("back", "waist"), SeamSide("band_back", "bottom"),
+                     ease=gathered)))
+    return Pattern("gathered_skirt", (front, back, band_front, band_back), seams)
+
+
 #: name -> (drafting function, size chart used by default, description, where it hangs from)
 GARMENTS: dict[str, tuple[Callable[..., Pattern], str, str, str]] = {
     "coat": (coat, "male", "hip-length coat, kimono sleeves, 2 panels (front, back)", "neck"),
@@ -243,6 +384,10 @@ GARMENTS: dict[str, tuple[Callable[..., Pattern], str, str, str]] = {
     "trousers": (trousers, "male", "full-length trousers, 4 panels (front/back of each leg)",
                  "waist"),
     "dress": (dress, "female", "sleeveless one-piece dress, 2 panels (front, back)", "neck"),
+    "shirt": (shirt, "male", "hip-length shirt, long set-in sleeves with cap ease, 4 panels "
+              "(front, back, 2 sleeves)", "neck"),
+    "gathered_skirt": (gathered_skirt, "female", "skirt gathered 1.6:1 into a waistband, 4 "
+                       "panels (front, back, 2 band halves)", "waist"),
 }
 
 

@@ -245,23 +245,23 @@ class Pattern:
     @property
     def anchor(self) -> str:
         """Where the garment hangs from on the body: ``"neck"`` or ``"waist"`` (the one rule
-        that placement and the on-body check share).
+        that placement and the on-body check share; ``docs/pattern-format.md``, "Where a
+        garment hangs from").
 
         ``meta["anchor"]`` when it is one of :data:`ANCHORS` (every built-in garment sets
-        it); otherwise ``"neck"`` when a panel dresses an arm (``placement.part``
-        ``"arm_*"``: sleeves hang from the shoulders) or has an edge named ``neck*`` or
-        ``shoulder*``, else ``"waist"`` (skirts, trousers). Placement puts the top of the
-        drafted garment at the body's ``neck_base_height`` / ``waist_height``, and a drape
-        whose top ends far from that height fails (:mod:`patternfit.sim.onbody`).
+        it); otherwise read from the panels' roles
+        (:func:`patternfit.pattern.roles.garment_anchor`): ``"neck"`` when a panel is a
+        sleeve, collar or hood, or two body panels are sewn at their tops across (shoulders),
+        else ``"waist"`` (skirts, trousers). It does not depend on the panels' names being
+        kept, so a DXF or GarmentCode round trip keeps it. Placement puts the top of the
+        garment at the body's ``neck_base_height`` / ``waist_height``, and a drape whose top
+        ends far from that height fails (:mod:`patternfit.sim.onbody`).
         """
         given = self.meta.get("anchor") if isinstance(self.meta, dict) else None
         if given in ANCHORS:
             return given
-        for p in self.panels:
-            if p.placement.part.startswith("arm") or any(
-                    e.name.lower().startswith(("neck", "shoulder")) for e in p.edges().values()):
-                return "neck"
-        return "waist"
+        from .roles import garment_anchor  # roles reads patterns: imported when first asked
+        return garment_anchor(self)
 
     def panel(self, name: str) -> Panel:
         """The panel called ``name``; ``KeyError`` listing the panels when there is none."""

@@ -18,9 +18,13 @@ import numpy as np
 from ..geometry import triangle_areas
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
+from ..pattern.roles import panel_roles
+from .panel_frames import ANCHOR_HEIGHT, upright_frames
 
-#: body measurement giving the height of each anchor (:attr:`Pattern.anchor`) [m]
-ANCHOR_HEIGHT = {"waist": "waist_height", "neck": "neck_base_height"}
+#: a body panel whose top lies this far [m] below the garment's top does not hold the
+#: anchor (the trousers' back rises 3 cm above the front; a dress's skirt starts 40 cm down)
+ANCHOR_PANELS = 0.05
+
 
 
 @dataclass(frozen=True)
@@ -98,20 +102,28 @@ class OnBodyChecks:
 
 def anchor_line(pattern: Pattern, mesh: GarmentMesh, *, band: float = ON_BODY.top_band
                 ) -> np.ndarray:
-    """Flat vertex ids of the garment's anchor line: the outline vertices of every panel
-    that is not on an arm lying within ``band`` [m] of the panel's top in the flat pattern
-    (all panels when every one is on an arm)."""
+    """Flat vertex ids of the garment's anchor line: the outline vertices lying within
+    ``band`` [m] of their panel's top, over the body panels whose top is within
+    :data:`ANCHOR_PANELS` of the garment's top (a dress's bodice, not its skirt sewn at the
+    waist), in the upright frames placement uses (:func:`~.panel_frames.upright_frames`);
+    sleeves, cuffs, hoods and collars are not body panels (all panels when every one is)."""
+    roles = panel_roles(pattern)
+    flat = upright_frames(pattern, mesh, roles)
     boundary = np.zeros(mesh.n_vertices, dtype=bool)
     boundary[mesh.boundary_vertices] = True
-    parts = {p.name: p.placement.part for p in pattern.panels}
     names = list(mesh.panel_names)
-    chosen = [i for i, n in enumerate(names) if not parts.get(n, "torso").startswith("arm")]
+    chosen = [i for i, n in enumerate(names)
+              if roles[n].kind not in ("sleeve", "cuff", "hood", "collar")] or range(len(names))
+    tops = {i: float(flat[mesh.panel_vertices(i), 1].max()) for i in chosen}
+    top = max(tops.values())
     out = []
-    for i in chosen or range(len(names)):
+    for i in chosen:
+        if tops[i] < top - ANCHOR_PANELS:
+            continue
         ids = mesh.panel_vertices(i)
         ids = ids[boundary[ids]]
         if len(ids):
-            y = mesh.vertices[ids, 1]
+            y = flat[ids, 1]
             out.append(ids[y >= y.max() - band])
     return np.concatenate(out) if out else np.zeros(0, dtype=np.int64)
 

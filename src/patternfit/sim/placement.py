@@ -1,9 +1,12 @@
 """Isometric placement of the panels around the body before sewing (paper Sec. 6.1).
 
-Each panel is rolled onto a vertical elliptic cylinder around the body part it dresses (a
-cylinder is developable: rolling keeps every length, so ϖ = 1 before sewing), or laid in a
-plane in front of / behind the body when it is too wide to wrap (kimono sleeves). Seams that
-do not coincide after placement are closed by the sewing phase of the solver.
+Each panel is rolled onto a cylinder around the body part it dresses (a cylinder is
+developable: rolling keeps every length, so ϖ = 1 before sewing): a vertical elliptic one
+round the torso, one along each leg's and each arm's slant, or laid in a plane in front of /
+behind the body when it is too wide to wrap (kimono sleeves). The part and side come from
+the pattern (:mod:`patternfit.pattern.roles`), the panels' upright frames and an imported
+placement's plausibility from :mod:`patternfit.sim.panel_frames`. Seams that do not coincide
+after placement are closed by the sewing phase of the solver.
 
 World frame: metres, y up, the body facing +z, its left side at +x. A panel is drafted right
 side up as seen from outside, so its +u runs towards +x on the front and towards −x on the
@@ -13,13 +16,16 @@ back; rolled panels keep their outward normal.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
 from ..arguments import array
 from ..geometry import rotation_between
 from ..mesh.garment import GarmentMesh
-from ..pattern.model import Panel, Pattern
+from ..pattern.model import Pattern
+from ..pattern.roles import panel_roles
+from .panel_frames import PlacementWarning, implausible_placements, upright_frames
 
 #: default axis position (x, z) [m] and radius [m] of each body part, for a body-free placement
 PART_AXES = {
@@ -152,26 +158,33 @@ def _centred(uv: np.ndarray) -> np.ndarray:
 def place_on_cylinders(pattern: Pattern, mesh: GarmentMesh, *,
                        clearance: float = 0.03) -> np.ndarray:
     """Body-free placement: every panel on a circular cylinder around its part's default axis
-    (``PART_AXES``), centred on the front or back meridian; the cylinder grows when a panel
-    would wrap more than half way round. Returns positions (n, 3) [m]."""
+    (``PART_AXES``; the part from :func:`~patternfit.pattern.roles.panel_roles`), centred on
+    the front or back meridian; the cylinder grows when a panel would wrap more than half
+    way round. Returns positions (n, 3) [m]."""
     x = np.zeros((mesh.n_vertices, 3))
+    roles = panel_roles(pattern)
     for pi, panel in enumerate(pattern.panels):
         ids = mesh.panel_vertices(pi)
         uv = _centred(mesh.vertices[ids])
-        axis, r = PART_AXES.get(panel.placement.part, PART_AXES["torso"])
+        role = roles[panel.name]
+        axis, r = PART_AXES.get(role.part, PART_AXES["torso"])
         r = max(r + clearance, np.ptp(uv[:, 0]) / (0.95 * math.pi))
         ring = Ellipse(r, r, axis)
-        s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
+        s0 = 0.0 if role.side != "back" else 0.5 * ring.perimeter
         x[ids] = roll_panel(uv, ring, s0=s0)
     return x
 
 
 # -- on a body ---------------------------------------------------------------------------------
-def _vertical_offset(pattern: Pattern, mesh: GarmentMesh, body) -> float:
+def _vertical_offset(pattern: Pattern, flat: np.ndarray, mesh: GarmentMesh, roles,
+                     body) -> float:
     """Shift [m] that brings the drafted garment to its height on the body: its top 1 cm
     above the neck base when :attr:`Pattern.anchor` is ``"neck"``, else above the waist
-    (the rule the on-body check measures the drape against)."""
-    top = float(mesh.vertices[:, 1].max())
+    (the rule the on-body check measures the drape against). The top is that of the body
+    panels: sleeves, hoods and collars rise above the neck."""
+    tops = [flat[mesh.panel_vertices(i), 1].max() for i, p in enumerate(pattern.panels)
+            if roles[p.name].kind not in ("sleeve", "cuff", "hood", "collar")]
+    top = float(max(tops) if tops else flat[:, 1].max())
     m = body.measurements
     if pattern.anchor == "neck":
         return m["neck_base_height"] + 0.01 - top
@@ -189,9 +202,10 @@ def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, flo
     return float(np.abs(d[:, 0]).max()), float(d[:, 1].max()), float(-d[:, 1].min())
 
 
-def _place_torso(panel: Panel, uv, body, centre, dy, clearance, width_limit,
+def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
                  arm_gap) -> np.ndarray:
-    """Front/back torso panel: rolled on an ellipse clear of the body, or on a winged profile
+    """A torso panel: rolled on an ellipse clear of the body, centred on its ``side``
+    (front, back, or the body's left / right for a hood's halves), or on a winged profile
     when too wide to wrap."""
     y0, y1 = uv[:, 1].min() + dy, uv[:, 1].max() + dy
     hw, front, back = _torso_extent(body, y0, y1, centre)
@@ -203,12 +217,12 @@ def _place_torso(panel: Panel, uv, body, centre, dy, clearance, width_limit,
     if grow <= width_limit:
         if grow > 1:
             ring = Ellipse(ring.a * grow, ring.b * grow, centre)
-        s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
-        return roll_panel(uv, ring, s0=s0, height=dy)
+        theta = {"front": 0.0, "left": 0.5 * math.pi, "back": math.pi}.get(side, 1.5 * math.pi)
+        return roll_panel(uv, ring, s0=ring.arc_length(theta), height=dy)
     # too wide to wrap (kimono sleeves): torso round the body, sleeves on wings either side
     # of the arms
-    side = 1.0 if panel.placement.side == "front" else -1.0
-    wings = WingedProfile(ring.a, ring.b, min(arm_gap, 0.8 * ring.b), centre, side=side)
+    facing = 1.0 if side == "front" else -1.0
+    wings = WingedProfile(ring.a, ring.b, min(arm_gap, 0.8 * ring.b), centre, side=facing)
     return roll_panel(uv, wings, height=dy)
 
 
@@ -226,38 +240,56 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
                   width_limit: float = 1.6) -> np.ndarray:
     """Place every panel of ``mesh`` around ``body`` (a :class:`patternfit.body.Body`).
 
+    Each panel's body part and side come from :func:`~patternfit.pattern.roles.panel_roles`
+    (its stated placement, name, seams and shape). Each panel is first turned upright in its
+    flat frame (its grain line, or an explicit placement's up, along the body's height; a
+    band's length across it; a sleeve's cap towards the shoulder), and where the panels'
+    flat frames do not agree in height (seams joining edges at different heights: another
+    tool's frames) they are stacked so that their seams meet
+    (:func:`~patternfit.sim.panel_frames.upright_frames`). The top of the body panels goes
+    1 cm above the body's neck base or waist (:attr:`Pattern.anchor`).
+
     Torso panels are rolled onto an elliptic cylinder around the torso axis that clears the
     body by ``clearance`` [m] and holds the front and back panels side by side (enlarged up
     to ``width_limit`` times; wider panels keep their middle round the body and continue
     outwards in front of / behind the arms, :class:`WingedProfile`). Leg panels are
     rolled onto a circular cylinder around their leg, the front panel from the front midline
     and the back one from the back midline round the outside, so that the crotch seams start
-    at the midline. A panel with an explicit 3D placement (``Placement.translation`` /
-    ``rotation``, as GarmentCode files carry) keeps it. Returns positions (n, 3) [m], one per
-    flat vertex.
+    at the midline. Sleeves are rolled round the arm's axis (:func:`_place_arm`).
+
+    Panels with an explicit 3D placement (``Placement.translation`` / ``rotation``, as
+    GarmentCode files carry) keep it when it is plausible on this body
+    (:func:`implausible_placements`); otherwise the whole garment is placed here, with a
+    :class:`PlacementWarning` naming the panels. Returns positions (n, 3) [m], one per flat
+    vertex.
     """
+    bad = implausible_placements(pattern, mesh, body)
+    keep = not bad
+    if bad:
+        warnings.warn(PlacementWarning(
+            f"the imported 3D placement of {len(bad)} panel(s) is not around the body and was "
+            f"replaced by patternfit's: {'; '.join(bad)}"), stacklevel=2)
+    roles = panel_roles(pattern)
+    flat = upright_frames(pattern, mesh, roles)
     lm = body.landmarks
-    dy = _vertical_offset(pattern, mesh, body)
+    dy = _vertical_offset(pattern, flat, mesh, roles, body)
     arm_gap = 0.5 * body.measurements.get("bicep", 0.32) / math.pi + clearance + 0.02
     x = np.zeros((mesh.n_vertices, 3))
     torso = np.asarray(lm["torso_axis"])[:, [0, 2]].mean(axis=0)
     legs: dict[str, list[int]] = {}
+    arms: dict[str, list[int]] = {}
     for pi, panel in enumerate(pattern.panels):
-        part = panel.placement.part
+        role = roles[panel.name]
         ids = mesh.panel_vertices(pi)
-        uv = mesh.vertices[ids]
-        if panel.placement.explicit:
-            x[ids] = panel.placement.transform(uv)  # an imported file's own placement
-        elif part.startswith("leg"):
-            legs.setdefault(part, []).append(pi)
-        elif part.startswith("arm"):
-            axis = np.asarray(lm[f"arm_axis_{part.split('_')[1]}"])[:, [0, 2]].mean(axis=0)
-            r = max(0.07 + clearance, np.ptp(uv[:, 0]) / (0.97 * math.pi))
-            ring = Ellipse(r, r, axis)
-            s0 = 0.0 if panel.placement.side == "front" else 0.5 * ring.perimeter
-            x[ids] = roll_panel(_centred(uv), ring, s0=s0, height=dy)
+        uv = flat[ids]
+        if panel.placement.explicit and keep:
+            x[ids] = panel.placement.transform(mesh.vertices[ids])  # the file's own placement
+        elif role.part.startswith("leg"):
+            legs.setdefault(role.part, []).append(pi)
+        elif role.part.startswith("arm"):
+            arms.setdefault(role.part, []).append(pi)
         else:
-            x[ids] = _place_torso(panel, uv, body, torso, dy, clearance, width_limit,
+            x[ids] = _place_torso(role.side, uv, body, torso, dy, clearance, width_limit,
                                   arm_gap)
     for part, panels in legs.items():
         side = part.split("_")[1]
@@ -267,16 +299,15 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
         turn = rotation_between((0.0, -1.0, 0.0), bottom - top)
         pivot = np.array([top[0], top[1], top[2]])
         d = abs(axis[0] - torso[0])
-        width = sum(np.ptp(mesh.vertices[mesh.panel_vertices(p)][:, 0]) for p in panels)
+        width = sum(np.ptp(flat[mesh.panel_vertices(p)][:, 0]) for p in panels)
         r = _leg_radius(d, 1.05 * width + 2 * clearance)
         ring = Ellipse(r, r, axis)
         cross = math.asin(min(d / r, 1.0))  # angle where the circle meets the midline
         towards_mid = 1.0 if axis[0] < torso[0] else -1.0  # +x is towards the midline
         for pi in panels:
-            panel = pattern.panels[pi]
             ids = mesh.panel_vertices(pi)
-            uv = mesh.vertices[ids].copy()
-            front = panel.placement.side == "front"
+            uv = flat[ids].copy()
+            front = roles[pattern.panels[pi].name].side != "back"
             theta = (cross if front else math.pi - cross) if towards_mid > 0 \
                 else (-cross if front else math.pi + cross)
             # +u runs towards +x on the front and -x on the back
@@ -286,7 +317,92 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             uv[:, 0] -= anchor + gap
             rolled = roll_panel(uv, ring, s0=ring.arc_length(theta), height=dy)
             x[ids] = (rolled - pivot) @ turn.T + pivot
+    placed = np.zeros(mesh.n_vertices, dtype=bool)
+    for pi, panel in enumerate(pattern.panels):
+        if not roles[panel.name].part.startswith("arm"):
+            placed[mesh.panel_vertices(pi)] = True
+    for part, panels in arms.items():
+        sides = [roles[pattern.panels[p].name].side for p in panels]
+        _place_arm(flat, mesh, body, part, panels, sides, x, x[placed], torso, clearance)
     return x + [0.0, _sewing_lift(mesh, x, body, clearance), 0.0]
+
+
+def _arm_radius(body, top, direction) -> float:
+    """Radius [m] of the upper arm: the 95th percentile of the body's distance from the arm
+    axis between a quarter and half of the way from the shoulder to the wrist."""
+    v = body.vertices - top
+    t = v @ direction
+    length = float(np.linalg.norm(np.asarray(body.landmarks["arm_axis_left"][1])
+                                  - np.asarray(body.landmarks["arm_axis_left"][0])))
+    radial = np.linalg.norm(v - np.outer(t, direction), axis=1)
+    sel = (t > 0.25 * length) & (t < 0.5 * length) & (radial < 0.12)
+    return float(np.percentile(radial[sel], 95)) if sel.sum() > 10 else 0.05
+
+
+class _Clearance:
+    """Whether points clear what is placed already: outside the placed cloth's outline
+    round the torso axis (by angle, in height bands) and outside the body."""
+
+    def __init__(self, placed, centre, body, margin: float, *, bins: int = 72,
+                 band: float = 0.02):
+        self.centre, self.bins, self.band = centre, bins, band
+        self.field, self.margin = body.distance_field(0.005), margin
+        self.y0 = float(placed[:, 1].min()) if len(placed) else 0.0
+        self.radius: dict[tuple[int, int], float] = {}
+        for key, r in zip(self._keys(placed), self._radial(placed)):
+            self.radius[key] = max(self.radius.get(key, 0.0), float(r))
+
+    def _radial(self, p):
+        return np.hypot(p[:, 0] - self.centre[0], p[:, 2] - self.centre[1])
+
+    def _keys(self, p):
+        ang = np.arctan2(p[:, 0] - self.centre[0], p[:, 2] - self.centre[1])
+        a = np.floor((ang + math.pi) / (2 * math.pi) * self.bins).astype(int) % self.bins
+        b = np.floor((p[:, 1] - self.y0) / self.band).astype(int)
+        return list(zip(b.tolist(), a.tolist()))
+
+    def clear(self, p) -> bool:
+        d, _ = self.field.query(p)
+        if d.min() < self.margin:
+            return False
+        r = self._radial(p)
+        for (b, a), ri in zip(self._keys(p), r):
+            for db in (-1, 0, 1):
+                for da in (-1, 0, 1):
+                    if ri < self.radius.get((b + db, (a + da) % self.bins), 0.0) + self.margin:
+                        return False
+        return True
+
+
+def _place_arm(flat: np.ndarray, mesh: GarmentMesh, body, part: str, panels: list[int],
+               sides: list[str], x: np.ndarray, placed, torso, clearance: float) -> None:
+    """Roll the panels of one arm onto a cylinder round the arm's axis (from the shoulder to
+    the wrist: the cylinder follows the arm's slant, a rotation, so still isometric), each
+    panel's top towards the shoulder: a one-piece sleeve (side ``"outer"``) centred on the
+    top of the arm, a two-piece sleeve's halves on its front and back. The sleeve starts at
+    the shoulder, or as far down the arm as it takes to clear the cloth already placed and
+    the body; the sewing phase pulls it up to its armhole. Writes ``x`` in place."""
+    which = part.split("_")[1]
+    top, bottom = (np.asarray(p, dtype=np.float64) for p in body.landmarks[f"arm_axis_{which}"])
+    direction = (bottom - top) / np.linalg.norm(bottom - top)
+    turn = rotation_between((0.0, -1.0, 0.0), direction)
+    width = sum(np.ptp(flat[mesh.panel_vertices(p)][:, 0]) for p in panels)
+    r = max(_arm_radius(body, top, direction) + clearance, width / (0.97 * 2 * math.pi))
+    ring = Ellipse(r, r)
+    outer = 0.5 * math.pi if which == "left" else 1.5 * math.pi  # +x of the turned cylinder
+    rolled = {}
+    for pi, side in zip(panels, sides):
+        uv = _centred(flat[mesh.panel_vertices(pi)])
+        uv[:, 1] -= uv[:, 1].max()
+        theta = {"front": 0.0, "back": math.pi}.get(side, outer)
+        rolled[pi] = roll_panel(uv, ring, s0=ring.arc_length(theta)) @ turn.T
+    everything = np.concatenate(list(rolled.values()))
+    room = _Clearance(placed, torso, body, 0.5 * clearance)
+    for t in np.arange(0.0, 0.40, 0.01):
+        if room.clear(everything + top + t * direction):
+            break
+    for pi, p in rolled.items():
+        x[mesh.panel_vertices(pi)] = p + top + t * direction
 
 
 def _sewing_lift(mesh: GarmentMesh, x, body, clearance: float, *, most: float = 0.06) -> float:

@@ -1,0 +1,366 @@
+"""Which body part each panel dresses, and where the garment hangs from, read from the pattern.
+
+A pattern made elsewhere rarely says where its panels go: DXF pieces carry names, GarmentCode
+files a 3D placement that may be wrong, and every reader defaults to ``Placement("torso",
+"front")``. :func:`panel_roles` reads each panel's role from what the pattern does say, in
+this order of trust:
+
+1. a stated body part other than the default torso (our own files, DXF side files);
+2. the panel's name (``sleeve``, ``lfsleeve``, ``pant_f_r``, ``FR``/``BK``/``SL``, ``cuff``,
+   ``collar``, ``hood``, ``waistband``/``wb``, ``skirt``...);
+3. its seams and shape: a panel sewn to itself along its two long sides is a tube (a sleeve,
+   or a leg when longer than :data:`LEG_LENGTH`); a long narrow band (aspect at least
+   :data:`BAND_ASPECT`) is a cuff when sewn to a sleeve, a collar when sewn at the top of a
+   bodice, else a waistband; a panel sewn at the top outer corner of a bodice (an armhole)
+   is a sleeve; two long panels sewn along a curved edge at their top (a crotch) are legs.
+
+Front and back come from the stated side where the panels do not all say "front", the name,
+the sign of an explicit placement's z, or the deeper neckline (the front's). Left and right
+from the name, an explicit placement's x, or the side of the panel it is sewn to (a sleeve
+sewn to the front's +x armhole is on the body's left: panels are drafted as seen from
+outside). Lengths in metres, in each panel's flat frame.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+#: a band is at least this many times longer than wide [-]
+BAND_ASPECT = 4.0
+#: a tube or crotch-sewn panel at least this long [m] is a leg, else a sleeve
+LEG_LENGTH = 0.60
+#: a sleeve has less than this share of the area of the panel it is sewn into [-] (a shirt's
+#: sleeve 0.6 of its front; a skirt's front and back are alike)
+SLEEVE_AREA = 0.8
+#: the share of a panel's height [-] that counts as its top (shoulders, armholes, necklines)
+TOP_SHARE = 0.30
+
+#: what a panel is, by kind: the body part it goes on is "torso" unless the kind is
+#: sleeve/cuff (an arm) or leg
+KINDS = ("bodice", "skirt", "sleeve", "leg", "collar", "hood", "waistband", "cuff")
+
+_KIND_WORDS = (("waistband", "waistband"), ("wb", "waistband"), ("cuff", "cuff"),
+               ("collar", "collar"), ("hood", "hood"), ("sleeve", "sleeve"), ("slv", "sleeve"),
+               ("pant", "leg"), ("trouser", "leg"), ("leg", "leg"), ("skirt", "skirt"),
+               ("torso", "bodice"), ("bodice", "bodice"), ("yoke", "bodice"))
+_SHORT_KIND = {"sl": "sleeve", "cf": "bodice", "cb": "bodice"}
+
+
+@dataclass(frozen=True)
+class PanelRole:
+    """A panel's role: ``kind`` (one of :data:`KINDS`), the body ``part`` it dresses
+    (``torso``, ``arm_left``, ``arm_right``, ``leg_left``, ``leg_right``), the ``side`` it
+    faces (``front``, ``back``, ``outer`` for a one-piece sleeve centred on the top of the
+    arm; ``left`` or ``right`` for a hood's halves) and ``why``: the evidence, in words."""
+
+    kind: str
+    part: str
+    side: str
+    why: str
+
+
+def _words(name: str) -> list[str]:
+    spaced = re.sub(r"([a-z])([A-Z])", r"\1 \2", name)
+    return [w for w in re.split(r"[^a-z0-9]+", spaced.lower()) if w]
+
+
+def _kind_from_name(name: str) -> tuple[str | None, str]:
+    """(kind, the letters before the kind word in that word: GarmentCode's ``lf`` of
+    ``lfsleeve``)."""
+    for w in _words(name):
+        if w in _SHORT_KIND:
+            return _SHORT_KIND[w], ""
+        for word, kind in _KIND_WORDS:
+            if word == "wb" and w != "wb":
+                continue
+            at = w.find(word)
+            if at >= 0:
+                return kind, w[:at]
+    return None, ""
+
+
+def _side_from_name(name: str, prefix: str) -> str | None:
+    words = _words(name)
+    if any(w in ("front", "fr", "ft", "f", "frt") for w in words) or "f" in prefix:
+        return "front"
+    if any(w in ("back", "bk", "b", "bck") for w in words) or "b" in prefix:
+        return "back"
+    joined = "".join(words)
+    if "front" in joined:
+        return "front"
+    if "back" in joined:
+        return "back"
+    return None
+
+
+def _hand_from_name(name: str, prefix: str) -> str | None:
+    words = _words(name)
+    if any(w in ("left", "l", "lt", "lft") for w in words) or prefix.startswith("l") \
+            or any(w.startswith("left") for w in words):
+        return "left"
+    if any(w in ("right", "r", "rt", "rgt") for w in words) or prefix.startswith("r") \
+            or any(w.startswith("right") for w in words):
+        return "right"
+    return None
+
+
+def upright_turn(up) -> np.ndarray:
+    """(2, 2) rotation turning the unit direction ``up`` (2,) onto +y (points: ``p @ M.T``);
+    a rotation keeps every length and the right side up."""
+    u = np.asarray(up, dtype=np.float64)
+    u = u / np.linalg.norm(u)
+    return np.array([[u[1], -u[0]], [u[0], u[1]]])
+
+
+class _Shape:
+    """A panel's outline points (k, 2) [m] and its edges, turned so that its grain line
+    (warp along the body's height) is +y."""
+
+    def __init__(self, panel):
+        self.panel = panel
+        self.turn = upright_turn(panel.grainline)
+        self.points = panel.outline.polygon(16) @ self.turn.T
+        self.lo, self.hi = self.points.min(axis=0), self.points.max(axis=0)
+        self.size = self.hi - self.lo
+        self.centre = self.points.mean(axis=0)
+        self.edges = panel.edges()
+
+    def line(self, edge: str) -> np.ndarray:
+        """The edge as a polyline (17, 2) [m], turned."""
+        return self.edges[edge].polyline(16) @ self.turn.T
+
+    def mid(self, edge: str) -> np.ndarray:
+        return self.edges[edge].point_at([0.5])[0] @ self.turn.T
+
+    def at_top(self, edge: str) -> bool:
+        e = self.line(edge)
+        return float(e[:, 1].mean()) >= self.hi[1] - TOP_SHARE * self.size[1]
+
+    def outer(self, edge: str) -> float:
+        """Where ``edge`` lies across the panel: -1 at its left side, +1 at its right."""
+        half = max(0.5 * self.size[0], 1e-9)
+        return float((self.mid(edge)[0] - 0.5 * (self.lo[0] + self.hi[0])) / half)
+
+    def across(self, edge: str) -> bool:
+        """Whether ``edge`` runs more across the panel than up it (a shoulder, a waist)."""
+        d = self.turn @ (self.edges[edge].end - self.edges[edge].start)
+        return abs(float(d[0])) > abs(float(d[1]))
+
+    def forked(self) -> bool:
+        """Whether the panel is widest in its upper half (a trouser leg at its crotch point;
+        skirts and bodices are widest at the hem or the sleeves)."""
+        p = self.points
+        mid_y = self.lo[1] + 0.5 * self.size[1]
+        widest = p[[int(np.argmin(p[:, 0])), int(np.argmax(p[:, 0]))], 1]
+        return bool((widest > mid_y).any()) and bool((widest < self.hi[1] - 0.05).all())
+
+    def curved(self, edge: str) -> bool:
+        return self.edges[edge].kind != "line"
+
+    @property
+    def aspect(self) -> float:
+        return float(max(self.size) / max(min(self.size), 1e-9))
+
+    @property
+    def length(self) -> float:
+        return float(max(self.size))
+
+    def top_dip(self) -> float:
+        """How far the middle of the top falls below the top's two highest points [m]
+        (a neckline's depth)."""
+        p = self.points
+        mid = np.abs(p[:, 0] - self.centre[0]) < 0.1 * self.size[0]
+        return float(self.hi[1] - p[mid, 1].max()) if mid.any() else 0.0
+
+
+def _links(pattern) -> dict[str, list[tuple[str, str, str]]]:
+    """For each panel, its seams as (own edge, other panel, other edge)."""
+    out: dict[str, list[tuple[str, str, str]]] = {p.name: [] for p in pattern.panels}
+    for s in pattern.seams:
+        out[s.a.panel].append((s.a.edge, s.b.panel, s.b.edge))
+        if s.b.panel != s.a.panel or s.b.edge != s.a.edge:
+            out[s.b.panel].append((s.b.edge, s.a.panel, s.a.edge))
+    return out
+
+
+def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
+    """Fill the kinds the names left open from the seams and shapes."""
+    open_ = [p.name for p in pattern.panels if kinds[p.name] is None]
+    for n in open_:
+        sh = shapes[n]
+        if any(other == n for _, other, _ in links[n]):
+            kinds[n] = "leg" if sh.length >= LEG_LENGTH + 0.2 else "sleeve"
+            why[n] = "sewn to itself (a tube)"
+    for n in open_:
+        sh = shapes[n]
+        if kinds[n] is None and sh.aspect >= BAND_ASPECT:
+            others = [(o, oe) for _, o, oe in links[n] if o != n]
+            if any(kinds.get(o) == "sleeve" for o, _ in others):
+                kinds[n], why[n] = "cuff", "a band sewn to a sleeve"
+            elif any(shapes[o].at_top(oe) and abs(shapes[o].outer(oe)) < 0.5
+                     and shapes[o].top_dip() > 0.03 for o, oe in others):
+                kinds[n], why[n] = "collar", "a band sewn at the top of a bodice"
+            else:
+                kinds[n], why[n] = "waistband", "a long narrow band"
+    for n in open_:  # legs: long forked panels sewn to others along a curve at their top
+        sh = shapes[n]
+        partners = {o for _, o, _ in links[n] if o != n}
+        if kinds[n] is None and sh.size[1] >= LEG_LENGTH and sh.forked() and len(partners) > 1 \
+                and any(
+                sh.curved(e) and sh.at_top(e) and o != n and shapes[o].size[1] >= LEG_LENGTH
+                and shapes[o].curved(oe) and kinds[o] in (None, "leg")
+                and abs(sh.outer(e)) > 0.3 for e, o, oe in links[n]):
+            kinds[n], why[n] = "leg", "long, sewn to another long panel along a curve (crotch)"
+    for n in open_:  # sleeves: sewn by their top into another panel's top outer corner
+        sh = shapes[n]
+        if kinds[n] is None and any(
+                o != n and kinds[o] in (None, "bodice") and shapes[o].at_top(oe)
+                and abs(shapes[o].outer(oe)) > 0.5 and sh.curved(e)
+                and sh.panel.area() < SLEEVE_AREA * shapes[o].panel.area()
+                for e, o, oe in links[n]
+                if _is_armhole(shapes[o], oe) and _cap_of(sh, e)):
+            kinds[n], why[n] = "sleeve", "sewn by a curved end into an armhole"
+    for n in open_:
+        if kinds[n] is None:
+            sewn_up = any(o != n and kinds[o] in ("bodice",) for _, o, _ in links[n])
+            shoulders = any(o != n and shapes[n].at_top(e) and shapes[o].at_top(oe)
+                            and abs(shapes[n].outer(e)) > 0.2 and shapes[n].across(e)
+                            for e, o, oe in links[n])
+            kinds[n] = "bodice" if shoulders else "skirt"
+            why[n] = "sewn at its top to another panel's top (shoulders)" if shoulders \
+                else ("sewn below a bodice" if sewn_up else "a body panel without shoulders")
+
+
+def _mirrored_legs(a: _Shape, b: _Shape, kind: str) -> bool:
+    """Whether two sewn leg panels are the left and right of one side (mirror images, sewn
+    along the crotch: front to front, back to back): the same area within 1 %; a leg's
+    front and back differ (the back's crotch extension is the longer)."""
+    return kind == "leg" and abs(a.panel.area() - b.panel.area()) < 0.01 * a.panel.area()
+
+
+def _is_armhole(shape: _Shape, edge: str) -> bool:
+    """An edge at the top outer corner of a panel, curved, and not its highest point."""
+    e = shape.line(edge)
+    return shape.curved(edge) and float(e[:, 1].min()) < shape.hi[1] - 0.05
+
+
+def _cap_of(shape: _Shape, edge: str) -> bool:
+    """Whether ``edge`` lies at an end of the panel's long axis (a sleeve cap)."""
+    e = shape.line(edge)
+    axis = int(np.argmax(shape.size))
+    span = shape.size[axis]
+    m = float(e[:, axis].mean())
+    return m >= shape.hi[axis] - 0.35 * span or m <= shape.lo[axis] + 0.35 * span
+
+
+def panel_roles(pattern) -> dict[str, PanelRole]:
+    """Every panel's :class:`PanelRole`, by panel name (see the module's docstring)."""
+    shapes = {p.name: _Shape(p) for p in pattern.panels}
+    links = _links(pattern)
+    kinds: dict[str, str | None] = {}
+    why: dict[str, str] = {}
+    prefix: dict[str, str] = {}
+    for p in pattern.panels:
+        part = p.placement.part
+        kind, prefix[p.name] = _kind_from_name(p.name)
+        if part.startswith("arm"):
+            kinds[p.name] = "cuff" if kind == "cuff" else "sleeve"
+            why[p.name] = f"stated part {part}"
+        elif part.startswith("leg"):
+            kinds[p.name], why[p.name] = "leg", f"stated part {part}"
+        else:
+            kinds[p.name] = kind
+            why[p.name] = f"named {p.name!r}" if kind else ""
+    _structural_kinds(pattern, shapes, links, kinds, why)
+    sides = _sides(pattern, shapes, links, kinds, prefix)
+    out = {}
+    for p in pattern.panels:
+        kind = kinds[p.name]
+        part = p.placement.part
+        if kind in ("sleeve", "cuff", "leg") and part == "torso":
+            limb = "leg" if kind == "leg" else "arm"
+            part = f"{limb}_{_hand(pattern, p, shapes, links, kinds, prefix, sides)}"
+        elif kind not in ("sleeve", "cuff", "leg"):
+            part = "torso"
+        out[p.name] = PanelRole(kind, part, sides[p.name], why[p.name])
+    return out
+
+
+def _sides(pattern, shapes, links, kinds, prefix) -> dict[str, str]:
+    stated = {p.name: p.placement.side for p in pattern.panels}
+    trusted = len({stated[p.name] for p in pattern.panels
+                   if kinds[p.name] in ("bodice", "skirt", "leg")}) > 1
+    sides = {}
+    for p in pattern.panels:
+        n = p.name
+        by_name = _side_from_name(n, prefix[n])
+        t = p.placement.translation
+        if kinds[n] == "sleeve" and any(o == n for _, o, _ in links[n]):
+            sides[n] = "outer"  # a tube: centred on the top of the arm
+        elif kinds[n] == "hood" and not by_name:
+            sides[n] = _hand(pattern, p, shapes, links, kinds, prefix, {})  # hood halves
+        elif by_name:
+            sides[n] = by_name
+        elif t is not None and abs(t[2]) > 1e-3:
+            sides[n] = "back" if t[2] < 0 else "front"
+        elif trusted or stated[n] not in ("front", "back"):
+            sides[n] = stated[n]
+        else:
+            sides[n] = None
+    # what is left: the deeper neckline is the front (else the first panel listed), and a
+    # panel sewn to one of the same kind with a side faces the other way
+    while any(v is None for v in sides.values()):
+        todo = [p.name for p in pattern.panels if sides[p.name] is None]
+        grew = False
+        for n in todo:
+            known = [(sides[o], _mirrored_legs(shapes[n], shapes[o], kinds[n]))
+                     for e, o, _ in links[n] if o != n and sides.get(o) in ("front", "back")
+                     and kinds[o] == kinds[n]]
+            # a panel sewn across (a waist seam) to one of another kind faces the same way
+            known += [(sides[o], True) for e, o, oe in links[n]
+                      if o != n and sides.get(o) in ("front", "back") and kinds[o] != kinds[n]
+                      and shapes[n].across(e) and shapes[o].across(oe)
+                      and kinds[o] in ("bodice", "skirt", "leg")]
+            if known:
+                side, same = known[0]
+                sides[n] = side if same else ("back" if side == "front" else "front")
+                grew = True
+        if not grew:
+            bodices = [n for n in todo if kinds[n] == "bodice"]
+            first = max(bodices, key=lambda n: shapes[n].top_dip()) if bodices else todo[0]
+            sides[first] = "front"
+    return sides
+
+
+def _hand(pattern, panel, shapes, links, kinds, prefix, sides) -> str:
+    """``"left"`` or ``"right"``: the body side of a sleeve, cuff or leg."""
+    by_name = _hand_from_name(panel.name, prefix[panel.name])
+    if by_name:
+        return by_name
+    t = panel.placement.translation
+    if t is not None and abs(t[0]) > 1e-3:
+        return "left" if t[0] > 0 else "right"
+    n = panel.name
+    if kinds[n] == "leg":  # the crotch, sewn to the other leg's, is on the leg's inner side
+        for e, o, _ in links[n]:
+            if o != n and kinds[o] == "leg" and sides.get(o) == sides.get(n):
+                front = sides.get(n) != "back"
+                return "left" if (shapes[n].outer(e) < 0) == front else "right"
+    for e, o, oe in links[n]:
+        if o != n and kinds[o] in ("bodice", "skirt"):
+            front = sides.get(o) != "back"
+            return "left" if (shapes[o].outer(oe) > 0) == front else "right"
+    return "left"
+
+
+def garment_anchor(pattern, roles: dict[str, PanelRole] | None = None) -> str:
+    """``"neck"`` when the garment hangs from the shoulders (a sleeve, collar or hood, or a
+    bodice: two body panels sewn at their tops, the shoulders), else ``"waist"`` (skirts,
+    trousers, waistbands)."""
+    roles = roles if roles is not None else panel_roles(pattern)
+    if any(r.kind in ("sleeve", "collar", "hood", "bodice") for r in roles.values()):
+        return "neck"
+    return "waist"

@@ -1,0 +1,235 @@
+"""Placement of any garment (issue 20, item 4): each panel's role (kind, body part, side)
+and the garment's anchor read from the pattern, imported 3D placements judged on the body,
+and other tools' files draped with every check passing.
+
+The GarmentCode files in tests/data/garmentcode/ are written the way GarmentCode writes its
+specifications (``make_garments.py`` there), with no key of ours: nothing states a body part.
+"""
+
+import warnings
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from patternfit.body.builtin import load_body
+from patternfit.mesh import mesh_pattern
+from patternfit.pattern.garmentcode import load_garmentcode
+from patternfit.pattern.library import GARMENTS, build
+from patternfit.pattern.model import Placement
+from patternfit.pattern.roles import garment_anchor, panel_roles
+from patternfit.sim.fabrics import get_fabric
+from patternfit.sim.panel_frames import PlacementWarning, implausible_placements
+from patternfit.sim.placement import place_on_body
+from patternfit.sim.solver import GarmentSolver
+
+GC = Path(__file__).parent / "data" / "garmentcode"
+
+#: per file: the anchor and every panel's (kind, part, side)
+EXPECTED = {
+    "dress": ("neck", {"ftorso": ("bodice", "torso", "front"),
+                       "btorso": ("bodice", "torso", "back"),
+                       "skirt_front": ("skirt", "torso", "front"),
+                       "skirt_back": ("skirt", "torso", "back")}),
+    "jumpsuit": ("neck", {"ftorso": ("bodice", "torso", "front"),
+                          "btorso": ("bodice", "torso", "back"),
+                          "pant_f_r": ("leg", "leg_right", "front"),
+                          "pant_f_l": ("leg", "leg_left", "front"),
+                          "pant_b_r": ("leg", "leg_right", "back"),
+                          "pant_b_l": ("leg", "leg_left", "back")}),
+    "hoodie": ("neck", {"front": ("bodice", "torso", "front"),
+                        "back": ("bodice", "torso", "back"),
+                        "lsleeve": ("sleeve", "arm_left", "outer"),
+                        "rsleeve": ("sleeve", "arm_right", "outer"),
+                        "hood_left": ("hood", "torso", "left"),
+                        "hood_right": ("hood", "torso", "right")}),
+    "shirt": ("neck", {"front_torso": ("bodice", "torso", "front"),
+                       "back_torso": ("bodice", "torso", "back"),
+                       "left_sleeve": ("sleeve", "arm_left", "outer"),
+                       "right_sleeve": ("sleeve", "arm_right", "outer")}),
+    "tee": ("neck", {"ftorso": ("bodice", "torso", "front"),
+                     "btorso": ("bodice", "torso", "back"),
+                     "lsleeve": ("sleeve", "arm_left", "outer"),
+                     "rsleeve": ("sleeve", "arm_right", "outer")}),
+}
+
+
+def gc(name):
+    return load_garmentcode(GC / f"{name}_specification.json")
+
+
+def unnamed(pattern):
+    """The pattern with its panels called P1, P2... and no stated placement: what a DXF
+    without a side file gives (the seams kept)."""
+    names = {p.name: f"P{i + 1}" for i, p in enumerate(pattern.panels)}
+    panels = tuple(replace(p, name=names[p.name], placement=Placement())
+                   for p in pattern.panels)
+    seams = tuple(replace(s, a=replace(s.a, panel=names[s.a.panel]),
+                          b=replace(s.b, panel=names[s.b.panel])) for s in pattern.seams)
+    return replace(pattern, panels=panels, seams=seams, meta={}), names
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_roles_and_anchor_of_garmentcode_garments(name):
+    pattern = gc(name)
+    anchor, want = EXPECTED[name]
+    roles = panel_roles(pattern)
+    assert {k: (r.kind, r.part, r.side) for k, r in roles.items()} == want
+    assert garment_anchor(pattern, roles) == anchor == pattern.anchor
+
+
+@pytest.mark.parametrize("name", list(GARMENTS))
+def test_roles_of_built_ins_from_seams_and_shape_alone(name):
+    # no names, no stated parts: the kinds and the body part of each panel come from the
+    # seams and the shapes; sides from the necklines and the seams
+    pattern = build(name)
+    bare, names = unnamed(pattern)
+    roles = panel_roles(bare)
+    stated = {names[p.name]: p.placement for p in pattern.panels}
+    for n, r in roles.items():
+        assert r.part == stated[n].part, (n, r)
+        if r.part == "torso":
+            assert r.side == stated[n].side, (n, r)
+    assert bare.anchor == pattern.anchor == GARMENTS[name][3]
+
+
+def test_roles_of_a_two_piece_sleeve_and_a_cuff_from_seams():
+    # the tee's sleeves carry names: without them, a one-piece sleeve sewn to itself is a tube
+    bare, names = unnamed(gc("tee"))
+    roles = panel_roles(bare)
+    assert {roles[names[n]].kind for n in ("lsleeve", "rsleeve")} == {"sleeve"}
+    assert {roles[names[n]].part for n in ("lsleeve", "rsleeve")} == {"arm_left", "arm_right"}
+    assert roles[names["lsleeve"]].side == "outer"
+
+
+@pytest.mark.parametrize("name, reason", [("tee", "garment's top"), ("shirt", "at height"),
+                                          ("jumpsuit", "at height"), ("dress", "")])
+def test_broken_placements_are_named_and_replaced(name, reason):
+    body = load_body("female_thin")
+    pattern = gc(name)
+    mesh = mesh_pattern(pattern, triangles=600)
+    bad = implausible_placements(pattern, mesh, body)
+    assert bad and all(reason in b for b in bad)
+    with pytest.warns(PlacementWarning, match="replaced") as caught:
+        x = place_on_body(pattern, mesh, body)
+    assert bad[0].split(" (")[0] in str(caught[0].message)
+    # the garment is now around the body, at its height
+    assert 0.3 < np.median(x[:, 1]) < body.measurements["neck_base_height"]
+    d, _ = body.distance_field(0.005).query(x)
+    assert (d > 0).mean() > 0.99 and np.median(d) < 0.15
+
+
+def test_a_plausible_imported_placement_is_kept():
+    body = load_body("female_thin")
+    pattern = build("skirt")
+    mesh = mesh_pattern(pattern, triangles=600)
+    ours = place_on_body(pattern, mesh, body)
+    # a file placing each panel as a plane in front of / behind the body at its height
+    panels = []
+    for i, p in enumerate(pattern.panels):
+        z = 0.25 if p.placement.side == "front" else -0.25
+        panels.append(replace(p, placement=replace(
+            p.placement, translation=(0.0, float(ours[mesh.panel_vertices(i), 1].min()), z),
+            rotation=(0.0, 0.0 if z > 0 else 180.0, 0.0))))
+    placed = replace(pattern, panels=tuple(panels))
+    assert implausible_placements(placed, mesh, body) == []
+
+
+@pytest.mark.parametrize("name", ["tee", "shirt", "built-in shirt"])
+def test_shirts_and_tees_start_untangled(name):
+    body = load_body("male_average")
+    pattern = build("shirt") if name.startswith("built-in") else gc(name)
+    mesh = mesh_pattern(pattern, triangles=1000)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlacementWarning)  # the files' own are not around it
+        x = place_on_body(pattern, mesh, body)
+    solver = GarmentSolver(mesh.vertices, mesh.triangles, mesh.grain[mesh.triangle_panel],
+                           get_fabric("cotton_shirting"), seam_pairs=mesh.seam_pairs)
+    assert solver.crossings(x) == 0
+    d, _ = body.distance_field(0.005).query(x)
+    assert d.min() > 0
+
+
+def test_grain_line_says_which_way_is_up():
+    # a skirt panel drafted lying on its side (turned a quarter), its grain along the turn:
+    # placed as the upright one
+    body = load_body("female_thin")
+    pattern = build("skirt")
+    turn = np.array([[0.0, -1.0], [1.0, 0.0]])
+    mesh = mesh_pattern(pattern, triangles=600)
+    upright = place_on_body(pattern, mesh, body)
+    lying = replace(pattern, panels=tuple(
+        replace(p, outline=replace(p.outline, edges=tuple(e.transformed(turn)
+                                                          for e in p.outline.edges)),
+                grainline=tuple(turn @ np.asarray(p.grainline))) for p in pattern.panels))
+    mesh2 = mesh_pattern(lying, triangles=600)
+    x = place_on_body(lying, mesh2, body)
+    assert np.ptp(x[:, 1]) == pytest.approx(np.ptp(upright[:, 1]), abs=0.02)
+    assert x[:, 1].max() == pytest.approx(upright[:, 1].max(), abs=0.02)
+
+
+def drape_checked(pattern, body_name, triangles):
+    from patternfit.sim.drape import drape
+    body = load_body(body_name)
+    mesh = mesh_pattern(pattern, triangles=triangles)
+    d = drape(pattern, mesh, body)
+    assert d.result.checks.passed, d.result.checks
+    assert d.onbody.passed, d.onbody.reasons
+    return d
+
+
+@pytest.mark.parametrize("name, body", [("dress", "female_average"), ("tee", "male_average")])
+def test_garmentcode_dress_and_tee_drape_with_every_check_passing(name, body):
+    with pytest.warns(PlacementWarning):
+        d = drape_checked(gc(name), body, 1000)
+    assert abs(d.onbody.anchor_offset_mm) < 50  # hangs from the neck, not the waist
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, body", [("shirt", "male_average"), ("hoodie", "male_average"),
+                                        ("jumpsuit", "female_average")])
+def test_garmentcode_garments_drape_with_every_check_passing(name, body):
+    with pytest.warns(PlacementWarning):
+        d = drape_checked(gc(name), body, 2000)
+    assert abs(d.onbody.anchor_offset_mm) < 50
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, gender", [("shirt", "male"), ("gathered_skirt", "female")])
+@pytest.mark.parametrize("build_", ["thin", "average", "heavy"])
+def test_new_built_ins_drape_on_every_body_of_their_gender(name, gender, build_):
+    drape_checked(build(name, "M"), f"{gender}_{build_}", 3000)
+
+
+@pytest.mark.parametrize("name", ["dress", "jumpsuit"])
+def test_panels_drawn_in_their_own_frames_are_stacked_by_their_seams(name):
+    # GarmentCode draws each panel from its own origin: the skirt's waist and the bodice's
+    # hem start at different heights; stacked, the two sides of every seam between body
+    # panels meet in height
+    from patternfit.sim.panel_frames import upright_frames
+    pattern = gc(name)
+    mesh = mesh_pattern(pattern, triangles=800)
+    roles = panel_roles(pattern)
+    flat = upright_frames(pattern, mesh, roles)
+    body = {n for n, r in roles.items() if not r.part.startswith("arm")}
+    before, after = [], []
+    for k, s in enumerate(pattern.seams):
+        if s.a.panel in body and s.b.panel in body and s.a.panel != s.b.panel:
+            pairs = mesh.seam_pairs[mesh.seam_index == k]
+            before.append(abs(np.median(np.diff(mesh.vertices[pairs, 1], axis=1))))
+            after.append(abs(np.median(np.diff(flat[pairs, 1], axis=1))))
+    assert max(before) > 0.1 and max(after) < 0.02
+
+
+@pytest.mark.parametrize("name", ["dress", "jumpsuit", "tee", "shirt"])
+def test_roles_of_garmentcode_garments_without_names(name):
+    # panels called P1, P2... and no placement: parts from seams and shapes alone; the
+    # front is the deeper neckline, and panels sewn to it take their sides from it
+    pattern = gc(name)
+    bare, names = unnamed(pattern)
+    roles = panel_roles(bare)
+    for old, (kind, part, side) in EXPECTED[name][1].items():
+        got = roles[names[old]]
+        assert (got.kind, got.part, got.side) == (kind, part, side), (old, got)
+    assert bare.anchor == EXPECTED[name][0]
