@@ -48,9 +48,14 @@ def mirror_gap(a, b):
                for k in ma)
 
 
-def seam_gap(pattern):
-    return max(abs(pattern.seam_side_length(s.a) - pattern.seam_side_length(s.b))
-               for s in pattern.seams)
+def seam_gap(pattern, before):
+    """The largest departure of a seam's longer side from its shorter side times the ratio
+    the seam had in ``before`` (1 for a seam without ease) [m]."""
+    def sides(p, s):
+        return sorted((p.seam_side_length(s.a), p.seam_side_length(s.b)))
+    ratio = {s.name: sides(before, s)[1] / sides(before, s)[0] for s in before.seams}
+    return max(abs(long - ratio[s.name] * short)
+               for s in pattern.seams for short, long in [sides(pattern, s)])
 
 
 def mirror_corner(pattern, panel, corner):
@@ -62,13 +67,8 @@ def mirror_corner(pattern, panel, corner):
     return p.name, edges[(k + 1) % len(edges)].name
 
 
-#: partner moves keep equal sides, not an eased seam's ratio (issue 20 item 1, not done yet):
-#: the garments with eased seams (the shirt's sleeve caps, the gathered skirt) are left out
-EQUAL_SEAMS = [g for g in GARMENTS if not any(s.ease for s in build(g).seams)]
-
-
 def corner_moves():
-    for garment in EQUAL_SEAMS:
+    for garment in GARMENTS:
         p = build(garment)
         for panel in p.panels:
             for lp in panel.loops:
@@ -89,7 +89,7 @@ def test_built_in_garments_are_symmetric(garments, garment):
 def test_coat_underarm_corner_moves_with_its_partner(garments):
     p = garments["coat"]
     q = move_point(p, "front", "underarm_l", (0.02, 0.0), partner=True)
-    assert seam_gap(q) < SEAM_TOL
+    assert seam_gap(q, p) < SEAM_TOL
     # the back's underarm point (its side_l starts there) moved, its hem corner did not
     back_old, back_new = p.panel("back"), q.panel("back")
     assert np.linalg.norm(back_new.edge("side_l").start - back_old.edge("side_l").start) > 5e-3
@@ -119,30 +119,33 @@ def test_every_corner_moves_with_partner_and_keeps_symmetry(garments):
                 continue
             np.testing.assert_allclose(q.panel(panel).edge(corner).start,
                                        pan.edge(corner).start + d, atol=1e-12)
-            gap, mirror = seam_gap(q), mirror_gap(q, r)
+            gap, mirror = seam_gap(q, p), mirror_gap(q, r)
             if gap > SEAM_TOL or mirror > MIRROR_TOL:
                 refused.append(f"{garment}/{panel}/{corner} {sign:+}: seam gap {gap:.2e} m, "
                                f"mirror gap {mirror:.2e} m")
-    assert checked == 160
+    assert checked == 244  # every outline and inner-loop corner of the six built-ins, both ways
     assert not refused, f"{len(refused)}/{checked}:\n" + "\n".join(refused)
 
 
+@pytest.mark.parametrize("garment", [
+    pytest.param(g, marks=pytest.mark.xfail(strict=True, reason=(
+        "a partner grade of the gathered skirt's front moves its band asymmetrically "
+        "(mirror gap 5.8 mm)"))) if g == "gathered_skirt" else g for g in GARMENTS])
 @pytest.mark.parametrize("sx, sy", [(1.04, 1.02), (0.97, 1.03)])
-def test_every_grade_with_partner_keeps_seams_and_symmetry(garments, sx, sy):
+def test_every_grade_with_partner_keeps_seams_and_symmetry(garments, garment, sx, sy):
     bad = []
-    for garment in EQUAL_SEAMS:
-        p = garments[garment]
-        for panel in p.panels:
-            try:
-                q = grade(p, panel.name, sx, sy, partner=True)
-                r = grade(p, swap(panel.name), sx, sy, partner=True)
-            except Exception as err:  # noqa: BLE001
-                bad.append(f"{garment}/{panel.name}: {err}")
-                continue
-            gap, mirror = seam_gap(q), mirror_gap(q, r)
-            if gap > SEAM_TOL or mirror > MIRROR_TOL:
-                bad.append(f"{garment}/{panel.name}: seam gap {gap:.2e} m, "
-                           f"mirror gap {mirror:.2e} m")
+    p = garments[garment]
+    for panel in p.panels:
+        try:
+            q = grade(p, panel.name, sx, sy, partner=True)
+            r = grade(p, swap(panel.name), sx, sy, partner=True)
+        except Exception as err:  # noqa: BLE001
+            bad.append(f"{garment}/{panel.name}: {err}")
+            continue
+        gap, mirror = seam_gap(q, p), mirror_gap(q, r)
+        if gap > SEAM_TOL or mirror > MIRROR_TOL:
+            bad.append(f"{garment}/{panel.name}: seam gap {gap:.2e} m, "
+                       f"mirror gap {mirror:.2e} m")
     assert not bad, "\n".join(bad)
 
 
