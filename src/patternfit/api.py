@@ -29,6 +29,8 @@ from .errors import InputError
 from .fit.measures import FitMeasures, fit_measures
 from .fit.metrics import FitEvaluator, FitResult
 from .fit.outputs import write_fit_outputs
+from .fit.verdict import Verdict, judge_garment
+from .fit.verdict_rules import VerdictRules
 from .edit import grade
 from .loop.correct import Correction, CorrectionSettings, correct
 from .loop.outputs import write_correction_outputs
@@ -49,6 +51,7 @@ from .sim.solver import SolverSettings
 
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
            "DesignSession", "FabricError", "FitOutcome", "InputError", "PatternError",
+           "Verdict", "VerdictRules",
            "correct", "correct_design", "design_session", "drafted_too_small",
            "drape_and_evaluate", "evaluate_saved", "list_bodies", "list_fabrics",
            "list_garments", "mesh_garment", "place_and_evaluate", "placed_fitting_ratio",
@@ -136,6 +139,8 @@ class FitOutcome:
     measures : FitMeasures or None
         Gap [mm], ease at the girths [cm] and contact pressure [kPa]
         (:mod:`patternfit.fit.measures`); None without a body (a saved state read back).
+    judgement : Verdict or None
+        The fit verdict (:mod:`patternfit.fit.verdict`); None without measures.
     """
 
     pattern: Pattern
@@ -149,6 +154,19 @@ class FitOutcome:
     seconds: float = 0.0
     state: str = "draped"
     measures: FitMeasures | None = None
+    judgement: Verdict | None = None
+
+    @property
+    def verdict(self) -> str | None:
+        """The overall verdict: "too tight", "tight", "fits", "loose", "too loose", or
+        "failed" for a drape that failed its checks; None without a body."""
+        return None if self.judgement is None else self.judgement.overall
+
+    @property
+    def region_verdicts(self) -> dict:
+        """Region → {verdict, ease_cm, pressure_kpa_p95, stretch_p90, area_m2, reason}, as
+        ``report.json`` holds them (empty for a failed drape or without a body)."""
+        return {} if self.judgement is None else self.judgement.report()["region_verdicts"]
 
     @property
     def fitting_ratio(self) -> float:
@@ -178,22 +196,23 @@ class FitOutcome:
             extra["body"] = self.body.name
         if self.fabric is not None:
             extra["fabric"] = self.fabric.name
+        if self.judgement is not None:
+            extra.update(self.judgement.report())
         return write_fit_outputs(folder, self.pattern, self.mesh, self.positions, self.fit,
                                  state=self.state, body=body, pictures=pictures, extra=extra,
                                  progress=progress, measures=self.measures)
 
 
 def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMeasures:
-    """The fit measures of a drape, with the contact law and distance field its solver
+    """The fit measures of a drape, with the contact distance and distance field its solver
     used (the static engine's), else the body's default field and the drape's default
     margin (3 mm)."""
     s = getattr(d.solver, "settings", None)
     s = s if isinstance(s, SolverSettings) else SolverSettings(contact_margin=0.003)
     f = getattr(d.solver, "body", None)
-    return fit_measures(mesh.triangles, d.positions, body,
+    return fit_measures(mesh, d.positions, body, fabric,
                         f if isinstance(f, DistanceField) else None,
-                        reach=max(fabric.thickness, s.contact_margin),
-                        stiffness=s.contact_stiffness)
+                        reach=max(fabric.thickness, s.contact_margin))
 
 
 def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
@@ -205,7 +224,8 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                        clearance: float = DEFAULTS.clearance, device: str | None = None,
                        from_static: bool = False, tight: float = DEFAULTS.tight,
                        loose: float = DEFAULTS.loose, start=None,
-                       progress: Callable | None = None) -> FitOutcome:
+                       progress: Callable | None = None,
+                       verdict_rules: VerdictRules | None = None) -> FitOutcome:
     """Mesh ``pattern``, place it around ``body``, sew and drape it in ``fabric`` to rest,
     and evaluate the fit.
 
@@ -232,6 +252,9 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     progress : callable, optional
         ``progress(iteration, energy [J], step [m], elapsed [s])``; raising
         KeyboardInterrupt in it stops cleanly with the last state.
+    verdict_rules : VerdictRules, optional
+        The thresholds of the fit verdict (pressure, stretch limit, ease ranges' style);
+        :class:`VerdictRules` () by default.
 
     Every drape gets the on-body checks (:mod:`patternfit.sim.onbody`); ``passed`` is
     False and ``checks["reasons"]`` says why when the garment is not on the body where its
@@ -255,9 +278,12 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     evaluator = FitEvaluator(m, tight=tight, loose=loose)
     extra = d.report_extra()
     extra["fitting_ratio_placed"] = evaluator.metrics(d.placed)[1]
-    return FitOutcome(pat, m, b, fab, d.positions, evaluator(d.positions), drape=d,
-                      extra=extra, seconds=time.perf_counter() - t0,
-                      measures=_measures(d, m, b, fab))
+    fit = evaluator(d.positions)
+    measures = _measures(d, m, b, fab)
+    return FitOutcome(pat, m, b, fab, d.positions, fit, drape=d, extra=extra,
+                      seconds=time.perf_counter() - t0, measures=measures,
+                      judgement=judge_garment(pat, fit, measures, fab, extra.get("checks"),
+                                              verdict_rules))
 
 
 def _start_state(start, pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:
