@@ -55,7 +55,8 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "correct", "correct_design", "design_session", "drafted_too_small",
            "drape_and_evaluate", "evaluate_saved", "list_bodies", "list_fabrics",
            "list_garments", "mesh_garment", "place_and_evaluate", "placed_fitting_ratio",
-           "read_body", "read_fabric", "read_pattern", "save_any_pattern", "save_garment"]
+           "read_body", "read_fabric", "read_pattern", "save_any_pattern", "save_garment",
+           "verdict_rules"]
 
 
 def list_garments() -> list[str]:
@@ -213,6 +214,15 @@ def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMea
     return fit_measures(mesh, d.positions, body, fabric,
                         f if isinstance(f, DistanceField) else None,
                         reach=max(fabric.thickness, s.contact_margin))
+
+
+def verdict_rules(*, pressure_max: float | None = None, stretch_limit: float | None = None,
+                  style: str | None = None) -> VerdictRules:
+    """The fit verdict's thresholds with these replaced where not None: ``pressure_max``
+    [kPa] above which a region is too tight, the fabric's comfortable ``stretch_limit``
+    [-], the garment ``style`` whose ease ranges apply; ``ValueError`` naming a bad one."""
+    return VerdictRules().with_options(pressure_max_kpa=pressure_max,
+                                       stretch_limit=stretch_limit, style=style)
 
 
 def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,

@@ -39,10 +39,40 @@ def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
                   f"(symmetric {num(report['fitting_ratio_symmetric'], '.2f', 100)}%)  tight "
                   f"{num(fc['tight'], '.1f', 100)}% · fit {num(fc['fit'], '.1f', 100)}% · loose "
                   f"{num(fc['loose'], '.1f', 100)}% of the area")
+    print_verdict(report)
     console.print(f"mesh: {report['mesh']['vertices']} vertices, {report['mesh']['triangles']} "
                   f"triangles, min angle {num(report['mesh']['min_angle_deg'], '.1f')}°")
     console.print(f"wrote {out}/ in {seconds:.1f} s: "
                   + ", ".join(sorted(v for v in report["files"].values())))
+
+
+_VERDICT_STYLE = {"too tight": "bold red", "tight": "red", "fits": "green", "loose": "blue",
+                  "too loose": "bold blue", "failed": "bold red"}
+
+
+def verdict_text(word: str | None) -> str:
+    """The verdict word coloured for the console ("n/a" when there is none)."""
+    if not word:
+        return "n/a"
+    return f"[{_VERDICT_STYLE.get(word, 'bold')}]{escape(word)}[/]"
+
+
+def print_verdict(report: dict) -> None:
+    """The fit verdict beside ϖ and the paper's threshold, then a line per region (ease,
+    pressure p95, stretch p90, why); nothing for a report without one (no body)."""
+    if "verdict" not in report:
+        return
+    p = report.get("pressure_kpa") or {}
+    console.print(f"verdict: [bold]{verdict_text(report['verdict'])}[/] "
+                  f"({escape(report.get('verdict_reason') or '')}); ϖ "
+                  f"{num(report.get('fitting_ratio'), '.2f', 100)}%; pressure p99 "
+                  f"{num(p.get('p99'), '.2f')} kPa", highlight=False)
+    for name, r in (report.get("region_verdicts") or {}).items():
+        console.print(f"   {name:15} {verdict_text(r['verdict']):>20}  ease "
+                      f"{num(r['ease_cm'], '+.1f')} cm  pressure "
+                      f"{num(r['pressure_kpa_p95'], '.2f')} kPa  stretch "
+                      f"{num(r['stretch_p90'], '.1f', 100)}%  {escape(r['reason'])}",
+                      highlight=False)
 
 
 def print_drape_checks(report: dict) -> None:

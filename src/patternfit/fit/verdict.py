@@ -113,8 +113,8 @@ def judge_region(ease_cm, pressure, stretch, *, style: str, girth: str, limit: f
     if ease_cm is not None and hi is not None and ease_cm > hi:
         word = "loose" if ease_cm <= hi + rules.loose_tolerance_cm else "too loose"
         return word, f"ease {ease_cm:+.1f} cm above the {style}'s {hi:g} cm"
-    what = f"ease {ease_cm:+.1f} cm" if ease_cm is not None else "no girth measured"
-    return "fits", f"{what}, pressure and stretch within limits"
+    what = f"ease {ease_cm:+.1f} cm, " if ease_cm is not None else ""
+    return "fits", f"{what}within limits"
 
 
 def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
