@@ -89,11 +89,11 @@ _BY_ANCHOR = {"waist": "skirt", "neck": "dress"}
 #: comfortable stretch along a yarn [-] of the fabric presets (docs/fit-correction.md,
 #: "Stretch limits"): woven without elastane, knit, knit with elastane
 STRETCH_LIMITS = {"cotton_shirting": 0.03, "denim": 0.03, "wool_coating": 0.03,
-                  "jersey_knit": 0.20, "stretch_knit": 0.30}
+                  "jersey_knit": 0.10, "stretch_knit": 0.20}
 #: a fabric not in :data:`STRETCH_LIMITS` stiffer than this along both yarns is taken as a
 #: woven (the presets: wovens 1.7-8.9 kN/m, knits 33-130 N/m) [N/m]
 WOVEN_STIFFNESS = 1000.0
-WOVEN_LIMIT, KNIT_LIMIT = 0.03, 0.20
+WOVEN_LIMIT, KNIT_LIMIT = 0.03, 0.10
 
 
 def stretch_limit(fabric) -> float:

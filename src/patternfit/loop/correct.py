@@ -23,22 +23,26 @@ from scipy.optimize import nnls
 from ..constants import tol
 from ..defaults import DEFAULTS
 from ..edit import close_seams, move_corner
+from ..fit.measures import FitMeasures, fit_measures
 from ..fit.metrics import FitResult
+from ..fit.verdict import Verdict, judge_garment
+from ..fit.verdict_rules import VerdictRules, ease_range
 from ..mesh.garment import GarmentMesh
 from ..pattern.errors import PatternError
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
 from .regions import find_regions
+from .widen import edge_moves, region_strain
 
 
 @dataclass(frozen=True)
 class CorrectionSettings:
     """Knobs of the automatic correction.
 
-    threshold : float     ϖ to reach [-] (``DEFAULTS.threshold``).
-    tight_limit : float   no region may stay stretched more than this in area [-] ...
-    region_share : float  ... counting regions of at least this share of the garment's
-                          flat area (a few stretched triangles at an ankle do not count).
+    threshold : float     ϖ to reach [-] (``DEFAULTS.threshold``) ...
+    rules : VerdictRules  ... with no region too tight by the fit verdict
+                          (:mod:`patternfit.fit.verdict`) ...
+    take_in : bool        ... and, when True, none too loose (loose regions are taken in).
     max_iterations : int  correction rounds (edit + re-drape) at most.
     gain : float          share of the measured lack of fabric added per round [-].
     max_move : float      largest corner move of one round [m].
@@ -52,8 +56,8 @@ class CorrectionSettings:
     """
 
     threshold: float = DEFAULTS.threshold
-    tight_limit: float = 0.20
-    region_share: float = 0.01
+    rules: VerdictRules = VerdictRules()
+    take_in: bool = False
     max_iterations: int = 3
     gain: float = 1.0
     max_move: float = 0.12
@@ -88,12 +92,15 @@ class Iteration:
     edits: list
     seconds: float
     checks: dict | None = None
+    verdict: Verdict | None = None
+    measures: dict | None = None  # FitMeasures.report(): gap_mm, ease_cm, pressure_kpa
 
     def to_dict(self) -> dict:
         return {"iteration": self.index, "fitting_ratio": self.fitting_ratio,
                 "regions": [r.to_dict() for r in self.regions],
                 "edits": [e.to_dict() for e in self.edits], "seconds": self.seconds,
-                "checks": self.checks}
+                "checks": self.checks, **(self.measures or {}),
+                **(self.verdict.report() if self.verdict is not None else {})}
 
 
 @dataclass
@@ -112,8 +119,18 @@ class Correction:
     def fitting_ratio(self) -> float:
         return self.iterations[-1].fitting_ratio
 
+    @property
+    def verdict(self) -> str | None:
+        """The final drape's overall verdict."""
+        v = self.iterations[-1].verdict if self.iterations else None
+        return None if v is None else v.overall
+
     def to_dict(self) -> dict:
+        last = self.iterations[-1]
         return {"fitting_ratio": self.fitting_ratio, "reached": self.reached,
+                "verdict": self.verdict,
+                "region_verdicts": last.verdict.report()["region_verdicts"]
+                if last.verdict is not None else {},
                 "seconds": self.seconds, "correction_rounds": len(self.iterations) - 1,
                 "edits_made": sum(len(it.edits) for it in self.iterations),
                 "failed": self.failed,
@@ -325,12 +342,28 @@ def apply_moves(pattern: Pattern, moves: list[CornerMove]) -> Pattern:
     return new
 
 
-def fit_reached(fit: FitResult, regions, settings: CorrectionSettings) -> bool:
-    """ϖ at the threshold and no region of some size stretched more than ``tight_limit``."""
-    least = settings.region_share * float(fit.area_2d.sum()) * 1e4  # [cm^2]
-    return fit.fitting_ratio >= settings.threshold and not any(
-        r.kind == "tight" and r.area_change > settings.tight_limit and r.area_cm2 >= least
-        for r in regions)
+def fit_reached(fit: FitResult, verdict: Verdict, settings: CorrectionSettings) -> bool:
+    """ϖ at the threshold, the drape not failed and no region too tight by the verdict
+    (and, with ``settings.take_in``, none too loose and the garment not slid)."""
+    if fit.fitting_ratio < settings.threshold or verdict.overall == "failed":
+        return False
+    if verdict.worst("too tight"):
+        return False
+    return not (settings.take_in and (verdict.overall == "too loose"
+                                       or verdict.worst("too loose")))
+
+
+def measure_state(session, rules: VerdictRules) -> tuple[FitResult, FitMeasures, Verdict]:
+    """The fit, the fit measures and the verdict of the session's current drape (with the
+    contact distance and distance field of the solver that draped it)."""
+    fit = session.evaluate()
+    solver = session._drape.solver if session._drape is not None else None
+    margin = solver.settings.contact_margin if solver is not None else 0.003
+    field = solver.body if solver is not None else None
+    m = fit_measures(session.mesh, session.state.positions, session.body, session.fabric,
+                     field, reach=max(session.fabric.thickness, margin))
+    return fit, m, judge_garment(session.pattern, fit, m, session.fabric,
+                                 session.state.checks, rules)
 
 
 def refusal(checks: dict | None, fitting_ratio: float) -> str | None:
@@ -367,15 +400,16 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
         t0 = time.perf_counter()
         if index > 0 or session.state.positions is None or session.state.fitting_ratio is None:
             session.redrape(progress=drape_progress)
-        fit = session.evaluate()
+        fit, measures, verdict = measure_state(session, settings.rules)
         regions = find_regions(session.mesh, fit)
-        reached = fit_reached(fit, regions, settings)
-        it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks)
+        reached = fit_reached(fit, verdict, settings)
+        it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks,
+                       verdict, measures.report())
         out.failed = refusal(session.state.checks, fit.fitting_ratio)
         if out.failed:
             reached = False
         elif not reached and index < settings.max_iterations:
-            it.edits = _edit(session, fit, settings)
+            it.edits = _edit(session, fit, measures, verdict, settings)
         it.seconds = time.perf_counter() - t0
         out.iterations.append(it)
         if progress is not None:
@@ -388,9 +422,68 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
     return out
 
 
-def _edit(session, fit: FitResult, settings: CorrectionSettings) -> list[CornerMove]:
-    """Propose and apply one round of moves; halve them if the result is refused."""
-    moves = propose_moves(session.pattern, session.mesh, fit, settings=settings)
+def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
+                 settings: CorrectionSettings) -> dict:
+    """Corner offsets ``{(panel, edge): (2,) [m]}`` of the edge translations
+    (:mod:`patternfit.loop.widen`) for every region the verdict calls too tight — by the
+    length its stretch lacks over the region's width, down to a quarter of the tight
+    threshold — and, with ``settings.take_in``, too loose — inward by half its ease beyond
+    the middle of the style's range (the two sides of the body share it)."""
+    moves: dict = {}
+    names = list(measures.regions)
+    limit = verdict.stretch_limit or 0.0
+    target = 0.25 * settings.rules.tight_share * limit
+    for name, rv in verdict.regions.items():
+        tris = np.flatnonzero(measures.triangle_region == names.index(name))
+        if rv.verdict == "too tight":
+            direction, stretch = region_strain(session.mesh, session.state.positions, tris)
+            ids = np.unique(session.mesh.triangles[tris])
+            width = float(np.ptp(session.mesh.vertices[ids] @ direction))
+            amount = width * (stretch - 1.0 - target) / (1.0 + target)
+        elif settings.take_in and rv.verdict == "too loose" and rv.ease_cm is not None:
+            lo, hi = ease_range(verdict.style, name) or (None, None)
+            if hi is None:
+                continue
+            middle = hi if lo is None else 0.5 * (lo + hi)
+            g = session.mesh.grain[0]
+            direction = np.array([-g[1], g[0]])  # across the grain: the girth's way
+            # the girth runs over every panel at this height: each takes its share
+            panels = len(np.unique(session.mesh.triangle_panel[tris]))
+            amount = -0.01 * (rv.ease_cm - middle) / max(panels, 1)
+        else:
+            continue
+        if abs(amount) < settings.min_move:
+            continue
+        for key, d in edge_moves(session.pattern, session.mesh, tris, direction,
+                                 amount).items():
+            moves[key] = moves.get(key, 0.0) + d
+    return moves
+
+
+def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
+          settings: CorrectionSettings) -> list[CornerMove]:
+    """Propose and apply one round of moves — the corner moves across the grain while ϖ
+    is short, else the edge translations where the verdict says a region is too tight (or
+    too loose, taking in) — sewn corners shared and symmetry kept; halve them if the
+    result is refused."""
+    # both read the same lack of fabric: the edge translations only once the corner
+    # moves have brought ϖ to the threshold (they cannot reach what is left)
+    extra = {} if fit.fitting_ratio < settings.threshold else \
+        region_moves(session, fit, measures, verdict, settings)
+    if fit.fitting_ratio < settings.threshold:
+        moves = propose_moves(session.pattern, session.mesh, fit, settings=settings)
+    else:
+        for _ in range(3):
+            _share_sewn_corners(session.pattern, extra)
+            _mirror_symmetric(session.pattern, session.mesh, extra)
+        moves = []
+        for (pname, ename), d in extra.items():
+            n = float(np.linalg.norm(d))
+            if n < settings.min_move:
+                continue
+            if n > settings.max_move:
+                d = d * (settings.max_move / n)
+            moves.append(CornerMove(pname, ename, (float(d[0]), float(d[1]))))
     for _ in range(4):
         if not moves:
             return []
@@ -401,7 +494,8 @@ def _edit(session, fit: FitResult, settings: CorrectionSettings) -> list[CornerM
                      for m in moves]
             continue
         total = sum(np.hypot(*m.offset) for m in moves) * 100
-        session.apply_pattern(new, label=f"correct: {len(moves)} corner moves, "
+        what = "edge translations (corner moves)" if extra else "corner moves"
+        session.apply_pattern(new, label=f"correct: {len(moves)} {what}, "
                               f"{total:.1f} cm in all",
                               edit={"op": "correct", "args": {"moves": [m.to_dict()
                                                                         for m in moves]}},

@@ -1,0 +1,77 @@
+"""Edits for a region the verdict calls too tight (or, taking in, too loose) where the
+corner moves across the grain cannot reach it: the panel's outline edges next to the
+region are translated along the region's stretch direction (the pattern maker's "let out
+the shoulder line", "widen the sleeve at the overarm seam"), by the length the region's
+stretch says it lacks; a too-loose girth's side edges are translated inward by its excess
+ease. Each edge translation is the move of its two end corners by the same offset, so it
+goes through the correction's machinery (sewn corners shared, mirror symmetry kept,
+``close_seams``, ``check_pattern``). Lengths in metres.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..mesh.garment import GarmentMesh
+
+#: an outline edge belongs to a region when at least this many of its mesh vertices do
+MIN_EDGE_VERTICES = 3
+#: ... and it faces the stretch direction: |outward normal · direction| at least this
+MIN_FACING = 0.5
+
+
+def region_strain(mesh: GarmentMesh, positions, triangles) -> tuple[np.ndarray, float]:
+    """The area-weighted mean Green strain of ``triangles`` (k,) of ``mesh`` at
+    ``positions`` (n, 3) [m]: its principal direction (2,) in the flat pattern and the
+    stretch along it [-] (1.1 = 10 % longer than flat)."""
+    v, t = mesh.vertices, mesh.triangles[triangles]
+    x = np.asanyarray(positions, dtype=np.float64)
+    dm = np.stack([v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]], axis=2)
+    ds = np.stack([x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]], axis=2)
+    f = ds @ np.linalg.inv(dm)
+    area = 0.5 * np.abs(np.linalg.det(dm))
+    green = 0.5 * (np.einsum("mki,mkj->mij", f, f) - np.eye(2))
+    mean = np.einsum("m,mij->ij", area, green) / area.sum()
+    w, vec = np.linalg.eigh(mean)
+    return vec[:, -1], float(np.sqrt(max(1.0 + 2.0 * w[-1], 0.0)))
+
+
+def _outward_normal(mesh: GarmentMesh, ids) -> np.ndarray:
+    """Mean outward unit normal (2,) of the outline polyline through boundary vertices
+    ``ids`` (in loop order), for a counter-clockwise outline."""
+    p = mesh.vertices[ids]
+    d = p[-1] - p[0]
+    n = np.array([d[1], -d[0]])
+    return n / max(np.linalg.norm(n), 1e-12)
+
+
+def edge_moves(pattern, mesh: GarmentMesh, triangles, direction, amount: float) -> dict:
+    """Corner offsets ``{(panel, edge): (2,) [m]}`` that translate the outline edges of each
+    panel bordering ``triangles`` (k,) and facing ``direction`` (2,) outward by ``amount``
+    [m] in all along it (half on each side when both sides have such edges; negative
+    ``amount`` takes in). Corners shared by two moved edges of a side move once."""
+    moves: dict = {}
+    tris = np.asanyarray(triangles)
+    for pi, pname in enumerate(mesh.panel_names):
+        mine = tris[mesh.triangle_panel[tris] == pi]
+        if len(mine) == 0:
+            continue
+        inside = np.zeros(mesh.n_vertices, dtype=bool)
+        inside[mesh.triangles[mine].ravel()] = True
+        panel = pattern.panel(pname)
+        edges = panel.outline.edges
+        sides: dict = {1.0: [], -1.0: []}
+        for k, e in enumerate(edges):
+            ids, _ = mesh.edge_vertices(pname, e.name)
+            if inside[ids].sum() < MIN_EDGE_VERTICES:
+                continue
+            facing = float(_outward_normal(mesh, ids) @ direction)
+            if abs(facing) >= MIN_FACING:
+                sides[float(np.sign(facing))].append(k)
+        used = [s for s in sides if sides[s]]
+        for s in used:
+            offset = s * (amount / len(used)) * np.asarray(direction, dtype=np.float64)
+            for k in sides[s]:
+                for corner in (edges[k].name, edges[(k + 1) % len(edges)].name):
+                    moves[(pname, corner)] = offset
+    return moves
