@@ -109,10 +109,10 @@ def test_more_pressure_or_stretch_never_reads_looser_and_more_ease_never_tighter
     (6.0, 0.2, 0.06, "too tight"),     # stretch beyond the 5% limit
     (6.0, 1.5, 0.0, "tight"),          # above the comfortable 1.3 kPa
     (6.0, 0.2, 0.03, "tight"),         # over half the limit
-    (1.0, 0.2, 0.0, "tight"),          # hip ease under the skirt's 2.5 cm
+    (4.0, 0.2, 0.0, "tight"),          # hip ease under the skirt's 5.1 cm
     (6.0, 0.2, 0.0, "fits"),
-    (12.0, 0.2, 0.0, "loose"),         # up to 4 cm above the skirt's 10 cm
-    (20.0, None, None, "too loose"),
+    (17.0, 0.2, 0.0, "loose"),         # up to 4 cm above the skirt's 15.2 cm
+    (25.0, None, None, "too loose"),
 ])
 def test_region_rules_on_a_skirt_hip(ease, p, s, word):
     assert judge_region(ease, p, s, style="skirt", girth="hip", limit=0.05,

@@ -395,17 +395,22 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
                    max_iterations: int = DEFAULTS.correction_rounds, pictures: bool = True,
                    extra: dict | None = None, progress: Callable | None = None,
                    drape_progress: Callable | None = None,
-                   write_progress: Callable | None = None) -> dict:
+                   write_progress: Callable | None = None, take_in: bool = False,
+                   verdict_rules: VerdictRules | None = None) -> dict:
     """Correct the session's pattern automatically (drape, find the tight regions, move the
-    seam corners, re-drape, until ϖ reaches ``threshold`` — the session's when None — or
-    ``max_iterations`` rounds) and write the outputs into ``out``: ``pattern.json`` (the
-    corrected pattern), ``report.json``, ``before/`` and ``after/`` fit outputs and the
-    regions pictures. Returns the report.
+    seam corners, re-drape, until ϖ reaches ``threshold`` — the session's when None — and
+    no region is too tight by the fit verdict (``verdict_rules``; with ``take_in`` none too
+    loose either), or ``max_iterations`` rounds) and write the outputs into ``out``:
+    ``pattern.json`` (the corrected pattern), ``report.json`` (with ``verdict`` and
+    ``region_verdicts`` of the final drape, and of every iteration), ``before/`` and
+    ``after/`` fit outputs and the regions pictures. Returns the report.
 
     ``progress(iteration)`` is called after each drape is evaluated, ``drape_progress`` goes
     to the solver, ``write_progress(message)`` is called per output written."""
     settings = CorrectionSettings(threshold=session.threshold if threshold is None
-                                  else threshold, max_iterations=max_iterations)
+                                  else threshold, max_iterations=max_iterations,
+                                  take_in=bool(take_in),
+                                  rules=verdict_rules or VerdictRules())
     result = correct(session, settings=settings, drape_progress=drape_progress,
                      progress=progress)
     return write_correction_outputs(out, session, result, extra=extra, pictures=pictures,

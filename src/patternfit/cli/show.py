@@ -153,8 +153,10 @@ def show_iteration(it) -> None:
     reasons = "; ".join(str(r) for r in (it.checks or {}).get("reasons") or [])
     ok = "" if not it.checks or it.checks.get("passed") else \
         f"  [yellow](drape checks failed{': ' + escape(reasons) if reasons else ''})[/]"
-    console.print(f"[bold]{what}[/]: ϖ = {it.fitting_ratio * 100:.2f}%  "
-                  f"({it.seconds:.1f} s){ok}")
+    verdict = "" if it.verdict is None else \
+        f"  verdict {verdict_text(it.verdict.overall)} ({escape(it.verdict.reason)})"
+    console.print(f"[bold]{what}[/]: ϖ = {it.fitting_ratio * 100:.2f}%{verdict}  "
+                  f"({it.seconds:.1f} s){ok}", highlight=False)
     for r in it.regions[:6]:
         console.print(f"   {'▲' if r.kind == 'tight' else '▽'} {r.describe()}", highlight=False)
     if len(it.regions) > 6:
@@ -165,7 +167,8 @@ def show_iteration(it) -> None:
 
 
 def run_correction(session, out: Path, *, threshold: float, max_iterations: int,
-                   extra: dict | None = None, pictures: bool = True) -> dict:
+                   extra: dict | None = None, pictures: bool = True, take_in: bool = False,
+                   verdict_rules=None) -> dict:
     """:func:`patternfit.api.correct_design` with a progress bar and a line per iteration;
     returns the report."""
     from .. import api  # the API pulls in the solver: loaded when a command runs, not at --help
@@ -174,6 +177,7 @@ def run_correction(session, out: Path, *, threshold: float, max_iterations: int,
     with bar:
         return api.correct_design(
             session, out, threshold=threshold, max_iterations=max_iterations,
-            pictures=pictures, extra=extra, drape_progress=callback,
+            pictures=pictures, extra=extra, drape_progress=callback, take_in=take_in,
+            verdict_rules=verdict_rules,
             progress=lambda it: bar.console.print() or show_iteration(it),
             write_progress=lambda s: bar.update(bar.task_ids[0], info=f"writing {s}"))

@@ -76,12 +76,12 @@ class VerdictRules:
 #: None: no bound (a straight coat is not shaped to the waist). Sources and the reasoning
 #: per number: docs/fit-correction.md, "Ease ranges".
 EASE_RANGES: dict[str, dict[str, tuple[float | None, float | None]]] = {
-    "skirt": {"waist": (1.0, 5.0), "hip": (2.5, 10.0)},
-    "trousers": {"waist": (1.0, 5.0), "hip": (2.5, 12.0), "thigh": (2.5, 15.0)},
-    "coat": {"bust": (5.0, 25.0), "waist": (5.0, None), "hip": (5.0, 35.0),
-             "bicep": (3.0, 20.0)},
-    "dress": {"bust": (5.0, 13.0), "waist": (2.5, 20.0), "hip": (5.0, 20.0)},
-    "shirt": {"bust": (9.0, 20.0), "waist": (5.0, None), "bicep": (3.0, 15.0)},
+    "skirt": {"waist": (2.5, 5.1), "hip": (5.1, 15.2)},
+    "trousers": {"waist": (2.5, 5.1), "hip": (5.1, 15.2), "thigh": (2.5, 20.0)},
+    "coat": {"bust": (6.4, 25.4), "waist": (2.5, None), "hip": (5.1, None),
+             "bicep": (2.5, 20.0)},
+    "dress": {"bust": (6.4, 20.3), "waist": (2.5, None), "hip": (5.1, 20.3)},
+    "shirt": {"bust": (9.0, 20.0), "waist": (5.0, None), "bicep": (2.5, 15.0)},
 }
 #: the type of a garment not named in :data:`EASE_RANGES`, by the pattern's anchor
 _BY_ANCHOR = {"waist": "skirt", "neck": "dress"}

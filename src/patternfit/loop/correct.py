@@ -94,6 +94,7 @@ class Iteration:
     checks: dict | None = None
     verdict: Verdict | None = None
     measures: dict | None = None  # FitMeasures.report(): gap_mm, ease_cm, pressure_kpa
+    measured: FitMeasures | None = field(default=None, repr=False)  # for the pictures
 
     def to_dict(self) -> dict:
         return {"iteration": self.index, "fitting_ratio": self.fitting_ratio,
@@ -404,12 +405,16 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
         regions = find_regions(session.mesh, fit)
         reached = fit_reached(fit, verdict, settings)
         it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks,
-                       verdict, measures.report())
+                       verdict, measures.report(), measures)
         out.failed = refusal(session.state.checks, fit.fitting_ratio)
         if out.failed:
             reached = False
         elif not reached and index < settings.max_iterations:
-            it.edits = _edit(session, fit, measures, verdict, settings)
+            # a drape that failed only the solver's checks is still edited from (as the
+            # corner moves always were): its regions judged as if it had passed
+            judged = verdict if verdict.overall != "failed" else judge_garment(
+                session.pattern, fit, measures, session.fabric, None, settings.rules)
+            it.edits = _edit(session, fit, measures, judged, settings)
         it.seconds = time.perf_counter() - t0
         out.iterations.append(it)
         if progress is not None:
