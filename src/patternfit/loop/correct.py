@@ -32,7 +32,7 @@ from ..pattern.errors import PatternError
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
 from .regions import find_regions
-from .widen import edge_moves, region_strain
+from .widen import edge_moves, let_out_moves
 
 
 @dataclass(frozen=True)
@@ -432,36 +432,53 @@ def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdic
     """Corner offsets ``{(panel, edge): (2,) [m]}`` of the edge translations
     (:mod:`patternfit.loop.widen`) for every region the verdict calls too tight — by the
     length its stretch lacks over the region's width, down to a quarter of the tight
-    threshold — and, with ``settings.take_in``, too loose — inward by half its ease beyond
-    the middle of the style's range (the two sides of the body share it)."""
+    threshold — and, with ``settings.take_in``, too loose — its side edges inward by its
+    ease beyond the middle of the style's range, shared by the panels it spans and their
+    two sides."""
     moves: dict = {}
     names = list(measures.regions)
-    limit = verdict.stretch_limit or 0.0
-    target = 0.25 * settings.rules.tight_share * limit
+    target = 0.25 * settings.rules.tight_share * (verdict.stretch_limit or 0.0)
+    mesh = session.mesh
     for name, rv in verdict.regions.items():
         tris = np.flatnonzero(measures.triangle_region == names.index(name))
+        found: dict = {}
         if rv.verdict == "too tight":
-            direction, stretch = region_strain(session.mesh, session.state.positions, tris)
-            ids = np.unique(session.mesh.triangles[tris])
-            width = float(np.ptp(session.mesh.vertices[ids] @ direction))
-            amount = width * (stretch - 1.0 - target) / (1.0 + target)
+            found = let_out_moves(session.pattern, mesh, session.state.positions, tris,
+                                  target)
         elif settings.take_in and rv.verdict == "too loose" and rv.ease_cm is not None:
             lo, hi = ease_range(verdict.style, name) or (None, None)
             if hi is None:
                 continue
             middle = hi if lo is None else 0.5 * (lo + hi)
-            g = session.mesh.grain[0]
-            direction = np.array([-g[1], g[0]])  # across the grain: the girth's way
-            # the girth runs over every panel at this height: each takes its share
-            panels = len(np.unique(session.mesh.triangle_panel[tris]))
-            amount = -0.01 * (rv.ease_cm - middle) / max(panels, 1)
-        else:
-            continue
-        if abs(amount) < settings.min_move:
-            continue
-        for key, d in edge_moves(session.pattern, session.mesh, tris, direction,
-                                 amount).items():
+            panels = np.unique(mesh.triangle_panel[tris])
+            for pi in panels:
+                g = mesh.grain[pi]
+                found.update(edge_moves(session.pattern, mesh, int(pi),
+                                        tris[mesh.triangle_panel[tris] == pi],
+                                        np.array([-g[1], g[0]]),  # across: the girth's way
+                                        -0.01 * (rv.ease_cm - middle) / len(panels)))
+        for key, d in found.items():
             moves[key] = moves.get(key, 0.0) + d
+    return moves
+
+
+def finish_moves(pattern: Pattern, mesh: GarmentMesh, offsets: dict,
+                 settings: CorrectionSettings = CorrectionSettings()) -> list[CornerMove]:
+    """Corner moves from offsets ``{(panel, edge): (2,) [m]}``: sewn corners given the same
+    size and mirrored corners mirrored moves (as :func:`propose_moves` does), each capped
+    at ``settings.max_move``, those under ``settings.min_move`` left out."""
+    offsets = dict(offsets)
+    for _ in range(3):  # both are averages: alternating them converges
+        _share_sewn_corners(pattern, offsets)
+        _mirror_symmetric(pattern, mesh, offsets)
+    moves = []
+    for (pname, ename), d in offsets.items():
+        n = float(np.linalg.norm(d))
+        if n < settings.min_move:
+            continue
+        if n > settings.max_move:
+            d = d * (settings.max_move / n)
+        moves.append(CornerMove(pname, ename, (float(d[0]), float(d[1]))))
     return moves
 
 
@@ -478,17 +495,7 @@ def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
     if fit.fitting_ratio < settings.threshold:
         moves = propose_moves(session.pattern, session.mesh, fit, settings=settings)
     else:
-        for _ in range(3):
-            _share_sewn_corners(session.pattern, extra)
-            _mirror_symmetric(session.pattern, session.mesh, extra)
-        moves = []
-        for (pname, ename), d in extra.items():
-            n = float(np.linalg.norm(d))
-            if n < settings.min_move:
-                continue
-            if n > settings.max_move:
-                d = d * (settings.max_move / n)
-            moves.append(CornerMove(pname, ename, (float(d[0]), float(d[1]))))
+        moves = finish_moves(session.pattern, session.mesh, extra, settings)
     for _ in range(4):
         if not moves:
             return []

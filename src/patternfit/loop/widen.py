@@ -45,33 +45,49 @@ def _outward_normal(mesh: GarmentMesh, ids) -> np.ndarray:
     return n / max(np.linalg.norm(n), 1e-12)
 
 
-def edge_moves(pattern, mesh: GarmentMesh, triangles, direction, amount: float) -> dict:
-    """Corner offsets ``{(panel, edge): (2,) [m]}`` that translate the outline edges of each
-    panel bordering ``triangles`` (k,) and facing ``direction`` (2,) outward by ``amount``
-    [m] in all along it (half on each side when both sides have such edges; negative
-    ``amount`` takes in). Corners shared by two moved edges of a side move once."""
-    moves: dict = {}
-    tris = np.asanyarray(triangles)
-    for pi, pname in enumerate(mesh.panel_names):
-        mine = tris[mesh.triangle_panel[tris] == pi]
-        if len(mine) == 0:
+def edge_moves(pattern, mesh: GarmentMesh, panel: int, triangles, direction,
+               amount: float) -> dict:
+    """Corner offsets ``{(panel, edge): (2,) [m]}`` that translate the outline edges of
+    panel ``panel`` (its index) bordering ``triangles`` (k,) and facing ``direction`` (2,)
+    by ``amount`` [m] in all along it, outward (half on each side when both sides have
+    such edges; a negative ``amount`` takes in). A corner shared by two moved edges of a
+    side moves once."""
+    pname = mesh.panel_names[panel]
+    inside = np.zeros(mesh.n_vertices, dtype=bool)
+    inside[mesh.triangles[np.asanyarray(triangles)].ravel()] = True
+    edges = pattern.panel(pname).outline.edges
+    sides: dict = {1.0: [], -1.0: []}
+    for k, e in enumerate(edges):
+        ids, _ = mesh.edge_vertices(pname, e.name)
+        if inside[ids].sum() < MIN_EDGE_VERTICES:
             continue
-        inside = np.zeros(mesh.n_vertices, dtype=bool)
-        inside[mesh.triangles[mine].ravel()] = True
-        panel = pattern.panel(pname)
-        edges = panel.outline.edges
-        sides: dict = {1.0: [], -1.0: []}
-        for k, e in enumerate(edges):
-            ids, _ = mesh.edge_vertices(pname, e.name)
-            if inside[ids].sum() < MIN_EDGE_VERTICES:
-                continue
-            facing = float(_outward_normal(mesh, ids) @ direction)
-            if abs(facing) >= MIN_FACING:
-                sides[float(np.sign(facing))].append(k)
-        used = [s for s in sides if sides[s]]
-        for s in used:
-            offset = s * (amount / len(used)) * np.asarray(direction, dtype=np.float64)
-            for k in sides[s]:
-                for corner in (edges[k].name, edges[(k + 1) % len(edges)].name):
-                    moves[(pname, corner)] = offset
+        facing = float(_outward_normal(mesh, ids) @ direction)
+        if abs(facing) >= MIN_FACING:
+            sides[float(np.sign(facing))].append(k)
+    used = [s for s in sides if sides[s]]
+    moves = {}
+    for s in used:
+        offset = s * (amount / len(used)) * np.asarray(direction, dtype=np.float64)
+        for k in sides[s]:
+            for corner in (edges[k].name, edges[(k + 1) % len(edges)].name):
+                moves[(pname, corner)] = offset
+    return moves
+
+
+def let_out_moves(pattern, mesh: GarmentMesh, positions, triangles, target: float) -> dict:
+    """Corner offsets that give each panel's part of ``triangles`` (k,) the length it
+    lacks along its own principal stretch (:func:`region_strain`, per panel: mirrored
+    panels have mirrored frames) for a stretch of ``target`` [-]: its width across that
+    direction times (stretch − 1 − target) / (1 + target), by :func:`edge_moves`."""
+    tris = np.asanyarray(triangles)
+    moves: dict = {}
+    for pi in np.unique(mesh.triangle_panel[tris]):
+        mine = tris[mesh.triangle_panel[tris] == pi]
+        direction, stretch = region_strain(mesh, positions, mine)
+        if stretch - 1.0 <= target:
+            continue
+        ids = np.unique(mesh.triangles[mine])
+        width = float(np.ptp(mesh.vertices[ids] @ direction))
+        amount = width * (stretch - 1.0 - target) / (1.0 + target)
+        moves.update(edge_moves(pattern, mesh, int(pi), mine, direction, amount))
     return moves
