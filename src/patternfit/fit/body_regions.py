@@ -1,8 +1,9 @@
 """The body's regions a garment covers, named as a pattern maker names them, so that every
 garment vertex and triangle belongs to the girth it is judged at.
 
-A point on an arm (beyond the shoulder point along the arm axis and nearer that axis than
-the torso's) is on the upper arm (``bicep_*``, the first half from shoulder to wrist) or
+A point on an arm (beyond the shoulder point along the arm axis, nearer that axis than
+the torso's, and, below the armpit, outside the torso's width at its height) is on the
+upper arm (``bicep_*``, the first half from shoulder to wrist) or
 the forearm; any other point belongs to the torso or a leg by its height between the
 body's landmark heights: above the armpit ``shoulders``; down to halfway between bust and
 waist ``bust``; down to halfway between waist and hip ``waist``; down to the crotch
@@ -14,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..body.measure import cross_section
+
 REGIONS = ("shoulders", "bust", "waist", "hip", "thigh_left", "thigh_right",
            "lower_leg_left", "lower_leg_right", "bicep_left", "bicep_right",
            "forearm_left", "forearm_right")
@@ -22,6 +25,24 @@ REGIONS = ("shoulders", "bust", "waist", "hip", "thigh_left", "thigh_right",
 KNEE_SHARE = 0.6
 #: the upper arm is this share of the way from the shoulder point to the wrist [-]
 UPPER_ARM = 0.5
+#: below the armpit, the torso's half-width is read from body sections this far apart [m]
+SECTION_STEP = 0.03
+#: ... and a point within this of it belongs to the torso (the cloth lies on it) [m]
+TORSO_MARGIN = 0.02
+
+
+def torso_half_width(body, heights) -> np.ndarray:
+    """Half the width (along x) of the body's torso section [m] at each of ``heights``
+    (k,) [m] above the feet: the largest section loop's farthest point from the torso
+    axis; 0 where the body has no section."""
+    y0 = float(body.vertices[:, 1].min())
+    cx = float(body.landmarks["torso_axis"][0][0])
+    out = np.zeros(len(heights))
+    for i, h in enumerate(heights):
+        loops = cross_section(body.vertices, body.faces, y0 + float(h))
+        if loops:
+            out[i] = float(np.abs(loops[0].points[:, 0] - cx).max())
+    return out
 
 
 def _segment(points, a, b) -> tuple[np.ndarray, np.ndarray]:
@@ -54,10 +75,14 @@ def body_regions(points, body) -> np.ndarray:
         out[legs] = [REGIONS.index(str(n)) for n in names]
     ta, tb = lm["torso_axis"]
     _, torso = _segment(p, np.asanyarray(ta, float), np.asanyarray(tb, float))
+    levels = np.arange(m["crotch_height"], m["armpit_height"] + SECTION_STEP, SECTION_STEP)
+    half = np.interp(h, levels, torso_half_width(body, levels))
+    on_torso = (h < m["armpit_height"]) & (
+        np.abs(p[:, 0] - float(ta[0])) < half + TORSO_MARGIN)
     for s in ("left", "right"):
         a, b = (np.asanyarray(v, dtype=np.float64) for v in lm[f"arm_axis_{s}"])
         t, d = _segment(p, a, b)
-        arm = (t > 0.0) & (d < torso)
+        arm = (t > 0.0) & (d < torso) & ~on_torso
         out[arm & (t < UPPER_ARM)] = REGIONS.index(f"bicep_{s}")
         out[arm & (t >= UPPER_ARM)] = REGIONS.index(f"forearm_{s}")
     return out
