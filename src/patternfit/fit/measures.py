@@ -32,6 +32,8 @@ BICEP_AT = 0.3
 MAX_GAP_DEG = 30.0
 #: garment section points further than this from the body section are not part of it [m]
 SECTION_REACH = 0.25
+#: a garment point this much nearer another body loop still belongs to the girth's [m]
+SHARED_REACH = 0.03
 #: a vertex this much farther from the body than the solver's contact distance still rests
 #: on it (the penalty lets it sit a little inside; the distance field is interpolated) [m]
 CONTACT_SLACK = 0.001
@@ -219,6 +221,16 @@ def _body_loops(loops: list[Loop], kind: str, centre2) -> list[Loop]:
     return [min(big, key=lambda lp: np.linalg.norm(lp.centroid[[0, 2]] - centre2))]
 
 
+def _belongs(points, body_points, mine) -> np.ndarray:
+    """Which garment section ``points`` (k, 2) belong to the chosen body loops (``mine``
+    marks their points among ``body_points``): within :data:`SECTION_REACH` of them and no
+    more than :data:`SHARED_REACH` farther from them than from another loop (a sleeve's
+    underarm lies between the arm and the torso)."""
+    dist = np.linalg.norm(points[:, None, :] - body_points[None, :, :], axis=2)
+    to_mine = np.where(mine[None, :], dist, np.inf).min(axis=1)
+    return (to_mine < SECTION_REACH) & (to_mine <= dist.min(axis=1) + SHARED_REACH)
+
+
 def section_segments(vertices, triangles, origin, normal) -> np.ndarray:
     """The segments (k, 2, 2) where the plane through ``origin`` (3,) [m] with ``normal``
     cuts the triangles, in the plane's 2D frame (:func:`_frame`; x and z columns)."""
@@ -281,17 +293,13 @@ def girth_section(name, triangles, positions, body_vertices, body_faces, origin,
         allb = np.concatenate([lp.points[:, [0, 2]] for lp in body_loops])
         mine = np.concatenate([np.full(len(lp.points), any(lp is c for c in chosen))
                                for lp in body_loops])
-        dist = np.linalg.norm(gp[:, None, :] - allb[None, :, :], axis=2)
-        near = dist.argmin(axis=1)
-        gp = gp[mine[near] & (dist.min(axis=1) < SECTION_REACH)]
+        gp = gp[_belongs(gp, allb, mine)]
     ghull, gper = _hull(gp)
     covered = False
     if gper > 0:
         # the same choice for the segments, by their midpoints
         seg = section_segments(positions, triangles, origin, normal)
-        mid = seg.mean(axis=1)
-        dist = np.linalg.norm(mid[:, None, :] - allb[None, :, :], axis=2)
-        seg = seg[mine[dist.argmin(axis=1)] & (dist.min(axis=1) < SECTION_REACH)]
+        seg = seg[_belongs(seg.mean(axis=1), allb, mine)]
         covered = largest_gap_deg(seg, bp.mean(axis=0)) <= MAX_GAP_DEG
     ease_cm = 100.0 * (gper - bper) if covered else None
     return Section(name, np.asanyarray(origin, dtype=np.float64), np.asanyarray(normal, float),
