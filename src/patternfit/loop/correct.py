@@ -444,7 +444,7 @@ def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdic
         found: dict = {}
         if rv.verdict == "too tight":
             found = let_out_moves(session.pattern, mesh, session.state.positions, tris,
-                                  target)
+                                  target, least=rv.stretch_p90 or 0.0)
         elif settings.take_in and rv.verdict == "too loose" and rv.ease_cm is not None:
             lo, hi = ease_range(verdict.style, name) or (None, None)
             if hi is None:

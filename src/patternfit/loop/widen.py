@@ -74,16 +74,20 @@ def edge_moves(pattern, mesh: GarmentMesh, panel: int, triangles, direction,
     return moves
 
 
-def let_out_moves(pattern, mesh: GarmentMesh, positions, triangles, target: float) -> dict:
+def let_out_moves(pattern, mesh: GarmentMesh, positions, triangles, target: float, *,
+                  least: float = 0.0) -> dict:
     """Corner offsets that give each panel's part of ``triangles`` (k,) the length it
     lacks along its own principal stretch (:func:`region_strain`, per panel: mirrored
     panels have mirrored frames) for a stretch of ``target`` [-]: its width across that
-    direction times (stretch − 1 − target) / (1 + target), by :func:`edge_moves`."""
+    direction times (stretch − 1 − target) / (1 + target), by :func:`edge_moves`; the
+    stretch taken at least ``least`` [-] (the region's high percentile: a woven pressing
+    too hard is stretched only at its edge, and its mean says nothing)."""
     tris = np.asanyarray(triangles)
     moves: dict = {}
     for pi in np.unique(mesh.triangle_panel[tris]):
         mine = tris[mesh.triangle_panel[tris] == pi]
         direction, stretch = region_strain(mesh, positions, mine)
+        stretch = max(stretch, 1.0 + least)
         if stretch - 1.0 <= target:
             continue
         ids = np.unique(mesh.triangles[mine])
