@@ -121,6 +121,7 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
             "pressure_kpa_p99": [(it.measures or {}).get("pressure_kpa", {}).get("p99")
                                  for it in result.iterations],
             "ease_cm": (result.iterations[-1].measures or {}).get("ease_cm", {}),
+            "region_verdicts": result.to_dict()["region_verdicts"],
             "seconds": seconds, "device": device_name(), "paper": row.paper}
 
 
