@@ -183,18 +183,7 @@ def propose_moves(pattern: Pattern, mesh: GarmentMesh, fit: FitResult, *,
                 # the top is anchored on the body (waist, neck): grow downwards
                 d = d - g * warp_excess * (hmax - p @ g)
             moves[(name, e.name)] = settings.gain * d
-    for _ in range(3):  # both are averages: alternating them converges
-        _share_sewn_corners(pattern, moves)
-        _mirror_symmetric(pattern, mesh, moves)
-    out = []
-    for (pname, ename), d in moves.items():
-        n = float(np.linalg.norm(d))
-        if n < settings.min_move:
-            continue
-        if n > settings.max_move:
-            d = d * (settings.max_move / n)
-        out.append(CornerMove(pname, ename, (float(d[0]), float(d[1]))))
-    return out
+    return finish_moves(pattern, mesh, moves, settings)
 
 
 def _across_moves(mesh: GarmentMesh, pi: int, panel, fit: FitResult, tris, centroid, g, c,
