@@ -419,10 +419,10 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
 def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
                  settings: CorrectionSettings) -> dict:
     """Corner offsets ``{(panel, edge): (2,) [m]}`` of the edge translations
-    (:mod:`patternfit.loop.widen`) for every region the verdict calls too tight or tight
-    (a round is made because one is too tight; the others are let out with it) — by the
+    (:mod:`patternfit.loop.widen`) for every region the verdict calls too tight — by the
     length its stretch lacks over the region's width, down to a quarter of the tight
-    threshold — and, with ``settings.take_in``, too loose — its side edges inward by its
+    threshold (regions only tight are left: letting them out too, the Table 2 coat's
+    re-drapes crossed themselves, 69–71 pairs) — and, with ``settings.take_in``, too loose — its side edges inward by its
     ease beyond the middle of the style's range, shared by the panels it spans and their
     two sides."""
     moves: dict = {}
@@ -432,7 +432,7 @@ def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdic
     for name, rv in verdict.regions.items():
         tris = np.flatnonzero(measures.triangle_region == names.index(name))
         found: dict = {}
-        if rv.verdict in ("too tight", "tight"):  # a round is made: let out all of them
+        if rv.verdict == "too tight":
             found = let_out_moves(session.pattern, mesh, session.state.positions, tris,
                                   target, least=rv.stretch_p90 or 0.0)
         elif settings.take_in and rv.verdict == "too loose" and rv.ease_cm is not None:
