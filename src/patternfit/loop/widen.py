@@ -11,11 +11,16 @@ goes through the correction's machinery (sewn corners shared, mirror symmetry ke
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ..mesh.garment import GarmentMesh
 
-#: an outline edge belongs to a region when at least this many of its mesh vertices do
-MIN_EDGE_VERTICES = 3
+#: an outline edge borders a region when at least this many of its mesh vertices lie
+#: within :data:`NEAR` mesh edge lengths of the region's vertices (flat): a coarse mesh has
+#: two or three vertices on an edge's part at a girth, and the two sides of a symmetric
+#: panel must be found alike
+MIN_EDGE_VERTICES = 2
+NEAR = 1.5
 #: ... and it faces the stretch direction: |outward normal · direction| at least this
 MIN_FACING = 0.5
 
@@ -53,13 +58,18 @@ def edge_moves(pattern, mesh: GarmentMesh, panel: int, triangles, direction,
     such edges; a negative ``amount`` takes in). A corner shared by two moved edges of a
     side moves once."""
     pname = mesh.panel_names[panel]
-    inside = np.zeros(mesh.n_vertices, dtype=bool)
-    inside[mesh.triangles[np.asanyarray(triangles)].ravel()] = True
+    t = mesh.triangles[np.asanyarray(triangles)]
+    region = cKDTree(mesh.vertices[np.unique(t)])
+    step = float(np.median(np.linalg.norm(mesh.vertices[t[:, 1]] - mesh.vertices[t[:, 0]],
+                                          axis=1)))
+    near = np.zeros(mesh.n_vertices, dtype=bool)
+    ids_all = mesh.panel_vertices(panel)
+    near[ids_all] = region.query(mesh.vertices[ids_all])[0] <= NEAR * step
     edges = pattern.panel(pname).outline.edges
     sides: dict = {1.0: [], -1.0: []}
     for k, e in enumerate(edges):
         ids, _ = mesh.edge_vertices(pname, e.name)
-        if inside[ids].sum() < MIN_EDGE_VERTICES:
+        if near[ids].sum() < MIN_EDGE_VERTICES:
             continue
         facing = float(_outward_normal(mesh, ids) @ direction)
         if abs(facing) >= MIN_FACING:
