@@ -115,3 +115,30 @@ def test_table2_coat_is_too_tight_first_and_none_too_tight_after_correction():
     assert all(v["verdict"] != "too tight" for v in row["region_verdicts"].values())
     assert row["final"] >= 0.90 and row["pressure_kpa_p99"][-1] <= 2.0
     assert all(row["checks_passed"])
+
+
+def test_take_in_a_too_loose_dress_is_a_recorded_symmetric_edit():
+    from patternfit.body.builtin import load_body
+    from patternfit.loop import DesignSession
+    from patternfit.loop.correct import correct
+
+    # measured (800 triangles): hip ease +33 cm, too loose; taken in 4.6 cm at each side
+    # seam of both panels, it fits after one round
+    session = DesignSession(build("dress", "XL"), load_body("female_thin"), "cotton", 800)
+    result = correct(session, settings=CorrectionSettings(take_in=True, max_iterations=1))
+    first, last = result.iterations[0], result.iterations[-1]
+    assert first.verdict.regions["hip"].verdict == "too loose" and first.edits
+    assert last.verdict.regions["hip"].ease_cm < first.verdict.regions["hip"].ease_cm - 5.0
+    new, old = result.pattern, session.history[0].pattern
+    for seam in new.seams:
+        assert new.seam_side_length(seam.a) == pytest.approx(new.seam_side_length(seam.b),
+                                                             abs=1e-5)
+    for name in ("front", "back"):
+        poly = new.panel(name).outline.polygon()
+        assert np.ptp(poly[:, 0]) < np.ptp(old.panel(name).outline.polygon()[:, 0])
+        axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
+        mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
+        assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4
+    assert session.state.edit["op"] == "correct"
+    session.undo()
+    assert session.pattern == old
