@@ -130,7 +130,7 @@ def _synthetic(stretch_by_region: dict, pressure_by_region: dict, ease=None):
                     fit_class=np.zeros(n, np.int8), fitting_ratio=1.0,
                     fitting_ratio_symmetric=1.0, panel_ratio=ones[:1], thresholds=(0.02, 0.02))
     p = np.array([pressure_by_region.get(r, 0.1) for r in REGIONS])
-    sections = {k: SimpleNamespace(ease_cm=v) for k, v in (ease or {}).items()}
+    sections = {k: SimpleNamespace(ease_cm=v, body_cm=100.0) for k, v in (ease or {}).items()}
     m = FitMeasures(0 * ones, p, np.ones(n, bool), ones, sections, np.arange(n), np.arange(n))
     return fit, m
 
@@ -184,3 +184,11 @@ def test_garment_style_from_meta_name_or_anchor():
     odd = build("skirt")
     odd = type(odd)(**{**odd.__dict__, "name": "a-line", "meta": {}})
     assert garment_style(odd) == "skirt"  # hangs from the waist
+
+
+def test_a_knit_may_have_negative_ease_that_its_stretch_gives_back():
+    knit = judge_region(-3.0, 0.2, 0.02, style="skirt", girth="hip", limit=0.20,
+                        rules=RULES, body_cm=90.0)
+    woven = judge_region(-3.0, 0.2, 0.01, style="skirt", girth="hip", limit=0.03,
+                         rules=RULES, body_cm=90.0)
+    assert knit[0] == "fits" and woven[0] == "tight" and "3.8 cm" in woven[1]

@@ -9,7 +9,8 @@ warp/weft stretch of :class:`~patternfit.fit.metrics.FitResult`) against the thr
 - too tight: its pressure (p95 over its contact area) above ``pressure_max_kpa``, or its
   stretch (p90 over its area of max(warp, weft) − 1) beyond the fabric's comfortable limit;
 - tight: pressure above ``pressure_comfort_kpa``, stretch beyond ``tight_share`` of the
-  limit, or ease below the style's range;
+  limit, or ease below the style's range (its least ease lowered by that share of the
+  limit times the body's girth: the negative ease a knit's stretch gives back);
 - loose: ease above the style's range by at most ``loose_tolerance_cm``; too loose: more;
 - fits: none of these.
 
@@ -91,11 +92,15 @@ def slid_off(checks: dict | None) -> str | None:
 
 
 def judge_region(ease_cm, pressure, stretch, *, style: str, girth: str, limit: float,
-                 rules: VerdictRules) -> tuple[str, str]:
+                 rules: VerdictRules, body_cm: float | None = None) -> tuple[str, str]:
     """The verdict word and its reason for one region from its ease [cm], pressure [kPa]
-    and stretch [-] (each may be None: not measured)."""
+    and stretch [-] (each may be None: not measured). The style's least ease is lowered by
+    the stretch the rules still call fitting (``tight_share × limit`` of the body's girth
+    ``body_cm`` [cm]): a knit's negative ease is what its stretch gives back."""
     rng = ease_range(style, girth)
     lo, hi = rng if rng is not None else (None, None)
+    if lo is not None and body_cm is not None:
+        lo = lo - rules.tight_share * limit * body_cm
     if pressure is not None and pressure > rules.pressure_max_kpa:
         return "too tight", (f"pressure {pressure:.2f} kPa above {rules.pressure_max_kpa:g} "
                              "kPa")
@@ -109,7 +114,7 @@ def judge_region(ease_cm, pressure, stretch, *, style: str, girth: str, limit: f
         return "tight", (f"stretched {stretch * 100:.0f}%, over {rules.tight_share:.0%} of "
                          f"the fabric's {limit * 100:.0f}%")
     if ease_cm is not None and lo is not None and ease_cm < lo:
-        return "tight", f"ease {ease_cm:+.1f} cm below the {style}'s {lo:g} cm"
+        return "tight", f"ease {ease_cm:+.1f} cm below the {style}'s {lo:.1f} cm"
     if ease_cm is not None and hi is not None and ease_cm > hi:
         word = "loose" if ease_cm <= hi + rules.loose_tolerance_cm else "too loose"
         return word, f"ease {ease_cm:+.1f} cm above the {style}'s {hi:g} cm"
@@ -144,7 +149,8 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
                                   (rules.pressure_percentile,))[0]
         sec = sections.get(name)
         e = sec.ease_cm if sec is not None else None
-        word, why = judge_region(e, p, s, style=style, girth=name, limit=limit, rules=rules)
+        word, why = judge_region(e, p, s, style=style, girth=name, limit=limit, rules=rules,
+                                 body_cm=sec.body_cm if e is not None else None)
         regions[name] = RegionVerdict(word, e, p, s, area, why)
     words = [v.verdict for v in regions.values()]
     if slid:
