@@ -4,8 +4,10 @@ contact pressure.
 ϖ (:mod:`patternfit.fit.metrics`) says whether the cloth is stretched; a pattern maker also
 reads *ease* (garment girth minus body girth, cm) and *clothing pressure* (kPa; about 1.3 kPa
 is comfortable, 2.0 kPa the most for daily wear, after Kawabata). Everything here is a pure
-function of the garment's triangles, its positions ``(n, 3)`` [m] (Y up), the body and the
-solver's contact law. Inside metres and newtons; the results are in mm, cm and kPa as named.
+function of the garment mesh, its positions ``(n, 3)`` [m] (Y up), the body, the fabric and
+the solver's contact distance; the pressure is read from the force balance at rest
+(:mod:`patternfit.fit.pressure`), not from the solver's contact penalty. Inside metres and
+newtons; the results are in mm, cm and kPa as named.
 """
 
 from __future__ import annotations
