@@ -168,7 +168,9 @@ def demo(
     exit_if_correction_failed(report, out)
     console.print(f"ϖ placed {placed * 100:.2f}% → first drape "
                   f"{report['iterations'][0]['fitting_ratio'] * 100:.2f}% → corrected "
-                  f"[bold]{report['fitting_ratio'] * 100:.2f}%[/] in "
+                  f"[bold]{report['fitting_ratio'] * 100:.2f}%[/] (verdict "
+                  f"{report['iterations'][0].get('verdict') or 'n/a'} → "
+                  f"{report.get('verdict') or 'n/a'}) in "
                   f"{report['correction_rounds']} round(s), {report['edits_made']} corner "
                   f"moves; {time.perf_counter() - t0:.1f} s. Wrote {out}/: pattern.json "
                   "(corrected), report.json, regions_before/after.png, before/ and after/ "
