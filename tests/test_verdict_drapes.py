@@ -142,3 +142,23 @@ def test_take_in_a_too_loose_dress_is_a_recorded_symmetric_edit():
     assert session.state.edit["op"] == "correct"
     session.undo()
     assert session.pattern == old
+
+
+def test_fit_of_a_saved_drape_with_its_body_has_the_verdict(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from patternfit.cli.main import app
+
+    o = pf.drape_and_evaluate("skirt", "female_average", "cotton", triangles=600)
+    o.write(tmp_path / "d", pictures=False)
+    run = CliRunner().invoke(app, ["fit", "-g", str(tmp_path / "d" / "garment"), "-b",
+                                   "female_average", "-f", "cotton", "-o",
+                                   str(tmp_path / "f"), "--no-pictures", "--json"])
+    assert run.exit_code == 0, run.output
+    saved = json.loads((tmp_path / "f" / "report.json").read_text())
+    assert saved["verdict"] == o.verdict
+    assert saved["ease_cm"]["hip"] == pytest.approx(o.measures.report()["ease_cm"]["hip"])
+    bare = pf.evaluate_saved(tmp_path / "d" / "garment")
+    assert bare.verdict is None and bare.region_verdicts == {}

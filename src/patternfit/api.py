@@ -13,6 +13,7 @@ Lengths are metres, times seconds inside; pattern files state their own units.
 
 from __future__ import annotations
 
+import inspect
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -204,12 +205,18 @@ class FitOutcome:
                                  progress=progress, measures=self.measures)
 
 
+def _drape_margin() -> float:
+    """The contact margin [m] :func:`patternfit.sim.drape.drape` keeps by default (3 mm):
+    the contact distance of a drape whose solver settings are not at hand."""
+    return float(inspect.signature(drape).parameters["contact_margin"].default)
+
+
 def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMeasures:
     """The fit measures of a drape, with the contact distance and distance field its solver
     used (the static engine's), else the body's default field and the drape's default
     margin (3 mm)."""
     s = getattr(d.solver, "settings", None)
-    s = s if isinstance(s, SolverSettings) else SolverSettings(contact_margin=0.003)
+    s = s if isinstance(s, SolverSettings) else SolverSettings(contact_margin=_drape_margin())
     f = getattr(d.solver, "body", None)
     return fit_measures(mesh, d.positions, body, fabric,
                         f if isinstance(f, DistanceField) else None,
@@ -327,15 +334,25 @@ def _start_state(start, pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:
 
 
 def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
-                   loose: float = DEFAULTS.loose) -> FitOutcome:
+                   loose: float = DEFAULTS.loose, body: Body | str | Path | None = None,
+                   fabric: Fabric | str | Path = DEFAULTS.fabric, units: str | None = None,
+                   verdict_rules: VerdictRules | None = None) -> FitOutcome:
     """The fit of a saved garment folder's 3D state (``pattern.json``, ``mesh.npz``,
-    ``positions.npy``); :class:`InputError` when the folder holds no 3D state."""
+    ``positions.npy``); :class:`InputError` when the folder holds no 3D state. With the
+    ``body`` it was draped on (and its ``fabric``), also the fit measures and the verdict
+    (the drape's checks are not saved: judged as passed; contact distance the drape's
+    default margin)."""
     pat, m, x = load_garment(folder)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): place or drape the garment first",
                          file=folder)
-    return FitOutcome(pat, m, None, None, x, FitEvaluator(m, tight=tight, loose=loose)(x),
-                      state="saved")
+    fit = FitEvaluator(m, tight=tight, loose=loose)(x)
+    if body is None:
+        return FitOutcome(pat, m, None, None, x, fit, state="saved")
+    b, fab = read_body(body, units=units), read_fabric(fabric)
+    measures = fit_measures(m, x, b, fab, reach=max(fab.thickness, _drape_margin()))
+    return FitOutcome(pat, m, b, fab, x, fit, state="saved", measures=measures,
+                      judgement=judge_garment(pat, fit, measures, fab, None, verdict_rules))
 
 
 def place_and_evaluate(pattern: Pattern | str | Path = "coat", *, triangles: int = 22000,
