@@ -51,12 +51,11 @@ def _colorbar(fig, ax, scale: MeasureScale) -> None:
     from matplotlib.colors import Normalize
     sm = ScalarMappable(norm=Normalize(scale.low, scale.high), cmap=colormaps[scale.cmap])
     bar = fig.colorbar(sm, ax=ax, fraction=0.04, pad=0.02)
-    bar.set_label(scale.label, fontsize=8)
+    marks = ", ".join(f"{v:g} {text}" for v, text in scale.marks)
+    bar.set_label(scale.label + (f"\nblue lines: {marks}" if marks else ""), fontsize=8)
     bar.ax.tick_params(labelsize=7)
-    for value, text in scale.marks:
-        bar.ax.axhline(value, color="#1f5fbf", lw=1.2)
-        bar.ax.text(1.05, value, f" {text}", transform=bar.ax.get_yaxis_transform(),
-                    fontsize=6, va="center", color="#1f5fbf")
+    for value, _ in scale.marks:  # named in the label: text beside the bar hid the ticks
+        bar.ax.axhline(value, color="#1f5fbf", lw=1.5)
 
 
 def plot_measure_maps(mesh: GarmentMesh, positions, values, scale: MeasureScale, stem, *,
