@@ -13,6 +13,7 @@ Lengths are metres, times seconds inside; pattern files state their own units.
 
 from __future__ import annotations
 
+import inspect
 import time
 from fnmatch import fnmatchcase
 from dataclasses import dataclass, field
@@ -34,6 +35,8 @@ from .fit.measures import GIRTHS, FitMeasures, fit_measures
 from .fit.metrics import FitEvaluator, FitResult
 from .fit.outputs import write_fit_outputs
 from .edit import add_seam, grade, remove_seam, set_seam_ease
+from .fit.verdict import Verdict, judge_garment
+from .fit.verdict_rules import VerdictRules
 from .loop.correct import Correction, CorrectionSettings, correct
 from .loop.outputs import write_correction_outputs
 from .loop.session import DesignSession
@@ -56,13 +59,14 @@ from .sim.solver import SolverSettings
 
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
            "DesignSession", "FabricError", "FitOutcome", "GIRTHS", "InputError", "PatternError",
-           "SeamSuggestion", "SolverSettings", "accept_seams", "add_seam",
-           "body_from_measurements", "check_sewn", "correct", "correct_design", "design_session",
-           "drafted_too_small", "drape_and_evaluate", "evaluate_saved", "list_bodies",
-           "list_body_sets", "list_fabrics", "list_garments", "list_sizes", "mesh_garment",
-           "place_and_evaluate", "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric",
-           "read_pattern", "remove_seam", "save_any_pattern", "save_garment", "seam_table",
-           "set_seam_ease", "suggest_seams", "with_distance_field", "write_pattern"]
+           "SeamSuggestion", "SolverSettings", "Verdict", "VerdictRules", "accept_seams",
+           "add_seam", "body_from_measurements", "check_sewn", "correct", "correct_design",
+           "design_session", "drafted_too_small", "drape_and_evaluate", "evaluate_saved",
+           "list_bodies", "list_body_sets", "list_fabrics", "list_garments", "list_sizes",
+           "mesh_garment", "place_and_evaluate", "placed_fitting_ratio", "read_bodies",
+           "read_body", "read_fabric", "read_pattern", "remove_seam", "save_any_pattern",
+           "save_garment", "seam_table", "set_seam_ease", "suggest_seams", "verdict_rules",
+           "with_distance_field", "write_pattern"]
 
 
 def list_garments() -> list[str]:
@@ -277,6 +281,8 @@ class FitOutcome:
     measures : FitMeasures or None
         Gap [mm], ease at the girths [cm] and contact pressure [kPa]
         (:mod:`patternfit.fit.measures`); None without a body (a saved state read back).
+    judgement : Verdict or None
+        The fit verdict (:mod:`patternfit.fit.verdict`); None without measures.
     """
 
     pattern: Pattern
@@ -290,6 +296,19 @@ class FitOutcome:
     seconds: float = 0.0
     state: str = "draped"
     measures: FitMeasures | None = None
+    judgement: Verdict | None = None
+
+    @property
+    def verdict(self) -> str | None:
+        """The overall verdict: "too tight", "tight", "fits", "loose", "too loose", or
+        "failed" for a drape that failed its checks; None without a body."""
+        return None if self.judgement is None else self.judgement.overall
+
+    @property
+    def region_verdicts(self) -> dict:
+        """Region → {verdict, ease_cm, pressure_kpa_p95, stretch_p90, area_m2, reason}, as
+        ``report.json`` holds them (empty for a failed drape or without a body)."""
+        return {} if self.judgement is None else self.judgement.report()["region_verdicts"]
 
     @property
     def fitting_ratio(self) -> float:
@@ -319,22 +338,38 @@ class FitOutcome:
             extra["body"] = self.body.name
         if self.fabric is not None:
             extra["fabric"] = self.fabric.name
+        if self.judgement is not None:
+            extra.update(self.judgement.report())
         return write_fit_outputs(folder, self.pattern, self.mesh, self.positions, self.fit,
                                  state=self.state, body=body, pictures=pictures, extra=extra,
                                  progress=progress, measures=self.measures)
 
 
+def _drape_margin() -> float:
+    """The contact margin [m] :func:`patternfit.sim.drape.drape` keeps by default (3 mm):
+    the contact distance of a drape whose solver settings are not at hand."""
+    return float(inspect.signature(drape).parameters["contact_margin"].default)
+
+
 def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMeasures:
-    """The fit measures of a drape, with the contact law and distance field its solver
+    """The fit measures of a drape, with the contact distance and distance field its solver
     used (the static engine's), else the body's default field and the drape's default
     margin (3 mm)."""
     s = getattr(d.solver, "settings", None)
-    s = s if isinstance(s, SolverSettings) else SolverSettings(contact_margin=0.003)
+    s = s if isinstance(s, SolverSettings) else SolverSettings(contact_margin=_drape_margin())
     f = getattr(d.solver, "body", None)
-    return fit_measures(mesh.triangles, d.positions, body,
+    return fit_measures(mesh, d.positions, body, fabric,
                         f if isinstance(f, DistanceField) else None,
-                        reach=max(fabric.thickness, s.contact_margin),
-                        stiffness=s.contact_stiffness)
+                        reach=max(fabric.thickness, s.contact_margin))
+
+
+def verdict_rules(*, pressure_max: float | None = None, stretch_limit: float | None = None,
+                  style: str | None = None) -> VerdictRules:
+    """The fit verdict's thresholds with these replaced where not None: ``pressure_max``
+    [kPa] above which a region is too tight, the fabric's comfortable ``stretch_limit``
+    [-], the garment ``style`` whose ease ranges apply; ``ValueError`` naming a bad one."""
+    return VerdictRules().with_options(pressure_max_kpa=pressure_max,
+                                       stretch_limit=stretch_limit, style=style)
 
 
 def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
@@ -346,7 +381,8 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                        clearance: float = DEFAULTS.clearance, device: str | None = None,
                        from_static: bool = False, tight: float = DEFAULTS.tight,
                        loose: float = DEFAULTS.loose, start=None,
-                       progress: Callable | None = None) -> FitOutcome:
+                       progress: Callable | None = None,
+                       verdict_rules: VerdictRules | None = None) -> FitOutcome:
     """Mesh ``pattern``, place it around ``body``, sew and drape it in ``fabric`` to rest,
     and evaluate the fit.
 
@@ -376,6 +412,9 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     progress : callable, optional
         ``progress(iteration, energy [J], step [m], elapsed [s])``; raising
         KeyboardInterrupt in it stops cleanly with the last state.
+    verdict_rules : VerdictRules, optional
+        The thresholds of the fit verdict (pressure, stretch limit, ease ranges' style);
+        :class:`VerdictRules` () by default.
 
     Every drape gets the on-body checks (:mod:`patternfit.sim.onbody`); ``passed`` is
     False and ``checks["reasons"]`` says why when the garment is not on the body where its
@@ -406,9 +445,12 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     evaluator = FitEvaluator(m, tight=tight, loose=loose)
     extra = d.report_extra()
     extra["fitting_ratio_placed"] = evaluator.metrics(d.placed)[1]
-    return FitOutcome(pat, m, b, fab, d.positions, evaluator(d.positions), drape=d,
-                      extra=extra, seconds=time.perf_counter() - t0,
-                      measures=_measures(d, m, b, fab))
+    fit = evaluator(d.positions)
+    measures = _measures(d, m, b, fab)
+    return FitOutcome(pat, m, b, fab, d.positions, fit, drape=d, extra=extra,
+                      seconds=time.perf_counter() - t0, measures=measures,
+                      judgement=judge_garment(pat, fit, measures, fab, extra.get("checks"),
+                                              verdict_rules))
 
 
 def _start_state(start, pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:
@@ -442,15 +484,25 @@ def _start_state(start, pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:
 
 
 def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
-                   loose: float = DEFAULTS.loose) -> FitOutcome:
+                   loose: float = DEFAULTS.loose, body: Body | str | Path | None = None,
+                   fabric: Fabric | str | Path = DEFAULTS.fabric, units: str | None = None,
+                   verdict_rules: VerdictRules | None = None) -> FitOutcome:
     """The fit of a saved garment folder's 3D state (``pattern.json``, ``mesh.npz``,
-    ``positions.npy``); :class:`InputError` when the folder holds no 3D state."""
+    ``positions.npy``); :class:`InputError` when the folder holds no 3D state. With the
+    ``body`` it was draped on (and its ``fabric``), also the fit measures and the verdict
+    (the drape's checks are not saved: judged as passed; contact distance the drape's
+    default margin)."""
     pat, m, x = load_garment(folder)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): place or drape the garment first",
                          file=folder)
-    return FitOutcome(pat, m, None, None, x, FitEvaluator(m, tight=tight, loose=loose)(x),
-                      state="saved")
+    fit = FitEvaluator(m, tight=tight, loose=loose)(x)
+    if body is None:
+        return FitOutcome(pat, m, None, None, x, fit, state="saved")
+    b, fab = read_body(body, units=units), read_fabric(fabric)
+    measures = fit_measures(m, x, b, fab, reach=max(fab.thickness, _drape_margin()))
+    return FitOutcome(pat, m, b, fab, x, fit, state="saved", measures=measures,
+                      judgement=judge_garment(pat, fit, measures, fab, None, verdict_rules))
 
 
 def place_and_evaluate(pattern: Pattern | str | Path = "coat", *, triangles: int = 22000,
@@ -510,17 +562,22 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
                    max_iterations: int = DEFAULTS.correction_rounds, pictures: bool = True,
                    extra: dict | None = None, progress: Callable | None = None,
                    drape_progress: Callable | None = None,
-                   write_progress: Callable | None = None) -> dict:
+                   write_progress: Callable | None = None, take_in: bool = False,
+                   verdict_rules: VerdictRules | None = None) -> dict:
     """Correct the session's pattern automatically (drape, find the tight regions, move the
-    seam corners, re-drape, until ϖ reaches ``threshold`` — the session's when None — or
-    ``max_iterations`` rounds) and write the outputs into ``out``: ``pattern.json`` (the
-    corrected pattern), ``report.json``, ``before/`` and ``after/`` fit outputs and the
-    regions pictures. Returns the report.
+    seam corners, re-drape, until ϖ reaches ``threshold`` — the session's when None — and
+    no region is too tight by the fit verdict (``verdict_rules``; with ``take_in`` none too
+    loose either), or ``max_iterations`` rounds) and write the outputs into ``out``:
+    ``pattern.json`` (the corrected pattern), ``report.json`` (with ``verdict`` and
+    ``region_verdicts`` of the final drape, and of every iteration), ``before/`` and
+    ``after/`` fit outputs and the regions pictures. Returns the report.
 
     ``progress(iteration)`` is called after each drape is evaluated, ``drape_progress`` goes
     to the solver, ``write_progress(message)`` is called per output written."""
     settings = CorrectionSettings(threshold=session.threshold if threshold is None
-                                  else threshold, max_iterations=max_iterations)
+                                  else threshold, max_iterations=max_iterations,
+                                  take_in=bool(take_in),
+                                  rules=verdict_rules or VerdictRules())
     result = correct(session, settings=settings, drape_progress=drape_progress,
                      progress=progress)
     return write_correction_outputs(out, session, result, extra=extra, pictures=pictures,

@@ -89,3 +89,20 @@ def triangles_option(default, help: str = "Target triangle count."):
     """The ``--triangles``/``-n`` option of every command that meshes: 1 to
     ``limits.triangles``, so that a typo cannot ask for more memory than the machine has."""
     return typer.Option(default, "--triangles", "-n", min=1, max=limits.triangles, help=help)
+
+
+def verdict_options() -> dict:
+    """The options of the fit verdict a drape or correction command takes, as keyword
+    defaults (``--pressure-max``, ``--stretch-limit``, ``--style``); each None means the
+    rule's own (``patternfit.fit.verdict_rules``)."""
+    return {
+        "pressure_max": typer.Option(None, "--pressure-max", callback=finite,
+                                     help="Pressure above which a region is too tight "
+                                          "[kPa] (default 2.0, Kawabata's daily-wear "
+                                          "maximum)."),
+        "stretch_limit": typer.Option(None, "--stretch-limit", callback=finite,
+                                      help="Comfortable stretch of the fabric along a yarn "
+                                           "(0.03 = 3%; default: the fabric's)."),
+        "style": typer.Option(None, "--style", help="Garment type whose ease ranges apply: "
+                              "skirt, trousers, coat, dress, shirt (default: the pattern's)."),
+    }

@@ -13,7 +13,8 @@ import typer
 from rich.table import Table
 
 from ..defaults import DEFAULTS
-from .app import SIZE_HELP, app, console, fail, finite, print_json, triangles_option
+from .app import (SIZE_HELP, app, console, fail, finite, print_json, triangles_option,
+                  verdict_options)
 from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
                    run_correction)
 
@@ -106,15 +107,27 @@ def fit(
                                 "tight.", callback=finite),
     loose: float = typer.Option(DEFAULTS.loose, help="Area loss above which a triangle is "
                                 "loose.", callback=finite),
+    body: Optional[str] = typer.Option(None, "--body", "-b", help="The body it was draped "
+                                       "on (built-in name or mesh file): adds the fit "
+                                       "measures and the verdict."),
+    fabric: str = typer.Option(DEFAULTS.fabric, "--fabric", "-f",
+                               help="Its fabric (with --body)."),
+    pressure_max: float = verdict_options()["pressure_max"],
+    stretch_limit: float = verdict_options()["stretch_limit"],
+    style: str = verdict_options()["style"],
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     json_out: bool = Json,
 ) -> None:
-    """Evaluate the fit of a saved 3D state: ϖ, colour maps, report.json. Exits with status 1
-    when the evaluation failed its checks (a value such as ϖ is not finite)."""
+    """Evaluate the fit of a saved 3D state: ϖ, colour maps, report.json; with --body also
+    the fit measures (gap, ease, pressure) and the verdict. Exits with status 1 when the
+    evaluation failed its checks (a value such as ϖ is not finite)."""
     from .. import api
 
     t0 = time.perf_counter()
-    outcome = api.evaluate_saved(garment, tight=tight, loose=loose)
+    rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
+                              style=style)
+    outcome = api.evaluate_saved(garment, tight=tight, loose=loose, body=body, fabric=fabric,
+                                 verdict_rules=rules)
     report = outcome.write(out, pictures=pictures)
     if json_out:
         print_json(report)
@@ -168,7 +181,9 @@ def demo(
     exit_if_correction_failed(report, out)
     console.print(f"ϖ placed {placed * 100:.2f}% → first drape "
                   f"{report['iterations'][0]['fitting_ratio'] * 100:.2f}% → corrected "
-                  f"[bold]{report['fitting_ratio'] * 100:.2f}%[/] in "
+                  f"[bold]{report['fitting_ratio'] * 100:.2f}%[/] (verdict "
+                  f"{report['iterations'][0].get('verdict') or 'n/a'} → "
+                  f"{report.get('verdict') or 'n/a'}) in "
                   f"{report['correction_rounds']} round(s), {report['edits_made']} corner "
                   f"moves; {time.perf_counter() - t0:.1f} s. Wrote {out}/: pattern.json "
                   "(corrected), report.json, regions_before/after.png, before/ and after/ "

@@ -8,7 +8,8 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import SIZE_HELP, app, fail, finite, print_json, triangles_option
+from .app import (SIZE_HELP, app, fail, finite, print_json, triangles_option,
+                  verdict_options)
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
                    say_guessed_units)
 
@@ -46,13 +47,17 @@ def drape(
                                "pattern and mesh: its garment/ folder (pattern.json, mesh.npz, "
                                "positions.npy), or the drape's output folder holding it."),
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
+    pressure_max: float = verdict_options()["pressure_max"],
+    stretch_limit: float = verdict_options()["stretch_limit"],
+    style: str = verdict_options()["style"],
     out: Path = typer.Option(..., "--out", "-o", help="Output folder."),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
 ) -> None:
     """Drape a garment on a body to static equilibrium and evaluate its fit.
 
-    Writes the draped garment (GLB/OBJ with fit colours), the 2D and 3D colour maps and
-    report.json with the checks (vertices inside the body, seam gaps, self-intersections,
+    Writes the draped garment (GLB/OBJ with fit colours), the 2D and 3D colour maps, the
+    gap and pressure maps, the girth sections and report.json with the fit verdict
+    (too tight, tight, fits, loose, too loose; per region: ease, pressure, stretch), the checks (vertices inside the body, seam gaps, self-intersections,
     equilibrium, and whether it rests on the body where its pattern says) and the timing;
     a failed drape exits with status 1 and says why. Ctrl-C stops the drape cleanly and
     keeps the last state.
@@ -71,13 +76,16 @@ def drape(
     b = api.read_body(body, units=units)
     say_guessed_units(b, body)
     settings = SolverSettings(max_iterations=max_iterations, time_limit=time_limit)
+    rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
+                              style=style)
     bar, callback = drape_progress(total=max_iterations)
     with bar:
         try:
             outcome = api.drape_and_evaluate(pattern, b, fabric, triangles=triangles, size=size,
                                              engine=engine, settings=settings, device=device,
                                              from_static=from_static, clearance=clearance,
-                                             start=start, progress=callback)
+                                             start=start, progress=callback,
+                                             verdict_rules=rules)
         except NewtonMissingError as exc:
             fail(str(exc))
     report = outcome.write(out, pictures=pictures)

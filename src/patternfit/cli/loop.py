@@ -10,7 +10,8 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import SIZE_HELP, app, console, fail, finite, print_json, triangles_option
+from .app import (SIZE_HELP, app, console, fail, finite, print_json, triangles_option,
+                  verdict_options)
 from .show import exit_if_correction_failed, run_correction, say_guessed_units, show_iteration
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
@@ -40,6 +41,11 @@ def correct_command(
                                           "then restore the true width: for a garment "
                                           "drafted too small to be sewn on the body.",
                                 callback=finite),
+    take_in: bool = typer.Option(False, "--take-in", help="Also take in the regions the "
+                                 "verdict calls too loose (ease above the style's range)."),
+    pressure_max: float = verdict_options()["pressure_max"],
+    stretch_limit: float = verdict_options()["stretch_limit"],
+    style: str = verdict_options()["style"],
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     out: Path = typer.Option(..., "--out", "-o", help="Output folder (new pattern, report)."),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
@@ -49,7 +55,9 @@ def correct_command(
     Each round finds the tight regions, moves the corners of the seams next to them
     outward by the fabric the drape lacks there (both panels of a seam alike, mirror-
     symmetric panels kept symmetric), re-drapes warm-started and evaluates again, until ϖ
-    reaches the threshold with no region much too tight, or the round limit. Writes
+    reaches the threshold with no region too tight by the fit verdict (pressure, stretch,
+    ease), or the round limit. Regions the corner moves cannot reach (shoulders, sleeves)
+    are let out by translating their edges; with --take-in, too-loose regions are taken in. Writes
     OUT/pattern.json (the corrected pattern; never the input), OUT/report.json, before/
     and after/ fit outputs and the regions outlined on the 2D pattern.
     """
@@ -64,8 +72,10 @@ def correct_command(
     say_guessed_units(b, body)
     session = api.design_session(pattern, b, fabric, triangles=triangles, threshold=threshold,
                                  size=size, relax=relax)
+    rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
+                              style=style)
     report = run_correction(session, out, threshold=threshold, max_iterations=max_iterations,
-                            pictures=pictures)
+                            pictures=pictures, take_in=take_in, verdict_rules=rules)
     if json_out:
         print_json(report)
         exit_if_correction_failed(report, out)
@@ -74,7 +84,10 @@ def correct_command(
     state = "reached" if report["reached"] else "not reached"
     console.print(f"ϖ {report['iterations'][0]['fitting_ratio'] * 100:.2f}% → "
                   f"[bold]{report['fitting_ratio'] * 100:.2f}%[/] (threshold "
-                  f"{threshold * 100:.0f}% {state}) in {report['correction_rounds']} round(s), "
+                  f"{threshold * 100:.0f}%), verdict "
+                  f"{report['iterations'][0].get('verdict') or 'n/a'} → "
+                  f"[bold]{report.get('verdict') or 'n/a'}[/]: fit {state} in "
+                  f"{report['correction_rounds']} round(s), "
                   f"{report['edits_made']} edits, {time.perf_counter() - t0:.1f} s; "
                   f"wrote {out}/pattern.json and {out}/report.json")
 

@@ -39,10 +39,40 @@ def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
                   f"(symmetric {num(report['fitting_ratio_symmetric'], '.2f', 100)}%)  tight "
                   f"{num(fc['tight'], '.1f', 100)}% · fit {num(fc['fit'], '.1f', 100)}% · loose "
                   f"{num(fc['loose'], '.1f', 100)}% of the area")
+    print_verdict(report)
     console.print(f"mesh: {report['mesh']['vertices']} vertices, {report['mesh']['triangles']} "
                   f"triangles, min angle {num(report['mesh']['min_angle_deg'], '.1f')}°")
     console.print(f"wrote {out}/ in {seconds:.1f} s: "
                   + ", ".join(sorted(v for v in report["files"].values())))
+
+
+_VERDICT_STYLE = {"too tight": "bold red", "tight": "red", "fits": "green", "loose": "blue",
+                  "too loose": "bold blue", "failed": "bold red"}
+
+
+def verdict_text(word: str | None) -> str:
+    """The verdict word coloured for the console ("n/a" when there is none)."""
+    if not word:
+        return "n/a"
+    return f"[{_VERDICT_STYLE.get(word, 'bold')}]{escape(word)}[/]"
+
+
+def print_verdict(report: dict) -> None:
+    """The fit verdict beside ϖ and the paper's threshold, then a line per region (ease,
+    pressure p95, stretch p90, why); nothing for a report without one (no body)."""
+    if "verdict" not in report:
+        return
+    p = report.get("pressure_kpa") or {}
+    console.print(f"verdict: [bold]{verdict_text(report['verdict'])}[/] "
+                  f"({escape(report.get('verdict_reason') or '')}); ϖ "
+                  f"{num(report.get('fitting_ratio'), '.2f', 100)}%; pressure p99 "
+                  f"{num(p.get('p99'), '.2f')} kPa", highlight=False)
+    for name, r in (report.get("region_verdicts") or {}).items():
+        console.print(f"   {name:15} {verdict_text(r['verdict']):>20}  ease "
+                      f"{num(r['ease_cm'], '+.1f')} cm  pressure "
+                      f"{num(r['pressure_kpa_p95'], '.2f')} kPa  stretch "
+                      f"{num(r['stretch_p90'], '.1f', 100)}%  {escape(r['reason'])}",
+                      highlight=False)
 
 
 def print_drape_checks(report: dict) -> None:
@@ -123,8 +153,10 @@ def show_iteration(it) -> None:
     reasons = "; ".join(str(r) for r in (it.checks or {}).get("reasons") or [])
     ok = "" if not it.checks or it.checks.get("passed") else \
         f"  [yellow](drape checks failed{': ' + escape(reasons) if reasons else ''})[/]"
-    console.print(f"[bold]{what}[/]: ϖ = {it.fitting_ratio * 100:.2f}%  "
-                  f"({it.seconds:.1f} s){ok}")
+    verdict = "" if it.verdict is None else \
+        f"  verdict {verdict_text(it.verdict.overall)} ({escape(it.verdict.reason)})"
+    console.print(f"[bold]{what}[/]: ϖ = {it.fitting_ratio * 100:.2f}%{verdict}  "
+                  f"({it.seconds:.1f} s){ok}", highlight=False)
     for r in it.regions[:6]:
         console.print(f"   {'▲' if r.kind == 'tight' else '▽'} {r.describe()}", highlight=False)
     if len(it.regions) > 6:
@@ -135,7 +167,8 @@ def show_iteration(it) -> None:
 
 
 def run_correction(session, out: Path, *, threshold: float, max_iterations: int,
-                   extra: dict | None = None, pictures: bool = True) -> dict:
+                   extra: dict | None = None, pictures: bool = True, take_in: bool = False,
+                   verdict_rules=None) -> dict:
     """:func:`patternfit.api.correct_design` with a progress bar and a line per iteration;
     returns the report."""
     from .. import api  # the API pulls in the solver: loaded when a command runs, not at --help
@@ -144,7 +177,8 @@ def run_correction(session, out: Path, *, threshold: float, max_iterations: int,
     with bar:
         return api.correct_design(
             session, out, threshold=threshold, max_iterations=max_iterations,
-            pictures=pictures, extra=extra, drape_progress=callback,
+            pictures=pictures, extra=extra, drape_progress=callback, take_in=take_in,
+            verdict_rules=verdict_rules,
             progress=lambda it: bar.console.print() or show_iteration(it),
             write_progress=lambda s: bar.update(bar.task_ids[0], info=f"writing {s}"))
 

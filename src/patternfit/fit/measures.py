@@ -4,8 +4,10 @@ contact pressure.
 ϖ (:mod:`patternfit.fit.metrics`) says whether the cloth is stretched; a pattern maker also
 reads *ease* (garment girth minus body girth, cm) and *clothing pressure* (kPa; about 1.3 kPa
 is comfortable, 2.0 kPa the most for daily wear, after Kawabata). Everything here is a pure
-function of the garment's triangles, its positions ``(n, 3)`` [m] (Y up), the body and the
-solver's contact law. Inside metres and newtons; the results are in mm, cm and kPa as named.
+function of the garment mesh, its positions ``(n, 3)`` [m] (Y up), the body, the fabric and
+the solver's contact distance; the pressure is read from the force balance at rest
+(:mod:`patternfit.fit.pressure`), not from the solver's contact penalty. Inside metres and
+newtons; the results are in mm, cm and kPa as named.
 """
 
 from __future__ import annotations
@@ -17,7 +19,9 @@ from scipy.spatial import ConvexHull, QhullError
 
 from ..body.measure import Loop, cross_section
 from ..body.sdf import DistanceField
-from ..sim.solver import SolverSettings
+from ..geometry import triangle_areas
+from .body_regions import REGIONS, body_regions
+from .pressure import force_balance_pressure, grain_coefficients
 
 #: the girths measured, with the body's level of each (see :func:`girth_levels`)
 GIRTHS = ("bust", "waist", "hip", "thigh_left", "thigh_right", "bicep_left", "bicep_right")
@@ -30,6 +34,11 @@ BICEP_AT = 0.3
 MAX_GAP_DEG = 30.0
 #: garment section points further than this from the body section are not part of it [m]
 SECTION_REACH = 0.25
+#: a garment point this much nearer another body loop still belongs to the girth's [m]
+SHARED_REACH = 0.03
+#: a vertex this much farther from the body than the solver's contact distance still rests
+#: on it (the penalty lets it sit a little inside; the distance field is interpolated) [m]
+CONTACT_SLACK = 0.001
 
 
 @dataclass(eq=False)
@@ -62,11 +71,16 @@ class FitMeasures:
     gap_mm : (n,) float
         Signed distance of every garment vertex to the body surface [mm], negative inside.
     pressure_kpa : (n,) float
-        Contact pressure per vertex [kPa], 0 off the body.
+        Clothing pressure per vertex [kPa] (:mod:`patternfit.fit.pressure`), 0 off the body.
     contact : (n,) bool
         Vertices within the contact distance (the contact area).
+    vertex_area : (n,) float
+        3D area around each vertex [m²].
     sections : dict of str to Section
         The girths measured (covered or not).
+    vertex_region, triangle_region : (n,) and (m,) int
+        The body region of each vertex / triangle centroid, an index into
+        :data:`~patternfit.fit.body_regions.REGIONS`.
     """
 
     gap_mm: np.ndarray
@@ -74,6 +88,9 @@ class FitMeasures:
     contact: np.ndarray
     vertex_area: np.ndarray
     sections: dict = field(default_factory=dict)
+    vertex_region: np.ndarray | None = None
+    triangle_region: np.ndarray | None = None
+    regions: tuple = REGIONS
 
     def report(self) -> dict:
         """``gap_mm`` (p5, p50, p95, area-weighted over the garment), ``ease_cm`` (girth name
@@ -102,34 +119,6 @@ def gap(positions, body_field: DistanceField) -> np.ndarray:
     margin, 3 mm for :func:`patternfit.sim.drape.drape`)."""
     d, _ = body_field.query(positions)
     return 1000.0 * d
-
-
-def contact_pressure(triangles, positions, body_field: DistanceField, *, reach: float,
-                     stiffness: float = SolverSettings().contact_stiffness,
-                     areas=None) -> tuple[np.ndarray, np.ndarray]:
-    """Contact pressure per vertex [kPa] and the contact vertices, from the solver's
-    contact penalty.
-
-    The solver (:func:`patternfit.sim.kernels.contact`) pushes a vertex closer than
-    ``reach`` [m] (``max(fabric.thickness, settings.contact_margin)``) out with the force
-    ``k_i (reach - d_i)`` [N], ``k_i = stiffness * A_i`` (``stiffness`` [N/m³], ``A_i`` the
-    vertex area [m²]); at rest that force balances gravity, membrane and bending, so the
-    contact force over the vertex area is ``stiffness * (reach - d_i)`` [Pa]. Evaluated at
-    the final positions (n, 3) [m] from the distance field. The solver stiffens the contact
-    of vertices it found inside the body (x4 per refresh); this estimate uses the base
-    stiffness, so there it reads low.
-
-    Returns ``pressure`` (n,) [kPa] (0 off the body) and ``contact`` (n,) bool
-    (``d < reach``: the contact area).
-    """
-    x = np.asanyarray(positions, dtype=np.float64)
-    a = vertex_areas(triangles, x) if areas is None else np.asanyarray(areas, dtype=np.float64)
-    d, _ = body_field.query(x)
-    pen = np.maximum(reach - d, 0.0)
-    force = stiffness * a * pen  # [N], the solver's penalty force
-    with np.errstate(divide="ignore", invalid="ignore"):
-        p = np.where(a > 0, force / np.where(a > 0, a, 1.0), 0.0)
-    return p / 1000.0, pen > 0.0
 
 
 def _weighted_percentiles(values, weights, qs) -> list[float]:
@@ -234,6 +223,56 @@ def _body_loops(loops: list[Loop], kind: str, centre2) -> list[Loop]:
     return [min(big, key=lambda lp: np.linalg.norm(lp.centroid[[0, 2]] - centre2))]
 
 
+def _belongs(points, body_points, mine) -> np.ndarray:
+    """Which garment section ``points`` (k, 2) belong to the chosen body loops (``mine``
+    marks their points among ``body_points``): within :data:`SECTION_REACH` of them and no
+    more than :data:`SHARED_REACH` farther from them than from another loop (a sleeve's
+    underarm lies between the arm and the torso)."""
+    dist = np.linalg.norm(points[:, None, :] - body_points[None, :, :], axis=2)
+    to_mine = np.where(mine[None, :], dist, np.inf).min(axis=1)
+    return (to_mine < SECTION_REACH) & (to_mine <= dist.min(axis=1) + SHARED_REACH)
+
+
+def section_segments(vertices, triangles, origin, normal) -> np.ndarray:
+    """The segments (k, 2, 2) where the plane through ``origin`` (3,) [m] with ``normal``
+    cuts the triangles, in the plane's 2D frame (:func:`_frame`; x and z columns)."""
+    v = (np.asanyarray(vertices, dtype=np.float64) - origin) @ _frame(normal).T
+    t = np.asanyarray(triangles, dtype=np.int64)
+    s = v[:, 1].copy()
+    s[s == 0.0] = 1e-12  # no vertex exactly on the plane: a crossing edge is cut once
+    above = s[t] > 0
+    cut = above.sum(axis=1) % 3 != 0
+    out = []
+    for tri in t[cut]:
+        pts = []
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            a, b = tri[i], tri[j]
+            if (s[a] > 0) != (s[b] > 0):
+                w = s[a] / (s[a] - s[b])
+                pts.append((v[a] + w * (v[b] - v[a]))[[0, 2]])
+        out.append(pts[:2])
+    return np.array(out, dtype=np.float64).reshape(-1, 2, 2)
+
+
+def largest_gap_deg(segments, centre) -> float:
+    """The largest angle [deg] around ``centre`` (2,) that no segment (k, 2, 2) covers, each
+    segment covering the short way between its ends' angles: a sparse mesh's section has
+    few points, but no gap where its segments join them."""
+    bins = np.zeros(720, dtype=bool)  # half-degree bins
+    for p, q in np.asanyarray(segments, dtype=np.float64):
+        a0, a1 = (float(np.degrees(np.arctan2(r[1] - centre[1], r[0] - centre[0])))
+                  for r in (p, q))
+        span = (a1 - a0 + 180.0) % 360.0 - 180.0
+        steps = np.arange(0.0, abs(span) + 0.5, 0.5) * (1.0 if span >= 0 else -1.0)
+        bins[((a0 + steps) % 360.0 * 2).astype(int) % 720] = True
+    if bins.all():
+        return 0.0
+    if not bins.any():
+        return 360.0
+    run = np.diff(np.flatnonzero(np.concatenate([bins, bins])))
+    return float((run.max() - 1) * 0.5)
+
+
 def girth_section(name, triangles, positions, body_vertices, body_faces, origin,
                   normal, kind) -> Section | None:
     """The body's and the garment's section for one girth (see :func:`ease`); None where
@@ -256,16 +295,14 @@ def girth_section(name, triangles, positions, body_vertices, body_faces, origin,
         allb = np.concatenate([lp.points[:, [0, 2]] for lp in body_loops])
         mine = np.concatenate([np.full(len(lp.points), any(lp is c for c in chosen))
                                for lp in body_loops])
-        dist = np.linalg.norm(gp[:, None, :] - allb[None, :, :], axis=2)
-        near = dist.argmin(axis=1)
-        gp = gp[mine[near] & (dist.min(axis=1) < SECTION_REACH)]
-    covered = False
+        gp = gp[_belongs(gp, allb, mine)]
     ghull, gper = _hull(gp)
+    covered = False
     if gper > 0:
-        c = bp.mean(axis=0)
-        ang = np.sort(np.degrees(np.arctan2(gp[:, 1] - c[1], gp[:, 0] - c[0])))
-        gaps = np.diff(np.concatenate([ang, ang[:1] + 360.0]))
-        covered = bool(gaps.max() <= MAX_GAP_DEG)
+        # the same choice for the segments, by their midpoints
+        seg = section_segments(positions, triangles, origin, normal)
+        seg = seg[_belongs(seg.mean(axis=1), allb, mine)]
+        covered = largest_gap_deg(seg, bp.mean(axis=0)) <= MAX_GAP_DEG
     ease_cm = 100.0 * (gper - bper) if covered else None
     return Section(name, np.asanyarray(origin, dtype=np.float64), np.asanyarray(normal, float),
                    bp, gp, bhull, ghull, 100.0 * bper, 100.0 * gper, ease_cm, covered)
@@ -294,14 +331,23 @@ def ease(triangles, positions, body) -> dict[str, Section]:
     return out
 
 
-def fit_measures(triangles, positions, body, body_field: DistanceField | None = None, *,
-                 reach: float, stiffness: float = SolverSettings().contact_stiffness
-                 ) -> FitMeasures:
-    """Gap, pressure and ease of a garment (triangles (m, 3), positions (n, 3) [m]) on
-    ``body`` (a :class:`~patternfit.body.model.Body`); ``body_field`` the distance field
-    the drape used (the body's default one when None), ``reach`` [m] and ``stiffness``
-    [N/m³] the solver's contact distance and stiffness (:func:`contact_pressure`)."""
+def fit_measures(mesh, positions, body, fabric, body_field: DistanceField | None = None, *,
+                 reach: float) -> FitMeasures:
+    """Gap, pressure, ease and body regions of a garment ``mesh`` (a
+    :class:`~patternfit.mesh.garment.GarmentMesh`) at ``positions`` (n, 3) [m] on ``body``
+    (a :class:`~patternfit.body.model.Body`) in ``fabric``; ``body_field`` the distance
+    field the drape used (the body's default one when None), ``reach`` [m] the solver's
+    contact distance: vertices nearer the body than ``reach + CONTACT_SLACK`` rest on it.
+    The pressure is the force balance of :mod:`patternfit.fit.pressure`."""
     f = body_field if body_field is not None else body.distance_field()
-    a = vertex_areas(triangles, positions)
-    p, c = contact_pressure(triangles, positions, f, reach=reach, stiffness=stiffness, areas=a)
-    return FitMeasures(gap(positions, f), p, c, a, ease(triangles, positions, body))
+    x = np.asanyarray(positions, dtype=np.float64)
+    t = mesh.triangles
+    a = vertex_areas(t, x)
+    d, grad = f.query(x)
+    normals = grad / np.maximum(np.linalg.norm(grad, axis=1), 1e-12)[:, None]
+    contact = d < reach + CONTACT_SLACK
+    cu, cv = grain_coefficients(mesh.vertices, t, mesh.grain[mesh.triangle_panel])
+    p = force_balance_pressure(x, t, cu, cv, triangle_areas(mesh.vertices, t), fabric,
+                               normals, a, contact)
+    return FitMeasures(1000.0 * d, p, contact, a, ease(t, x, body),
+                       body_regions(x, body), body_regions(x[t].mean(axis=1), body))

@@ -13,6 +13,7 @@ from ..mesh.store import save_garment
 from ..pattern.model import Pattern
 from .colormap import FitScale, vertex_values
 from .export import export_garment
+from .maps import gap_scale, plot_measure_maps, pressure_scale
 from .metrics import FitResult
 from .pictures import FAILED_GREY, plot_3d_map, plot_flat_map, plot_sections
 from .report import failure, fit_report, write_report
@@ -36,7 +37,10 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     instead of ϖ.
 
     ``measures`` (a :class:`~patternfit.fit.measures.FitMeasures`, optional) adds the
-    report keys ``gap_mm``, ``ease_cm``, ``pressure_kpa`` and the picture ``sections.png``.
+    report keys ``gap_mm``, ``ease_cm``, ``pressure_kpa`` and the pictures
+    ``sections.png``, ``gap_{3d,2d}.png`` and ``pressure_{3d,2d}.png``; a verdict in
+    ``extra`` (``verdict``, :meth:`patternfit.fit.verdict.Verdict.report`) goes into their
+    titles.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
@@ -52,6 +56,8 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
         files.update(fit_2d_png="fit_2d.png", fit_2d_svg="fit_2d.svg", fit_3d_png="fit_3d.png")
         if measures is not None:
             files["sections_png"] = "sections.png"
+            for kind in ("gap", "pressure"):
+                files.update({f"{kind}_{d}_png": f"{kind}_{d}.png" for d in ("3d", "2d")})
     extra = {**(measures.report() if measures is not None else {}), **(extra or {})}
     # the report first: its checks decide whether the pictures show ϖ or "FAILED"
     report = fit_report(mesh, fit, state=state, extra={
@@ -73,7 +79,14 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
         plot_3d_map(positions, mesh, fit, folder / "fit_3d.png", scale=scale, body=body,
                     title=pattern.name, failed=failed)
         if measures is not None:
+            verdict = report.get("verdict")
+            head = f"{pattern.name}: {verdict}" if verdict else pattern.name
             say("girth sections")
-            plot_sections(measures.sections, folder / "sections.png", title=pattern.name)
+            plot_sections(measures.sections, folder / "sections.png", title=head)
+            say("gap and pressure maps")
+            plot_measure_maps(mesh, positions, measures.gap_mm, gap_scale(), folder / "gap",
+                              body=body, title=head)
+            plot_measure_maps(mesh, positions, measures.pressure_kpa, pressure_scale(),
+                              folder / "pressure", body=body, title=head)
     write_report(report, folder / "report.json")
     return report

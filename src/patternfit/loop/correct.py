@@ -23,22 +23,26 @@ from scipy.optimize import nnls
 from ..constants import tol
 from ..defaults import DEFAULTS
 from ..edit import close_seams, move_corner
+from ..fit.measures import FitMeasures, fit_measures
 from ..fit.metrics import FitResult
+from ..fit.verdict import Verdict, judge_garment
+from ..fit.verdict_rules import VerdictRules, ease_range
 from ..mesh.garment import GarmentMesh
 from ..pattern.errors import PatternError
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
 from .regions import find_regions
+from .widen import edge_moves, let_out_moves
 
 
 @dataclass(frozen=True)
 class CorrectionSettings:
     """Knobs of the automatic correction.
 
-    threshold : float     ϖ to reach [-] (``DEFAULTS.threshold``).
-    tight_limit : float   no region may stay stretched more than this in area [-] ...
-    region_share : float  ... counting regions of at least this share of the garment's
-                          flat area (a few stretched triangles at an ankle do not count).
+    threshold : float     ϖ to reach [-] (``DEFAULTS.threshold``) ...
+    rules : VerdictRules  ... with no region too tight by the fit verdict
+                          (:mod:`patternfit.fit.verdict`) ...
+    take_in : bool        ... and, when True, none too loose (loose regions are taken in).
     max_iterations : int  correction rounds (edit + re-drape) at most.
     gain : float          share of the measured lack of fabric added per round [-].
     max_move : float      largest corner move of one round [m].
@@ -52,8 +56,8 @@ class CorrectionSettings:
     """
 
     threshold: float = DEFAULTS.threshold
-    tight_limit: float = 0.20
-    region_share: float = 0.01
+    rules: VerdictRules = VerdictRules()
+    take_in: bool = False
     max_iterations: int = 3
     gain: float = 1.0
     max_move: float = 0.12
@@ -88,12 +92,16 @@ class Iteration:
     edits: list
     seconds: float
     checks: dict | None = None
+    verdict: Verdict | None = None
+    measures: dict | None = None  # FitMeasures.report(): gap_mm, ease_cm, pressure_kpa
+    measured: FitMeasures | None = field(default=None, repr=False)  # for the pictures
 
     def to_dict(self) -> dict:
         return {"iteration": self.index, "fitting_ratio": self.fitting_ratio,
                 "regions": [r.to_dict() for r in self.regions],
                 "edits": [e.to_dict() for e in self.edits], "seconds": self.seconds,
-                "checks": self.checks}
+                "checks": self.checks, **(self.measures or {}),
+                **(self.verdict.report() if self.verdict is not None else {})}
 
 
 @dataclass
@@ -112,8 +120,18 @@ class Correction:
     def fitting_ratio(self) -> float:
         return self.iterations[-1].fitting_ratio
 
+    @property
+    def verdict(self) -> str | None:
+        """The final drape's overall verdict."""
+        v = self.iterations[-1].verdict if self.iterations else None
+        return None if v is None else v.overall
+
     def to_dict(self) -> dict:
+        last = self.iterations[-1]
         return {"fitting_ratio": self.fitting_ratio, "reached": self.reached,
+                "verdict": self.verdict,
+                "region_verdicts": last.verdict.report()["region_verdicts"]
+                if last.verdict is not None else {},
                 "seconds": self.seconds, "correction_rounds": len(self.iterations) - 1,
                 "edits_made": sum(len(it.edits) for it in self.iterations),
                 "failed": self.failed,
@@ -165,18 +183,7 @@ def propose_moves(pattern: Pattern, mesh: GarmentMesh, fit: FitResult, *,
                 # the top is anchored on the body (waist, neck): grow downwards
                 d = d - g * warp_excess * (hmax - p @ g)
             moves[(name, e.name)] = settings.gain * d
-    for _ in range(3):  # both are averages: alternating them converges
-        _share_sewn_corners(pattern, moves)
-        _mirror_symmetric(pattern, mesh, moves)
-    out = []
-    for (pname, ename), d in moves.items():
-        n = float(np.linalg.norm(d))
-        if n < settings.min_move:
-            continue
-        if n > settings.max_move:
-            d = d * (settings.max_move / n)
-        out.append(CornerMove(pname, ename, (float(d[0]), float(d[1]))))
-    return out
+    return finish_moves(pattern, mesh, moves, settings)
 
 
 def _across_moves(mesh: GarmentMesh, pi: int, panel, fit: FitResult, tris, centroid, g, c,
@@ -325,12 +332,28 @@ def apply_moves(pattern: Pattern, moves: list[CornerMove]) -> Pattern:
     return new
 
 
-def fit_reached(fit: FitResult, regions, settings: CorrectionSettings) -> bool:
-    """ϖ at the threshold and no region of some size stretched more than ``tight_limit``."""
-    least = settings.region_share * float(fit.area_2d.sum()) * 1e4  # [cm^2]
-    return fit.fitting_ratio >= settings.threshold and not any(
-        r.kind == "tight" and r.area_change > settings.tight_limit and r.area_cm2 >= least
-        for r in regions)
+def fit_reached(fit: FitResult, verdict: Verdict, settings: CorrectionSettings) -> bool:
+    """ϖ at the threshold, the drape not failed and no region too tight by the verdict
+    (and, with ``settings.take_in``, none too loose and the garment not slid)."""
+    if fit.fitting_ratio < settings.threshold or verdict.overall == "failed":
+        return False
+    if verdict.worst("too tight"):
+        return False
+    return not (settings.take_in and (verdict.overall == "too loose"
+                                       or verdict.worst("too loose")))
+
+
+def measure_state(session, rules: VerdictRules) -> tuple[FitResult, FitMeasures, Verdict]:
+    """The fit, the fit measures and the verdict of the session's current drape (with the
+    contact distance and distance field of the solver that draped it)."""
+    fit = session.evaluate()
+    solver = session._drape.solver if session._drape is not None else None
+    margin = solver.settings.contact_margin if solver is not None else 0.003
+    field = solver.body if solver is not None else None
+    m = fit_measures(session.mesh, session.state.positions, session.body, session.fabric,
+                     field, reach=max(session.fabric.thickness, margin))
+    return fit, m, judge_garment(session.pattern, fit, m, session.fabric,
+                                 session.state.checks, rules)
 
 
 def refusal(checks: dict | None, fitting_ratio: float) -> str | None:
@@ -367,15 +390,20 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
         t0 = time.perf_counter()
         if index > 0 or session.state.positions is None or session.state.fitting_ratio is None:
             session.redrape(progress=drape_progress)
-        fit = session.evaluate()
+        fit, measures, verdict = measure_state(session, settings.rules)
         regions = find_regions(session.mesh, fit)
-        reached = fit_reached(fit, regions, settings)
-        it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks)
+        reached = fit_reached(fit, verdict, settings)
+        it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks,
+                       verdict, measures.report(), measures)
         out.failed = refusal(session.state.checks, fit.fitting_ratio)
         if out.failed:
             reached = False
         elif not reached and index < settings.max_iterations:
-            it.edits = _edit(session, fit, settings)
+            # a drape that failed only the solver's checks is still edited from (as the
+            # corner moves always were): its regions judged as if it had passed
+            judged = verdict if verdict.overall != "failed" else judge_garment(
+                session.pattern, fit, measures, session.fabric, None, settings.rules)
+            it.edits = _edit(session, fit, measures, judged, settings)
         it.seconds = time.perf_counter() - t0
         out.iterations.append(it)
         if progress is not None:
@@ -388,9 +416,76 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
     return out
 
 
-def _edit(session, fit: FitResult, settings: CorrectionSettings) -> list[CornerMove]:
-    """Propose and apply one round of moves; halve them if the result is refused."""
-    moves = propose_moves(session.pattern, session.mesh, fit, settings=settings)
+def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
+                 settings: CorrectionSettings) -> dict:
+    """Corner offsets ``{(panel, edge): (2,) [m]}`` of the edge translations
+    (:mod:`patternfit.loop.widen`) for every region the verdict calls too tight — by the
+    length its stretch lacks over the region's width, down to a quarter of the tight
+    threshold (regions only tight are left: letting them out too, the Table 2 coat's
+    re-drapes crossed themselves, 69–71 pairs) — and, with ``settings.take_in``, too loose — its side edges inward by its
+    ease beyond the middle of the style's range, shared by the panels it spans and their
+    two sides."""
+    moves: dict = {}
+    names = list(measures.regions)
+    target = 0.25 * settings.rules.tight_share * (verdict.stretch_limit or 0.0)
+    mesh = session.mesh
+    for name, rv in verdict.regions.items():
+        tris = np.flatnonzero(measures.triangle_region == names.index(name))
+        found: dict = {}
+        if rv.verdict == "too tight":
+            found = let_out_moves(session.pattern, mesh, session.state.positions, tris,
+                                  target, least=rv.stretch_p90 or 0.0)
+        elif settings.take_in and rv.verdict == "too loose" and rv.ease_cm is not None:
+            lo, hi = ease_range(verdict.style, name) or (None, None)
+            if hi is None:
+                continue
+            middle = hi if lo is None else 0.5 * (lo + hi)
+            panels = np.unique(mesh.triangle_panel[tris])
+            for pi in panels:
+                g = mesh.grain[pi]
+                found.update(edge_moves(session.pattern, mesh, int(pi),
+                                        tris[mesh.triangle_panel[tris] == pi],
+                                        np.array([-g[1], g[0]]),  # across: the girth's way
+                                        -0.01 * (rv.ease_cm - middle) / len(panels)))
+        for key, d in found.items():
+            moves[key] = moves.get(key, 0.0) + d
+    return moves
+
+
+def finish_moves(pattern: Pattern, mesh: GarmentMesh, offsets: dict,
+                 settings: CorrectionSettings = CorrectionSettings()) -> list[CornerMove]:
+    """Corner moves from offsets ``{(panel, edge): (2,) [m]}``: sewn corners given the same
+    size and mirrored corners mirrored moves (as :func:`propose_moves` does), each capped
+    at ``settings.max_move``, those under ``settings.min_move`` left out."""
+    offsets = dict(offsets)
+    for _ in range(3):  # both are averages: alternating them converges
+        _share_sewn_corners(pattern, offsets)
+        _mirror_symmetric(pattern, mesh, offsets)
+    moves = []
+    for (pname, ename), d in offsets.items():
+        n = float(np.linalg.norm(d))
+        if n < settings.min_move:
+            continue
+        if n > settings.max_move:
+            d = d * (settings.max_move / n)
+        moves.append(CornerMove(pname, ename, (float(d[0]), float(d[1]))))
+    return moves
+
+
+def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
+          settings: CorrectionSettings) -> list[CornerMove]:
+    """Propose and apply one round of moves — the corner moves across the grain while ϖ
+    is short, else the edge translations where the verdict says a region is too tight (or
+    too loose, taking in) — sewn corners shared and symmetry kept; halve them if the
+    result is refused."""
+    # both read the same lack of fabric: the edge translations only once the corner
+    # moves have brought ϖ to the threshold (they cannot reach what is left)
+    extra = {} if fit.fitting_ratio < settings.threshold else \
+        region_moves(session, fit, measures, verdict, settings)
+    if fit.fitting_ratio < settings.threshold:
+        moves = propose_moves(session.pattern, session.mesh, fit, settings=settings)
+    else:
+        moves = finish_moves(session.pattern, session.mesh, extra, settings)
     for _ in range(4):
         if not moves:
             return []
@@ -401,7 +496,8 @@ def _edit(session, fit: FitResult, settings: CorrectionSettings) -> list[CornerM
                      for m in moves]
             continue
         total = sum(np.hypot(*m.offset) for m in moves) * 100
-        session.apply_pattern(new, label=f"correct: {len(moves)} corner moves, "
+        what = "edge translations (corner moves)" if extra else "corner moves"
+        session.apply_pattern(new, label=f"correct: {len(moves)} {what}, "
                               f"{total:.1f} cm in all",
                               edit={"op": "correct", "args": {"moves": [m.to_dict()
                                                                         for m in moves]}},

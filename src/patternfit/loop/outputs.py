@@ -104,10 +104,12 @@ def write_correction_outputs(folder, session, correction: Correction, *, start: 
                             ("after", session.state, correction.iterations[-1])):
         say(f"{name}: fit outputs")
         fit = FitEvaluator(state.mesh)(state.positions)
+        verdict = it.verdict.report() if it.verdict is not None else {}
         write_fit_outputs(folder / name, state.pattern, state.mesh, state.positions, fit,
                           state="draped", body=body, pictures=pictures,
-                          extra={"checks": state.checks,
-                                 "regions": [r.to_dict() for r in it.regions]})
+                          extra={"checks": state.checks, **verdict,
+                                 "regions": [r.to_dict() for r in it.regions]},
+                          measures=it.measured)
         files[name] = f"{name}/"
         if pictures:
             say(f"{name}: regions picture")

@@ -21,7 +21,8 @@ from pathlib import Path
 from ..body.builtin import load_body
 from ..edit import grade
 from ..fit.metrics import FitEvaluator
-from ..fit.pictures import plot_3d_map
+from ..fit.maps import gap_scale, plot_measure_maps, pressure_scale
+from ..fit.pictures import plot_3d_map, plot_sections
 from ..pattern.library import build
 from ..sim.placement import place_on_body
 from .correct import CorrectionSettings, correct
@@ -69,7 +70,10 @@ ROWS = (
 def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettings(),
             figures: Path | None = None, progress=None) -> dict:
     """Run one row: drape, correct, and (with ``figures``) write the before/after maps as
-    ``figures/table2_<garment>_{before,after}_{2d,3d}.png``. Returns the row's numbers."""
+    ``figures/table2_<garment>_{before,after}_{2d,3d}.png``, with the girth sections
+    (``..._sections.png``) and the gap and pressure maps (``..._{gap,pressure}_{3d,2d}.png``).
+    Returns the row's numbers, with the verdict and pressure p99 [kPa] of every drape
+    (``verdicts``, ``pressure_kpa_p99``) and the final ``ease_cm``."""
     t0 = time.perf_counter()
     pattern = row.pattern()
     session = DesignSession(pattern, load_body(row.body), row.fabric,
@@ -91,6 +95,16 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
             plot_3d_map(state.positions, state.mesh, fit, f"{stem}_3d.png", body=body,
                         title=f"{row.garment} on {row.body} ({name})")
             compress_png(f"{stem}_3d.png", f"{stem}_3d.png")
+            if it.measured is not None:
+                head = (f"{row.garment} on {row.body} ({name}): "
+                        f"{it.verdict.overall if it.verdict else 'n/a'}")
+                plot_sections(it.measured.sections, f"{stem}_sections.png", title=head)
+                for kind, values, scale in (("gap", it.measured.gap_mm, gap_scale()),
+                                            ("pressure", it.measured.pressure_kpa,
+                                             pressure_scale())):
+                    for path in plot_measure_maps(state.mesh, state.positions, values, scale,
+                                                  f"{stem}_{kind}", body=body, title=head):
+                        compress_png(path, path)
     return {"garment": row.garment, "body": row.body, "fabric": row.fabric,
             "narrow": row.narrow, "relax": row.relax, "size": row.size,
             "triangles": int(session.mesh.n_triangles),
@@ -102,6 +116,12 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
             "edit_cm": sum(e.to_dict()["cm"] for it in result.iterations for e in it.edits),
             "checks_passed": [bool(it.checks and it.checks.get("passed"))
                               for it in result.iterations],
+            "verdicts": [it.verdict.overall if it.verdict is not None else None
+                         for it in result.iterations],
+            "pressure_kpa_p99": [(it.measures or {}).get("pressure_kpa", {}).get("p99")
+                                 for it in result.iterations],
+            "ease_cm": (result.iterations[-1].measures or {}).get("ease_cm", {}),
+            "region_verdicts": result.to_dict()["region_verdicts"],
             "seconds": seconds, "device": device_name(), "paper": row.paper}
 
 
@@ -119,7 +139,8 @@ def device_name() -> str:
 
 
 def format_table(rows: list[dict]) -> str:
-    """The results beside the paper's rows, as plain text."""
+    """The results beside the paper's rows, as plain text; under each of ours, the stricter
+    verdict per drape with its pressure p99 [kPa], and the final ease [cm]."""
     head = (f"{'garment':9} {'body':12} {'#vert,#tri,#pan':17} {'placed':>7} {'1st drape':>9} "
             f"{'after edits':28} {'final':>7} {'rounds':>6} {'edits':>9} {'time':>7}  checks")
     out = [head, "-" * len(head)]
@@ -132,6 +153,12 @@ def format_table(rows: list[dict]) -> str:
                    f"{r['ratios'][0] * 100:8.2f}% {mid:28} {r['final'] * 100:6.2f}% "
                    f"{r['rounds']:6d} {r['edits']:3d} {r['edit_cm']:4.0f}cm "
                    f"{r['seconds']:6.1f}s  {ok}")
+        verdicts = " → ".join(
+            f"{v or 'n/a'} ({'n/a' if q is None else f'{q:.2f}'} kPa)"
+            for v, q in zip(r.get("verdicts", []), r.get("pressure_kpa_p99", [])))
+        ease = ", ".join(f"{k} {v:+.1f}" for k, v in (r.get("ease_cm") or {}).items()
+                         if v is not None)
+        out.append(f"{'  verdict':9} {verdicts} (pressure p99); final ease cm: {ease or 'none'}")
         out.append(f"{'  paper':9} {'':12} {'':17} {100:6.2f}% {p[0] * 100:8.2f}% "
                    f"{p[1] * 100:.2f}% / {p[2] * 100:.2f}%{'':11} {p[3] * 100:6.2f}% "
                    f"{2:6d} {'manual':>9} {p[4]:6.1f}s")

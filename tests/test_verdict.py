@@ -1,0 +1,194 @@
+"""The fit verdict: Laplace's law for the force-balance pressure, the region rules on
+synthetic cases (hypothesis), the overall word, failed and slid drapes, and the rules'
+argument checks."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from patternfit.fit.body_regions import REGIONS
+from patternfit.fit.measures import FitMeasures, largest_gap_deg
+from patternfit.fit.metrics import FitResult
+from patternfit.fit.pressure import force_balance_pressure, grain_coefficients
+from patternfit.fit.verdict import judge, judge_region, slid_off
+from patternfit.fit.verdict_rules import (EASE_RANGES, STRETCH_LIMITS, VERDICTS, VerdictRules,
+                                          garment_style, stretch_limit)
+
+RULES = VerdictRules()
+
+
+def _band(radius, strain, *, n=64, rows=6, height=0.05):
+    """A band of cloth wrapped around the Y axis at ``radius`` [m], its flat length
+    2π radius / (1 + strain) along the weft (the grain runs along Y): positions (k, 3),
+    triangles (m, 3) closing the loop, and the per-triangle grain coefficients."""
+    ys = np.linspace(0.0, height, rows)
+    ang = 2 * np.pi * np.arange(n) / n
+    x = np.array([[radius * np.cos(a), y, radius * np.sin(a)] for y in ys for a in ang])
+    tri, flat = [], []
+    du = 2 * np.pi * radius / (1 + strain) / n
+    for j in range(rows - 1):
+        for i in range(n):
+            p, q = j * n + i, j * n + (i + 1) % n
+            for t, uv in (([p, p + n, q], [(i, j), (i, j + 1), (i + 1, j)]),
+                          ([q, p + n, q + n], [(i + 1, j), (i, j + 1), (i + 1, j + 1)])):
+                tri.append(t)
+                flat += [(u * du, ys[v]) for u, v in uv]
+    tri = np.array(tri)
+    # the coefficients come from each triangle's own flat corners (the loop is closed)
+    corners = np.arange(3 * len(tri)).reshape(-1, 3)
+    cu, cv = grain_coefficients(np.array(flat), corners, np.tile([0.0, 1.0], (len(tri), 1)))
+    rest = np.full(len(tri), 0.5 * du * (ys[1] - ys[0]))
+    return x, tri, cu, cv, rest
+
+
+@pytest.mark.parametrize("radius,strain,k", [(0.05, 0.10, 130.0), (0.15, 0.03, 4000.0),
+                                             (0.10, 0.30, 86.0)])
+def test_pressure_of_a_stretched_band_is_tension_times_curvature(radius, strain, k):
+    from patternfit.fit.measures import vertex_areas
+
+    x, tri, cu, cv, rest = _band(radius, strain)
+    fabric = SimpleNamespace(stretch_warp=k, stretch_weft=k, shear=50.0, density=0.0)
+    normals = x * [1.0, 0.0, 1.0] / radius
+    p = force_balance_pressure(x, tri, cu, cv, rest, fabric, normals, vertex_areas(tri, x),
+                               np.ones(len(x), bool))
+    expected = k * strain / radius / 1000.0  # Laplace: T / R [kPa]
+    inner = p[64:-64]  # rows away from the band's free edges
+    assert np.median(inner) == pytest.approx(expected, rel=0.10)
+    # the free edges carry half the force on half the area: the same pressure
+    assert np.median(p) == pytest.approx(expected, rel=0.10)
+
+
+def test_a_slack_band_presses_nothing_and_weight_alone_is_density_g():
+    from patternfit.fit.measures import vertex_areas
+
+    x, tri, cu, cv, rest = _band(0.1, -0.05)  # longer than the girth: compressed, slack
+    fabric = SimpleNamespace(stretch_warp=100.0, stretch_weft=100.0, shear=0.0, density=0.3)
+    up = np.tile([0.0, 1.0, 0.0], (len(x), 1))  # as if lying on a floor
+    p = force_balance_pressure(x, tri, cu, cv, rest, fabric, up, vertex_areas(tri, x),
+                               np.ones(len(x), bool))
+    assert np.allclose(p, 0.3 * 9.80665 / 1000.0, rtol=1e-6)  # its weight, kPa
+
+
+def test_coverage_of_a_sparse_ring_has_no_gap_but_a_half_ring_has_one():
+    ang = np.linspace(0, 2 * np.pi, 9)  # 8 segments of 45 degrees
+    ring = np.column_stack([np.cos(ang), np.sin(ang)])
+    seg = np.stack([ring[:-1], ring[1:]], axis=1)
+    assert largest_gap_deg(seg, np.zeros(2)) == pytest.approx(0.0, abs=0.5)
+    assert largest_gap_deg(seg[:4], np.zeros(2)) == pytest.approx(180.0, abs=1.0)
+    assert largest_gap_deg(np.zeros((0, 2, 2)), np.zeros(2)) == 360.0
+
+
+_maybe = st.one_of(st.none(), st.floats(0.0, 10.0))
+
+
+@settings(max_examples=200, deadline=None)
+@given(ease=st.one_of(st.none(), st.floats(-30, 60)), p=_maybe, s=st.one_of(
+    st.none(), st.floats(0, 1.0)), more=st.floats(0.0, 5.0),
+    style=st.sampled_from(sorted(EASE_RANGES)), girth=st.sampled_from(REGIONS))
+def test_more_pressure_or_stretch_never_reads_looser_and_more_ease_never_tighter(
+        ease, p, s, more, style, girth):
+    def rank(e, pp, ss):
+        word, why = judge_region(e, pp, ss, style=style, girth=girth, limit=0.05, rules=RULES)
+        assert word in VERDICTS and why
+        return VERDICTS.index(word)
+
+    base = rank(ease, p, s)
+    assert rank(ease, (p or 0.0) + more, s) <= base
+    assert rank(ease, p, (s or 0.0) + more / 10) <= base
+    if ease is not None:
+        assert rank(ease + more, p, s) >= base
+
+
+@pytest.mark.parametrize("ease,p,s,word", [
+    (6.0, 2.5, 0.0, "too tight"),      # pressure above 2 kPa
+    (6.0, 0.2, 0.06, "too tight"),     # stretch beyond the 5% limit
+    (6.0, 1.5, 0.0, "tight"),          # above the comfortable 1.3 kPa
+    (6.0, 0.2, 0.03, "tight"),         # over half the limit
+    (4.0, 0.2, 0.0, "tight"),          # hip ease under the skirt's 5.1 cm
+    (6.0, 0.2, 0.0, "fits"),
+    (17.0, 0.2, 0.0, "loose"),         # up to 4 cm above the skirt's 15.2 cm
+    (25.0, None, None, "too loose"),
+])
+def test_region_rules_on_a_skirt_hip(ease, p, s, word):
+    assert judge_region(ease, p, s, style="skirt", girth="hip", limit=0.05,
+                        rules=RULES)[0] == word
+
+
+def _synthetic(stretch_by_region: dict, pressure_by_region: dict, ease=None):
+    """A FitResult and FitMeasures with one triangle and one vertex per region, each of
+    equal area, stretched and pressed as given."""
+    n = len(REGIONS)
+    warp = np.array([1.0 + stretch_by_region.get(r, 0.0) for r in REGIONS])
+    ones = np.ones(n)
+    fit = FitResult(area_2d=ones, area_3d=ones, gamma=0 * ones, area_change=0 * ones,
+                    warp=warp, weft=ones, principal=np.ones((n, 2)),
+                    fit_class=np.zeros(n, np.int8), fitting_ratio=1.0,
+                    fitting_ratio_symmetric=1.0, panel_ratio=ones[:1], thresholds=(0.02, 0.02))
+    p = np.array([pressure_by_region.get(r, 0.1) for r in REGIONS])
+    sections = {k: SimpleNamespace(ease_cm=v, body_cm=100.0) for k, v in (ease or {}).items()}
+    m = FitMeasures(0 * ones, p, np.ones(n, bool), ones, sections, np.arange(n), np.arange(n))
+    return fit, m
+
+
+def test_overall_verdict_is_the_worst_region_and_names_it():
+    fit, m = _synthetic({"shoulders": 0.2}, {"hip": 1.5}, {"hip": 30.0})
+    v = judge(fit, m, style="coat", limit=0.1)
+    assert v.overall == "too tight" and "shoulders" in v.reason
+    assert v.regions["shoulders"].verdict == "too tight"
+    assert v.regions["hip"].verdict == "tight"  # pressure beats the ease
+    fit, m = _synthetic({}, {}, {"bust": 40.0})
+    v = judge(fit, m, style="coat", limit=0.1)
+    assert v.overall == "too loose" and v.worst("too loose") == ["bust"]
+    fit, m = _synthetic({}, {}, {"bust": 10.0})
+    assert judge(fit, m, style="coat", limit=0.1).overall == "fits"
+    report = judge(fit, m, style="coat", limit=0.1).report()
+    assert report["verdict"] == "fits" and set(report["region_verdicts"]) == set(REGIONS)
+    assert set(report["region_verdicts"]["bust"]) >= {"verdict", "ease_cm", "pressure_kpa_p95",
+                                                      "reason"}
+
+
+def test_a_failed_drape_has_no_verdict_but_failed_and_a_slid_one_is_too_loose():
+    fit, m = _synthetic({"bust": 0.5}, {})
+    failed = {"passed": False, "reasons": ["3 self-intersections"], "anchor_offset_mm": -20.0}
+    v = judge(fit, m, style="coat", limit=0.1, checks=failed)
+    assert v.overall == "failed" and v.regions == {} and "self-intersections" in v.reason
+    slid = {"passed": False, "on_body": False, "anchor": "waist", "anchor_offset_mm": -215.0}
+    v = judge(fit, m, style="trousers", limit=0.1, checks=slid)
+    assert v.overall == "too loose" and "21.5 cm below the waist" in v.reason
+    assert slid_off({"anchor_offset_mm": -50.0}) is None and slid_off(None) is None
+
+
+def test_rules_refuse_nonsense_and_stretch_limits_cover_the_presets():
+    from patternfit.sim.fabrics import FABRICS
+
+    for bad in ({"pressure_comfort_kpa": 3.0}, {"stretch_limit": -0.1},
+                {"stretch_limit": float("nan")}, {"style": "kilt"}, {"tight_share": 0.0}):
+        with pytest.raises(ValueError):
+            VerdictRules(**bad)
+    assert set(STRETCH_LIMITS) == {f.name for f in FABRICS.values()}
+    custom = SimpleNamespace(name="my knit", stretch_warp=60.0, stretch_weft=40.0)
+    assert stretch_limit(custom) > stretch_limit(FABRICS["denim"])
+    assert VerdictRules().with_options(stretch_limit=None, style="coat").style == "coat"
+
+
+def test_garment_style_from_meta_name_or_anchor():
+    from patternfit.pattern.library import build
+
+    assert garment_style(build("trousers")) == "trousers"
+    assert garment_style(build("coat")) == "coat"
+    odd = build("skirt")
+    odd = type(odd)(**{**odd.__dict__, "name": "a-line", "meta": {}})
+    assert garment_style(odd) == "skirt"  # hangs from the waist
+
+
+def test_a_knit_may_have_negative_ease_that_its_stretch_gives_back():
+    knit = judge_region(-3.0, 0.2, 0.02, style="skirt", girth="hip", limit=0.20,
+                        rules=RULES, body_cm=90.0)
+    woven = judge_region(-3.0, 0.2, 0.01, style="skirt", girth="hip", limit=0.03,
+                         rules=RULES, body_cm=90.0)
+    assert knit[0] == "fits" and woven[0] == "tight" and "3.8 cm" in woven[1]

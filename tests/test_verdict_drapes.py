@@ -1,0 +1,164 @@
+"""The verdict on real drapes (small meshes) and the correction's edits for it: a size S
+skirt reads tighter than an XL on the same body; trousers that slid are too loose; a
+region too tight is let out by translating its edges (seams matched, symmetry kept); the
+Table 2 coat goes from too tight to no region too tight (slow)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import patternfit as pf
+from patternfit.fit.metrics import FitEvaluator
+from patternfit.fit.verdict import Verdict
+from patternfit.fit.verdict_rules import VERDICTS
+from patternfit.loop.correct import CorrectionSettings, apply_moves, finish_moves, fit_reached
+from patternfit.loop.widen import let_out_moves, region_strain
+from patternfit.mesh.triangulate import mesh_pattern
+from patternfit.pattern.library import build
+from patternfit.pattern.validate import check_pattern
+
+
+def test_a_size_s_skirt_reads_tighter_than_an_xl_on_the_same_body():
+    small = pf.drape_and_evaluate("skirt", "female_heavy", "cotton", triangles=1000, size="S")
+    large = pf.drape_and_evaluate("skirt", "female_heavy", "cotton", triangles=1000,
+                                  size="XL")
+    # measured: S too tight at the waist, hip ease +1.2 cm (tight); the XL slid 17 cm down
+    # to the hips (too loose), hip ease +11.7 cm
+    assert small.verdict == "too tight" and large.verdict == "too loose"
+    assert small.region_verdicts["hip"]["ease_cm"] + 5.0 < \
+        large.region_verdicts["hip"]["ease_cm"]
+    assert small.region_verdicts["hip"]["verdict"] in ("tight", "too tight")
+    assert "below the waist" in large.judgement.reason
+
+
+def test_trousers_that_slid_are_too_loose(tmp_path):
+    import json
+
+    o = pf.drape_and_evaluate("trousers", "female_thin", "cotton", triangles=1000, size="XL")
+    assert not o.passed and o.checks["anchor_offset_mm"] < -100.0  # slid below the waist
+    assert o.verdict == "too loose"
+    report = o.write(tmp_path, pictures=False)
+    saved = json.loads((tmp_path / "report.json").read_text())
+    assert saved["verdict"] == report["verdict"] == "too loose"
+    assert set(saved["region_verdicts"]) == set(o.region_verdicts)
+
+
+def _stretched(pattern, mesh, factor, above):
+    """3D positions of ``mesh`` flat in z = 0, every panel stretched across by ``factor``
+    about its axis where higher than ``above`` [m] (linearly blended over 5 cm)."""
+    x = np.zeros((mesh.n_vertices, 3))
+    x[:, :2] = mesh.vertices
+    for pi, name in enumerate(mesh.panel_names):
+        sel = mesh.vertex_panel == pi
+        axis = float(np.median(pattern.panel(name).outline.polygon()[:, 0]))
+        w = np.clip((mesh.vertices[sel, 1] - above) / 0.05, 0.0, 1.0)
+        x[sel, 0] = axis + (1.0 + (factor - 1.0) * w) * (x[sel, 0] - axis)
+    return x
+
+
+def test_a_too_tight_region_is_let_out_at_its_edges_with_seams_matched_and_symmetry_kept():
+    pattern = build("skirt", "M")
+    mesh = mesh_pattern(pattern, triangles=1200)
+    x = _stretched(pattern, mesh, 1.2, 0.45)
+    top = np.flatnonzero(mesh.vertices[mesh.triangles].mean(axis=1)[:, 1] > 0.5)
+    d, s = region_strain(mesh, x, top)
+    assert abs(d[0]) > 0.99 and s == pytest.approx(1.2, rel=0.02)
+    offsets = let_out_moves(pattern, mesh, x, top, target=0.0)
+    assert offsets  # the hip seams (hip_l, hip_r) of both panels
+    new = apply_moves(pattern, finish_moves(pattern, mesh, offsets))
+    check_pattern(new)
+    for seam in new.seams:
+        assert new.seam_side_length(seam.a) == pytest.approx(new.seam_side_length(seam.b),
+                                                             abs=1e-5)
+    for name in ("front", "back"):
+        old_w = np.ptp(pattern.panel(name).outline.polygon()[:, 0][
+            pattern.panel(name).outline.polygon()[:, 1] > 0.55])
+        new_poly = new.panel(name).outline.polygon()
+        new_w = np.ptp(new_poly[:, 0][new_poly[:, 1] > 0.55])
+        # the top of each panel was stretched 20% across: it grows by about that
+        assert new_w / old_w == pytest.approx(1.2, abs=0.05)
+        axis = 0.5 * (new_poly[:, 0].min() + new_poly[:, 0].max())
+        mirrored = new_poly * [-1.0, 1.0] + [2 * axis, 0.0]
+        gap = np.linalg.norm(mirrored[:, None] - new_poly[None], axis=2).min(axis=1).max()
+        assert gap < 1e-4  # still mirror-symmetric
+    # a re-mesh of the let-out pattern drapes no worse: its flat top is wider
+    assert FitEvaluator(mesh_pattern(new, triangles=600)).area_2d.sum() > \
+        FitEvaluator(mesh_pattern(pattern, triangles=600)).area_2d.sum()
+
+
+def test_the_loop_stops_only_when_no_region_is_too_tight():
+    from types import SimpleNamespace
+
+    fit = SimpleNamespace(fitting_ratio=0.95)
+    ok = Verdict("tight", {"hip": SimpleNamespace(verdict="tight")})
+    bad = Verdict("too tight", {"hip": SimpleNamespace(verdict="too tight")})
+    loose = Verdict("too loose", {"hip": SimpleNamespace(verdict="too loose")})
+    s = CorrectionSettings(threshold=0.9)
+    assert fit_reached(fit, ok, s) and not fit_reached(fit, bad, s)
+    assert fit_reached(fit, loose, s) and not fit_reached(fit, loose, CorrectionSettings(
+        threshold=0.9, take_in=True))
+    assert not fit_reached(SimpleNamespace(fitting_ratio=0.85), ok, s)
+    assert not fit_reached(fit, Verdict("failed"), s)
+
+
+@pytest.mark.slow
+def test_table2_coat_is_too_tight_first_and_none_too_tight_after_correction():
+    from patternfit.loop.table2 import ROWS, run_row
+
+    coat = {r.garment: r for r in ROWS}["coat"]
+    row = run_row(coat)  # 22K triangles, as benchmarks/table2.py: 7 minutes loaded
+    assert row["verdicts"][0] == "too tight"
+    # measured: too tight → too tight (ϖ 92.98%) → tight (96.25%, p99 0.57 kPa): the
+    # stretch knit still over half its comfortable stretch at shoulders and biceps
+    assert row["verdicts"][-1] in ("tight", "fits") and row["reached"]
+    assert all(v["verdict"] != "too tight" for v in row["region_verdicts"].values())
+    assert row["final"] >= 0.90 and row["pressure_kpa_p99"][-1] <= 2.0
+    assert all(row["checks_passed"])
+
+
+def test_take_in_a_too_loose_dress_is_a_recorded_symmetric_edit():
+    from patternfit.body.builtin import load_body
+    from patternfit.loop import DesignSession
+    from patternfit.loop.correct import correct
+
+    # measured (800 triangles): hip ease +33 cm, too loose; taken in 4.6 cm at each side
+    # seam of both panels, it fits after one round
+    session = DesignSession(build("dress", "XL"), load_body("female_thin"), "cotton", 800)
+    result = correct(session, settings=CorrectionSettings(take_in=True, max_iterations=1))
+    first, last = result.iterations[0], result.iterations[-1]
+    assert first.verdict.regions["hip"].verdict == "too loose" and first.edits
+    assert last.verdict.regions["hip"].ease_cm < first.verdict.regions["hip"].ease_cm - 5.0
+    new, old = result.pattern, session.history[0].pattern
+    for seam in new.seams:
+        assert new.seam_side_length(seam.a) == pytest.approx(new.seam_side_length(seam.b),
+                                                             abs=1e-5)
+    for name in ("front", "back"):
+        poly = new.panel(name).outline.polygon()
+        assert np.ptp(poly[:, 0]) < np.ptp(old.panel(name).outline.polygon()[:, 0])
+        axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
+        mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
+        assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4
+    assert session.state.edit["op"] == "correct"
+    session.undo()
+    assert session.pattern == old
+
+
+def test_fit_of_a_saved_drape_with_its_body_has_the_verdict(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from patternfit.cli.main import app
+
+    o = pf.drape_and_evaluate("skirt", "female_average", "cotton", triangles=600)
+    o.write(tmp_path / "d", pictures=False)
+    run = CliRunner().invoke(app, ["fit", "-g", str(tmp_path / "d" / "garment"), "-b",
+                                   "female_average", "-f", "cotton", "-o",
+                                   str(tmp_path / "f"), "--no-pictures", "--json"])
+    assert run.exit_code == 0, run.output
+    saved = json.loads((tmp_path / "f" / "report.json").read_text())
+    assert saved["verdict"] == o.verdict
+    assert saved["ease_cm"]["hip"] == pytest.approx(o.measures.report()["ease_cm"]["hip"])
+    bare = pf.evaluate_saved(tmp_path / "d" / "garment")
+    assert bare.verdict is None and bare.region_verdicts == {}
