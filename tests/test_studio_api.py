@@ -93,7 +93,7 @@ def test_drape_progress_stop_and_exports(client):
     assert client.get("/api/export/garment.glb").status_code == 409  # nothing draped
     assert client.post("/api/drape").status_code == 200
     assert client.post("/api/drape").status_code == 409  # one at a time
-    assert client.post("/api/undo", json={}).status_code == 400  # no edits while draping
+    assert client.post("/api/undo", json={}).status_code == 409  # no edits while draping
     time.sleep(0.5)
     client.post("/api/drape/stop")
     studio = client.app.state.studio

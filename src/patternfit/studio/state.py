@@ -35,6 +35,7 @@ from ..loop.session import holds_session
 from ..pattern.library import GARMENTS
 from ..pattern.sizes import SIZE_NAMES
 from ..sim.fabrics import FABRICS
+from .words import describe_edit, designer_message
 
 #: triangle count of a new session's garment mesh unless asked otherwise
 #: what an upload may be, with the file endings each kind is read from
@@ -59,6 +60,11 @@ PHASE_WORDS = {"sewing": "closing the seams", "relaxing": "relaxing the sewn gar
 _PHASE_ITERATIONS = {"sewing": 150, "relaxing": 300, "draping": 600, "settling": 300}
 #: ``patternfit.sim.drape.drape``'s default coarse size [triangles]
 _COARSE = 2000
+
+
+class Refused(RuntimeError):
+    """A request that cannot be done in the session's present state (HTTP 409): a change
+    while a drape runs, an export of a drape that is not there."""
 
 
 class StaleRevision(Exception):
@@ -321,7 +327,7 @@ class Studio:
             # the readers (trimesh, NumPy's zip) raise many kinds for a bad file, and every
             # one means the upload cannot be used; the message names the client's file, not
             # the server's folder
-            raise InputError(describe_error(exc).replace(str(target), shown)) from None
+            raise InputError(designer_message(exc).replace(str(target), shown)) from None
         finally:
             shutil.rmtree(part, ignore_errors=True)
         if kind == "pattern":
@@ -353,7 +359,7 @@ class Studio:
 
     def _refuse_while_draping(self) -> None:
         if self.job.running:
-            raise RuntimeError("a drape is running: stop it first")
+            raise Refused("a drape is running: stop it first, or wait for it to finish")
 
     # -- edits ---------------------------------------------------------------------------
     def apply(self, op: str, args: dict, revision: int | None = None) -> dict:
@@ -361,7 +367,7 @@ class Studio:
         with self.lock:
             self._refuse_while_draping()
             self.check_revision(revision)
-            report = self.ensure().apply(op, **args)
+            report = self.ensure().apply(op, label=describe_edit(op, args), **args)
             self._save()
             return {"remeshed": report is None or bool(report.remeshed),
                     "min_angle": None if report is None else _finite(report.min_angle)}
@@ -473,7 +479,7 @@ class Studio:
                     self.stopped.add(session.state.key)
                     self._publish()
         except Exception as exc:  # shown in the page; the server keeps serving
-            job.error = f"{type(exc).__name__}: {exc}"
+            job.error = designer_message(exc)
         finally:
             job.elapsed = time.perf_counter() - t0
             if job.error is None and not job.stopped:
@@ -535,12 +541,3 @@ def _read_upload(kind: str, path: Path, stem: str):
     body.name = stem
     body.meta = {**body.meta, "source": f"uploaded {stem}{path.suffix}"}
     return body
-
-
-def describe_error(exc: Exception) -> str:
-    """The message shown in the page for a refused request."""
-    if isinstance(exc, KeyError) and exc.args:  # str() of a KeyError is the key's repr
-        return str(exc.args[0])
-    if isinstance(exc, (ValueError, IndexError, RuntimeError, TypeError)):
-        return str(exc) or type(exc).__name__
-    return f"{type(exc).__name__}: {exc}"

@@ -1,0 +1,9 @@
+"""The studio's requests by topic, each an ``APIRouter``: the session (options, state, new,
+uploads, undo/redo), editing (geometry, edits, live drags), draping (drape, correction,
+progress, the draped garment, exports) and fabrics (editing and testing a fabric)."""
+
+from .drape import router as drape
+from .editing import router as editing
+from .session import router as session
+
+ROUTERS = (session, editing, drape)
