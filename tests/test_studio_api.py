@@ -84,7 +84,9 @@ def test_edit_undo_redo_and_refusals(client, folder):
     unmatched = client.post("/api/edit", json={**EDIT, "args": {**EDIT["args"], "partner": False}})
     assert unmatched.status_code == 400 and "seam" in unmatched.json()["error"]
     assert client.post("/api/edit", json={"op": "rm_rf", "args": {}}).status_code == 400
-    # a restarted studio continues the saved session
+    # a restarted studio continues the saved session (edits are written in the background:
+    # flush waits for the writing, as the server does when it stops)
+    client.app.state.studio.flush()
     again = studio_client(create_app(folder, allowed_hosts=("testserver",)))
     assert len(again.get("/api/state").json()["history"]) == 2
 

@@ -25,6 +25,7 @@ from fastapi.responses import HTMLResponse, JSONResponse
 from fastapi.staticfiles import StaticFiles
 
 from ..constants import limits
+from .fabric_lab import FabricLab
 from .guard import LOCAL_HOSTS, Guard
 from .routes import ROUTERS
 from .state import Refused, StaleRevision, Studio
@@ -52,6 +53,7 @@ def create_app(session_dir, *, max_upload: int | None = None,
     app.state.studio = Studio(session_dir)
     app.state.token = token
     app.state.max_upload = limits.upload_bytes if max_upload is None else int(max_upload)
+    app.state.fabric_lab = FabricLab()
     app.add_middleware(Guard, hosts=allowed_hosts, token=token)
 
     @app.exception_handler(HTTPException)

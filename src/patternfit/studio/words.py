@@ -92,6 +92,10 @@ _PHRASES = [
     (re.compile(r"\bmissing (\d+) required (?:positional|keyword-only) arguments?: "),
      r"needs "),
     (re.compile(r"\bargs: "), ""),
+    # a grade's factors are shown as percentages in the page
+    (re.compile(r"\bs([xy]): expected a number in \[([\d.e+-]+), ([\d.e+-]+)\], got ([\d.e+-]+)"),
+     lambda m: f"the {'width' if m[1] == 'x' else 'length'} must stay between "
+               f"{float(m[2]) * 100:g} % and {float(m[3]) * 100:g} %, not {float(m[4]) * 100:g} %"),
     (re.compile(r"\boffset: "), "the move: "),
 ]
 

@@ -4,6 +4,7 @@ progress, the draped garment, exports) and fabrics (editing and testing a fabric
 
 from .drape import router as drape
 from .editing import router as editing
+from .fabric import router as fabric
 from .session import router as session
 
-ROUTERS = (session, editing, drape)
+ROUTERS = (session, editing, drape, fabric)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Depends, HTTPException, Request
 
+from ... import api
 from ...body.builtin import list_bodies
 from ...pattern.library import GARMENTS
 from ...pattern.sizes import SIZE_NAMES
@@ -23,10 +24,24 @@ def options(request: Request):
     # correct_available: always, the loop ships with the package (state.py imports it)
     return {"garments": {k: v[2] for k, v in GARMENTS.items()}, "sizes": list(SIZE_NAMES),
             "bodies": list_bodies(), "fabrics": list(FABRICS),
-            "engines": list(ENGINES), "correct_available": True,
+            "engines": _engines(), "correct_available": True,
             "max_upload": request.app.state.max_upload, "exports": list(EXPORTS),
             "drag_ops": DRAG_OPS,
             "uploads": {k: list(v) for k, v in UPLOAD_SUFFIXES.items()}}
+
+
+def _engines() -> list[dict]:
+    """Every drape engine: ``usable`` by the studio's sessions, ``installed`` here, and a
+    note saying which, for the Engine menu."""
+    out = []
+    for name, missing in api.list_engines().items():
+        usable = name in ENGINES and missing is None
+        note = ("the quasi-static solver: drapes to equilibrium" if usable else
+                missing or "installed; the studio's design sessions drape with the static "
+                           "engine only (use patternfit drape --engine " + name + ")")
+        out.append({"name": name, "usable": usable, "installed": missing is None,
+                    "note": note})
+    return out
 
 
 @router.get("/state")
