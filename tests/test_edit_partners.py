@@ -138,3 +138,116 @@ def test_every_grade_with_partner_keeps_seams_and_symmetry(garments, sx, sy):
                 bad.append(f"{garment}/{panel.name}: seam gap {gap:.2e} m, "
                            f"mirror gap {mirror:.2e} m")
     assert not bad, "\n".join(bad)
+
+
+# -- seams with ease (issue 20 item 1): partner edits and close_seams keep the gather ------
+
+RATIO_TOL = 1e-4   # an eased seam keeps its length ratio within 0.1 mm [m]
+
+
+def eased_skirt():
+    """The built-in skirt with its front 10 % taller (side and hip seams eased, measured
+    by ``add_seam`` from the sides' lengths)."""
+    from dataclasses import replace as _replace
+
+    from patternfit.edit import add_seam
+
+    skirt = build("skirt", "M")
+    bare = grade(_replace(skirt, seams=()), "front", 1.0, 1.1)
+    out = bare
+    for s in skirt.seams:
+        out = add_seam(out, s.a, s.b, name=s.name, reverse=s.reverse)
+    return out
+
+
+def ratios(pattern):
+    return {s.name: pattern.seam_side_length(s.b) / pattern.seam_side_length(s.a)
+            for s in pattern.seams}
+
+
+def ratio_misfit(before, after):
+    """The largest |side b - ratio before * side a| over the seams [m]."""
+    r = ratios(before)
+    return max(abs(after.seam_side_length(s.b) - r[s.name] * after.seam_side_length(s.a))
+               for s in after.seams)
+
+
+def test_the_eased_skirt_is_eased():
+    p = eased_skirt()
+    assert all(0.05 < s.ease < 0.12 for s in p.seams)
+    assert all(abs(1 / q - 1) > 0.05 for q in ratios(p).values())  # back/front < 1
+
+
+@pytest.mark.parametrize("corner,offset", [("hem", (0.0, -0.02)), ("side_r", (0.01, 0.0)),
+                                           ("waist", (0.0, 0.015))])
+def test_partner_move_keeps_the_ease_ratio(corner, offset):
+    p = eased_skirt()
+    moved = move_point(p, "back", corner, offset, partner=True)
+    assert ratio_misfit(p, moved) <= RATIO_TOL
+    assert ratio_misfit(p, p) == 0.0
+    # the edit did change the lengths: the ratio was restored, not left alone
+    assert any(abs(moved.seam_side_length(s.a) - p.seam_side_length(s.a)) > 1e-3
+               for s in p.seams)
+
+
+def test_partner_grade_keeps_the_ease_ratio():
+    p = eased_skirt()
+    graded = grade(p, "back", 1.04, 1.06, partner=True)
+    assert ratio_misfit(p, graded) <= RATIO_TOL
+    whole = grade(p, None, 1.05, 1.05)
+    assert ratio_misfit(p, whole) <= RATIO_TOL
+
+
+def test_close_seams_keeps_the_ease_ratio():
+    from patternfit.edit import close_seams, move_corner
+
+    p = eased_skirt()
+    front = move_corner(p.panel("front"), "side_l", np.array([0.02, 0.01]))
+    off = p.with_panel(front)
+    assert ratio_misfit(p, off) > 5e-3
+    assert ratio_misfit(p, close_seams(off, like=p)) <= RATIO_TOL
+    # without the pattern before: the full stated ease, 1 + ease (the ease measured by
+    # add_seam is rounded up to 1e-4, i.e. within 0.1 mm of the sides' own ratio)
+    closed = close_seams(off)
+    for s in closed.seams:
+        la, lb = closed.seam_side_length(s.a), closed.seam_side_length(s.b)
+        assert abs(max(la, lb) - (1 + s.ease) * min(la, lb)) <= RATIO_TOL
+
+
+def test_correction_moves_keep_the_ease_ratio():
+    """The correction's pattern step (``loop.correct.apply_moves``: corner moves, then
+    ``close_seams``) keeps each eased seam at its stated ratio."""
+    from patternfit.loop.correct import CornerMove, apply_moves
+
+    p = eased_skirt()
+    moves = [CornerMove("front", "side_l", (0.015, 0.0)), CornerMove("back", "hip_r", (0.01, 0.0)),
+             CornerMove("front", "hip_r", (-0.012, 0.0))]
+    new = apply_moves(p, moves)
+    for s in new.seams:
+        la, lb = new.seam_side_length(s.a), new.seam_side_length(s.b)
+        assert abs(max(la, lb) - (1 + s.ease) * min(la, lb)) <= RATIO_TOL
+    assert new.panel("front") != p.panel("front")
+
+
+def test_the_correction_loop_keeps_an_eased_garment_eased():
+    """``loop.correct`` on a skirt drafted 70 % wide with its front 10 % taller (eased
+    side and hip seams): the corrected pattern's seams keep their length ratio within
+    0.1 mm, and the correction did move the seams (it widened the skirt)."""
+    from dataclasses import replace as _replace
+
+    from patternfit.body.builtin import load_body
+    from patternfit.edit import add_seam
+    from patternfit.loop import DesignSession
+    from patternfit.loop.correct import CorrectionSettings, correct
+
+    skirt = build("skirt", "S")
+    p = grade(grade(_replace(skirt, seams=()), None, 0.7, 1.0), "front", 1.0, 1.1)
+    for s in skirt.seams:
+        p = add_seam(p, s.a, s.b, name=s.name)
+    session = DesignSession(p, load_body("female_average"), "stretch_knit", 900, 0.97)
+    result = correct(session, settings=CorrectionSettings(threshold=0.97, max_iterations=2))
+    assert len(session.history) >= 2 and result.pattern is session.pattern
+    assert ratio_misfit(p, session.pattern) <= RATIO_TOL
+    widened = [session.pattern.seam_side_length(s.a) - p.seam_side_length(s.a)
+               for s in p.seams]
+    assert max(abs(w) for w in widened) > 5e-3

@@ -29,7 +29,7 @@ from .errors import InputError
 from .fit.measures import FitMeasures, fit_measures
 from .fit.metrics import FitEvaluator, FitResult
 from .fit.outputs import write_fit_outputs
-from .edit import grade
+from .edit import add_seam, grade, remove_seam, set_seam_ease
 from .loop.correct import Correction, CorrectionSettings, correct
 from .loop.outputs import write_correction_outputs
 from .loop.session import DesignSession
@@ -40,7 +40,9 @@ from .mesh.triangulate import mesh_pattern
 from .pattern.errors import PatternError
 from .pattern.formats import load_any_pattern, save_any_pattern
 from .pattern.library import GARMENTS, build
-from .pattern.model import Pattern
+from .pattern.model import Pattern, Seam
+from .pattern.seam_suggest import SeamSuggestion, check_sewn
+from .pattern.seam_suggest import suggest_seams as _suggest
 from .sim.drape import Drape, drape
 from .sim.fabrics import FABRICS, Fabric, FabricError, get_fabric
 from .sim.fabrics import RANGES as FABRIC_RANGES
@@ -50,12 +52,13 @@ from .sim.solver import SolverSettings
 
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
            "DesignSession", "FABRIC_RANGES", "FABRIC_TESTS", "Fabric", "FabricError",
-           "FitOutcome", "InputError", "PatternError", "correct", "correct_design",
-           "design_session", "drafted_too_small", "drape_and_evaluate", "evaluate_saved",
-           "fabric_test", "list_bodies", "list_engines", "list_fabrics", "list_garments",
-           "mesh_garment", "place_and_evaluate", "placed_fitting_ratio", "read_body",
-           "read_fabric", "read_pattern", "save_any_pattern", "save_garment",
-           "write_fabric_test_picture"]
+           "FitOutcome", "InputError", "PatternError", "SeamSuggestion", "accept_seams",
+           "add_seam", "check_sewn", "correct", "correct_design", "design_session",
+           "drafted_too_small", "drape_and_evaluate", "evaluate_saved", "fabric_test",
+           "list_bodies", "list_engines", "list_fabrics", "list_garments", "mesh_garment",
+           "place_and_evaluate", "placed_fitting_ratio", "read_body", "read_fabric",
+           "read_pattern", "remove_seam", "save_any_pattern", "save_garment", "seam_table",
+           "set_seam_ease", "suggest_seams", "write_fabric_test_picture", "write_pattern"]
 
 
 def list_garments() -> list[str]:
@@ -136,6 +139,59 @@ def read_pattern(source: Pattern | str | Path, *, size: str = DEFAULTS.size) -> 
         raise PatternError(f"neither a built-in garment ({', '.join(GARMENTS)}) nor a file",
                            file=name)
     return load_any_pattern(path)
+
+
+def suggest_seams(pattern: Pattern | str | Path, *, size: str = DEFAULTS.size,
+                  min_score: float = DEFAULTS.seam_score) -> list[SeamSuggestion]:
+    """Seams suggested for the unsewn outline edges of ``pattern`` (a pattern, built-in
+    name or file), best first: each a :class:`SeamSuggestion` (``seam``, ``score`` in [0, 1],
+    ``reasons`` in words) from lengths (with ease), piece and edge names, notches, grain and
+    the outlines' directions (:mod:`patternfit.pattern.seam_suggest`)."""
+    return _suggest(read_pattern(pattern, size=size), min_score=min_score)
+
+
+def accept_seams(pattern: Pattern, suggestions) -> Pattern:
+    """``pattern`` with the suggested seams sewn (:class:`SeamSuggestion` or
+    :class:`Seam` items, each added by :func:`add_seam` with its name, ease and
+    direction)."""
+    for item in suggestions:
+        s = item.seam if isinstance(item, SeamSuggestion) else item
+        if not isinstance(s, Seam):
+            raise ValueError(f"suggestions: expected SeamSuggestion or Seam items, got "
+                             f"{type(item).__name__}")
+        pattern = add_seam(pattern, s.a, s.b, name=s.name, ease=s.ease, reverse=s.reverse)
+    return pattern
+
+
+def seam_table(pattern: Pattern) -> list[dict]:
+    """One row per seam of ``pattern``: ``name``, sides ``a``/``b`` (``panel``, ``edge``,
+    ``start``, ``end``, ``length_cm``), ``difference_mm`` (b - a), ``ratio`` (longer /
+    shorter - 1), the stated ``ease`` and ``reverse``."""
+    rows = []
+    for s in pattern.seams:
+        la, lb = pattern.seam_side_length(s.a), pattern.seam_side_length(s.b)
+        rows.append({"name": s.name, "reverse": s.reverse, "ease": float(s.ease),
+                     "a": _side_row(s.a, la), "b": _side_row(s.b, lb),
+                     "difference_mm": round((lb - la) * 1000, 2),
+                     "ratio": round(max(la, lb) / min(la, lb) - 1.0, 4)})
+    return rows
+
+
+def _side_row(side, length: float) -> dict:
+    return {"panel": side.panel, "edge": side.edge, "start": side.start, "end": side.end,
+            "length_cm": round(length * 100, 2)}
+
+
+def write_pattern(pattern: Pattern, out, *, source=None, units: str = "m") -> list[Path]:
+    """Write ``pattern`` to ``out`` (format from the ending, see
+    :func:`save_any_pattern`; atomically) and return the files written; refuses to
+    overwrite ``source``, the file it was read from."""
+    out = Path(out)
+    if source is not None and Path(source).exists() and out.exists() and \
+            out.resolve() == Path(source).resolve():
+        raise InputError("is the input pattern: write the result to another file (--out)",
+                         file=out)
+    return save_any_pattern(pattern, out, units=units)
 
 
 def read_body(source: Body | str | Path, *, units: str | None = None) -> Body:
@@ -292,9 +348,16 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     Every drape gets the on-body checks (:mod:`patternfit.sim.onbody`); ``passed`` is
     False and ``checks["reasons"]`` says why when the garment is not on the body where its
     pattern says, whatever ϖ reads.
+
+    A pattern of several pieces without seams between them (or with a piece sewn to
+    nothing) is refused before anything is meshed (:func:`check_sewn`, a
+    :class:`PatternError` naming the fix ``patternfit seams PATTERN --suggest --accept``);
+    a one-piece garment is draped as it is.
     """
     t0 = time.perf_counter()
     pat = read_pattern(pattern, size=size)
+    check_sewn(pat, source=None if isinstance(pattern, Pattern) or str(pattern) in GARMENTS
+               else pattern)
     b = read_body(body, units=units)
     fab = read_fabric(fabric)
     m = mesh_pattern(pat, triangles=triangles)

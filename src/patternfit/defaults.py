@@ -38,6 +38,9 @@ class Defaults:
         Time limit of one drape [s].
     correction_rounds : int
         Rounds of the automatic correction [-].
+    seam_score : float
+        Lowest score [0, 1] of a seam suggested for an unsewn pattern
+        (:func:`patternfit.pattern.seam_suggest.suggest_seams`).
     """
 
     body: str = "female_average"
@@ -54,6 +57,7 @@ class Defaults:
     max_iterations: int = 5000
     time_limit: float = 300.0
     correction_rounds: int = 3
+    seam_score: float = 0.4
 
 
 DEFAULTS = Defaults()

@@ -10,6 +10,7 @@ from . import drape  # noqa: F401
 from . import studio  # noqa: F401
 from . import loop  # noqa: F401
 from . import fabric  # noqa: F401
+from . import seams  # noqa: F401
 from .app import app
 
 __all__ = ["app"]

@@ -147,3 +147,46 @@ def run_correction(session, out: Path, *, threshold: float, max_iterations: int,
             pictures=pictures, extra=extra, drape_progress=callback,
             progress=lambda it: bar.console.print() or show_iteration(it),
             write_progress=lambda s: bar.update(bar.task_ids[0], info=f"writing {s}"))
+
+
+def _side_text(side: dict) -> str:
+    span = "" if (side["start"], side["end"]) == (0.0, 1.0) else \
+        f" [{side['start']:g}–{side['end']:g}]"
+    return f"{side['panel']}.{side['edge']}{span}"
+
+
+def print_seams(name: str, rows: list[dict], pieces: int) -> None:
+    """The seams of pattern ``name`` as ``api.seam_table`` gives them: sides, their lengths
+    [cm], the difference [mm], the measured ratio and the stated ease."""
+    if not rows:
+        console.print(f"'{escape(name)}' ({pieces} pieces) has no seams"
+                      + (": see --suggest" if pieces > 1 else ""))
+        return
+    table = Table(title=f"seams of '{escape(name)}' ({pieces} pieces)")
+    for col in ("seam", "side a", "cm", "side b", "cm", "Δ mm", "ratio", "ease"):
+        table.add_column(col, justify="left" if col.startswith(("seam", "side")) else "right")
+    for r in rows:
+        table.add_row(escape(r["name"]), escape(_side_text(r["a"])),
+                      f"{r['a']['length_cm']:.2f}", escape(_side_text(r["b"])),
+                      f"{r['b']['length_cm']:.2f}", f"{r['difference_mm']:+.1f}",
+                      f"{r['ratio']:.3f}", f"{r['ease']:g}")
+    console.print(table)
+
+
+def print_seam_suggestions(items: list, *, accepted: bool) -> None:
+    """Suggested seams: (seam row, score, reasons) each, best first; ``accepted`` says they
+    were sewn."""
+    if not items:
+        console.print("no seams to suggest")
+        return
+    table = Table(title="suggested seams" + (" (accepted)" if accepted else ""))
+    for col in ("score", "side a", "cm", "side b", "cm", "ease", "why"):
+        table.add_column(col, justify="left" if col in ("side a", "side b", "why") else "right")
+    for row, score, reasons in items:
+        table.add_row(f"{score:.2f}", escape(_side_text(row["a"])),
+                      f"{row['a']['length_cm']:.2f}", escape(_side_text(row["b"])),
+                      f"{row['b']['length_cm']:.2f}", f"{row['ease']:g}",
+                      escape("; ".join(reasons)))
+    console.print(table)
+    if not accepted:
+        console.print("sew them with --accept (and --out FILE), or one by one with --set")

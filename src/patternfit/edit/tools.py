@@ -6,7 +6,8 @@ before any geometry is computed (finite, offsets within twice ``limits.extent``,
 within ``limits.edit_scale`` and its inverse), and every result is checked: a panel beyond
 ``limits.extent``, turned inside out, collapsed or crossing itself is refused, and so is a
 seam whose two sides differ in length unless ``partner=True``, which makes the matching
-edit on the partner edge (its far corner slides along the edge until the lengths agree).
+edit on the partner edge (its far corner slides along the edge until the lengths agree, or
+for a seam with ``ease`` until they are in the ratio they had before the edit).
 Refusals are :class:`PatternError` naming the panel and the argument. Offsets and lengths
 in metres, in the panel's flat frame.
 """
@@ -134,7 +135,7 @@ def _match_partners(old: Pattern, new: Pattern, edited: set) -> Pattern:
         for mine, other in ((s.a, s.b), (s.b, s.a)):
             if (mine.panel, mine.edge) not in edited or (other.panel, other.edge) in edited:
                 continue
-            if abs(new.seam_side_length(mine) - new.seam_side_length(other)) <= tol.merge:
+            if abs(_misfit(new, s, _ratio(s, new, old))) <= tol.merge:
                 continue
             if (mine.start, mine.end, other.start, other.end) != (0.0, 1.0, 0.0, 1.0):
                 raise PatternError(f"seam '{s.name}' covers part of an edge: edit its partner "
@@ -156,25 +157,51 @@ def _match_partners(old: Pattern, new: Pattern, edited: set) -> Pattern:
                     continue
                 free.append(c)
                 todo.extend(links.get(c, ()))
-    return _solve_corners(new, free) if free else new
+    return _solve_corners(new, free, old) if free else new
 
 
-def _solve_corners(pattern: Pattern, free: list, *, iterations: int = 20) -> Pattern:
+def _solve_corners(pattern: Pattern, free: list, before: Pattern, *,
+                   iterations: int = 20) -> Pattern:
     """``pattern`` with the corners ``free`` ((panel, edge starting there)) moved by the
-    smallest steps that make every seam touching them have equal sides, each step halved
-    until it reduces the differences (:func:`_equal_sides`)."""
+    smallest steps that make every seam touching them have sides of equal length (of the
+    ratio they had in ``before``, for a seam with ease), each step halved until it reduces
+    the differences (:func:`_equal_sides`)."""
     touched = set().union(*(_corner_edges(pattern, c) for c in free))
     seams = [s for s in pattern.seams
              if (s.a.panel, s.a.edge) in touched or (s.b.panel, s.b.edge) in touched]
-    return _equal_sides(pattern, free, seams, iterations=iterations, h=1e-7, halvings=8)
+    return _equal_sides(pattern, free, seams, [_ratio(s, pattern, before) for s in seams],
+                        iterations=iterations, h=1e-7, halvings=8)
 
 
-def _equal_sides(pattern: Pattern, corners: list, seams, *, iterations: int, h: float,
-                 halvings: int) -> Pattern:
+def _ratio(seam, pattern: Pattern, before: Pattern | None) -> float:
+    """The length ratio (side ``b`` / side ``a``) an edit keeps on ``seam`` of
+    ``pattern``: 1 without ease; with ease, the ratio the seam had in ``before`` (the
+    pattern before the edit) within its ease, else the full ease ``1 + ease``, the longer
+    side being the one that is longer now."""
+    if not seam.ease:
+        return 1.0
+    top = 1.0 + seam.ease
+    was = next((s for s in (before.seams if before is not None else ())
+                if s.name == seam.name), None)
+    if was is not None:
+        return float(np.clip(before.seam_side_length(was.b) / before.seam_side_length(was.a),
+                             1.0 / top, top))
+    longer_b = pattern.seam_side_length(seam.b) >= pattern.seam_side_length(seam.a)
+    return top if longer_b else 1.0 / top
+
+
+def _misfit(pattern: Pattern, seam, ratio: float) -> float:
+    """How much longer side ``b`` of ``seam`` is than ``ratio`` times side ``a`` [m]."""
+    return pattern.seam_side_length(seam.b) - ratio * pattern.seam_side_length(seam.a)
+
+
+def _equal_sides(pattern: Pattern, corners: list, seams, ratios, *, iterations: int,
+                 h: float, halvings: int) -> Pattern:
     """``pattern`` with the ``corners`` ((panel, edge starting there)) moved so that every
-    one of ``seams`` has sides of equal length: Gauss–Newton with minimum-norm steps on the
-    length differences [m], the Jacobian by finite differences of step ``h`` [m], each step
-    halved up to ``halvings`` times until it reduces the differences."""
+    one of ``seams`` has side ``b`` ``ratios`` (one per seam) times as long as side ``a``:
+    Gauss–Newton with minimum-norm steps on the length misfits [m], the Jacobian by finite
+    differences of step ``h`` [m], each step halved up to ``halvings`` times until it
+    reduces the misfits."""
     def moved(x):
         out = pattern
         for (pname, ename), d in zip(corners, x.reshape(-1, 2)):
@@ -184,8 +211,7 @@ def _equal_sides(pattern: Pattern, corners: list, seams, *, iterations: int, h: 
 
     def residual(x):
         pat = moved(x)
-        return np.array([pat.seam_side_length(s.b) - pat.seam_side_length(s.a)
-                         for s in seams])
+        return np.array([_misfit(pat, s, q) for s, q in zip(seams, ratios)])
 
     x = np.zeros(2 * len(corners))
     r = residual(x)
@@ -270,10 +296,15 @@ def _finish(old: Pattern, new: Pattern, edited: set, partner: bool, cause: str) 
     return new
 
 
-def close_seams(pattern: Pattern, *, iterations: int = 12) -> Pattern:
+def close_seams(pattern: Pattern, *, like: Pattern | None = None,
+                iterations: int = 12) -> Pattern:
     """Make every seam's two sides equally long by the smallest moves (least squares) of
     the corners at the ends of each seam's side ``b``: Gauss–Newton with minimum-norm
-    steps on the length differences [m], Jacobian by finite differences."""
+    steps on the length misfits [m], Jacobian by finite differences.
+
+    A seam with ``ease`` keeps its gather instead: its sides get the length ratio they have
+    in ``like`` (the pattern before the moves, within the ease), or without ``like`` the
+    full stated ratio ``1 + ease`` (the longer side the one that is longer now)."""
     corners = []
     for s in pattern.seams:
         p = pattern.panel(s.b.panel)
@@ -282,8 +313,9 @@ def close_seams(pattern: Pattern, *, iterations: int = 12) -> Pattern:
         for key in ((s.b.panel, s.b.edge), (s.b.panel, edges[(k + 1) % len(edges)].name)):
             if key not in corners:
                 corners.append(key)
-    return _equal_sides(pattern, corners, pattern.seams, iterations=iterations, h=1e-5,
-                        halvings=0)
+    ratios = [_ratio(s, pattern, like) for s in pattern.seams]
+    return _equal_sides(pattern, corners, pattern.seams, ratios, iterations=iterations,
+                        h=1e-5, halvings=0)
 
 
 def _panel_edges(panel: Panel) -> set:

@@ -221,7 +221,8 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
     Parameters
     ----------
     old_pattern, new_pattern : Pattern
-        The pattern before and after the edit; same panels and edge names [m].
+        The pattern before and after the edit; same panels, edge names and seams (their
+        ease may differ) [m].
     mesh : GarmentMesh
         The mesh of ``old_pattern``.
     cache : CoordinateCache, optional
@@ -251,6 +252,11 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
         extra = sorted(edges ^ set(mesh.edge_names))[0]
         raise PatternError("the edit added or removed edges (a dart?); the mesh cannot follow, "
                            "re-mesh the pattern", panel=extra[0], edge=extra[1])
+    sewn = [[(sm.name, sm.a, sm.b, sm.reverse) for sm in p.seams]
+            for p in (old_pattern, new_pattern)]
+    if sewn[0] != sewn[1]:
+        # a seam added or removed pairs other vertices: the seam pairs cannot follow
+        raise PatternError("the edit changed the seams; re-mesh the pattern")
     if cache is None:
         cache = CoordinateCache(mesh)
     elif cache.mesh is not mesh:

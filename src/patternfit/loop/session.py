@@ -37,12 +37,13 @@ from ..pattern.errors import PatternError
 from ..pattern.io import load_pattern
 from ..pattern.library import build
 from ..pattern.model import Pattern
+from ..pattern.seam_suggest import check_sewn
 from ..sim.drape import Drape, drape, redrape
 from ..sim.fabrics import Fabric, get_fabric
 
 #: the editing tools a session applies by name (``patternfit.edit``)
 EDIT_OPS = ("move_point", "move_edge", "edit_curve", "lengthen", "grade", "insert_dart",
-            "move_dart", "resize_dart")
+            "move_dart", "resize_dart", "add_seam", "remove_seam", "set_seam_ease")
 
 SNAPSHOT_FORMAT = "patternfit-session"
 #: the layout :meth:`DesignSession.save` writes; version 1 (a full copy of every state per
@@ -179,10 +180,14 @@ class DesignSession:
 
     def redrape(self, *, progress: Callable | None = None) -> Drape:
         """Drape the current state: warm-started from the last drape when the mesh kept its
-        topology, from the placement otherwise. Records ϖ and the checks in the history."""
+        topology, from the placement otherwise. Records ϖ and the checks in the history.
+        A pattern of several pieces not sewn together is refused
+        (:func:`~patternfit.pattern.seam_suggest.check_sewn`)."""
         st = self.state
+        check_sewn(st.pattern)
         same = (self._drape is not None
-                and np.array_equal(self._drape.solver.triangles, st.mesh.triangles))
+                and np.array_equal(self._drape.solver.triangles, st.mesh.triangles)
+                and _sewing(self._drape.pattern) == _sewing(st.pattern))
         if same:
             result = self._staged_redrape(st.mesh, st.positions, progress)
         elif self.relax > 1.0 and self.position == 0:
@@ -503,6 +508,12 @@ def _widened(pattern: Pattern, mesh: GarmentMesh, factor: float):
         ids = mesh.panel_vertices(i)
         v[ids, 0] = c[0] + factor * (v[ids, 0] - c[0])
     return grade(pattern, None, factor, 1.0), mesh.with_vertices(v)
+
+
+def _sewing(pattern: Pattern | None):
+    """What a drape's solver sews of ``pattern``: its seams' sides and directions (an
+    edited seam's ease changes no rest length)."""
+    return None if pattern is None else [(s.a, s.b, s.reverse) for s in pattern.seams]
 
 
 def _describe(op: str, args: dict) -> str:

@@ -6,10 +6,10 @@ Units are metres inside the library; files state their own units.
 from .edges import Edge
 from .errors import PatternError
 from .io import load_pattern, pattern_from_dict, pattern_to_dict, save_pattern
-from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
+from .model import InnerLine, Loop, Notch, Panel, Pattern, Placement, Seam, SeamSide
 from .validate import check_pattern
 
 __all__ = [
-    "Edge", "Loop", "Panel", "Pattern", "PatternError", "Placement", "Seam", "SeamSide",
+    "Edge", "InnerLine", "Loop", "Notch", "Panel", "Pattern", "PatternError", "Placement", "Seam", "SeamSide",
     "check_pattern", "load_pattern", "pattern_from_dict", "pattern_to_dict", "save_pattern",
 ]

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import math
 import reprlib
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -17,7 +18,7 @@ from ..constants import UNITS
 from ..files import atomic_write_text, read_json_file
 from .edges import KINDS, Edge
 from .errors import PatternError
-from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
+from .model import InnerLine, Loop, Notch, Panel, Pattern, Placement, Seam, SeamSide
 from .validate import check_pattern, check_size
 
 FORMAT = "patternfit-pattern"
@@ -134,7 +135,52 @@ def _panel_from_dict(d: Any, scale: float, index: int) -> Panel:
         translation=json_vec3(pl.get("translation"), scale, "placement translation",
                               panel=name),
         rotation=json_vec3(pl.get("rotation"), 1.0, "placement rotation", panel=name))
-    return Panel(name, outline, inner, grain, placement)
+    lines = []
+    for i, ln in enumerate(json_field(d, "lines", list, "panel", [], panel=name)):
+        what = f"line #{i}"
+        pts = json_field(ln, "points", list, what, panel=name)
+        if len(pts) < 2:
+            raise PatternError(f"{what} needs at least 2 points, got {len(pts)}", panel=name)
+        lines.append(InnerLine(json_field(ln, "name", str, what, f"line{i}", panel=name),
+                               [json_point(q, scale, f"{what} point", panel=name)
+                                for q in pts]))
+    drills = [json_point(q, scale, "drill hole", panel=name)
+              for q in json_field(d, "drill_holes", list, "panel", [], panel=name)]
+    cut = [json_point(q, scale, "cut line point", panel=name)
+           for q in json_field(d, "cut_line", list, "panel", [], panel=name)]
+    if 0 < len(cut) < 3:
+        raise PatternError(f"the cut line needs at least 3 points, got {len(cut)}", panel=name)
+    panel = Panel(name, outline, inner, grain, placement, lines=tuple(lines),
+                  drill_holes=tuple(drills), cut_line=tuple(cut))
+    return replace(panel, notches=notches_from_json(
+        json_field(d, "notches", list, "panel", [], panel=name), panel))
+
+
+def notches_from_json(raw: list, panel: Panel) -> tuple[Notch, ...]:
+    """The notches of ``panel`` from their JSON list ``[{"edge", "t", "kind"}]``; a
+    :class:`PatternError` naming the panel for an edge it does not have or ``t`` outside
+    [0, 1]."""
+    names = set(panel.edges())
+    out = []
+    for i, n in enumerate(raw):
+        what = f"notch #{i}"
+        edge = json_field(n, "edge", str, what, panel=panel.name)
+        if edge not in names:
+            raise PatternError(f"{what} is on edge '{edge}', which the panel does not have",
+                               panel=panel.name, edge=edge)
+        t = json_number(json_field(n, "t", (int, float), what, panel=panel.name, edge=edge),
+                        f"{what}: t", panel=panel.name, edge=edge)
+        if not 0.0 <= t <= 1.0:
+            raise PatternError(f"{what}: t = {t:g} is outside [0, 1] (a fraction of the "
+                               "edge's arc length)", panel=panel.name, edge=edge)
+        kind = json_field(n, "kind", str, what, "slit", panel=panel.name, edge=edge)
+        out.append(Notch(edge, t, kind))
+    return tuple(out)
+
+
+def notches_to_json(panel: Panel) -> list[dict]:
+    """The JSON list of the panel's notches."""
+    return [{"edge": n.edge, "t": float(n.t), "kind": n.kind} for n in panel.notches]
 
 
 def _side_from_dict(d: Any, seam: str, outline_edges) -> SeamSide:
@@ -233,6 +279,22 @@ def _edge_to_dict(e: Edge, scale: float) -> dict:
     return d
 
 
+def _marks_to_dict(p: Panel, scale: float) -> dict:
+    """The panel's notches, internal lines, drill holes and cut line, those it has."""
+    def pts(points):
+        return [[x / scale, y / scale] for x, y in points]
+    out: dict[str, Any] = {}
+    if p.notches:
+        out["notches"] = notches_to_json(p)
+    if p.lines:
+        out["lines"] = [{"name": ln.name, "points": pts(ln.points)} for ln in p.lines]
+    if p.drill_holes:
+        out["drill_holes"] = pts(p.drill_holes)
+    if p.cut_line:
+        out["cut_line"] = pts(p.cut_line)
+    return out
+
+
 def _loop_to_dict(loop: Loop, scale: float) -> dict:
     return {"name": loop.name, "edges": [_edge_to_dict(e, scale) for e in loop.edges]}
 
@@ -252,14 +314,19 @@ def pattern_to_dict(pattern: Pattern, *, units: str = "m") -> dict:
             placement["rotation"] = list(pl.rotation)
         panels.append({"name": p.name, "grainline": list(p.grainline), "placement": placement,
                        "outline": _loop_to_dict(p.outline, s),
-                       "inner": [_loop_to_dict(lp, s) for lp in p.inner]})
-    seams = [{"name": sm.name, "reverse": sm.reverse,
-              "a": {"panel": sm.a.panel, "edge": sm.a.edge, "range": [sm.a.start, sm.a.end]},
-              "b": {"panel": sm.b.panel, "edge": sm.b.edge, "range": [sm.b.start, sm.b.end]},
-              **({"ease": float(sm.ease)} if sm.ease else {})}
-             for sm in pattern.seams]
+                       "inner": [_loop_to_dict(lp, s) for lp in p.inner],
+                       **_marks_to_dict(p, s)})
     return {"format": FORMAT, "version": VERSION, "units": units, "name": pattern.name,
-            "meta": pattern.meta, "panels": panels, "seams": seams}
+            "meta": pattern.meta, "panels": panels, "seams": seams_to_json(pattern.seams)}
+
+
+def seams_to_json(seams) -> list[dict]:
+    """The JSON list of seams (the pattern file's ``seams``, also the DXF side file's)."""
+    return [{"name": sm.name, "reverse": sm.reverse,
+             "a": {"panel": sm.a.panel, "edge": sm.a.edge, "range": [sm.a.start, sm.a.end]},
+             "b": {"panel": sm.b.panel, "edge": sm.b.edge, "range": [sm.b.start, sm.b.end]},
+             **({"ease": float(sm.ease)} if sm.ease else {})}
+            for sm in seams]
 
 
 def load_pattern(path) -> Pattern:

@@ -85,10 +85,48 @@ class Placement:
 
 
 @dataclass(frozen=True)
+class Notch:
+    """A notch: a mark on an edge where pieces are matched when sewing.
+
+    ``edge`` names an edge of the panel (outline or inner loop), ``t`` is the arc-length
+    fraction along it in [0, 1] (a notch at a turn point is at ``t = 0`` of the edge that
+    starts there), ``kind`` the notch's shape (``"slit"``, the usual cut; others as the file
+    names them).
+    """
+
+    edge: str
+    t: float
+    kind: str = "slit"
+
+
+@dataclass(frozen=True)
+class InnerLine:
+    """A line drawn on a panel but not cut (a dart leg, a pocket or placement line, a style
+    line): an open polyline ``points`` (k, 2) [m], k >= 2, in the panel frame. Kept and
+    written back, never meshed."""
+
+    name: str
+    points: tuple[tuple[float, float], ...]
+
+    def __post_init__(self):
+        object.__setattr__(self, "points", _point_tuple(self.points))
+
+
+def _point_tuple(points) -> tuple[tuple[float, float], ...]:
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    return tuple((float(x), float(y)) for x, y in pts)
+
+
+@dataclass(frozen=True)
 class Panel:
     """One piece of fabric: an outline, optional inner loops, a grainline and a name.
 
-    ``grainline`` is the warp direction in the panel frame, a unit 2-vector.
+    ``grainline`` is the warp direction in the panel frame, a unit 2-vector. ``notches``
+    mark places on its edges (:class:`Notch`). What a CAD file draws on the piece is kept
+    without being meshed: ``lines`` (:class:`InnerLine`), ``drill_holes`` ((k, 2) points
+    [m]) and ``cut_line``, the closed cut line ((k, 2) [m], last point not repeated) when
+    the outline is the sew line (the seam allowance lies between them; empty when the
+    outline is where the fabric is cut).
     """
 
     name: str
@@ -96,9 +134,17 @@ class Panel:
     inner: tuple[Loop, ...] = ()
     grainline: tuple[float, float] = (0.0, 1.0)
     placement: Placement = field(default_factory=Placement)
+    notches: tuple[Notch, ...] = ()
+    lines: tuple[InnerLine, ...] = ()
+    drill_holes: tuple[tuple[float, float], ...] = ()
+    cut_line: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self):
         object.__setattr__(self, "inner", tuple(self.inner))
+        object.__setattr__(self, "notches", tuple(self.notches))
+        object.__setattr__(self, "lines", tuple(self.lines))
+        object.__setattr__(self, "drill_holes", _point_tuple(self.drill_holes))
+        object.__setattr__(self, "cut_line", _point_tuple(self.cut_line))
         g = np.asarray(self.grainline, dtype=np.float64)
         with np.errstate(over="ignore"):
             n = float(np.linalg.norm(g))
