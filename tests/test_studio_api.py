@@ -151,3 +151,19 @@ def test_safety(client, folder):
     ok = client.post("/api/upload", files={"file": ("mine.json", good)})
     assert ok.status_code == 200 and ok.json()["panels"] == 2
     assert client.get("/api/state").json()["info"]["source"] == "uploaded mine.json"
+
+
+def test_verdict_shows_only_the_reports_verdict_keys(client, monkeypatch):
+    """The page shows the report's ``verdict``/``region_verdicts`` when it has them, and
+    nothing for an undraped or edited state."""
+    from patternfit.studio import exports
+
+    studio = client.app.state.studio
+    if studio.session.positions is None:
+        assert client.get("/api/verdict").json() == {}
+        return
+    assert set(client.get("/api/verdict").json()) <= set(exports.VERDICT_KEYS)
+    monkeypatch.setattr(exports, "fit_report", lambda *a, **k: {
+        "fitting_ratio": 1.0, "verdict": "fits", "region_verdicts": {"waist": "tight"}})
+    assert client.get("/api/verdict").json() == {"verdict": "fits",
+                                                 "region_verdicts": {"waist": "tight"}}

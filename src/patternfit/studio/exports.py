@@ -48,7 +48,27 @@ def export(studio: Studio, name: str) -> bytes:
                                                   s.mesh.n_vertices, weights=fit.area_2d))
             path = export_garment(s.positions, s.mesh.triangles, rgb, path)
         else:
-            path = write_report(fit_report(s.mesh, s.evaluate(), state="draped",
-                                           extra={"checks": s.state.checks,
-                                                  "history": s.summary()}), path)
+            path = write_report(report(s), path)
         return Path(path).read_bytes()
+
+
+def report(s) -> dict:
+    """The fit report of session ``s``'s draped state (what ``report.json`` holds)."""
+    return fit_report(s.mesh, s.evaluate(), state="draped",
+                      extra={"checks": s.state.checks, "history": s.summary()})
+
+
+#: the report's keys of a fit verdict, shown by the page when the report has them
+VERDICT_KEYS = ("verdict", "region_verdicts")
+
+
+def verdict(studio: Studio) -> dict:
+    """The fit verdict of the current drape: the report's ``VERDICT_KEYS`` it has (none when
+    the report gives no verdict, or nothing is draped, or the drape is older than the
+    pattern)."""
+    with studio.lock:
+        s = studio.ensure()
+        if s.positions is None or stale_maps(s):
+            return {}
+        full = report(s)
+    return {k: full[k] for k in VERDICT_KEYS if k in full}

@@ -96,6 +96,7 @@ def geometry(s) -> Payload:
     panels = []
     for p in s.pattern.panels:
         loops = [{"name": lp.name, "edges": [{"name": e.name, "kind": e.kind,
+                                              "length": e.length,
                                               "points": np.asarray(e.points).tolist(),
                                               "polyline": e.point_at(np.linspace(0, 1, 24)
                                                                      ).tolist()}
@@ -103,7 +104,9 @@ def geometry(s) -> Payload:
                  for lp in p.loops]
         panels.append({"name": p.name, "loops": loops})
     seams = [{"name": sm.name, "a": [sm.a.panel, sm.a.edge], "b": [sm.b.panel, sm.b.edge],
-              "ease": getattr(sm, "ease", None)}
+              "spans": [[sm.a.start, sm.a.end], [sm.b.start, sm.b.end]],
+              "lengths": [s.pattern.seam_side_length(sm.a), s.pattern.seam_side_length(sm.b)],
+              "ease": sm.ease, "reverse": sm.reverse}
              for sm in s.pattern.seams]
     arrays = {"vertices": f4(mesh.vertices), "triangles": i4(mesh.triangles),
               "triangle_panel": i4(mesh.triangle_panel)}

@@ -92,6 +92,9 @@ _PHRASES = [
     (re.compile(r"\bmissing (\d+) required (?:positional|keyword-only) arguments?: "),
      r"needs "),
     (re.compile(r"\bargs: "), ""),
+    # the command line's fix for an unsewn pattern is the seam tool in the studio
+    (re.compile(r"patternfit seams \S+ --suggest --accept \(or (?:add seams with )?--set\)"),
+     "open the seam tool (key s) and sew the pieces, or take its suggestions"),
     # a grade's factors are shown as percentages in the page
     (re.compile(r"\bs([xy]): expected a number in \[([\d.e+-]+), ([\d.e+-]+)\], got ([\d.e+-]+)"),
      lambda m: f"the {'width' if m[1] == 'x' else 'length'} must stay between "

@@ -8,7 +8,7 @@ import mimetypes
 from fastapi import APIRouter, Depends, HTTPException, Request
 from fastapi.responses import Response
 
-from ..exports import EXPORTS, export as export_bytes
+from ..exports import EXPORTS, export as export_bytes, verdict as verdict_of
 from ..payload import garment3d as garment_payload
 from ..requests import Revisioned, body, in_worker, studio_of
 from ..state import Refused, Studio
@@ -55,6 +55,13 @@ async def garment3d(request: Request, studio: Studio = Depends(studio_of)):
                 raise Refused("nothing draped yet")
             return garment_payload(s)
     return (await in_worker(read)).response(request)
+
+
+@router.get("/verdict")
+async def verdict(studio: Studio = Depends(studio_of)):
+    """The drape's fit verdict where the report gives one (``verdict``,
+    ``region_verdicts``); ``{}`` otherwise."""
+    return await in_worker(verdict_of, studio)
 
 
 @router.get("/export/{name}")

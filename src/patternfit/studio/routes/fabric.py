@@ -4,11 +4,12 @@ fabric put into the session."""
 
 from __future__ import annotations
 
-from typing import Literal
+from dataclasses import replace
+from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, Request
 from fastapi.responses import Response
-from pydantic import BaseModel, ConfigDict, StrictStr
+from pydantic import AfterValidator, BaseModel, ConfigDict
 
 from ... import api
 from ..requests import Revisioned, body, in_worker, studio_of
@@ -17,27 +18,18 @@ from ..state import Refused, Studio
 router = APIRouter(prefix="/api/fabric")
 
 
-class FabricValues(BaseModel):
-    """A fabric's constants, SI units (as ``Fabric``: kg/m^2, N/m, N m, -, m); the ranges
-    are checked by ``Fabric`` itself."""
+def _named(fabric):
+    """A fabric's name as the page shows it and the session stores it: 1 to 60 characters,
+    no slashes (a ``Fabric``'s numbers are checked by ``Fabric`` itself)."""
+    name = fabric.name.strip() if isinstance(fabric.name, str) else ""
+    if not name or len(name) > 60 or any(c in name for c in "/\\\0"):
+        raise ValueError("name: a name of 1 to 60 characters, without slashes")
+    return replace(fabric, name=name)
 
-    model_config = ConfigDict(extra="forbid")
-    name: StrictStr
-    density: float
-    stretch_warp: float
-    stretch_weft: float
-    shear: float
-    bending_warp: float
-    bending_weft: float
-    friction: float
-    thickness: float
 
-    def fabric(self):
-        """The checked ``Fabric`` (a value out of its plausible range: ``FabricError``)."""
-        name = self.name.strip()
-        if not name or len(name) > 60 or any(c in name for c in "/\\\0"):
-            raise ValueError("name: a name of 1 to 60 characters, without slashes")
-        return api.read_fabric(api.Fabric(**{**self.model_dump(), "name": name}))
+#: a fabric's constants in a request, SI units as ``Fabric`` (kg/m^2, N/m, N m, -, m): the
+#: dataclass itself checks them (a value out of its plausible range names the field)
+FabricValues = Annotated[api.Fabric, AfterValidator(_named)]
 
 
 class FabricTest(BaseModel):
@@ -64,10 +56,9 @@ def fabrics(studio: Studio = Depends(studio_of)):
 
 
 @router.post("/test")
-async def start_test(req: FabricTest = Depends(body(FabricTest)), request: Request = None):
+async def start_test(request: Request, req: FabricTest = Depends(body(FabricTest))):
     lab = request.app.state.fabric_lab
-    fabric = await in_worker(req.fabric.fabric)
-    lab.start(req.test, fabric)
+    lab.start(req.test, req.fabric)
     return lab.job.as_dict()
 
 
@@ -94,7 +85,7 @@ def test_picture(request: Request):
 async def use_fabric(req: UseFabric = Depends(body(UseFabric)),
                      studio: Studio = Depends(studio_of)):
     def run():
-        fabric = req.fabric.fabric()
+        fabric = req.fabric
         studio.start_from(fabric=fabric, labels={"fabric": fabric.name},
                           revision=req.revision)
         return {"ok": True, "revision": studio.revision, "name": fabric.name}

@@ -4,6 +4,7 @@ import { Editor } from "/static/editor.js";
 import { View3D } from "/static/view3d.js";
 import { getArrays } from "/static/arrays.js";
 import { FabricEditor } from "/static/fabric.js";
+import { SeamTool } from "/static/seams.js";
 
 const $ = (id) => document.getElementById(id);
 // revision: the session version this tab last saw; stale: another tab changed the session
@@ -71,9 +72,12 @@ const editor = new Editor($("mesh2d"), $("overlay"), {
   onDrag: dragPreview, onDrop: (h, offset) => applyEdit(h, offset),
   onSelect: (h) => { $("selected").textContent = `selected: ${h.key} (${h.op.replace("_", " ")})`; done("edit"); },
   onClickPanel: insertDart, scaleEl: $("scale"), readoutEl: $("readout"),
+  onPick: () => seamTool.showPicked(),
   onTape: (text) => { $("tape-readout").textContent = text ? `tape: ${text}` : "drag from one point to another; shift-drag pans"; },
 });
 $("fit-btn").onclick = () => editor.fit();
+const seamTool = new SeamTool({ editor, edit: (op, args) => edit(op, args), api: (path) => api(path) });
+studio.seamTool = seamTool;
 studio.editor = editor;
 const view = new View3D($("view3d"), {
   onHover: (t, value) => {
@@ -111,16 +115,24 @@ async function refresh({ geometry = true } = {}) {
   if (s.save_error) message(s.save_error, "error", "save"); else done("save");
   $("drape-btn").textContent = s.draped || s.history.some((h) => h.fitting_ratio !== null) ? "Re-drape" : "Drape";
   if (geometry) {
+    // the garment is fetched when its drape changed (an edit keeps the drape: it is only
+    // marked "not re-draped"), at the same time as the geometry
+    const garmentChanged = s.drape_id !== studio.drapeId || !s.draped;
+    const garment = garmentChanged && s.draped ? getArrays("/api/garment3d") : null;
     studio.geometry = await getArrays("/api/geometry");
     editor.setGeometry(studio.geometry);
+    seamTool.show();
     $("grade-panel").innerHTML = studio.geometry.panel_names.map((n) => `<option>${n}</option>`).join("");
-    // the garment is fetched when its drape changed (an edit keeps the drape: it is only
-    // marked "not re-draped")
-    if (s.drape_id !== studio.drapeId || !s.draped) {
-      view.setGarment(s.draped ? await getArrays("/api/garment3d") : null);
+    if (garmentChanged) {
+      view.setGarment(garment ? await garment : null);
       studio.drapeId = s.drape_id;
     }
     view.setStale(s.maps_stale);
+    const verdictKey = `${s.drape_id}/${s.maps_stale}`;
+    if (verdictKey !== studio.verdictKey) {
+      studio.verdictKey = verdictKey;
+      showVerdict(s.draped && !s.maps_stale ? await api("/api/verdict") : {});
+    }
     showLegend();
   }
   // maps of a drape older than the pattern: greyed, and said so
@@ -149,6 +161,15 @@ function showFields(fields) {
     sel.value = v;
   }
   $("triangles").value = fields.triangles;
+}
+
+// the report's fit verdict, where it gives one (overall and per region); else nothing
+function showVerdict(v) {
+  const el = $("verdict"), regions = v.region_verdicts;
+  el.hidden = v.verdict === undefined && regions === undefined;
+  const words = (x) => (typeof x === "string" ? x : JSON.stringify(x));
+  el.textContent = el.hidden ? "" : [v.verdict !== undefined ? `verdict: ${words(v.verdict)}` : "",
+    regions ? Object.entries(regions).map(([k, x]) => `${k}: ${words(x)}`).join(" · ") : ""].filter(Boolean).join("\n");
 }
 
 const FAILED_RED = "#ff6b6b";
@@ -327,7 +348,8 @@ document.addEventListener("keydown", (e) => {
   if (plain && e.key === "f") { editor.fit(); e.preventDefault(); return; }
   if (plain && !e.shiftKey && TOOL_KEYS[e.key]) { setTool(TOOL_KEYS[e.key]); e.preventDefault(); return; }
   if (plain && (e.key === "Delete" || e.key === "Backspace")) {
-    if (editor.tape) { editor.clearTape(); e.preventDefault(); }
+    if (editor.tool === "seam") { if (seamTool.deleteSelected()) e.preventDefault(); }
+    else if (editor.tape) { editor.clearTape(); e.preventDefault(); }
     return;
   }
   if (!(e.ctrlKey || e.metaKey) || e.altKey || inTextField(document.activeElement)) return;
@@ -348,7 +370,7 @@ function setTool(tool) {
 }
 for (const r of document.querySelectorAll("input[name=tool]")) r.onchange = () => setTool(r.value);
 setTool("point");
-const TOOL_KEYS = { p: "point", e: "edge", c: "curve", d: "dart", g: "grade", m: "measure" };
+const TOOL_KEYS = { p: "point", e: "edge", c: "curve", d: "dart", g: "grade", m: "measure", s: "seam" };
 $("tape-clear").onclick = () => editor.clearTape();
 $("show-mesh").onchange = () => { editor.showMesh = $("show-mesh").checked; editor.drawMesh(); };
 $("snap-points").onchange = () => { editor.snapPoints = $("snap-points").checked; };
@@ -499,8 +521,9 @@ async function start() {
   for (const a of $("exports").querySelectorAll("a")) a.onclick = download;
   $("correct-btn").disabled = !o.correct_available;
   $("correct-btn").title = o.correct_available ? "" : "automatic correction is not available in this version";
+  const body = getArrays("/api/body");  // fetched while the session loads
   await refresh();  // the session fields come from /api/state (showFields)
-  view.setBody(await getArrays("/api/body"));
+  view.setBody(await body);
   document.body.dataset.ready = "1";
 }
 start().catch(fail);

@@ -24,7 +24,7 @@ const SEAM_COLOURS = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#1
                       "#8c564b", "#e377c2", "#bcbd22", "#7f7f7f"];
 
 export class Editor {
-  constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel, onStale, onTape, scaleEl, readoutEl }) {
+  constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel, onStale, onTape, onPick, scaleEl, readoutEl }) {
     this.canvas = canvas; this.svg = svg;
     this.scaleEl = scaleEl || null; this.readoutEl = readoutEl || null;
     this.k = 1; this.fitK = 1; this.ox = PAD; this.oy = 0; this.userView = false; this.viewKey = null;
@@ -32,6 +32,9 @@ export class Editor {
     this.onDrag = onDrag; this.onDrop = onDrop; this.onSelect = onSelect;
     this.onClickPanel = onClickPanel;
     this.onTape = onTape || (() => {});
+    // the seam tool: the edges picked ({panel, edge}, at most two) and the seam selected
+    this.onPick = onPick || (() => {});
+    this.picked = []; this.seamSelected = null;
     this.snapPoints = true; this.snapGrid = false; this.tape = null; this.snapMark = null;
     // called when a preview does not fit the mesh shown (its vertex count differs): the
     // page should fetch the geometry again; without it the editor fetches it itself
@@ -504,6 +507,7 @@ export class Editor {
                                   y: this.sy(p, Math.max(...ys)) - 6, class: "panel-name", "text-anchor": "middle" });
       t.textContent = panel.name;
     });
+    if (this.tool === "seam") this.drawEdgeTargets();
     this.handleList = this.handles();
     this.handleList.forEach((h, i) => {
       const el = this.el("circle", { cx: this.sx(h.p, h.x), cy: this.sy(h.p, h.y), r: 6,
@@ -514,6 +518,23 @@ export class Editor {
     this.snapEl = null;
     this.drawTape();
   }
+
+  // the seam tool's targets: each edge as a wide transparent stroke to click, the picked
+  // ones and the selected seam's sides tinted
+  drawEdgeTargets() {
+    const sel = this.geo.seams.find((s) => s.name === this.seamSelected);
+    const sides = new Set(sel ? [sel.a.join("/"), sel.b.join("/")] : []);
+    const picked = new Set(this.picked.map((q) => `${q.panel}/${q.edge}`));
+    this.geo.panels.forEach((panel, p) => panel.loops.forEach((loop) => loop.edges.forEach((e) => {
+      const key = `${panel.name}/${e.name}`;
+      this.el("path", { d: this.pathOf(p, e.polyline), "data-panel": panel.name, "data-edge": e.name,
+                        class: "edge-hit" + (picked.has(key) ? " picked" : "") + (sides.has(key) ? " seam-selected" : "") });
+    })));
+  }
+
+  pickEdges(list) { this.picked = list.slice(0, 2); this.drawOverlay(); this.onPick(this.picked); }
+
+  highlightSeam(name) { this.seamSelected = name; this.drawOverlay(); }
 
   setTool(tool) {
     if (this.drag) return;
@@ -600,6 +621,16 @@ export class Editor {
 
   pointerDown(e) {
     const i = e.target.getAttribute && e.target.getAttribute("data-index");
+    const edge = e.target.getAttribute && e.target.getAttribute("data-edge");
+    if (this.geo && this.tool === "seam" && edge) {
+      // a third pick starts a new pair
+      const q = { panel: e.target.getAttribute("data-panel"), edge };
+      const same = this.picked.findIndex((x) => x.panel === q.panel && x.edge === q.edge);
+      if (same >= 0) this.pickEdges(this.picked.filter((_, k) => k !== same));
+      else this.pickEdges(this.picked.length >= 2 ? [q] : [...this.picked, q]);
+      e.preventDefault();
+      return;
+    }
     if (this.geo && this.tool === "measure" && e.button === 0 && !e.shiftKey) {
       // the tape: from here to where the pointer is released
       const a = this.tapeEnd(e);
