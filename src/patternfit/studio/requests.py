@@ -27,6 +27,9 @@ from ..sim.fabrics import FABRICS
 from .guard import read_capped
 from .state import ENGINES, Studio
 
+#: bodies up to this size [bytes] are parsed on the server's loop (microseconds); larger
+#: ones, up to ``limits.json_body_bytes``, in a worker thread
+INLINE_BODY = 16 * 1024
 #: triangle counts a new session may ask for
 TRIANGLES = (100, 60000)
 
@@ -119,6 +122,8 @@ def body(model: type[BaseModel]):
     """A FastAPI dependency: the request's JSON body checked as ``model``."""
     async def read(request: Request) -> BaseModel:
         raw = await read_capped(request, limits.json_body_bytes, "request body")
+        if len(raw) <= INLINE_BODY:  # a drag's few hundred bytes: no thread hop per frame
+            return parse_body(raw, model)
         return await in_worker(parse_body, raw, model)
     return read
 
