@@ -1,10 +1,14 @@
 """The studio at the 22K coat in headless Chromium: page load of a draped session, live drag
 rate, release of a drag to the applied edit; this tree against an older commit.
 
-    python benchmarks/studio.py [--triangles 22000] [--seconds 4] [--old 75ecbe1]
+    python benchmarks/studio.py [--triangles 22000] [--seconds 4] [--old 75ecbe1] [--repeat 3]
 
 Prints one table, a row per tree (``--old REF``: the package of that commit, extracted with
-``git archive`` into a temporary folder, measured by this same script in a subprocess):
+``git archive`` into a temporary folder, measured by this same script in a subprocess). The
+draped session is made once (by the oldest tree, whose files every later one reads) and
+each measurement starts from a copy of it; with ``--repeat N`` the trees take turns N times
+(each row in a process of its own) and the table gives each figure's median, so that a
+machine whose load changes meets both alike:
 
 - load [s]: page opened until ready (options, state, geometry, garment and body drawn),
   median of 3 loads of the draped session; MB: bytes of /api/geometry, /api/garment3d
@@ -22,6 +26,7 @@ Issue 22's targets: load <= 1 s, exact >= 15/s, ms/frame <= 4, release <= 0.5 s.
 from __future__ import annotations
 
 import argparse
+import io
 import json
 import os
 import shutil
@@ -72,21 +77,31 @@ SIZES = """async () => {
 }"""
 
 
-def measure(triangles: int, seconds: float) -> dict:
-    """One tree's row (the ``patternfit`` on ``sys.path``)."""
+def prepare(folder: str, triangles: int) -> None:
+    """A studio session in ``folder``: the coat on male_average, draped."""
+    from patternfit.studio.state import Studio
+
+    studio = Studio(folder)
+    studio.new(garment="coat", body="male_average", triangles=triangles)
+    studio.start_drape()
+    studio.wait()
+    if studio.session.positions is None:
+        raise SystemExit(f"the drape failed: {studio.job.error}")
+
+
+def measure(session: str, seconds: float) -> dict:
+    """One tree's row (the ``patternfit`` on ``sys.path``), on a copy of the draped
+    ``session`` folder."""
     import uvicorn
     from playwright.sync_api import sync_playwright
 
     from patternfit.studio import create_app
     from patternfit.studio.server import HOST, free_port
 
-    app = create_app(tempfile.mkdtemp())
+    folder = Path(tempfile.mkdtemp()) / "studio"
+    shutil.copytree(session, folder)
+    app = create_app(folder)
     studio = app.state.studio
-    studio.new(garment="coat", body="male_average", triangles=triangles)
-    studio.start_drape()
-    studio.wait()
-    if studio.session.positions is None:
-        raise SystemExit(f"the drape failed: {studio.job.error}")
     mesh = studio.session.mesh
     corner = mesh.edge_names[1][1]
     key = f"front/{corner}"
@@ -126,19 +141,21 @@ def measure(triangles: int, seconds: float) -> dict:
     return row
 
 
-def old_row(ref: str, triangles: int, seconds: float) -> dict:
-    """The row of commit ``ref``: its ``src`` extracted, this script run over it."""
+def extract(ref: str, into: str) -> str:
+    """The ``src`` folder of commit ``ref``, extracted under ``into``."""
     root = Path(__file__).resolve().parent.parent
-    with tempfile.TemporaryDirectory() as tmp:
-        archive = subprocess.run(["git", "-C", str(root), "archive", ref, "src"],
-                                 check=True, capture_output=True).stdout
-        with tarfile.open(fileobj=__import__("io").BytesIO(archive)) as tar:
-            tar.extractall(tmp, filter="data")
-        env = {**os.environ, "PYTHONPATH": str(Path(tmp) / "src")}
-        out = subprocess.run([sys.executable, __file__, "--triangles", str(triangles),
-                              "--seconds", str(seconds), "--row"], env=env, check=True,
-                             capture_output=True, text=True).stdout
-    return json.loads(out.strip().splitlines()[-1])
+    archive = subprocess.run(["git", "-C", str(root), "archive", ref, "src"],
+                             check=True, capture_output=True).stdout
+    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+        tar.extractall(into, filter="data")
+    return str(Path(into) / "src")
+
+
+def run(src: str | None, *args: str) -> str:
+    """This script run in a process of its own over ``src`` (None: this tree's)."""
+    env = dict(os.environ) if src is None else {**os.environ, "PYTHONPATH": src}
+    return subprocess.run([sys.executable, __file__, *args], env=env, check=True,
+                          capture_output=True, text=True).stdout
 
 
 def main():
@@ -146,22 +163,36 @@ def main():
     ap.add_argument("--triangles", type=int, default=22000)
     ap.add_argument("--seconds", type=float, default=4.0)
     ap.add_argument("--old", default=None, help="a commit to compare with (e.g. 75ecbe1)")
-    ap.add_argument("--row", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--repeat", type=int, default=1, help="turns of each tree (medians)")
+    ap.add_argument("--row", default=None, help=argparse.SUPPRESS)  # a session to measure
+    ap.add_argument("--prepare", default=None, help=argparse.SUPPRESS)  # a folder to fill
     a = ap.parse_args()
-    if a.row:  # one tree's measurement, as JSON (for --old)
-        print(json.dumps(measure(a.triangles, a.seconds)))
+    if a.prepare:
+        prepare(a.prepare, a.triangles)
         return
-    rows = []
-    if a.old:
-        rows.append((a.old, old_row(a.old, a.triangles, a.seconds)))
-    rows.append(("this tree", measure(a.triangles, a.seconds)))
+    if a.row:  # one tree's measurement, as JSON
+        print(json.dumps(measure(a.row, a.seconds)))
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        trees = [(a.old, extract(a.old, tmp))] if a.old else []
+        trees.append(("this tree", None))
+        session = str(Path(tmp) / "session")
+        run(trees[0][1], "--prepare", session, "--triangles", str(a.triangles))
+        runs = {name: [] for name, _ in trees}
+        for _ in range(a.repeat):
+            for name, src in trees:
+                out = run(src, "--row", session, "--seconds", str(a.seconds))
+                runs[name].append(json.loads(out.strip().splitlines()[-1]))
+    rows = [(name, {k: statistics.median(r[k] for r in rs) for k in rs[0]})
+            for name, rs in runs.items()]
     print(f"{'tree':<10}{'triangles':>10}{'load [s]':>10}{'MB':>7}{'moves/s':>9}"
           f"{'frames/s':>10}{'exact/s':>9}{'ms/frame':>10}{'release [s]':>13}")
     for name, r in rows:
         print(f"{name:<10}{r['triangles']:>10}{r['load']:>10.2f}{r['mb']:>7.2f}"
               f"{r['moves']:>9.1f}{r['frames']:>10.1f}{r['exact']:>9.1f}{r['ms_frame']:>10.2f}"
               f"{r['release']:>13.2f}")
-    print("targets (issue 22): load <= 1 s, exact >= 15/s, ms/frame <= 4, release <= 0.5 s")
+    print(f"medians of {a.repeat} turn(s) each; targets (issue 22): load <= 1 s, exact >= 15/s, "
+          "ms/frame <= 4, release <= 0.5 s")
 
 
 if __name__ == "__main__":
