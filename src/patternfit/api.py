@@ -54,8 +54,8 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "DesignSession", "FABRIC_RANGES", "FABRIC_TESTS", "Fabric", "FabricError",
            "FitOutcome", "InputError", "PatternError", "SeamSuggestion", "accept_seams",
            "add_seam", "check_sewn", "correct", "correct_design", "design_session",
-           "drafted_too_small", "drape_and_evaluate", "evaluate_saved", "fabric_test",
-           "list_bodies", "list_engines", "list_fabrics", "list_garments", "mesh_garment",
+           "drafted_too_small", "drape_and_evaluate", "evaluate_drape", "evaluate_saved",
+           "fabric_test", "list_bodies", "list_engines", "list_fabrics", "list_garments", "mesh_garment",
            "place_and_evaluate", "placed_fitting_ratio", "read_body", "read_fabric",
            "read_pattern", "remove_seam", "save_any_pattern", "save_garment", "seam_table",
            "set_seam_ease", "suggest_seams", "write_fabric_test_picture", "write_pattern"]
@@ -112,6 +112,14 @@ def write_fabric_test_picture(result, path) -> Path | None:
     if isinstance(result, kit.CantileverResult) and result.shape is not None:
         return kit.write_cantilever_picture(result, path)
     return None
+
+
+def evaluate_drape(mesh: GarmentMesh, positions: np.ndarray, *, tight: float = 0.02,
+                   loose: float = 0.02) -> FitResult:
+    """The fit of ``mesh`` draped at ``positions`` ((n, 3) [m], one row per flat vertex):
+    area change, warp/weft stretch per triangle and ϖ, as ``DesignSession.evaluate`` gives
+    for its current state (``tight``/``loose``: the fit bands [-])."""
+    return FitEvaluator(mesh, tight=tight, loose=loose)(positions)
 
 
 def list_engines() -> dict[str, str | None]:

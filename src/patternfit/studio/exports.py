@@ -39,7 +39,7 @@ def export(studio: Studio, name: str) -> bytes:
             save_any_pattern(s.pattern, path, fit=colours)
         elif s.positions is None:
             raise Refused("there is no drape to export yet: drape the garment first")
-        elif stale_maps(s):
+        elif stale_maps(s.state):
             raise Refused("the 3D state is from the drape before the last edit: re-drape "
                           "first")
         elif kind == "garment":
@@ -68,7 +68,7 @@ def verdict(studio: Studio) -> dict:
     pattern)."""
     with studio.lock:
         s = studio.ensure()
-        if s.positions is None or stale_maps(s):
+        if s.positions is None or stale_maps(s.state):
             return {}
         full = report(s)
     return {k: full[k] for k in VERDICT_KEYS if k in full}

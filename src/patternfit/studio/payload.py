@@ -20,6 +20,7 @@ import numpy as np
 from fastapi import Request
 from fastapi.responses import JSONResponse, Response
 
+from .. import api
 from ..fit.colormap import FitScale
 from .state import STRETCH_SCALE
 
@@ -81,17 +82,18 @@ def rgb(colors) -> np.ndarray:
     return np.round(np.asarray(colors) * 255).astype("|u1")
 
 
-def stale_maps(s) -> bool:
-    """Whether the current state shows the 3D state of an older drape: after an edit (or a
-    stopped drape) the state keeps the last drape's positions as the next re-drape's start,
-    and its ϖ is unknown until re-draped. Its maps are not the edited pattern's fit."""
-    return s.positions is not None and s.state.fitting_ratio is None
+def stale_maps(st) -> bool:
+    """Whether history state ``st`` shows the 3D state of an older drape: after an edit (or
+    a stopped drape) the state keeps the last drape's positions as the next re-drape's
+    start, and its ϖ is unknown until re-draped. Its maps are not the edited pattern's fit."""
+    return st.positions is not None and st.fitting_ratio is None
 
 
 def geometry(s) -> Payload:
-    """The 2D picture of the current state of session ``s``: pattern outlines, the mesh
-    (flat vertices (n, 2) [m], triangles (m, 3), the panel of each triangle), and the fit
-    colours of the last drape (``stale`` when they are not this pattern's)."""
+    """The 2D picture of history state ``s`` (a session's ``state``, whose pattern and mesh
+    are never replaced: read without the session's lock): pattern outlines, the mesh (flat
+    vertices (n, 2) [m], triangles (m, 3), the panel of each triangle), and the fit colours
+    of the last drape (``stale`` when they are not this pattern's)."""
     mesh = s.mesh
     panels = []
     for p in s.pattern.panels:
@@ -113,7 +115,7 @@ def geometry(s) -> Payload:
     header = {"panels": panels, "seams": seams, "panel_names": list(mesh.panel_names),
               "colors": None, "stale": stale_maps(s)}
     if s.positions is not None:
-        fit = s.evaluate()
+        fit = api.evaluate_drape(mesh, s.positions)
         del header["colors"]
         arrays["colors"] = rgb(FitScale().colors(fit.area_change))
         arrays["area_change"] = f4(fit.area_change)
@@ -121,9 +123,10 @@ def geometry(s) -> Payload:
 
 
 def garment3d(s) -> Payload:
-    """The draped garment: positions (n, 3) [m], triangles, the three fit maps (values and
-    colours per triangle) with their legends; ``stale`` as in :func:`geometry`."""
-    fit = s.evaluate()
+    """The draped garment of history state ``s``: positions (n, 3) [m], triangles, the
+    three fit maps (values and colours per triangle) with their legends; ``stale`` as in
+    :func:`geometry`."""
+    fit = api.evaluate_drape(s.mesh, s.positions)
     scale = FitScale()
     maps = {"area_change": (fit.area_change, scale), "warp": (fit.warp - 1, STRETCH_SCALE),
             "weft": (fit.weft - 1, STRETCH_SCALE)}

@@ -357,6 +357,12 @@ class Studio:
         if revision is not None and revision != self.revision:
             raise StaleRevision(revision, self.revision)
 
+    def current(self):
+        """The session's current history state, read without waiting for the lock (a state's
+        pattern and mesh are never replaced; its positions only by a whole new array)."""
+        s = self.session
+        return (s if s is not None else self.ensure()).state
+
     def ensure(self) -> api.DesignSession:
         """The session, starting the default one (built-in skirt) when there is none."""
         with self.lock:

@@ -49,11 +49,10 @@ def drape_stop(studio: Studio = Depends(studio_of)):
 @router.get("/garment3d")
 async def garment3d(request: Request, studio: Studio = Depends(studio_of)):
     def read():
-        with studio.lock:
-            s = studio.ensure()
-            if s.positions is None:
-                raise Refused("nothing draped yet")
-            return garment_payload(s)
+        st = studio.current()  # no lock, as the geometry
+        if st.positions is None:
+            raise Refused("nothing draped yet")
+        return garment_payload(st)
     return (await in_worker(read)).response(request)
 
 
