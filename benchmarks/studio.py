@@ -188,7 +188,7 @@ def main():
     print(f"{'tree':<10}{'triangles':>10}{'load [s]':>10}{'MB':>7}{'moves/s':>9}"
           f"{'frames/s':>10}{'exact/s':>9}{'ms/frame':>10}{'release [s]':>13}")
     for name, r in rows:
-        print(f"{name:<10}{r['triangles']:>10}{r['load']:>10.2f}{r['mb']:>7.2f}"
+        print(f"{name:<10}{int(r['triangles']):>10}{r['load']:>10.2f}{r['mb']:>7.2f}"
               f"{r['moves']:>9.1f}{r['frames']:>10.1f}{r['exact']:>9.1f}{r['ms_frame']:>10.2f}"
               f"{r['release']:>13.2f}")
     print(f"medians of {a.repeat} turn(s) each; targets (issue 22): load <= 1 s, exact >= 15/s, "
