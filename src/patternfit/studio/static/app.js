@@ -410,7 +410,10 @@ async function pollDrape() {
       $("progress").value = j.fraction;  // monotone: the server never lowers it
       const rounds = j.rounds.map((r) => (r.failed ? `round ${r.iteration}: failed (${clip(r.failed, 60)})` : `round ${r.iteration}: ϖ ${(100 * r.fitting_ratio).toFixed(2)} %, ${r.edits} edits`));
       const head = j.kind === "correct" ? `correcting: ${rounds.join("; ")}${rounds.length ? "; " : ""}` : "";
-      $("drape-status").textContent = head + (j.stopped ? "stopped: " : (j.stopping ? "stopping: " : "")) +
+      // a finished drape says so: its last phase's line is no longer what is running
+      const state = j.stopped ? "stopped: " : (j.stopping ? "stopping: " :
+        (j.running ? "" : (j.error ? "did not finish: " : "done: ")));
+      $("drape-status").textContent = head + state +
         `${phaseText(j)}, ${j.elapsed.toFixed(1)} s` + (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "");
       if (j.rounds.length > seen) { seen = j.rounds.length; await refresh(); }  // each round's edit shows
       if (!j.running) {
