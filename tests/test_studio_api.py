@@ -84,7 +84,9 @@ def test_edit_undo_redo_and_refusals(client, folder):
     unmatched = client.post("/api/edit", json={**EDIT, "args": {**EDIT["args"], "partner": False}})
     assert unmatched.status_code == 400 and "seam" in unmatched.json()["error"]
     assert client.post("/api/edit", json={"op": "rm_rf", "args": {}}).status_code == 400
-    # a restarted studio continues the saved session
+    # a restarted studio continues the saved session (edits are written in the background:
+    # flush waits for the writing, as the server does when it stops)
+    client.app.state.studio.flush()
     again = studio_client(create_app(folder, allowed_hosts=("testserver",)))
     assert len(again.get("/api/state").json()["history"]) == 2
 
@@ -93,7 +95,7 @@ def test_drape_progress_stop_and_exports(client):
     assert client.get("/api/export/garment.glb").status_code == 409  # nothing draped
     assert client.post("/api/drape").status_code == 200
     assert client.post("/api/drape").status_code == 409  # one at a time
-    assert client.post("/api/undo", json={}).status_code == 400  # no edits while draping
+    assert client.post("/api/undo", json={}).status_code == 409  # no edits while draping
     time.sleep(0.5)
     client.post("/api/drape/stop")
     studio = client.app.state.studio
@@ -149,3 +151,19 @@ def test_safety(client, folder):
     ok = client.post("/api/upload", files={"file": ("mine.json", good)})
     assert ok.status_code == 200 and ok.json()["panels"] == 2
     assert client.get("/api/state").json()["info"]["source"] == "uploaded mine.json"
+
+
+def test_verdict_shows_only_the_reports_verdict_keys(client, monkeypatch):
+    """The page shows the report's ``verdict``/``region_verdicts`` when it has them, and
+    nothing for an undraped or edited state."""
+    from patternfit.studio import exports
+
+    studio = client.app.state.studio
+    if studio.session.positions is None:
+        assert client.get("/api/verdict").json() == {}
+        return
+    assert set(client.get("/api/verdict").json()) <= set(exports.VERDICT_KEYS)
+    monkeypatch.setattr(exports, "fit_report", lambda *a, **k: {
+        "fitting_ratio": 1.0, "verdict": "fits", "region_verdicts": {"waist": "tight"}})
+    assert client.get("/api/verdict").json() == {"verdict": "fits",
+                                                 "region_verdicts": {"waist": "tight"}}

@@ -237,7 +237,7 @@ def test_heavy_work_does_not_stall_other_requests(app, monkeypatch):
 
 
 def test_heavy_work_has_a_time_limit(client, monkeypatch):
-    from patternfit.studio import app as app_module
+    from patternfit.studio import requests as app_module
 
     real_apply = DesignSession.apply
 

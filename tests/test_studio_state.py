@@ -53,7 +53,7 @@ def callbacks(monkeypatch):
 def test_state_holds_every_session_field(tmp_path):
     c = make_client(tmp_path)
     fields = {"garment": "skirt", "size": "L", "body": "female_thin", "fabric": "denim",
-              "engine": "default", "triangles": 600}
+              "engine": "static", "triangles": 600}
     assert c.post("/api/new", json=fields).status_code == 200
     assert c.get("/api/state").json()["fields"] == fields
     # a restarted studio (a reload after a restart) shows the same fields

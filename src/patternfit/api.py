@@ -53,20 +53,22 @@ from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
 from .sim.drape import Drape, drape
 from .sim.fabrics import FABRICS, Fabric, FabricError, get_fabric
-from .sim.newton_engine import drape_with
+from .sim.fabrics import RANGES as FABRIC_RANGES
+from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
 from .sim.placement import place_on_body, place_on_cylinders
 from .sim.solver import SolverSettings
 
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
-           "DesignSession", "FabricError", "FitOutcome", "GIRTHS", "InputError", "PatternError",
-           "SeamSuggestion", "SolverSettings", "Verdict", "VerdictRules", "accept_seams",
-           "add_seam", "body_from_measurements", "check_sewn", "correct", "correct_design",
-           "design_session", "drafted_too_small", "drape_and_evaluate", "evaluate_saved",
-           "list_bodies", "list_body_sets", "list_fabrics", "list_garments", "list_sizes",
+           "DesignSession", "FABRIC_RANGES", "FABRIC_TESTS", "Fabric", "FabricError", "FitOutcome",
+           "GIRTHS", "InputError", "PatternError", "SeamSuggestion", "SolverSettings", "Verdict",
+           "VerdictRules", "accept_seams", "add_seam", "body_from_measurements", "check_sewn",
+           "correct", "correct_design", "design_session", "drafted_too_small",
+           "drape_and_evaluate", "evaluate_drape", "evaluate_saved", "fabric_test", "list_bodies",
+           "list_body_sets", "list_engines", "list_fabrics", "list_garments", "list_sizes",
            "mesh_garment", "place_and_evaluate", "placed_fitting_ratio", "read_bodies",
            "read_body", "read_fabric", "read_pattern", "remove_seam", "save_any_pattern",
            "save_garment", "seam_table", "set_seam_ease", "suggest_seams", "verdict_rules",
-           "with_distance_field", "write_pattern"]
+           "with_distance_field", "write_fabric_test_picture", "write_pattern"]
 
 
 def list_garments() -> list[str]:
@@ -82,6 +84,67 @@ def list_sizes() -> list[str]:
 def list_fabrics() -> list[str]:
     """Names of the fabric presets."""
     return list(FABRICS)
+
+
+#: the virtual fabric tests :func:`fabric_test` runs
+FABRIC_TESTS = ("strip", "cantilever", "cusick")
+
+
+def fabric_test(test: str, fabric: Fabric | str | Path = DEFAULTS.fabric, *,
+                progress: Callable[[str], None] | None = None, **options):
+    """Run virtual fabric test ``test`` (one of :data:`FABRIC_TESTS`) on ``fabric`` (a
+    :class:`Fabric`, a preset name or a fabric JSON file) and return its result
+    (``.passed``, ``.to_dict()`` in SI units; see ``patternfit.sim.fabric_test``):
+
+    - ``"strip"``: a strip hanging under its own weight, its stretch against
+      rho g L^2 / (2k); options ``direction`` ("warp"/"weft"), ``length`` [m].
+    - ``"cantilever"``: Peirce's cantilever (ASTM D1388), the bending length against
+      (B / (rho g))^(1/3); options ``direction``, ``meshes`` (edges per bending length,
+      coarse to fine).
+    - ``"cusick"``: the Cusick drape coefficient and nodes; options ``specimen``, ``disc``
+      (diameters [m]), ``triangles``, ``seeds`` (the perturbed starts).
+
+    ``progress(text)`` is called as the test goes. Long (a Cusick test of 4000 triangles
+    and 5 starts takes minutes); KeyboardInterrupt stops it.
+    """
+    from .sim import fabric_test as kit
+
+    if test not in FABRIC_TESTS:
+        raise ValueError(f"test: expected one of {', '.join(FABRIC_TESTS)}, got {test!r}")
+    run = {"strip": kit.strip_test, "cantilever": kit.cantilever_test,
+           "cusick": kit.cusick_test}[test]
+    return run(read_fabric(fabric), progress=progress, **options)
+
+
+def write_fabric_test_picture(result, path) -> Path | None:
+    """The picture of a :func:`fabric_test` result as a PNG at ``path``: the Cusick test's
+    top view, or the cantilever's side view (a cantilever run with ``keep_shape=True``);
+    None for a test without one (the strip)."""
+    from .sim import fabric_test as kit
+
+    if isinstance(result, kit.CusickResult):
+        return kit.write_cusick_picture(result, path)
+    if isinstance(result, kit.CantileverResult) and result.shape is not None:
+        return kit.write_cantilever_picture(result, path)
+    return None
+
+
+def evaluate_drape(mesh: GarmentMesh, positions: np.ndarray, *, tight: float = 0.02,
+                   loose: float = 0.02) -> FitResult:
+    """The fit of ``mesh`` draped at ``positions`` ((n, 3) [m], one row per flat vertex):
+    area change, warp/weft stretch per triangle and ϖ, as ``DesignSession.evaluate`` gives
+    for its current state (``tight``/``loose``: the fit bands [-])."""
+    return FitEvaluator(mesh, tight=tight, loose=loose)(positions)
+
+
+def list_engines() -> dict[str, str | None]:
+    """The drape engines, each with None when it can run here or the reason it cannot (its
+    optional packages missing, with the install command). Nothing is imported: only
+    whether the packages are installed is looked up."""
+    from importlib.util import find_spec
+
+    return {name: None if name == "static" or all(find_spec(m) for m in ("newton", "warp"))
+            else NEWTON_MISSING for name in ENGINES}
 
 
 def read_pattern(source: Pattern | str | Path, *, size: str | None = None) -> Pattern:

@@ -238,32 +238,36 @@ class DesignSession:
         return result
 
     # -- editing -------------------------------------------------------------------------
-    def apply(self, op: str, *, label: str | None = None, **args):
+    def apply(self, op: str, *, label: str | None = None, cache=None, **args):
         """Apply the editing tool ``op`` (one of ``EDIT_OPS``) with ``args`` (lengths [m]).
 
         The mesh follows through the generalized barycentric coordinates when the edit keeps
         the panels' edges (re-meshing only panels whose quality demands it); an edit that
         adds edges (a new dart) re-meshes the garment. The 3D state is kept as the start of
         the next re-drape; ϖ is unknown until then. Returns the mesh update's report, or
-        None after a re-mesh. Redo history beyond the current state is dropped.
+        None after a re-mesh. Redo history beyond the current state is dropped. ``cache``:
+        an ``edit.CoordinateCache`` of the current mesh (the studio's live drag keeps one:
+        the edit then needs no coordinates computed again).
         """
         if op not in EDIT_OPS:
             raise ValueError(f"op: unknown edit {op!r} (known: {', '.join(EDIT_OPS)})")
         new_pattern = getattr(tools, op)(self.state.pattern, **args)
         return self.apply_pattern(new_pattern, label=label or _describe(op, args),
-                                  edit={"op": op, "args": args})
+                                  edit={"op": op, "args": args}, cache=cache)
 
     def apply_pattern(self, new_pattern: Pattern, *, label: str, edit: dict | None = None,
-                      min_angle: float | None = None):
+                      min_angle: float | None = None, cache=None):
         """Make ``new_pattern`` (an edit of the current pattern made elsewhere, e.g. by the
         automatic correction) the next state; the mesh follows as in :meth:`apply`, its
         panels re-meshed when their smallest angle falls below ``min_angle`` [degrees]
-        (default: ``edit.update_mesh``'s)."""
+        (default: ``edit.update_mesh``'s); ``cache`` as in :meth:`apply`."""
         old = self.state
         report = None
         quality = {} if min_angle is None else {"min_angle": float(min_angle)}
+        if cache is not None and cache.mesh is not old.mesh:
+            cache = None  # built for another state's mesh
         try:
-            mesh, report = tools.update_mesh(old.pattern, new_pattern, old.mesh,
+            mesh, report = tools.update_mesh(old.pattern, new_pattern, old.mesh, cache=cache,
                                              return_report=True, **quality)
             positions = old.positions if np.array_equal(mesh.triangles,
                                                          old.mesh.triangles) else None

@@ -35,3 +35,5 @@ def serve(session_dir, *, port: int | None = None, browser: bool = True, announc
         uvicorn.run(app, host=HOST, port=port, log_level="warning")
     finally:
         app.state.studio.stop_drape()
+        app.state.fabric_lab.stop()
+        app.state.studio.flush()  # the last edit written

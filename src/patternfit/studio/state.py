@@ -18,6 +18,8 @@ import shutil
 import tempfile
 import threading
 import time
+import zlib
+from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -35,6 +37,7 @@ from ..loop.session import holds_session
 from ..pattern.library import GARMENTS
 from ..pattern.sizes import SIZE_NAMES
 from ..sim.fabrics import FABRICS
+from .words import describe_edit, designer_message
 
 #: triangle count of a new session's garment mesh unless asked otherwise
 #: what an upload may be, with the file endings each kind is read from
@@ -45,8 +48,9 @@ UPLOAD_SUFFIXES = {"pattern": (".json", ".dxf"),
 DRAG_OPS = ("move_point", "move_edge", "edit_curve", "move_dart")
 #: relative stretch at which the warp/weft colours saturate [-]
 STRETCH_SCALE = FitScale(limit=0.10, band=0.01)
-#: the simulation engines a session can take (the session has no engine choice yet)
-ENGINES = ("default",)
+#: the drape engines a studio session can take: the design session drapes with the static
+#: (quasi-static) solver only; ``api.list_engines()`` lists the others and whether installed
+ENGINES = ("static",)
 #: the phases of a drape, as ``patternfit.sim.drape`` runs them (each one solver run):
 #: a drape from the placement sews (no gravity, until the seams weld), relaxes the sewn
 #: garment (no gravity) and drapes under gravity; a mesh larger than three times the coarse
@@ -57,8 +61,15 @@ PHASE_WORDS = {"sewing": "closing the seams", "relaxing": "relaxing the sewn gar
 #: iterations a phase is expected to take, to spread the bar within it (a phase's end is
 #: seen when the solver starts its next run: the bar then jumps to that phase's start)
 _PHASE_ITERATIONS = {"sewing": 150, "relaxing": 300, "draping": 600, "settling": 300}
+#: states whose drag coordinates are kept (the current one and the last few undone)
+COORDINATE_STATES = 4
 #: ``patternfit.sim.drape.drape``'s default coarse size [triangles]
 _COARSE = 2000
+
+
+class Refused(RuntimeError):
+    """A request that cannot be done in the session's present state (HTTP 409): a change
+    while a drape runs, an export of a drape that is not there."""
 
 
 class StaleRevision(Exception):
@@ -201,7 +212,16 @@ class Studio:
         self.revision = 0
         self.job = DrapeJob()
         self._thread: threading.Thread | None = None
-        self._drag: tuple | None = None  # (state object, CoordinateCache)
+        #: the coordinates of recent states' meshes (state key -> CoordinateCache), newest
+        #: last: drags, the edit a drag ends in, and undo back to a state reuse them
+        self._coords: OrderedDict[str, CoordinateCache] = OrderedDict()
+        self._warming: threading.Thread | None = None
+        # the background saver of edits (see _save)
+        self._save_lock = threading.Lock()
+        self._save_pending = False
+        self._saver: threading.Thread | None = None
+        #: why the last background save failed (None: saved)
+        self.save_error: str | None = None
         self.info: dict = {}
         self.session: api.DesignSession | None = None
         #: keys of the states whose last drape was stopped (their ϖ stays unknown)
@@ -213,6 +233,7 @@ class Studio:
             self.session = api.DesignSession.load(self.folder / "session")
             self.info = self._read_info()
             self._publish()
+            self._warm()
 
     # -- session life --------------------------------------------------------------------
     def _read_info(self) -> dict:
@@ -224,12 +245,79 @@ class Studio:
             raise SessionError("expected a JSON object", file=p)
         return info
 
-    def _save(self) -> None:
-        """Write the session (only its new states) and count the change."""
-        self.session.save(self.folder / "session")
-        atomic_write_text(self.folder / "studio.json", dumps_finite_json(self.info))
+    def _save(self, *, later: bool = False) -> None:
+        """Count the change and write the session (only its new states). ``later``: the
+        writing is left to the background saver, so that an edit's answer does not wait for
+        the disk (a 22K mesh takes ~0.4 s to compress); :meth:`flush` waits for it."""
         self.revision += 1
         self._publish()
+        if later:
+            with self._save_lock:
+                self._save_pending = True
+                if self._saver is None:
+                    self._saver = threading.Thread(target=self._save_loop, daemon=True,
+                                                   name="patternfit-save")
+                    self._saver.start()
+        else:
+            self._write()
+        self._warm()
+
+    def _write(self) -> None:
+        with self.lock:
+            self.session.save(self.folder / "session")
+            atomic_write_text(self.folder / "studio.json", dumps_finite_json(self.info))
+
+    def _save_loop(self) -> None:
+        while True:
+            with self._save_lock:
+                if not self._save_pending:
+                    self._saver = None
+                    return
+                self._save_pending = False
+            try:
+                self._write()
+                self.save_error = None
+            except Exception as exc:  # shown in the page (the session stays in memory)
+                self.save_error = f"the session could not be saved: {designer_message(exc)}"
+            self._publish()
+
+    def flush(self) -> None:
+        """Wait until every change is written to the session folder."""
+        while True:
+            with self._save_lock:
+                saver = self._saver
+            if saver is None:
+                return
+            saver.join()
+
+    # -- the coordinates of drags ----------------------------------------------------------
+    def coordinates(self, state) -> CoordinateCache:
+        """The coordinate cache of ``state``'s mesh (made empty on first use; panels are
+        computed when first dragged, or beforehand by :meth:`_warm`)."""
+        with self.lock:
+            cache = self._coords.pop(state.key, None)
+            if cache is None or cache.mesh is not state.mesh:
+                cache = CoordinateCache(state.mesh)
+            self._coords[state.key] = cache
+            while len(self._coords) > COORDINATE_STATES:
+                self._coords.popitem(last=False)
+            return cache
+
+    def _warm(self) -> None:
+        """Compute the current state's coordinates in the background (on a 22K coat about
+        1-2 s a panel), so that the first drag after an edit, an undo or a new session does
+        not wait for them; it gives way as soon as a drape starts."""
+        cache = self.coordinates(self.session.state)
+        job = self.job
+
+        def run():
+            for panel in range(len(cache.mesh.panel_names)):
+                if self.job is not job or job.running:
+                    return
+                cache.get(panel)
+
+        self._warming = threading.Thread(target=run, daemon=True, name="patternfit-coords")
+        self._warming.start()
 
     def _publish(self) -> None:
         s = self.session
@@ -242,15 +330,22 @@ class Studio:
                        "size": info.get("size", DEFAULTS.size),
                        "body": info.get("body", s.body.name),
                        "fabric": info.get("fabric", s.fabric.name),
-                       "engine": info.get("engine", ENGINES[0]), "triangles": s.triangles},
+                       # sessions saved before the engine had a name said "default"
+                       "engine": {"default": "static"}.get(info.get("engine"),
+                                                          info.get("engine", ENGINES[0])),
+                       "triangles": s.triangles},
             "history": [{**{k: r[k] for k in ("index", "label", "fitting_ratio", "current")},
                          "failed": _failed(s.history[r["index"]].checks),
                          "stopped": self._was_stopped(s.history[r["index"]])}
                         for r in s.summary()],
             "fitting_ratio": s.state.fitting_ratio, "draped": s.positions is not None,
+            # the 3D state shown is the drape before an edit (ϖ unknown): maps "not re-draped"
+            "maps_stale": s.positions is not None and s.state.fitting_ratio is None,
+            # which drape the 3D state is (the page fetches the garment when it changes)
+            "drape_id": None if s.positions is None else _drape_id(s.positions),
             "checks": s.state.checks, "failed": _failed(s.state.checks),
             "stopped": self._was_stopped(s.state),
-            "can_undo": s.position > 0,
+            "can_undo": s.position > 0, "save_error": self.save_error,
             "can_redo": s.position + 1 < len(s.history)}
 
     def _was_stopped(self, state) -> bool:
@@ -261,6 +356,12 @@ class Studio:
         (:class:`StaleRevision`); None: a client that does not say (not the page)."""
         if revision is not None and revision != self.revision:
             raise StaleRevision(revision, self.revision)
+
+    def current(self):
+        """The session's current history state, read without waiting for the lock (a state's
+        pattern and mesh are never replaced; its positions only by a whole new array)."""
+        s = self.session
+        return (s if s is not None else self.ensure()).state
 
     def ensure(self) -> api.DesignSession:
         """The session, starting the default one (built-in skirt) when there is none."""
@@ -321,7 +422,7 @@ class Studio:
             # the readers (trimesh, NumPy's zip) raise many kinds for a bad file, and every
             # one means the upload cannot be used; the message names the client's file, not
             # the server's folder
-            raise InputError(describe_error(exc).replace(str(target), shown)) from None
+            raise InputError(designer_message(exc).replace(str(target), shown)) from None
         finally:
             shutil.rmtree(part, ignore_errors=True)
         if kind == "pattern":
@@ -353,7 +454,7 @@ class Studio:
 
     def _refuse_while_draping(self) -> None:
         if self.job.running:
-            raise RuntimeError("a drape is running: stop it first")
+            raise Refused("a drape is running: stop it first, or wait for it to finish")
 
     # -- edits ---------------------------------------------------------------------------
     def apply(self, op: str, args: dict, revision: int | None = None) -> dict:
@@ -361,8 +462,10 @@ class Studio:
         with self.lock:
             self._refuse_while_draping()
             self.check_revision(revision)
-            report = self.ensure().apply(op, **args)
-            self._save()
+            s = self.ensure()
+            report = s.apply(op, label=describe_edit(op, args),
+                             cache=self._coords.get(s.state.key), **args)
+            self._save(later=True)
             return {"remeshed": report is None or bool(report.remeshed),
                     "min_angle": None if report is None else _finite(report.min_angle)}
 
@@ -371,14 +474,14 @@ class Studio:
             self._refuse_while_draping()
             self.check_revision(revision)
             self.ensure().undo()
-            self._save()
+            self._save(later=True)
 
     def redo(self, revision: int | None = None) -> None:
         with self.lock:
             self._refuse_while_draping()
             self.check_revision(revision)
             self.ensure().redo()
-            self._save()
+            self._save(later=True)
 
     def drag(self, op: str, args: dict) -> tuple[np.ndarray, list[str]]:
         """Live preview of a drag: the mesh's flat vertices (n, 2) [m] for the edited pattern,
@@ -388,9 +491,7 @@ class Studio:
         with self.lock:
             s = self.ensure()
             st = s.state
-            if self._drag is None or self._drag[0] is not st:
-                self._drag = (st, CoordinateCache(st.mesh))
-            cache = self._drag[1]
+            cache = self.coordinates(st)
         new = getattr(tools, op)(st.pattern, **args)
         # a preview never re-meshes (the page maps the vertices onto the mesh it has): a
         # panel that would need it (a dart dragged far) shows its stretched mesh, same
@@ -473,7 +574,7 @@ class Studio:
                     self.stopped.add(session.state.key)
                     self._publish()
         except Exception as exc:  # shown in the page; the server keeps serving
-            job.error = f"{type(exc).__name__}: {exc}"
+            job.error = designer_message(exc)
         finally:
             job.elapsed = time.perf_counter() - t0
             if job.error is None and not job.stopped:
@@ -514,6 +615,12 @@ class Studio:
                 self._save()
 
 
+def _drape_id(positions: np.ndarray) -> str:
+    """A fingerprint of a drape's positions (n, 3): a sample of rows and the size."""
+    sample = np.ascontiguousarray(positions[::max(1, len(positions) // 257)])
+    return f"{len(positions)}-{zlib.crc32(sample.tobytes()):08x}"
+
+
 def _failed(checks: dict | None) -> str | None:
     """Why a state's drape failed its checks, in words (None: passed or not draped): the
     page shows such a ϖ red, as "failed", never as a fit."""
@@ -535,12 +642,3 @@ def _read_upload(kind: str, path: Path, stem: str):
     body.name = stem
     body.meta = {**body.meta, "source": f"uploaded {stem}{path.suffix}"}
     return body
-
-
-def describe_error(exc: Exception) -> str:
-    """The message shown in the page for a refused request."""
-    if isinstance(exc, KeyError) and exc.args:  # str() of a KeyError is the key's repr
-        return str(exc.args[0])
-    if isinstance(exc, (ValueError, IndexError, RuntimeError, TypeError)):
-        return str(exc) or type(exc).__name__
-    return f"{type(exc).__name__}: {exc}"

@@ -2,6 +2,9 @@
 // Lengths sent to the server are metres; the page shows centimetres.
 import { Editor } from "/static/editor.js";
 import { View3D } from "/static/view3d.js";
+import { getArrays } from "/static/arrays.js";
+import { FabricEditor } from "/static/fabric.js";
+import { SeamTool } from "/static/seams.js";
 
 const $ = (id) => document.getElementById(id);
 // revision: the session version this tab last saw; stale: another tab changed the session
@@ -9,9 +12,16 @@ const $ = (id) => document.getElementById(id);
 const studio = { state: null, geometry: null, revision: null, dragStats: {}, stale: false, fields: null };
 window.studio = studio;
 
-function message(text, kind = "error") {
+// The banner: ``cause`` names what the message is about ("edit", "drape", "export",
+// "upload", "session"); done(cause) clears it once that cause is gone (the next edit
+// applied, the next drape started, ...), so no banner outlives what it says.
+function message(text, kind = "error", cause = null) {
   $("message-text").textContent = text || ""; $("message").className = text ? kind : "hidden";
   $("reload-btn").hidden = kind !== "stale";
+  studio.messageCause = text ? cause : null;
+}
+function done(...causes) {
+  if (!studio.stale && causes.includes(studio.messageCause)) message("");
 }
 
 // This tab missed a change made in another tab: the server refused the change (409) and
@@ -20,10 +30,10 @@ function staleNotice(text) {
   studio.stale = true;
   message(text || "the session was changed in another tab: reload this tab to see it", "stale");
 }
-function fail(e) { if (e.stale) staleNotice(e.message); else message(e.message); }
+function fail(e, cause = null) { if (e.stale) staleNotice(e.message); else message(e.message, "error", cause); }
 $("reload-btn").onclick = async () => {
   studio.stale = false; message(""); studio.fields = null;
-  try { await refresh(); view.setBody(await api("/api/body")); } catch (e) { fail(e); }
+  try { await refresh(); view.setBody(await getArrays("/api/body")); } catch (e) { fail(e); }
 };
 
 // The token the server embedded in this page: every request that changes something (and
@@ -60,10 +70,14 @@ async function api(path, { method = "GET", json, form, versioned = method !== "G
 
 const editor = new Editor($("mesh2d"), $("overlay"), {
   onDrag: dragPreview, onDrop: (h, offset) => applyEdit(h, offset),
-  onSelect: (h) => { $("selected").textContent = `selected: ${h.key} (${h.op})`; },
+  onSelect: (h) => { $("selected").textContent = `selected: ${h.key} (${h.op.replace("_", " ")})`; done("edit"); },
   onClickPanel: insertDart, scaleEl: $("scale"), readoutEl: $("readout"),
+  onPick: () => seamTool.showPicked(),
+  onTape: (text) => { $("tape-readout").textContent = text ? `tape: ${text}` : "drag from one point to another; shift-drag pans"; },
 });
 $("fit-btn").onclick = () => editor.fit();
+const seamTool = new SeamTool({ editor, edit: (op, args) => edit(op, args), api: (path) => api(path) });
+studio.seamTool = seamTool;
 studio.editor = editor;
 const view = new View3D($("view3d"), {
   onHover: (t, value) => {
@@ -98,14 +112,32 @@ async function refresh({ geometry = true } = {}) {
   }
   drawRatioHistory(s.history);
   $("undo-btn").disabled = !s.can_undo; $("redo-btn").disabled = !s.can_redo;
+  if (s.save_error) message(s.save_error, "error", "save"); else done("save");
   $("drape-btn").textContent = s.draped || s.history.some((h) => h.fitting_ratio !== null) ? "Re-drape" : "Drape";
   if (geometry) {
-    studio.geometry = await api("/api/geometry");
+    // the garment is fetched when its drape changed (an edit keeps the drape: it is only
+    // marked "not re-draped"), at the same time as the geometry
+    const garmentChanged = s.drape_id !== studio.drapeId || !s.draped;
+    const garment = garmentChanged && s.draped ? getArrays("/api/garment3d") : null;
+    studio.geometry = await getArrays("/api/geometry");
     editor.setGeometry(studio.geometry);
+    seamTool.show();
     $("grade-panel").innerHTML = studio.geometry.panel_names.map((n) => `<option>${n}</option>`).join("");
-    view.setGarment(s.draped ? await api("/api/garment3d") : null);
+    if (garmentChanged) {
+      view.setGarment(garment ? await garment : null);
+      studio.drapeId = s.drape_id;
+    }
+    view.setStale(s.maps_stale);
+    const verdictKey = `${s.drape_id}/${s.maps_stale}`;
+    if (verdictKey !== studio.verdictKey) {
+      studio.verdictKey = verdictKey;
+      showVerdict(s.draped && !s.maps_stale ? await api("/api/verdict") : {});
+    }
     showLegend();
   }
+  // maps of a drape older than the pattern: greyed, and said so
+  $("stale-2d").hidden = !(s.maps_stale && studio.geometry && studio.geometry.colors);
+  $("stale-3d").hidden = !(s.maps_stale && s.draped);
   studio.state = s;  // set last: the page is consistent with it from here on
   if (s.drape.running) pollDrape();
 }
@@ -129,6 +161,15 @@ function showFields(fields) {
     sel.value = v;
   }
   $("triangles").value = fields.triangles;
+}
+
+// the report's fit verdict, where it gives one (overall and per region); else nothing
+function showVerdict(v) {
+  const el = $("verdict"), regions = v.region_verdicts;
+  el.hidden = v.verdict === undefined && regions === undefined;
+  const words = (x) => (typeof x === "string" ? x : JSON.stringify(x));
+  el.textContent = el.hidden ? "" : [v.verdict !== undefined ? `verdict: ${words(v.verdict)}` : "",
+    regions ? Object.entries(regions).map(([k, x]) => `${k}: ${words(x)}`).join(" · ") : ""].filter(Boolean).join("\n");
 }
 
 const FAILED_RED = "#ff6b6b";
@@ -183,7 +224,10 @@ function startLive(h) {
   live = me;
   fetch("/api/drag/basis", { method: "POST", headers: JSON_HEADERS, body: JSON.stringify({ op: h.op, args: dragArgs(h, [0, 0]) }) })
     .then((r) => (r.ok ? r.arrayBuffer() : null))
-    .then((b) => { if (b && live === me) me.basis = new Float32Array(b); });
+    .then((b) => {
+      const basis = b && new Float32Array(b);
+      if (basis && live === me && basis.every(Number.isFinite)) me.basis = basis;  // checked once
+    });
 }
 
 function drawLive() {
@@ -197,7 +241,7 @@ function drawLive() {
     v = new Float32Array(n);
     for (let i = 0; i < n; i++) v[i] = L.base[i] + L.basis[i] * dx + L.basis[n + i] * dy;
   }
-  editor.setPreview(v);
+  editor.setPreview(v, { moved: L.moved, trusted: true });
   const st = studio.dragStats, t1 = performance.now();
   st.frames = (st.frames || 0) + 1; st.drawMs = (st.drawMs || 0) + (t1 - t0);
   if (!st.t0) st.t0 = t1;
@@ -212,7 +256,10 @@ async function sendDrag() {
     const r = await fetch("/api/drag", { method: "POST", headers: JSON_HEADERS, body: JSON.stringify(req) });
     if (r.ok) {
       const v = new Float32Array(await r.arrayBuffer());
-      if (L && live === L) {
+      if (L && live === L && !v.every(Number.isFinite)) {
+        if (editor.refusePreview()) message("This move cannot be shown: the preview came back broken", "error", "edit");
+      } else if (L && live === L) {
+        L.moved = (r.headers.get("X-Moved") || "").split(",").filter(Boolean);
         editor.acceptPreview(req.args.offset);
         L.base = v; L.baseOffset = req.args.offset;
         studio.dragStats.exact = (studio.dragStats.exact || 0) + 1;
@@ -220,7 +267,8 @@ async function sendDrag() {
       }
     } else {
       const text = (await r.json()).error;
-      if (editor.refusePreview()) message(text);  // once per drag; the preview stops moving
+      // once per drag; the preview stops moving
+      if (editor.refusePreview()) message(`This move cannot be made: ${text}`, "error", "edit");
     }
   } finally {
     inflight = false;
@@ -241,9 +289,9 @@ async function applyEdit(h, offset) {
 async function edit(op, args) {
   try {
     await api("/api/edit", { method: "POST", json: { op, args } });
-    if ($("message").className === "error") message("");
+    done("edit");
   } catch (err) {
-    fail(err);
+    fail(err, "edit");
     // not applied: put the pattern back as this tab last saw it (a dragged handle snaps back)
     if (err.stale) { editor.setGeometry(studio.geometry); return; }
   }
@@ -259,18 +307,18 @@ async function insertDart(panel, centre) {
 
 $("apply-offset").onclick = () => {
   const h = editor.selected;
-  if (!h) { message("select a handle first (click it)"); return; }
+  if (!h) { message("Select a handle first: click it", "error", "edit"); return; }
   edit(h.op, dragArgs(h, [+$("dx").value / 100, +$("dy").value / 100]));
 };
 $("resize-dart").onclick = () => {
   const h = editor.selected;
-  if (!h || h.op !== "move_dart") { message("select a dart first (dart tool, click its handle)"); return; }
+  if (!h || h.op !== "move_dart") { message("Select a dart first: click its handle", "error", "edit"); return; }
   edit("resize_dart", { ...h.args, length: +$("dart-length").value / 100, width: +$("dart-width").value / 100 });
 };
 $("grade-btn").onclick = () => edit("grade", { panel: $("grade-panel").value, sx: +$("grade-sx").value / 100,
                                                sy: +$("grade-sy").value / 100, partner: $("partner").checked });
 async function step(which) {
-  try { await api(`/api/${which}`, { method: "POST" }); } catch (e) { fail(e); if (e.stale) return; }
+  try { await api(`/api/${which}`, { method: "POST" }); done("edit"); } catch (e) { fail(e, "edit"); if (e.stale) return; }
   await refresh();
 }
 $("undo-btn").onclick = () => step("undo");
@@ -295,9 +343,14 @@ function cancelDrag() {
 }
 document.addEventListener("keydown", (e) => {
   if (e.key === "Escape") { if (editor.drag || editor.selected) { cancelDrag(); e.preventDefault(); } return; }
-  // f: fit the pattern to the 2D view (not in a text field)
-  if (e.key === "f" && !e.ctrlKey && !e.metaKey && !e.altKey && !inTextField(document.activeElement)) {
-    editor.fit(); e.preventDefault(); return;
+  const plain = !e.ctrlKey && !e.metaKey && !e.altKey && !inTextField(document.activeElement);
+  // f: fit the pattern to the 2D view; the tool keys; Delete: the tape
+  if (plain && e.key === "f") { editor.fit(); e.preventDefault(); return; }
+  if (plain && !e.shiftKey && TOOL_KEYS[e.key]) { setTool(TOOL_KEYS[e.key]); e.preventDefault(); return; }
+  if (plain && (e.key === "Delete" || e.key === "Backspace")) {
+    if (editor.tool === "seam") { if (seamTool.deleteSelected()) e.preventDefault(); }
+    else if (editor.tape) { editor.clearTape(); e.preventDefault(); }
+    return;
   }
   if (!(e.ctrlKey || e.metaKey) || e.altKey || inTextField(document.activeElement)) return;
   const k = e.key.toLowerCase();
@@ -307,18 +360,31 @@ document.addEventListener("keydown", (e) => {
   if (editor.drag || polling || !studio.state) return;
   if (which === "undo" ? studio.state.can_undo : studio.state.can_redo) step(which);
 });
-for (const r of document.querySelectorAll("input[name=tool]")) r.onchange = () => editor.setTool(r.value);
+// one form at a time: the active tool's
+function setTool(tool) {
+  const radio = document.querySelector(`input[name=tool][value=${tool}]`);
+  if (!radio || editor.drag) return;
+  radio.checked = true;
+  editor.setTool(tool);
+  for (const f of document.querySelectorAll(".tool-form")) f.hidden = !f.dataset.tools.split(" ").includes(tool);
+}
+for (const r of document.querySelectorAll("input[name=tool]")) r.onchange = () => setTool(r.value);
+setTool("point");
+const TOOL_KEYS = { p: "point", e: "edge", c: "curve", d: "dart", g: "grade", m: "measure", s: "seam" };
+$("tape-clear").onclick = () => editor.clearTape();
 $("show-mesh").onchange = () => { editor.showMesh = $("show-mesh").checked; editor.drawMesh(); };
-$("snap").onchange = () => { editor.snap = $("snap").checked; };
+$("snap-points").onchange = () => { editor.snapPoints = $("snap-points").checked; };
+$("snap-grid").onchange = () => { editor.snapGrid = $("snap-grid").checked; };
+editor.snapPoints = $("snap-points").checked; editor.snapGrid = $("snap-grid").checked;
 $("map").onchange = () => { view.setMap($("map").value); showLegend(); };
 
 // -- drape ------------------------------------------------------------------------------
 let polling = false;
 $("drape-btn").onclick = async () => {
-  try { await api("/api/drape", { method: "POST" }); message(""); pollDrape(); } catch (e) { fail(e); }
+  try { await api("/api/drape", { method: "POST" }); done("drape", "edit"); pollDrape(); } catch (e) { fail(e, "drape"); }
 };
 $("correct-btn").onclick = async () => {
-  try { await api("/api/correct", { method: "POST" }); message(""); pollDrape(); } catch (e) { fail(e); }
+  try { await api("/api/correct", { method: "POST" }); done("drape", "edit"); pollDrape(); } catch (e) { fail(e, "drape"); }
 };
 // stopping changes nothing of the session: it needs no version
 $("stop-btn").onclick = () => api("/api/drape/stop", { method: "POST", versioned: false }).catch(fail);
@@ -344,7 +410,10 @@ async function pollDrape() {
       $("progress").value = j.fraction;  // monotone: the server never lowers it
       const rounds = j.rounds.map((r) => (r.failed ? `round ${r.iteration}: failed (${clip(r.failed, 60)})` : `round ${r.iteration}: ϖ ${(100 * r.fitting_ratio).toFixed(2)} %, ${r.edits} edits`));
       const head = j.kind === "correct" ? `correcting: ${rounds.join("; ")}${rounds.length ? "; " : ""}` : "";
-      $("drape-status").textContent = head + (j.stopped ? "stopped: " : (j.stopping ? "stopping: " : "")) +
+      // a finished drape says so: its last phase's line is no longer what is running
+      const state = j.stopped ? "stopped: " : (j.stopping ? "stopping: " :
+        (j.running ? "" : (j.error ? "did not finish: " : "done: ")));
+      $("drape-status").textContent = head + state +
         `${phaseText(j)}, ${j.elapsed.toFixed(1)} s` + (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "");
       if (j.rounds.length > seen) { seen = j.rounds.length; await refresh(); }  // each round's edit shows
       if (!j.running) {
@@ -352,10 +421,10 @@ async function pollDrape() {
           $("progress").classList.add("stopped");
           message(`${j.kind === "correct" ? "Correction" : "Drape"} stopped in ${j.phase || "its start"} ` +
             `after ${j.iteration} iterations: nothing of the stopped drape was recorded` +
-            (j.kind === "correct" ? `, no fit outcome (${j.rounds.length} rounds finished)` : "; ϖ of this state stays unknown"), "warning");
-        } else if (j.error) message(j.error);
-        else if (j.result && j.result.failed) message(`correction stopped: ${j.result.failed}`);
-        else if (j.result) message(j.result.reached ? `fit reached: ϖ ${(100 * j.result.fitting_ratio).toFixed(2)} %` : `fit not reached after ${j.rounds.length - 1} rounds`, "warning");
+            (j.kind === "correct" ? `, no fit outcome (${j.rounds.length} rounds finished)` : "; ϖ of this state stays unknown"), "warning", "drape");
+        } else if (j.error) message(`The ${j.kind === "correct" ? "correction" : "drape"} did not finish: ${j.error}`, "error", "drape");
+        else if (j.result && j.result.failed) message(`Correction stopped: ${j.result.failed}`, "error", "drape");
+        else if (j.result) message(j.result.reached ? `Fit reached: ϖ ${(100 * j.result.fitting_ratio).toFixed(2)} %` : `Fit not reached after ${j.rounds.length - 1} rounds`, "warning", "drape");
         break;
       }
       await new Promise((r) => setTimeout(r, 250));
@@ -369,13 +438,19 @@ async function pollDrape() {
 }
 
 // -- session, files ---------------------------------------------------------------------
+const fabricEditor = new FabricEditor({
+  api, onError: fail,
+  onUsed: async () => { studio.fields = null; await refresh(); done("session", "edit", "drape"); },
+});
+studio.fabricEditor = fabricEditor;
+$("fabric-open").onclick = () => fabricEditor.open().catch(fail);
 $("new-btn").onclick = async () => {
   try {
     await api("/api/new", { method: "POST", json: { garment: $("garment").value, size: $("size").value,
       body: $("body").value, fabric: $("fabric").value, engine: $("engine").value, triangles: +$("triangles").value } });
-    message("");
-  } catch (e) { fail(e); if (e.stale) return; }
-  await refresh(); view.setBody(await api("/api/body"));
+    done("session", "edit", "drape", "upload", "export");
+  } catch (e) { fail(e, "session"); if (e.stale) return; }
+  await refresh(); view.setBody(await getArrays("/api/body"));
 };
 for (const [id, kind] of [["upload", "pattern"], ["upload-body", "body"], ["upload-fabric", "fabric"]]) {
   $(id).onchange = async () => {
@@ -385,27 +460,45 @@ for (const [id, kind] of [["upload", "pattern"], ["upload-body", "body"], ["uplo
     try {
       await api(`/api/upload?kind=${kind}`, { method: "POST", form });
       await refresh();
-      if (kind === "body") view.setBody(await api("/api/body"));
-      message(`opened ${f.name}`, "warning");
-    } catch (e) { if (e.stale) fail(e); else message(`could not open ${f.name}: ${e.message}`); }
+      if (kind === "body") view.setBody(await getArrays("/api/body"));
+      message(`Opened ${f.name}`, "warning", "upload");
+    } catch (e) { if (e.stale) fail(e); else message(`Could not open ${f.name}: ${e.message}`, "error", "upload"); }
     $(id).value = "";
   };
 }
 
 // exports need the token too (they do heavy work), which a plain link cannot send: fetch the
 // file and hand it to the browser as a download
+// A long export (a PDF takes ~20 s on the coat) shows a running bar and its seconds; one
+// export at a time.
+let exporting = null;
 async function download(event) {
   event.preventDefault();
-  const a = event.currentTarget;
+  const a = event.currentTarget, name = a.getAttribute("download");
+  if (exporting) return;
+  const t0 = performance.now();
+  const tick = () => { $("export-status").textContent = `exporting ${name}… ${((performance.now() - t0) / 1000).toFixed(0)} s`; };
+  tick(); $("export-progress").hidden = false;
+  exporting = setInterval(tick, 250);
+  for (const x of $("exports").querySelectorAll("a")) x.classList.add("busy");
   try {
     const r = await fetch(a.getAttribute("href"), { headers: TOKEN_HEADERS });
     if (!r.ok) throw new Error((await r.json()).error);
-    const url = URL.createObjectURL(await r.blob());
+    const blob = await r.blob();
+    const url = URL.createObjectURL(blob);
     const link = document.createElement("a");
-    link.href = url; link.download = a.getAttribute("download");
+    link.href = url; link.download = name;
     document.body.appendChild(link); link.click(); link.remove();
     setTimeout(() => URL.revokeObjectURL(url), 10000);
-  } catch (e) { message(`could not export ${a.getAttribute("download")}: ${e.message}`); }
+    $("export-status").textContent = `exported ${name} (${(blob.size / 1024).toFixed(0)} KB) in ${((performance.now() - t0) / 1000).toFixed(1)} s`;
+    done("export");
+  } catch (e) {
+    $("export-status").textContent = "";
+    message(`Could not export ${name}: ${e.message}`, "error", "export");
+  } finally {
+    clearInterval(exporting); exporting = null; $("export-progress").hidden = true;
+    for (const x of $("exports").querySelectorAll("a")) x.classList.remove("busy");
+  }
 }
 
 // another tab may write the same session: this tab is told to reload (its changes would be
@@ -424,13 +517,16 @@ async function start() {
   const o = await api("/api/options");
   const fill = (id, items, labels) => { $(id).innerHTML = items.map((v) => `<option value="${v}" title="${labels ? labels[v] : ""}">${v}</option>`).join(""); };
   fill("garment", Object.keys(o.garments), o.garments); fill("size", o.sizes); fill("body", o.bodies);
-  fill("fabric", o.fabrics); fill("engine", o.engines);
+  fill("fabric", o.fabrics);
+  // the engines: each one the studio can drape with, and the others with why not
+  $("engine").innerHTML = o.engines.map((e) => `<option value="${e.name}" title="${e.note}"${e.usable ? "" : " disabled"}>${e.name}${e.usable ? "" : ` (${e.installed ? "not in the studio yet" : "not installed"})`}</option>`).join("");
   $("exports").innerHTML = o.exports.map((n) => `<a href="/api/export/${n}" download="${n}">${n}</a>`).join("");
   for (const a of $("exports").querySelectorAll("a")) a.onclick = download;
   $("correct-btn").disabled = !o.correct_available;
   $("correct-btn").title = o.correct_available ? "" : "automatic correction is not available in this version";
+  const body = getArrays("/api/body");  // fetched while the session loads
   await refresh();  // the session fields come from /api/state (showFields)
-  view.setBody(await api("/api/body"));
+  view.setBody(await body);
   document.body.dataset.ready = "1";
 }
 start().catch(fail);

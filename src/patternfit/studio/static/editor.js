@@ -6,29 +6,41 @@
 // zoom included). The wheel zooms about the pointer, dragging the background pans, fit()
 // fits the pattern to the view. While a handle is dragged the moved panels' outlines and
 // seams follow every preview, and the lengths of the edges and seams touching the point are
-// shown near the pointer.
+// shown near the pointer. Snapping: a dragged point (and each end of the measuring tape)
+// jumps onto pattern points within SNAP_PX, or onto the 1 cm grid. The tape measures
+// between two points of the layout (true distance when both lie on one panel).
 import * as THREE from "three";
+import { getArrays } from "/static/arrays.js";
 
 const SVGNS = "http://www.w3.org/2000/svg";
 const GAP = 0.08;  // space between panels [m]
 const PAD = 24;    // margin [px]
 const ZOOM = [0.5, 40];  // zoom limits, relative to the fitted view
+const SNAP_PX = 8;       // snapping distance to a pattern point [px]
+const GRID = 0.01;       // the grid snapped to [m]
+const STALE_GREY = 0.7;  // how far colours of a drape older than the pattern fade to grey
+const GREY = new THREE.Color(0.62, 0.62, 0.62);
 const SEAM_COLOURS = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
                       "#8c564b", "#e377c2", "#bcbd22", "#7f7f7f"];
 
 export class Editor {
-  constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel, onStale, scaleEl, readoutEl }) {
+  constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel, onStale, onTape, onPick, scaleEl, readoutEl }) {
     this.canvas = canvas; this.svg = svg;
     this.scaleEl = scaleEl || null; this.readoutEl = readoutEl || null;
     this.k = 1; this.fitK = 1; this.ox = PAD; this.oy = 0; this.userView = false; this.viewKey = null;
     this.pan = null; this.readout = "";
     this.onDrag = onDrag; this.onDrop = onDrop; this.onSelect = onSelect;
     this.onClickPanel = onClickPanel;
+    this.onTape = onTape || (() => {});
+    // the seam tool: the edges picked ({panel, edge}, at most two) and the seam selected
+    this.onPick = onPick || (() => {});
+    this.picked = []; this.seamSelected = null;
+    this.snapPoints = true; this.snapGrid = false; this.tape = null; this.snapMark = null;
     // called when a preview does not fit the mesh shown (its vertex count differs): the
     // page should fetch the geometry again; without it the editor fetches it itself
     this.onStale = onStale || (() => this.refetchGeometry());
     this.geo = null; this.vertices = null; this.tool = "point"; this.showMesh = true;
-    this.snap = false; this.selected = null; this.highlighted = -1;
+    this.selected = null; this.highlighted = -1;
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
     this.renderer.setClearColor(0xffffff);
     this.scene = new THREE.Scene();
@@ -77,8 +89,25 @@ export class Editor {
       panel.loops.forEach((loop, li) => loop.edges.forEach((e, ei) => m.set(e.name, [li, ei])));
       return m;
     });
+    // the points snapped to: corners, edge midpoints and curve controls, per panel [m]
+    this.points = geo.panels.map((panel) => panel.loops.flatMap((loop) => loop.edges.flatMap(
+      (e) => [e.points[0], e.polyline[12], ...(e.kind === "line" ? [] : e.points.slice(1, -1))])));
     this.buildScene();
     this.layout();
+    this.prepareEmbeddings(geo);
+  }
+
+  // the outlines' places in the mesh (for live outlines) found while the page is idle, one
+  // panel at a time, so that the first frame of a drag does not search the mesh (a 22K
+  // coat's front: ~0.3 s)
+  prepareEmbeddings(geo) {
+    const idle = window.requestIdleCallback || ((f) => setTimeout(f, 30));
+    const work = (p) => {
+      if (this.geo !== geo || p >= geo.panels.length) return;
+      this.embedding(p);
+      idle(() => work(p + 1));
+    };
+    idle(() => work(0));
   }
 
   layout() {
@@ -146,10 +175,13 @@ export class Editor {
   // drawn: not while the drag's preview is refused (the mesh stays at the last accepted
   // preview), nor when the count differs from the mesh's (the preview belongs to another
   // mesh: the geometry is fetched again, never a half-mapped mesh).
-  setPreview(vertices) {
+  // ``moved``: the names of the panels it moves (the server's X-Moved), so that the
+  // outlines to redraw need no search; ``trusted``: made on the page from checked arrays
+  // (no check of every number again in each frame)
+  setPreview(vertices, { moved = null, trusted = false } = {}) {
     if (!this.geo || (this.drag && this.drag.refused)) return false;
     if (!vertices || vertices.length !== this.geo.vertices.length ||
-        Array.prototype.some.call(vertices, (x) => !Number.isFinite(x))) {
+        (!trusted && !allFinite(vertices))) {
       if (vertices && vertices.length !== this.geo.vertices.length && !this.staleWarned) {
         this.staleWarned = true;
         console.warn(`preview has ${vertices.length / 2} vertices, the mesh ${this.geo.vertices.length / 2}: fetching the geometry again`);
@@ -158,7 +190,10 @@ export class Editor {
       return false;
     }
     this.vertices = vertices; this.drawMesh();
-    if (this.drag) { this.drawLiveOutlines(); this.showReadout(); }
+    if (this.drag) {
+      if (moved) for (const name of moved) { const p = this.geo.panel_names.indexOf(name); if (p >= 0) (this.drag.live = this.drag.live || new Set()).add(p); }
+      this.drawLiveOutlines(!!moved); this.showReadout();
+    }
     return true;
   }
 
@@ -223,11 +258,12 @@ export class Editor {
   }
 
   // redraw the outlines, seams and other handles of the panels the preview moved
-  drawLiveOutlines() {
+  drawLiveOutlines(known = false) {
     const d = this.drag;
     if (!d || !this.edgeEls) return;
     d.live = d.live || new Set();
-    for (const p of this.movedPanels()) d.live.add(p);
+    if (!known && !d.knownLive) for (const p of this.movedPanels()) d.live.add(p);
+    d.knownLive = d.knownLive || known;
     for (const p of d.live) {
       for (const { li, ei, els } of this.edgeEls[p]) {
         const path = this.pathOf(p, this.livePolyline(p, li, ei));
@@ -317,9 +353,7 @@ export class Editor {
   // GET /api/geometry again (a preview of another mesh arrived) and show it
   async refetchGeometry() {
     try {
-      const r = await fetch("/api/geometry");
-      if (!r.ok) return;
-      const geo = await r.json();
+      const geo = await getArrays("/api/geometry");
       if (window.studio) window.studio.geometry = geo;  // the page's copy, for its drags
       this.setGeometry(geo);
     } catch (err) {
@@ -333,10 +367,13 @@ export class Editor {
   buildScene() {
     const geo = this.geo, tri = geo.triangles, m = tri.length / 3;
     this.scene.clear();
+    this.gridView = null;
     const col = new Float32Array(9 * m), c = new THREE.Color();
     for (let t = 0; t < m; t++) {
       if (geo.colors) c.setRGB(geo.colors[3 * t] / 255, geo.colors[3 * t + 1] / 255, geo.colors[3 * t + 2] / 255, THREE.SRGBColorSpace);
       else c.setRGB(0.91, 0.925, 0.894, THREE.SRGBColorSpace);
+      // a drape older than the pattern: its colours faded towards grey ("not re-draped")
+      if (geo.colors && geo.stale) c.lerp(GREY, STALE_GREY);
       for (let k = 0; k < 3; k++) col.set([c.r, c.g, c.b], 9 * t + 3 * k);
     }
     const g = new THREE.BufferGeometry();
@@ -386,7 +423,11 @@ export class Editor {
     const t = this.highlighted;
     this.hi.visible = t >= 0 && t < tri.length / 3;
     if (this.hi.visible) put(this.hi.geometry.getAttribute("position"), [tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]]);
-    // 10 cm grid, and a 1 cm one when zoomed in far enough; both follow the view
+    // 10 cm grid, and a 1 cm one when zoomed in far enough; both follow the view (built
+    // again only when the view changed, not in every frame of a drag)
+    const view = `${this.ox},${this.oy},${k},${this.W},${this.H}`;
+    if (view === this.gridView) { this.renderer.render(this.scene, this.camera); return; }
+    this.gridView = view;
     const lines = (step) => {
       const gl = [], s = step * k;
       for (let x = this.ox + Math.ceil(-this.ox / s) * s; x < this.W; x += s) gl.push(x, 0, 0, x, this.H, 0);
@@ -480,6 +521,7 @@ export class Editor {
                                   y: this.sy(p, Math.max(...ys)) - 6, class: "panel-name", "text-anchor": "middle" });
       t.textContent = panel.name;
     });
+    if (this.tool === "seam") this.drawEdgeTargets();
     this.handleList = this.handles();
     this.handleList.forEach((h, i) => {
       const el = this.el("circle", { cx: this.sx(h.p, h.x), cy: this.sy(h.p, h.y), r: 6,
@@ -487,14 +529,130 @@ export class Editor {
                                      "data-index": i, "data-key": h.key, "data-panel": h.args.panel });
       h.el = el;
     });
+    this.snapEl = null;
+    this.drawTape();
   }
 
-  setTool(tool) { this.tool = tool; this.selected = null; this.drawOverlay(); }
+  // the seam tool's targets: each edge as a wide transparent stroke to click, the picked
+  // ones and the selected seam's sides tinted
+  drawEdgeTargets() {
+    const sel = this.geo.seams.find((s) => s.name === this.seamSelected);
+    const sides = new Set(sel ? [sel.a.join("/"), sel.b.join("/")] : []);
+    const picked = new Set(this.picked.map((q) => `${q.panel}/${q.edge}`));
+    this.geo.panels.forEach((panel, p) => panel.loops.forEach((loop) => loop.edges.forEach((e) => {
+      const key = `${panel.name}/${e.name}`;
+      this.el("path", { d: this.pathOf(p, e.polyline), "data-panel": panel.name, "data-edge": e.name,
+                        class: "edge-hit" + (picked.has(key) ? " picked" : "") + (sides.has(key) ? " seam-selected" : "") });
+    })));
+  }
 
-  snapOffset(o) { return this.snap ? o.map((c) => Math.round(c / 0.005) * 0.005) : o; }
+  pickEdges(list) { this.picked = list.slice(0, 2); this.drawOverlay(); this.onPick(this.picked); }
+
+  highlightSeam(name) { this.seamSelected = name; this.drawOverlay(); }
+
+  setTool(tool) {
+    if (this.drag) return;
+    this.tool = tool; this.selected = null;
+    this.svg.style.cursor = tool === "measure" ? "crosshair" : "";
+    this.drawOverlay();
+  }
+
+  // -- snapping: a point of panel p [m] moved onto the nearest pattern point within SNAP_PX
+  // (``panel``: of that panel only; else any panel, in layout metres), else onto the grid.
+  // Returns [x, y] in the same frame and sets ``snapMark`` (screen) when it snapped.
+  snapPoint(p, x, y, { exclude = null, anyPanel = false } = {}) {
+    this.snapMark = null;
+    if (this.snapPoints) {
+      let best = null, bestD = SNAP_PX;
+      const X = this.sx(p, x), Y = this.sy(p, y);
+      this.points.forEach((pts, q) => {
+        if (!anyPanel && q !== p) return;
+        for (const pt of pts) {
+          if (exclude && q === p && Math.hypot(pt[0] - exclude[0], pt[1] - exclude[1]) < 1e-9) continue;
+          const d = Math.hypot(this.sx(q, pt[0]) - X, this.sy(q, pt[1]) - Y);
+          if (d < bestD) { bestD = d; best = [q, pt]; }
+        }
+      });
+      if (best) {
+        const [q, pt] = best;
+        this.snapMark = [this.sx(q, pt[0]), this.sy(q, pt[1])];
+        // back in panel p's frame (the same point on the screen)
+        return [this.px(p, this.snapMark[0]), this.py(p, this.snapMark[1])];
+      }
+    }
+    if (this.snapGrid) {
+      // the grid drawn on the screen: layout metres from the view's origin
+      const gx = Math.round((x + this.offsets[p][0]) / GRID) * GRID - this.offsets[p][0];
+      const gy = Math.round((y + this.offsets[p][1]) / GRID) * GRID - this.offsets[p][1];
+      this.snapMark = [this.sx(p, gx), this.sy(p, gy)];
+      return [gx, gy];
+    }
+    return [x, y];
+  }
+
+  drawSnapMark() {
+    if (this.snapEl) { this.snapEl.remove(); this.snapEl = null; }
+    if (this.snapMark) this.snapEl = this.el("circle", { cx: this.snapMark[0], cy: this.snapMark[1], r: 9, class: "snap-mark" });
+  }
+
+  // -- the measuring tape: ends in layout metres (panel 0's frame), the panel of each end
+  // (the snapped point's, else the one under it, else null)
+  tapeEnd(e) {
+    const r = this.svg.getBoundingClientRect();
+    const X = e.clientX - r.left, Y = e.clientY - r.top;
+    const [x, y] = this.snapPoint(0, this.px(0, X), this.py(0, Y), { anyPanel: true });
+    const Xs = this.sx(0, x), Ys = this.sy(0, y);
+    let panel = null;
+    this.geo.panels.forEach((pn, q) => {
+      if (panel === null && inside(pn.loops[0].edges.flatMap((ed) => ed.polyline), this.px(q, Xs), this.py(q, Ys), 1e-6)) panel = q;
+    });
+    return { x, y, panel };
+  }
+
+  tapeText() {
+    const t = this.tape;
+    if (!t || !t.b) return "";
+    const d = Math.hypot(t.b.x - t.a.x, t.b.y - t.a.y);
+    const names = [t.a.panel, t.b.panel].map((q) => (q === null ? "outside" : this.geo.panels[q].name));
+    const same = t.a.panel !== null && t.a.panel === t.b.panel;
+    return `${(100 * d).toFixed(2)} cm` + (same ? ` on ${names[0]}` : ` (${names.join(" to ")}: as laid out)`);
+  }
+
+  drawTape() {
+    if (this.tapeEls) this.tapeEls.forEach((el) => el.remove());
+    this.tapeEls = [];
+    const t = this.tape;
+    if (!t || !t.b || !this.geo) return;
+    const A = [this.sx(0, t.a.x), this.sy(0, t.a.y)], B = [this.sx(0, t.b.x), this.sy(0, t.b.y)];
+    this.tapeEls.push(this.el("line", { x1: A[0], y1: A[1], x2: B[0], y2: B[1], class: "tape" }));
+    for (const P of [A, B]) this.tapeEls.push(this.el("circle", { cx: P[0], cy: P[1], r: 3.5, class: "tape-end" }));
+    const label = this.el("text", { x: (A[0] + B[0]) / 2 + 8, y: (A[1] + B[1]) / 2 - 8, class: "tape-label", id: "tape-label" });
+    label.textContent = `${(100 * Math.hypot(t.b.x - t.a.x, t.b.y - t.a.y)).toFixed(2)} cm`;
+    this.tapeEls.push(label);
+  }
+
+  clearTape() { this.tape = null; this.drawTape(); this.onTape(""); }
 
   pointerDown(e) {
     const i = e.target.getAttribute && e.target.getAttribute("data-index");
+    const edge = e.target.getAttribute && e.target.getAttribute("data-edge");
+    if (this.geo && this.tool === "seam" && edge) {
+      // a third pick starts a new pair
+      const q = { panel: e.target.getAttribute("data-panel"), edge };
+      const same = this.picked.findIndex((x) => x.panel === q.panel && x.edge === q.edge);
+      if (same >= 0) this.pickEdges(this.picked.filter((_, k) => k !== same));
+      else this.pickEdges(this.picked.length >= 2 ? [q] : [...this.picked, q]);
+      e.preventDefault();
+      return;
+    }
+    if (this.geo && this.tool === "measure" && e.button === 0 && !e.shiftKey) {
+      // the tape: from here to where the pointer is released
+      const a = this.tapeEnd(e);
+      this.tape = { a, b: a, measuring: true };
+      this.svg.setPointerCapture(e.pointerId);
+      e.preventDefault();
+      return;
+    }
     if (i === null || i === undefined) {
       // the background: a drag pans the view, a click (dart tool) inserts a dart
       if (!this.geo) return;
@@ -511,6 +669,12 @@ export class Editor {
   }
 
   pointerMove(e) {
+    if (this.tape && this.tape.measuring) {
+      this.tape.b = this.tapeEnd(e);
+      this.drawTape(); this.drawSnapMark();
+      this.onTape(this.tapeText());
+      return;
+    }
     if (this.pan) {
       const P = this.pan, dx = e.clientX - P.x0, dy = e.clientY - P.y0;
       if (Math.hypot(dx, dy) > 2) P.moved = true;
@@ -523,7 +687,9 @@ export class Editor {
     const d = this.drag;
     // screen motion / k: k is px per metre at the current zoom
     const raw = [(e.clientX - d.x0) / this.k, -(e.clientY - d.y0) / this.k];
-    d.offset = this.snapOffset(raw);
+    const to = this.snapPoint(d.h.p, d.h.x + raw[0], d.h.y + raw[1], { exclude: [d.h.x, d.h.y] });
+    d.offset = [to[0] - d.h.x, to[1] - d.h.y];
+    if (this.snapEl || this.snapMark) this.drawSnapMark();
     if (Math.hypot(e.clientX - d.x0, e.clientY - d.y0) > 2) d.moved = true;
     if (!d.moved) return;
     // a refused preview holds the handle at the last accepted offset; the page still asks
@@ -534,6 +700,14 @@ export class Editor {
   }
 
   pointerUp(e) {
+    if (this.tape && this.tape.measuring) {
+      this.tape.measuring = false;
+      this.snapMark = null; this.drawSnapMark();
+      if (Math.hypot(this.tape.b.x - this.tape.a.x, this.tape.b.y - this.tape.a.y) < 1e-9) this.tape = null;
+      this.drawTape();
+      this.onTape(this.tapeText());
+      return;
+    }
     if (this.pan) {
       const P = this.pan; this.pan = null;
       if (!P.moved && this.tool === "dart" && this.geo) this.clickPanel(e);
@@ -542,6 +716,7 @@ export class Editor {
     if (!this.drag) return;
     const d = this.drag; this.drag = null;
     this.readout = ""; if (this.readoutEl) this.readoutEl.hidden = true;
+    this.snapMark = null; this.drawSnapMark();
     if (d.moved) this.onDrop(d.h, d.offset);
     else { this.selected = d.h; this.drawOverlay(); this.onSelect(d.h); }
   }
@@ -558,11 +733,26 @@ export class Editor {
   }
 }
 
-function inside(poly, x, y) {
+// whether (x, y) lies inside the polygon ``poly`` (or within ``tol`` of it)
+function inside(poly, x, y, tol = 0) {
+  for (let i = 0, j = poly.length - 1; tol > 0 && i < poly.length; j = i++) {
+    if (segmentDistance(poly[j], poly[i], x, y) <= tol) return true;
+  }
   let c = false;
   for (let i = 0, j = poly.length - 1; i < poly.length; j = i++) {
     const [xi, yi] = poly[i], [xj, yj] = poly[j];
     if ((yi > y) !== (yj > y) && x < ((xj - xi) * (y - yi)) / (yj - yi) + xi) c = !c;
   }
   return c;
+}
+
+function allFinite(a) {
+  for (let i = 0; i < a.length; i++) if (!Number.isFinite(a[i])) return false;
+  return true;
+}
+
+function segmentDistance(a, b, x, y) {
+  const dx = b[0] - a[0], dy = b[1] - a[1], l2 = dx * dx + dy * dy;
+  const t = l2 > 0 ? Math.max(0, Math.min(1, ((x - a[0]) * dx + (y - a[1]) * dy) / l2)) : 0;
+  return Math.hypot(a[0] + t * dx - x, a[1] + t * dy - y);
 }

@@ -3,6 +3,8 @@
 import * as THREE from "three";
 import { OrbitControls } from "/static/vendor/OrbitControls.js";
 
+const GREY = new THREE.Color(0.35, 0.35, 0.35);  // linear: the 2D editor's sRGB grey
+
 export class View3D {
   constructor(container, { onHover }) {
     this.container = container; this.onHover = onHover;
@@ -40,7 +42,7 @@ export class View3D {
     if (this.body) this.scene.remove(this.body);
     const g = new THREE.BufferGeometry();
     g.setAttribute("position", new THREE.Float32BufferAttribute(body.vertices, 3));
-    g.setIndex(body.faces); g.computeVertexNormals();
+    g.setIndex(new THREE.BufferAttribute(Uint32Array.from(body.faces), 1)); g.computeVertexNormals();
     this.body = new THREE.Mesh(g, new THREE.MeshStandardMaterial({ color: 0xc8b9a6, roughness: 0.9 }));
     this.scene.add(this.body);
     g.computeBoundingBox();
@@ -49,7 +51,8 @@ export class View3D {
     this.controls.update(); this.render();
   }
 
-  // garment from /api/garment3d, or null to clear
+  // garment from /api/garment3d (typed arrays), or null to clear; ``stale``: the pattern
+  // was edited since this drape (its colours fade to grey, see setStale)
   setGarment(data) {
     this.data = data;
     if (this.garment) { this.scene.remove(this.garment); this.garment.geometry.dispose(); this.garment = null; }
@@ -67,6 +70,13 @@ export class View3D {
     this.setMap(this.map);
   }
 
+  // the drape shown is older than the pattern (true) or the pattern's own (false)
+  setStale(stale) {
+    if (this.stale === stale) return;
+    this.stale = stale;
+    if (this.garment) this.setMap(this.map);
+  }
+
   setMap(name) {
     this.map = name;
     if (!this.garment) { this.render(); return; }
@@ -76,6 +86,7 @@ export class View3D {
     const tmp = new THREE.Color();
     for (let t = 0; t < m; t++) {
       tmp.setRGB(rgb[3 * t] / 255, rgb[3 * t + 1] / 255, rgb[3 * t + 2] / 255, THREE.SRGBColorSpace);
+      if (this.stale) tmp.lerp(GREY, 0.7);
       for (let c = 0; c < 3; c++) col.setXYZ(3 * t + c, tmp.r, tmp.g, tmp.b);
     }
     col.needsUpdate = true;

@@ -1,0 +1,74 @@
+"""The studio's exports: the current pattern, the draped garment or the fit report as the
+bytes of one file."""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+from ..fit.colormap import FitScale, vertex_values
+from ..fit.export import export_garment
+from ..fit.report import fit_report, write_report
+from ..pattern.formats import save_any_pattern
+from .payload import stale_maps
+from .state import Refused, Studio
+
+#: the files the page offers, and what each holds
+EXPORTS = {
+    "pattern.json": "pattern", "pattern.dxf": "pattern", "pattern.svg": "pattern",
+    "pattern.pdf": "pattern", "garment.glb": "garment", "garment.obj": "garment",
+    "report.json": "report",
+}
+
+
+def export(studio: Studio, name: str) -> bytes:
+    """The bytes of export ``name`` (a key of ``EXPORTS``), written into a folder of its own
+    under the session's ``exports/`` (removed again): an export running while another one,
+    or an edit, writes can never hand out a half-written file."""
+    (studio.folder / "exports").mkdir(exist_ok=True)
+    with studio.lock, tempfile.TemporaryDirectory(dir=studio.folder / "exports") as tmp:
+        s = studio.ensure()
+        path = Path(tmp) / name
+        kind = EXPORTS[name]
+        if kind == "pattern":
+            fit = s.evaluate() if s.positions is not None and path.suffix in (".svg", ".pdf") \
+                else None
+            colours = None if fit is None else (s.mesh.vertices, s.mesh.triangles,
+                                                FitScale().colors(fit.area_change),
+                                                s.mesh.triangle_panel)
+            save_any_pattern(s.pattern, path, fit=colours)
+        elif s.positions is None:
+            raise Refused("there is no drape to export yet: drape the garment first")
+        elif stale_maps(s.state):
+            raise Refused("the 3D state is from the drape before the last edit: re-drape "
+                          "first")
+        elif kind == "garment":
+            fit = s.evaluate()
+            rgb = FitScale().colors(vertex_values(s.mesh.triangles, fit.area_change,
+                                                  s.mesh.n_vertices, weights=fit.area_2d))
+            path = export_garment(s.positions, s.mesh.triangles, rgb, path)
+        else:
+            path = write_report(report(s), path)
+        return Path(path).read_bytes()
+
+
+def report(s) -> dict:
+    """The fit report of session ``s``'s draped state (what ``report.json`` holds)."""
+    return fit_report(s.mesh, s.evaluate(), state="draped",
+                      extra={"checks": s.state.checks, "history": s.summary()})
+
+
+#: the report's keys of a fit verdict, shown by the page when the report has them
+VERDICT_KEYS = ("verdict", "region_verdicts")
+
+
+def verdict(studio: Studio) -> dict:
+    """The fit verdict of the current drape: the report's ``VERDICT_KEYS`` it has (none when
+    the report gives no verdict, or nothing is draped, or the drape is older than the
+    pattern)."""
+    with studio.lock:
+        s = studio.ensure()
+        if s.positions is None or stale_maps(s.state):
+            return {}
+        full = report(s)
+    return {k: full[k] for k in VERDICT_KEYS if k in full}

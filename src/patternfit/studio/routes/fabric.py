@@ -1,0 +1,92 @@
+"""Requests of the fabric editor: the presets' and the session's fabric numbers, a virtual
+fabric test of edited numbers (started, followed, stopped, its picture), and the edited
+fabric put into the session."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Annotated, Literal
+
+from fastapi import APIRouter, Depends, Request
+from fastapi.responses import Response
+from pydantic import AfterValidator, BaseModel, ConfigDict
+
+from ... import api
+from ..requests import Revisioned, body, in_worker, studio_of
+from ..state import Refused, Studio
+
+router = APIRouter(prefix="/api/fabric")
+
+
+def _named(fabric):
+    """A fabric's name as the page shows it and the session stores it: 1 to 60 characters,
+    no slashes (a ``Fabric``'s numbers are checked by ``Fabric`` itself)."""
+    name = fabric.name.strip() if isinstance(fabric.name, str) else ""
+    if not name or len(name) > 60 or any(c in name for c in "/\\\0"):
+        raise ValueError("name: a name of 1 to 60 characters, without slashes")
+    return replace(fabric, name=name)
+
+
+#: a fabric's constants in a request, SI units as ``Fabric`` (kg/m^2, N/m, N m, -, m): the
+#: dataclass itself checks them (a value out of its plausible range names the field)
+FabricValues = Annotated[api.Fabric, AfterValidator(_named)]
+
+
+class FabricTest(BaseModel):
+    """``POST /api/fabric/test``: which test, on which numbers."""
+
+    model_config = ConfigDict(extra="ignore")
+    test: Literal["strip", "cantilever", "cusick"]
+    fabric: FabricValues
+
+
+class UseFabric(Revisioned):
+    """``POST /api/fabric``: the session continues in this fabric (a new history)."""
+
+    fabric: FabricValues
+
+
+@router.get("")
+def fabrics(studio: Studio = Depends(studio_of)):
+    """The presets' numbers and the session's fabric (SI units)."""
+    session = studio.session
+    return {"presets": {name: api.read_fabric(name).to_dict() for name in api.list_fabrics()},
+            "session": None if session is None else session.fabric.to_dict(),
+            "ranges": {k: list(v) for k, v in api.FABRIC_RANGES.items()}}
+
+
+@router.post("/test")
+async def start_test(request: Request, req: FabricTest = Depends(body(FabricTest))):
+    lab = request.app.state.fabric_lab
+    lab.start(req.test, req.fabric)
+    return lab.job.as_dict()
+
+
+@router.get("/test")
+def test_progress(request: Request):
+    return request.app.state.fabric_lab.job.as_dict()
+
+
+@router.post("/test/stop")
+def stop_test(request: Request):
+    request.app.state.fabric_lab.stop()
+    return request.app.state.fabric_lab.job.as_dict()
+
+
+@router.get("/test/picture")
+def test_picture(request: Request):
+    picture = request.app.state.fabric_lab.job.picture
+    if picture is None:
+        raise Refused("this test has no picture (yet)")
+    return Response(picture, media_type="image/png", headers={"Cache-Control": "no-store"})
+
+
+@router.post("")
+async def use_fabric(req: UseFabric = Depends(body(UseFabric)),
+                     studio: Studio = Depends(studio_of)):
+    def run():
+        fabric = req.fabric
+        studio.start_from(fabric=fabric, labels={"fabric": fabric.name},
+                          revision=req.revision)
+        return {"ok": True, "revision": studio.revision, "name": fabric.name}
+    return await in_worker(run)

@@ -1,0 +1,78 @@
+"""The studio's fabric editor through its requests (FastAPI's TestClient): a fabric's edited
+numbers tested on the virtual bench, refused when implausible, put into the session."""
+
+from __future__ import annotations
+
+import pytest
+from fastapi.testclient import TestClient
+
+from patternfit.studio import create_app
+from patternfit.studio import fabric_lab
+
+
+@pytest.fixture()
+def client(tmp_path):
+    app = create_app(tmp_path / "studio", allowed_hosts=("testserver",))
+    c = TestClient(app, headers={"X-Patternfit-Token": app.state.token})
+    assert c.post("/api/new", json={"garment": "skirt", "triangles": 300}).status_code == 200
+    return c
+
+
+def edited(client, **changes) -> dict:
+    f = client.get("/api/fabric").json()
+    assert set(f["presets"]) >= {"cotton_shirting", "denim"}
+    assert f["session"]["name"] == "cotton_shirting"
+    return {**f["session"], "name": "heavy cotton", **changes}
+
+
+def run(client, test, fabric) -> dict:
+    r = client.post("/api/fabric/test", json={"test": test, "fabric": fabric})
+    assert r.status_code == 200, r.text
+    client.app.state.fabric_lab.wait(120)
+    job = client.get("/api/fabric/test").json()
+    assert not job["running"] and job["error"] is None and job["fabric"] == "heavy cotton"
+    return job
+
+
+def test_a_strip_test_reads_the_edited_density(client):
+    light = run(client, "strip", edited(client))["result"]
+    heavy = run(client, "strip", edited(client, density=2 * edited(client)["density"]))
+    heavy = heavy["result"]
+    assert light["passed"] and heavy["passed"]
+    # the strip stretches as rho g L^2 / 2k: twice the density, twice the elongation
+    assert heavy["elongation_measured_m"] == pytest.approx(
+        2 * light["elongation_measured_m"], rel=0.02)
+    assert client.get("/api/fabric/test/picture").status_code == 409  # a strip has none
+
+
+def test_a_cusick_test_gives_its_coefficient_and_top_view(client, monkeypatch):
+    monkeypatch.setitem(fabric_lab.STUDIO_OPTIONS, "cusick", {"triangles": 300, "seeds": (0,)})
+    job = run(client, "cusick", edited(client))
+    assert 0.0 <= job["result"]["drape_coefficient"] <= 1.0 and job["picture"]
+    png = client.get("/api/fabric/test/picture")
+    assert png.status_code == 200 and png.content.startswith(b"\x89PNG")
+
+
+@pytest.mark.parametrize("changes, field", [({"density": 30.0}, "density"),
+                                            ({"friction": -0.5}, "friction"),
+                                            ({"name": "../x"}, "name"),
+                                            ({"shear": "stiff"}, "shear")])
+def test_implausible_numbers_are_refused(client, changes, field):
+    fabric = edited(client, **changes)
+    r = client.post("/api/fabric/test", json={"test": "strip", "fabric": fabric})
+    assert r.status_code == 400 and field in r.json()["error"], r.text
+    assert not client.get("/api/fabric/test").json()["running"]
+
+
+def test_the_edited_fabric_goes_into_the_session(client):
+    rev = client.get("/api/state").json()["revision"]
+    fabric = edited(client, friction=0.7)
+    foreign = TestClient(client.app)  # no token: another site's page
+    assert foreign.post("/api/fabric", json={"fabric": fabric}).status_code == 403
+    r = client.post("/api/fabric", json={"fabric": fabric, "revision": rev})
+    assert r.status_code == 200, r.text
+    s = client.get("/api/state").json()
+    assert s["fabric"] == "heavy cotton" and s["fields"]["fabric"] == "heavy cotton"
+    assert client.get("/api/fabric").json()["session"]["friction"] == 0.7
+    assert client.post("/api/fabric", json={"fabric": fabric, "revision": rev}
+                       ).status_code == 409  # a stale tab
