@@ -142,18 +142,25 @@ def _match_partners(old: Pattern, new: Pattern, edited: set) -> Pattern:
                                    "by hand", panel=other.panel, edge=other.edge)
             e_old = old.panel(mine.panel).edge(mine.edge)
             e_new = new.panel(mine.panel).edge(mine.edge)
-            start_moved = np.linalg.norm(e_new.start - e_old.start) > \
-                np.linalg.norm(e_new.end - e_old.end)
+            d_start = np.linalg.norm(e_new.start - e_old.start)
+            d_end = np.linalg.norm(e_new.end - e_old.end)
             # sewn with reverse: the start of one side meets the end of the other
-            at_start = start_moved != s.reverse
+            at_start = (d_start > d_end) != s.reverse
             ends = [_edge_corner(new.panel(other.panel), other.edge, at_start),
                     _edge_corner(new.panel(other.panel), other.edge, not at_start)]
             # a corner of the edit itself stays where the edit put it: then the other end
-            seed = next((c for c in ends if not _corner_edges(new, c) & edited), ends[0])
-            todo = [seed]
+            open_ends = [c for c in ends if not _corner_edges(new, c) & edited]
+            if abs(d_start - d_end) <= tol.merge and open_ends:
+                # both ends moved alike (a grade about the panel's centre): which one moved
+                # "most" is a rounding accident that differs between mirror-image seams and
+                # made the result lopsided; both are free and share the change
+                seeds = open_ends
+            else:
+                seeds = open_ends[:1] or ends[:1]
+            todo = list(seeds)
             while todo:
                 c = todo.pop()
-                if c in free or (c != seed and _corner_edges(new, c) & edited):
+                if c in free or (c not in seeds and _corner_edges(new, c) & edited):
                     continue
                 free.append(c)
                 todo.extend(links.get(c, ()))
