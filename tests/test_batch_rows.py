@@ -101,17 +101,19 @@ def test_any_text_round_trips(tmp_path_factory, items):
 
 def test_verdicts_and_one_line_per_size():
     t = plan(["skirt"], ["S", "M"], ["a", "b", "c", "d"], ["cotton"])
-    rows = [_row(t[0], ratio=0.95, pressure_p99_kpa=1.9),
-            _row(t[1], ratio=0.80, ease_hip_cm=-2.0, ease_waist_cm=3.0),
+    rows = [_row(t[0], ratio=0.80, verdict="fits", pressure_p99_kpa=1.9),
+            _row(t[1], ratio=0.80, verdict="tight", ease_hip_cm=-2.0, ease_waist_cm=3.0),
             _row(t[2], status="failed", failed_checks="on_body"),
-            _row(t[3], ratio=1.1, pressure_p99_kpa=8.2, ease_hip_cm=0.7, ease_waist_cm=2.0),
+            _row(t[3], ratio=1.1, verdict="too tight", pressure_p99_kpa=8.2, ease_hip_cm=0.7,
+                 ease_waist_cm=2.0),
             _row(t[4], verdict="too tight", ease_waist_cm=-1.0, pressure_p99_kpa=0.5),
             _row(t[5], verdict="fits", pressure_p99_kpa=3.0), _row(t[6], verdict="fits"),
             _row(t[7], status="failed", failed_checks="seams crossings", verdict="fits")]
-    # the drape's own verdict wins; without one, pressure p99 > 2 kPa is too tight, ϖ < 0.9
-    # tight; a failed drape is failed whatever it reads
+    # the drape's own verdict, whatever ϖ or the pressure say (the verdict weighed them);
+    # a failed drape is failed whatever it reads
     assert [verdict_of(r) for r in rows] == ["fits", "tight", "failed", "too tight",
                                              "too tight", "fits", "fits", "failed"]
+    assert verdict_of(_row(t[0], ratio=0.5, pressure_p99_kpa=9.0)) == "no verdict"
     assert summary_lines(rows) == [
         "skirt in cotton, S: fits 1 of 4 bodies; tight on 1 at the hip; too tight on 1 at "
         "the hip; failed on 1 (on_body 1)",

@@ -127,10 +127,7 @@ def test_every_corner_moves_with_partner_and_keeps_symmetry(garments):
     assert not refused, f"{len(refused)}/{checked}:\n" + "\n".join(refused)
 
 
-@pytest.mark.parametrize("garment", [
-    pytest.param(g, marks=pytest.mark.xfail(strict=True, reason=(
-        "a partner grade of the gathered skirt's front moves its band asymmetrically "
-        "(mirror gap 5.8 mm)"))) if g == "gathered_skirt" else g for g in GARMENTS])
+@pytest.mark.parametrize("garment", list(GARMENTS))
 @pytest.mark.parametrize("sx, sy", [(1.04, 1.02), (0.97, 1.03)])
 def test_every_grade_with_partner_keeps_seams_and_symmetry(garments, garment, sx, sy):
     bad = []
@@ -223,18 +220,23 @@ def test_close_seams_keeps_the_ease_ratio():
         assert abs(max(la, lb) - (1 + s.ease) * min(la, lb)) <= RATIO_TOL
 
 
-def test_correction_moves_keep_the_ease_ratio():
+@pytest.mark.parametrize("stated", [None, 0.2])
+def test_correction_moves_keep_the_ease_ratio(stated):
     """The correction's pattern step (``loop.correct.apply_moves``: corner moves, then
-    ``close_seams``) keeps each eased seam at its stated ratio."""
+    ``close_seams``) keeps each eased seam at the ratio it had, also where the stated ease
+    allows more (``stated``: 20 % on seams gathered by about 10 %), instead of pulling it
+    to ``1 + ease``."""
+    from dataclasses import replace as _replace
+
     from patternfit.loop.correct import CornerMove, apply_moves
 
     p = eased_skirt()
+    if stated is not None:
+        p = _replace(p, seams=tuple(_replace(s, ease=stated) for s in p.seams))
     moves = [CornerMove("front", "side_l", (0.015, 0.0)), CornerMove("back", "hip_r", (0.01, 0.0)),
              CornerMove("front", "hip_r", (-0.012, 0.0))]
     new = apply_moves(p, moves)
-    for s in new.seams:
-        la, lb = new.seam_side_length(s.a), new.seam_side_length(s.b)
-        assert abs(max(la, lb) - (1 + s.ease) * min(la, lb)) <= RATIO_TOL
+    assert ratio_misfit(p, new) <= RATIO_TOL
     assert new.panel("front") != p.panel("front")
 
 

@@ -13,9 +13,6 @@ from patternfit.pattern.formats import load_any_pattern
 from patternfit.pattern.library import GARMENTS, build
 from patternfit.sim.drape import drape
 
-#: the DXF writer does not write a seam's ease yet (the DXF work of issue 20): a garment
-#: with eased seams comes back with unequal seams that meshing refuses
-EASED = {name for name in GARMENTS if any(s.ease for s in build(name).seams)}
 BODY = {"female": "female_average", "male": "male_average"}
 
 
@@ -50,9 +47,6 @@ def test_the_dress_and_coat_drape_at_the_neck_after_a_dxf_round_trip(name, tmp_p
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", [
-    pytest.param(n, marks=pytest.mark.xfail(
-        strict=True, reason="the DXF writer drops the seams' ease (issue 20, DXF work)"))
-    if n in EASED else n for n in GARMENTS if n not in ("dress", "coat")])
+@pytest.mark.parametrize("name", [n for n in GARMENTS if n not in ("dress", "coat")])
 def test_every_built_in_drapes_after_a_dxf_round_trip(name, tmp_path):
     _drapes_on_the_body(name, tmp_path)

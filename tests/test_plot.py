@@ -98,3 +98,44 @@ def test_pdf_arguments_checked(tmp_path):
         write_pdf(_pattern(), tmp_path / "x.pdf", paper="a3")
     with pytest.raises(ValueError, match="margin"):
         write_pdf(_pattern(), tmp_path / "x.pdf", margin=0.2)
+
+
+def test_svg_draws_what_an_accumark_file_draws_on_a_piece(tmp_path):
+    """A piece written the way AccuMark writes DXF-AAMA (``test_dxf_aama``: cut line 10 mm
+    outside the sew line at the sides and top, 30 mm at the hem; notches at mid side, mid
+    hem and a corner; a dart's legs and its drill hole at the tip): the plot draws the cut
+    line, the three notches into the fabric, the dashed dart legs and the drill hole where
+    they are, in millimetres on the sheet."""
+    from test_dxf_aama import accumark, skirt_piece
+
+    from patternfit.pattern.dxf import load_dxf
+
+    p = load_dxf(accumark(tmp_path / "s.dxf", [skirt_piece()], scale=1.0))
+    (panel,) = p.panels
+    sheet = layout(p)
+    off = sheet.offsets[panel.name]
+    root = ET.fromstring(svg_text(sheet))
+
+    def pts(e):
+        return np.array([[float(c) for c in xy.split(",")] for xy in e.get("points").split()])
+
+    (cut,) = root.findall(f".//{SVG}polygon[@class='cut']")
+    np.testing.assert_allclose(pts(cut), (np.array(panel.cut_line) + off) * 1000, atol=2e-3)
+    (line,) = root.findall(f".//{SVG}polyline[@class='line']")
+    np.testing.assert_allclose(pts(line), (np.array(panel.lines[0].points) + off) * 1000,
+                               atol=2e-3)
+    (hole,) = root.findall(f".//{SVG}g[@class='drill']/{SVG}circle")
+    np.testing.assert_allclose([float(hole.get("cx")), float(hole.get("cy"))],
+                               (np.array([0.15, 0.39]) + off) * 1000, atol=2e-3)
+    notches = [np.array([[float(e.get(k)) for k in ("x1", "y1")],
+                         [float(e.get(k)) for k in ("x2", "y2")]]) / 1000 - off
+               for e in root.findall(f".//{SVG}line[@class='notch']")]
+    assert len(notches) == 3  # no seams: the piece's own notches only
+    starts = sorted(tuple(np.round(n[0], 6)) for n in notches)
+    assert starts == [(0.15, 0.0), (0.3, 0.25), (0.3, 0.5)]
+    # each slit points into the fabric (the sew line is the rectangle 0.3 x 0.5 m)
+    ends = np.array([n[1] for n in notches])
+    assert (ends > -1e-9).all() and (ends < np.array([0.3, 0.5]) + 1e-9).all()
+    assert np.linalg.norm(ends - [n[0] for n in notches], axis=1) == pytest.approx(0.008)
+    # the cut line lies within the sheet (the layout makes room for the allowance)
+    assert pts(cut).min() > 0 and (pts(cut) < np.array(sheet.size) * 1000).all()

@@ -1,5 +1,5 @@
 """The fit matrix of a batch: sizes × bodies, one panel per (pattern, fabric), coloured by
-the verdict (estimated from the contact pressure and ϖ where the rows carry none), as
+the drape's fit verdict (:mod:`patternfit.fit.verdict`), as
 ``matrix.png`` and ``matrix.html`` (each cell with its drape's thumbnail), and a one-line
 answer per size."""
 
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..api import DEFAULTS, GIRTHS
+from ..api import GIRTHS
 from ..files import atomic_write_bytes, atomic_write_text
 
 #: a verdict's colour (the fit-verdict words), a failed drape's, and a cell without a row's
@@ -20,23 +20,15 @@ VERDICT_COLOURS = {"too tight": "#b2182b", "tight": "#ef8a62", "fits": "#4dac26"
                    "loose": "#67a9cf", "too loose": "#2166ac"}
 FAILED = "#404040"
 MISSING = "#f0f0f0"
-#: contact pressure [kPa] above which a garment is too tight for daily wear (Kawabata's
-#: 2.0 kPa, the figure issue 21 uses); only for rows without a verdict of their own
-PRESSURE_LIMIT_KPA = 2.0
 
 
-def verdict_of(row: dict, threshold: float = DEFAULTS.threshold) -> str:
-    """A row's verdict: ``failed``, the drape's own verdict, else an estimate: ``too
-    tight`` when the contact pressure p99 exceeds :data:`PRESSURE_LIMIT_KPA`, ``tight``
-    when ϖ is below ``threshold`` [-], ``fits`` otherwise (neither tells a loose garment;
-    one that slid off is a failed drape)."""
+def verdict_of(row: dict) -> str:
+    """A row's verdict: ``failed`` for a failed drape (whatever it reads), else the drape's
+    own (``FitOutcome.verdict``, judged by :class:`~patternfit.fit.verdict_rules.VerdictRules`),
+    or ``no verdict`` for a row written without one."""
     if row["status"] != "ok":
         return "failed"
-    if row.get("verdict"):
-        return row["verdict"]
-    if (row.get("pressure_p99_kpa") or 0.0) > PRESSURE_LIMIT_KPA:
-        return "too tight"
-    return "fits" if row["fitting_ratio"] >= threshold else "tight"
+    return row.get("verdict") or "no verdict"
 
 
 def tightest_girth(row: dict) -> str | None:
@@ -58,7 +50,7 @@ def _axes(rows, tasks=None):
     return panels, sizes, bodies
 
 
-def summary_lines(rows: list[dict], threshold: float = DEFAULTS.threshold) -> list[str]:
+def summary_lines(rows: list[dict]) -> list[str]:
     """One answer per (pattern, fabric, size): ``"skirt in denim, M: fits 34 of 50 bodies;
     tight on 9 at the hip 7, waist 2; failed on 2 (on_body 2)"``: the tightest girth of
     each tight drape, the failed checks of each failed one."""
@@ -72,7 +64,7 @@ def summary_lines(rows: list[dict], threshold: float = DEFAULTS.threshold) -> li
                 continue
             groups: dict[str, list] = {}
             for r in cell:
-                groups.setdefault(verdict_of(r, threshold), []).append(r)
+                groups.setdefault(verdict_of(r), []).append(r)
             parts = [f"fits {len(groups.pop('fits', []))} of {len(cell)} bodies"]
             failed = groups.pop("failed", [])
             for word, members in sorted(groups.items(), key=lambda kv: -len(kv[1])):
@@ -95,13 +87,12 @@ def summary_lines(rows: list[dict], threshold: float = DEFAULTS.threshold) -> li
     return out
 
 
-def _cell_colour(row, threshold):
-    v = verdict_of(row, threshold)
+def _cell_colour(row):
+    v = verdict_of(row)
     return FAILED if v == "failed" else VERDICT_COLOURS.get(v, "#999999")
 
 
-def write_matrix(folder, rows: list[dict], threshold: float = DEFAULTS.threshold, *,
-                 tasks=None) -> dict:
+def write_matrix(folder, rows: list[dict], *, tasks=None) -> dict:
     """Write ``matrix.png`` and ``matrix.html`` of ``rows`` into ``folder`` (atomically),
     with a cell for every task of ``tasks`` (the plan) when given; returns ``{"png",
     "html", "lines"}`` (paths and :func:`summary_lines`). Cells are coloured by
@@ -111,10 +102,10 @@ def write_matrix(folder, rows: list[dict], threshold: float = DEFAULTS.threshold
 
     folder = Path(folder)
     panels, sizes, bodies = _axes(rows, tasks)
-    lines = summary_lines(rows, threshold)
+    lines = summary_lines(rows)
     by_key = {(r["pattern"], r["fabric"], r["size"], r["body"]): r for r in rows}
     width = max(7.0, 1.4 + 0.45 * len(bodies))  # [in]; room for the lines below
-    notes = [w for s in lines + [_legend(rows)]
+    notes = [w for s in lines + [_legend()]
              for w in textwrap.wrap(s, int(17 * width), subsequent_indent="    ")]
     fig = Figure(figsize=(width, (1.4 + 0.35 * len(sizes)) * len(panels)
                           + 0.14 * len(notes) + 0.3), dpi=110)
@@ -123,7 +114,7 @@ def write_matrix(folder, rows: list[dict], threshold: float = DEFAULTS.threshold
         for i, size in enumerate(sizes):
             for j, body in enumerate(bodies):
                 row = by_key.get((pattern, fabric, size, body))
-                colour = MISSING if row is None else _cell_colour(row, threshold)
+                colour = MISSING if row is None else _cell_colour(row)
                 ax.add_patch(_rect(j, i, colour))
                 if row is not None:  # a failed drape's ϖ is no fit: not shown
                     ax.text(j + 0.5, i + 0.5, f"{100 * row['fitting_ratio']:.0f}"
@@ -145,7 +136,7 @@ def write_matrix(folder, rows: list[dict], threshold: float = DEFAULTS.threshold
     FigureCanvasAgg(fig).print_png(buf)
     png = atomic_write_bytes(folder / "matrix.png", buf.getvalue())
     page = atomic_write_text(folder / "matrix.html",
-                             _html(rows, panels, sizes, bodies, lines, threshold))
+                             _html(rows, panels, sizes, bodies, lines))
     return {"png": png, "html": page, "lines": lines}
 
 
@@ -155,16 +146,13 @@ def _rect(x, y, colour):
     return Rectangle((x + 0.04, y + 0.04), 0.92, 0.92, facecolor=colour, edgecolor="none")
 
 
-def _legend(rows) -> str:
+def _legend() -> str:
     words = ("too tight dark red, tight orange, fits green, loose light blue, too loose blue; "
              "dark grey: failed drape (no fit); ϖ % in the cells")
-    if any(r.get("verdict") for r in rows):
-        return f"colours: the drape's verdict: {words}"
-    return (f"colours: verdict estimated (the rows carry none): too tight = pressure p99 > "
-            f"{PRESSURE_LIMIT_KPA:g} kPa, tight = ϖ below the threshold; {words}")
+    return f"colours: the drape's verdict: {words}"
 
 
-def _html(rows, panels, sizes, bodies, lines, threshold) -> str:
+def _html(rows, panels, sizes, bodies, lines) -> str:
     by_key = {(r["pattern"], r["fabric"], r["size"], r["body"]): r for r in rows}
     esc = html.escape
     out = ["<!doctype html><html><head><meta charset='utf-8'><title>fit matrix</title>",
@@ -173,7 +161,7 @@ def _html(rows, panels, sizes, bodies, lines, threshold) -> str:
            "td img{display:block;height:120px;margin:auto}"
            "td div{font-size:11px;padding:2px}</style></head><body>",
            "<h1>Fit matrix</h1><ul>", *(f"<li>{esc(s)}</li>" for s in lines), "</ul>",
-           f"<p>{esc(_legend(rows))}</p>"]
+           f"<p>{esc(_legend())}</p>"]
     for pattern, fabric in panels:
         out.append(f"<h2>{esc(Path(pattern).stem)} in {esc(fabric)}</h2><table><tr><th></th>")
         out += [f"<th>{esc(b)}</th>" for b in bodies]
@@ -185,9 +173,9 @@ def _html(rows, panels, sizes, bodies, lines, threshold) -> str:
                 if row is None:
                     out.append(f"<td style='background:{MISSING}'>no result yet</td>")
                     continue
-                colour = _cell_colour(row, threshold)
+                colour = _cell_colour(row)
                 ratio = row["fitting_ratio"]
-                text = verdict_of(row, threshold)
+                text = verdict_of(row)
                 if row["status"] == "ok":
                     text += f" · ϖ {100 * ratio:.1f}%"
                 else:

@@ -41,7 +41,7 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
               triangles: int = DEFAULTS.triangles, workers: int = 2,
               address: str | None = None, resume: bool = False,
               time_limit: float = DEFAULTS.time_limit, thumbnails: bool = True,
-              threshold: float = DEFAULTS.threshold, on_plan: Callable | None = None,
+              on_plan: Callable | None = None,
               progress: Callable | None = None) -> dict:
     """Drape ``pattern`` (a built-in garment or a pattern file) in every size of ``sizes``
     on every body of ``bodies`` (see :func:`patternfit.api.read_bodies`) in every fabric of
@@ -83,7 +83,7 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
                        progress=progress)
     finally:  # also after Ctrl-C: the rows so far in Parquet and in the matrix
         files = {"csv": log.path, "parquet": log.write_parquet()}
-        matrix = write_matrix(out, log.rows, threshold, tasks=tasks) if log.rows \
+        matrix = write_matrix(out, log.rows, tasks=tasks) if log.rows \
             else None
     if matrix:
         files |= {"png": matrix["png"], "html": matrix["html"]}

@@ -71,15 +71,6 @@ def thumbnail_name(task: Task) -> str:
     return f"{slug}-{hashlib.sha1(repr(tuple(task)).encode()).hexdigest()[:8]}.png"
 
 
-def _verdict_text(v) -> str | None:
-    """The overall verdict in words, however the outcome carries it (a string, an object
-    with ``overall``, a mapping with ``"overall"``); None without one."""
-    if v is None:
-        return None
-    overall = v.get("overall") if isinstance(v, dict) else getattr(v, "overall", v)
-    return str(overall)
-
-
 def failed_checks(checks: dict, fitting_ratio: float) -> list[str]:
     """Names of the checks a drape failed: ``inside`` (vertices in the body), ``seams``
     (open >= 0.5 mm), ``crossings``, ``equilibrium``, ``on_body``, ``fitting_ratio`` (not
@@ -114,7 +105,7 @@ def outcome_row(task: Task, outcome, *, seconds: float, worker: str) -> dict:
     return {**task._asdict(), "status": "ok" if passed else "failed",
             "fitting_ratio": ratio if np.isfinite(ratio) else None,
             "fitting_ratio_symmetric": float(outcome.fit.fitting_ratio_symmetric),
-            "verdict": _verdict_text(getattr(outcome, "verdict", None)),
+            "verdict": outcome.verdict,
             **{f"ease_{g}_cm": ease.get(g) for g in GIRTHS},
             "pressure_p95_kpa": pressure.get("p95"), "pressure_p99_kpa": pressure.get("p99"),
             "checks_passed": passed, "failed_checks": " ".join(failed),

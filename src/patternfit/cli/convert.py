@@ -34,7 +34,11 @@ def convert(
 
     pattern = api.read_pattern(source, size=size)
     written = api.save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
-    suggested = pattern.meta.get("suggested_seams", [])
+    # an unsewn import (a DXF without its side file): the seams the user can accept
+    suggested = [{"a": {"panel": g.seam.a.panel, "edge": g.seam.a.edge},
+                  "b": {"panel": g.seam.b.panel, "edge": g.seam.b.edge},
+                  "reverse": g.seam.reverse, "ease": g.seam.ease, "score": g.score}
+                 for g in (api.suggest_seams(pattern) if not pattern.seams else [])]
     warnings = pattern.meta.get("warnings", [])
     result = {"source": str(source), "source_format": pattern.meta.get("source_format"),
               "pattern": pattern.name, "panels": [p.name for p in pattern.panels],
@@ -51,9 +55,11 @@ def convert(
     for w in warnings:
         console.print(f"[yellow]warning:[/] {w}", highlight=False)
     if suggested:
-        console.print(f"{len(suggested)} seams suggested from notches and edge lengths (not "
-                      "applied; name them in a side file <name>.seams.json):")
+        console.print(f"{len(suggested)} seams suggested (not applied; review and sew them "
+                      f"with: patternfit seams {source} --suggest --accept):",
+                      highlight=False)
         for s in suggested:
             console.print(f"  {s['a']['panel']}/{s['a']['edge']} -- "
-                          f"{s['b']['panel']}/{s['b']['edge']}", highlight=False)
+                          f"{s['b']['panel']}/{s['b']['edge']}  score {s['score']:.2f}",
+                          highlight=False)
     console.print("wrote " + ", ".join(str(p) for p in written))

@@ -142,18 +142,25 @@ def _match_partners(old: Pattern, new: Pattern, edited: set) -> Pattern:
                                    "by hand", panel=other.panel, edge=other.edge)
             e_old = old.panel(mine.panel).edge(mine.edge)
             e_new = new.panel(mine.panel).edge(mine.edge)
-            start_moved = np.linalg.norm(e_new.start - e_old.start) > \
-                np.linalg.norm(e_new.end - e_old.end)
+            d_start = np.linalg.norm(e_new.start - e_old.start)
+            d_end = np.linalg.norm(e_new.end - e_old.end)
             # sewn with reverse: the start of one side meets the end of the other
-            at_start = start_moved != s.reverse
+            at_start = (d_start > d_end) != s.reverse
             ends = [_edge_corner(new.panel(other.panel), other.edge, at_start),
                     _edge_corner(new.panel(other.panel), other.edge, not at_start)]
             # a corner of the edit itself stays where the edit put it: then the other end
-            seed = next((c for c in ends if not _corner_edges(new, c) & edited), ends[0])
-            todo = [seed]
+            open_ends = [c for c in ends if not _corner_edges(new, c) & edited]
+            if abs(d_start - d_end) <= tol.merge and open_ends:
+                # both ends moved alike (a grade about the panel's centre): which one moved
+                # "most" is a rounding accident that differs between mirror-image seams and
+                # made the result lopsided; both are free and share the change
+                seeds = open_ends
+            else:
+                seeds = open_ends[:1] or ends[:1]
+            todo = list(seeds)
             while todo:
                 c = todo.pop()
-                if c in free or (c != seed and _corner_edges(new, c) & edited):
+                if c in free or (c not in seeds and _corner_edges(new, c) & edited):
                     continue
                 free.append(c)
                 todo.extend(links.get(c, ()))
@@ -280,11 +287,44 @@ def _check_result(old: Pattern, new: Pattern) -> None:
     check_seams(new)
 
 
+def _marks_mapped(panel: Panel, f) -> Panel:
+    """``panel`` with what is drawn on it (cut line, internal lines, drill holes) mapped by
+    ``f`` ((k, 2) -> (k, 2) points [m]), the map its outline went through."""
+    def pts(points):
+        return f(np.asarray(points, dtype=np.float64).reshape(-1, 2))
+    return replace(panel, cut_line=pts(panel.cut_line), drill_holes=pts(panel.drill_holes),
+                   lines=tuple(replace(ln, points=pts(ln.points)) for ln in panel.lines))
+
+
+def _without_stale_cut_lines(old: Pattern, new: Pattern) -> Pattern:
+    """``new`` without the cut line of each panel whose outline (the sew line) an edit
+    moved while leaving its cut line where it was (a local edit: the seam allowance between
+    them would be wrong), each named in ``meta["warnings"]``. A grade or a lengthening
+    maps the cut line with the outline and keeps it; internal lines and drill holes stay
+    where they are drawn."""
+    before = {p.name: p for p in old.panels}
+    dropped = []
+    for p in new.panels:
+        was = before.get(p.name)
+        if was is None or p.outline is was.outline or not p.cut_line \
+                or p.cut_line != was.cut_line:
+            continue
+        new = new.with_panel(replace(p, cut_line=()))
+        dropped.append(f"panel '{p.name}': its cut line was dropped, the edit moved its sew "
+                       "line (outline) but not the cut line; add the seam allowance again")
+    if not dropped:
+        return new
+    return replace(new, meta={**new.meta,
+                              "warnings": [*new.meta.get("warnings", ()), *dropped]})
+
+
 def _finish(old: Pattern, new: Pattern, edited: set, partner: bool, cause: str) -> Pattern:
     """Check the result of the edit ``cause`` (its arguments, for the message); with
-    ``partner``, first make the matching partner edits."""
+    ``partner``, first make the matching partner edits. A panel's cut line left behind by
+    the edit is dropped (:func:`_without_stale_cut_lines`)."""
     if partner:
         new = _match_partners(old, new, set(edited))
+    new = _without_stale_cut_lines(old, new)
     try:
         _check_result(old, new)
     except PatternError as err:
@@ -304,7 +344,9 @@ def close_seams(pattern: Pattern, *, like: Pattern | None = None,
 
     A seam with ``ease`` keeps its gather instead: its sides get the length ratio they have
     in ``like`` (the pattern before the moves, within the ease), or without ``like`` the
-    full stated ratio ``1 + ease`` (the longer side the one that is longer now)."""
+    full stated ratio ``1 + ease`` (the longer side the one that is longer now). With
+    ``like``, a panel whose outline moved keeps no cut line of ``like``'s
+    (:func:`_without_stale_cut_lines`)."""
     corners = []
     for s in pattern.seams:
         p = pattern.panel(s.b.panel)
@@ -314,8 +356,9 @@ def close_seams(pattern: Pattern, *, like: Pattern | None = None,
             if key not in corners:
                 corners.append(key)
     ratios = [_ratio(s, pattern, like) for s in pattern.seams]
-    return _equal_sides(pattern, corners, pattern.seams, ratios, iterations=iterations,
-                        h=1e-5, halvings=0)
+    out = _equal_sides(pattern, corners, pattern.seams, ratios, iterations=iterations,
+                       h=1e-5, halvings=0)
+    return out if like is None else _without_stale_cut_lines(like, out)
 
 
 def _panel_edges(panel: Panel) -> set:
@@ -381,7 +424,8 @@ def lengthen(pattern: Pattern, panel: str, a, b, amount: float, *,
     """Lengthen (``amount`` > 0) or shorten the panel between points ``a`` and ``b`` (2,) [m].
 
     The panel is cut across the segment a–b at its midpoint; every outline point beyond the
-    cut (on ``b``'s side) moves by ``amount`` along a→b, so edges crossing the cut stretch.
+    cut (on ``b``'s side) moves by ``amount`` along a→b, so edges crossing the cut stretch;
+    so do the points of the panel's cut line, internal lines and drill holes beyond it.
     """
     a = _arg(a, "a", panel, lo=-limits.extent, hi=limits.extent, vector=True)
     b = _arg(b, "b", panel, lo=-limits.extent, hi=limits.extent, vector=True)
@@ -393,18 +437,22 @@ def lengthen(pattern: Pattern, panel: str, a, b, amount: float, *,
     p = _panel(pattern, panel)
     changed = set()
 
+    def moved(pts: np.ndarray) -> np.ndarray:
+        pts = np.array(pts)
+        pts[(pts - mid) @ u > 0] += amount * u
+        return pts
+
     def shift(e: Edge) -> Edge:
-        pts = np.array(e.points)
-        beyond = (pts - mid) @ u > 0
-        if not beyond.any():
+        pts = moved(e.points)
+        if np.array_equal(pts, e.points):
             return e
         changed.add((panel, e.name))
-        pts[beyond] += amount * u
         return e.with_points(pts)
 
     p = replace(p, outline=replace(p.outline, edges=tuple(shift(e) for e in p.outline.edges)),
                 inner=tuple(replace(lp, edges=tuple(shift(e) for e in lp.edges))
                             for lp in p.inner))
+    p = _marks_mapped(p, moved)
     return _finish(pattern, pattern.with_panel(p), changed, partner, _said("amount", amount))
 
 
@@ -412,7 +460,8 @@ def grade(pattern: Pattern, panel: str | None, sx: float, sy: float, *, about=No
           partner: bool = False) -> Pattern:
     """Scale one panel (or all, ``panel=None``) by ``sx``, ``sy`` about ``about`` (2,) [m]
     (default: each panel's outline centroid). Each factor lies within ``limits.edit_scale``
-    and its inverse; arcs allow only ``sx == sy``."""
+    and its inverse; arcs allow only ``sx == sy``. The panel's cut line, internal lines and
+    drill holes are scaled with it."""
     sx, sy = (_arg(s, n, panel, lo=1.0 / limits.edit_scale, hi=limits.edit_scale, unit="")
               for s, n in ((sx, "sx"), (sy, "sy")))
     if about is not None:
@@ -426,6 +475,7 @@ def grade(pattern: Pattern, panel: str | None, sx: float, sy: float, *, about=No
         try:
             p = replace(p, outline=_transform(p.outline, m, c),
                         inner=tuple(_transform(lp, m, c) for lp in p.inner))
+            p = _marks_mapped(p, lambda q: q @ m.T + (c - m @ c))
         except ValueError as err:
             raise PatternError(f"grading refused: {err}", panel=name) from None
         new = new.with_panel(p)

@@ -322,12 +322,13 @@ def _mirrored_corners(pa, pb, grain):
 def apply_moves(pattern: Pattern, moves: list[CornerMove]) -> Pattern:
     """The pattern with all corner moves made at once; seam sides left of unequal length
     (panels that are not congruent) are closed by the smallest extra moves of the corners
-    of each seam's second side (:func:`close_seams`). Refuses (``PatternError``) a result
+    of each seam's second side (:func:`close_seams`); an eased seam keeps the length ratio
+    it had in ``pattern`` (not its full stated ease). Refuses (``PatternError``) a result
     that fails ``check_pattern``."""
     new = pattern
     for mv in moves:
         new = new.with_panel(move_corner(new.panel(mv.panel), mv.edge, np.asarray(mv.offset)))
-    new = close_seams(new)
+    new = close_seams(new, like=pattern)
     check_pattern(new)
     return new
 

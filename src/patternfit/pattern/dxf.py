@@ -10,8 +10,8 @@ and the notches in :mod:`.dxf_notches`; graded files (one block per piece and si
 
 DXF-AAMA has no seams, edge names or 3D placement: :func:`save_dxf` writes them, with every
 panel's notches (kinds included) and each seam's ease, to a side file ``<name>.seams.json``
-that CAD tools never open. Without a side file, seams are suggested
-(``meta["suggested_seams"]``) from edge pairs of equal length with matching notches.
+that CAD tools never open. Without a side file the pattern has no seams: they are suggested
+by :mod:`.seam_suggest` (``patternfit seams FILE --suggest --accept``).
 Everything inside is metres.
 """
 
@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ..constants import UNITS, limits, tol
+from ..constants import UNITS, limits
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
 from .dxf_entities import layer_of, why
 from .dxf_format import LAYERS, PIECE_LAYERS, field, file_scale, read_document, read_piece, texts
@@ -37,15 +37,12 @@ from .errors import PatternError
 from .formats import check_imported
 from .io import (check_notches, json_field, json_point, json_vec3, notches_from_json,
                  notches_to_json, seams_from_json, seams_to_json, shown)
-from .model import Loop, Pattern, Placement, Seam, SeamSide
+from .model import Loop, Pattern, Placement
 from .validate import check_pattern
 
-__all__ = ["LAYERS", "PLAUSIBLE", "load_dxf", "notch_marks", "save_dxf", "sidecar_path",
-           "suggest_seams"]
+__all__ = ["LAYERS", "PLAUSIBLE", "load_dxf", "notch_marks", "save_dxf", "sidecar_path"]
 
 SIDE_FORMAT = "patternfit-dxf-sidecar"
-#: how many edges next in length :func:`suggest_seams` compares each edge with [-]
-SEAM_WINDOW = 64
 #: sizes across (largest side of the bounding box) a garment piece plausibly has; outside
 #: them the file's units are probably misread and the reader warns [m]
 PLAUSIBLE = (0.01, 3.0)
@@ -191,48 +188,6 @@ def _size_warnings(panels, scale: float, unit_says: str) -> list[str]:
     return out
 
 
-def suggest_seams(pattern: Pattern, notches: dict[str, dict[str, list[float]]] | None = None,
-                  ) -> list[Seam]:
-    """Seams offered for a pattern without any: pairs of outline edges of equal length
-    (``tol.seam_length`` or ``tol.seam_length_rel``) on different panels, notched alike.
-
-    notches : {panel: {edge: [arc-length fractions]}}. Pairs whose notches match (mirrored,
-    as on two pieces sewn right side to right side, within ``tol.notch_match``) are offered;
-    when the pattern has notches at all, unnotched pairs are not. Each edge is used once;
-    ``reverse`` is always True. Each edge is compared with the ``SEAM_WINDOW`` edges next to
-    it in length, which keeps the work linear in the number of edges.
-    """
-    notches = notches or {}
-    notched = any(f for per_panel in notches.values() for f in per_panel.values())
-    edges = [(p.name, e) for p in pattern.panels for e in p.outline.edges]
-    lengths = [e.length for _, e in edges]
-    order = sorted(range(len(edges)), key=lengths.__getitem__)
-    cands = []
-    for pos, i in enumerate(order):
-        for j in order[pos + 1:pos + 1 + SEAM_WINDOW]:
-            la, lb = lengths[i], lengths[j]
-            if abs(la - lb) > max(tol.seam_length, tol.seam_length_rel * 0.5 * (la + lb)):
-                break  # sorted by length: every later edge differs more
-            (pa, ea), (pb, eb) = edges[min(i, j)], edges[max(i, j)]
-            if pa == pb:
-                continue
-            na = sorted(notches.get(pa, {}).get(ea.name, []))
-            nb = sorted(1.0 - f for f in notches.get(pb, {}).get(eb.name, []))
-            if len(na) != len(nb) or (notched and not na) or \
-                    (na and not np.allclose(na, nb, atol=tol.notch_match)):
-                continue
-            cands.append((abs(la - lb), pa, ea.name, pb, eb.name))
-    cands.sort()
-    used: set[tuple[str, str]] = set()
-    seams = []
-    for _, pa, a, pb, b in cands:
-        if (pa, a) in used or (pb, b) in used:
-            continue
-        used |= {(pa, a), (pb, b)}
-        seams.append(Seam(f"s{len(seams)}", SeamSide(pa, a), SeamSide(pb, b), reverse=True))
-    return seams
-
-
 def _renamed(loop: Loop, name: str, names, where: dict) -> Loop:
     """``loop`` called ``name``, its edges renamed by the side file's list ``names`` (None:
     keep them)."""
@@ -298,9 +253,9 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
 
     sidecar : side file with seams, edge names and placement; by default ``<name>.seams.json``
         beside the DXF when it exists. It is applied to the size it was written with only
-        (another size is read without it, with a warning). Without one,
-        ``meta["suggested_seams"]`` lists seams offered by :func:`suggest_seams` and the
-        pattern has none.
+        (another size is read without it, with a warning). Without one the pattern has
+        no seams: :func:`.seam_suggest.suggest_seams` offers them from the notches
+        (``Panel.notches``) and edge lengths.
     units : ``"mm"``, ``"cm"``, ``"in"`` or ``"m"`` to override the file's (``Units:`` style
         text, else ``$INSUNITS``, else millimetres).
     prefer_sew : the outline is the sew line (layer 14) where a piece has one, the cut line
@@ -345,15 +300,4 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
         if warnings:
             out.meta["warnings"] = warnings
         return out
-    # notches inside an edge, as the seam suggestion reads them
-    notch_map = {p.name: {} for p in pattern.panels}
-    for p in pattern.panels:
-        for n in p.notches:
-            if 0.0 < n.t < 1.0 and p.locate(n.edge)[0] == 0:
-                notch_map[p.name].setdefault(n.edge, []).append(n.t)
-    pattern.meta["notches"] = notch_map
-    pattern.meta["suggested_seams"] = [
-        {"name": s.name, "reverse": s.reverse,
-         "a": {"panel": s.a.panel, "edge": s.a.edge}, "b": {"panel": s.b.panel, "edge": s.b.edge}}
-        for s in suggest_seams(pattern, notch_map)]
     return pattern

@@ -1,7 +1,9 @@
 """Pattern plots at true scale: an SVG sheet and a multi-page PDF of printer tiles.
 
 Pieces are laid out on one sheet (rows, tallest first) with their names, grain lines, notches
-and seam labels; optionally the per-triangle 2D fit colours lie under the outlines. The SVG is
+(the pieces' own, red slits into the fabric, and one at the middle of each seam side) and seam
+labels, and what a CAD file draws on them: the cut line around the sew line (thin grey), internal
+lines (dashed blue) and drill holes (blue circled crosses); optionally the per-triangle 2D fit colours lie under the outlines. The SVG is
 sized in millimetres so that it prints at 1:1; the PDF cuts the sheet into A4 or letter tiles
 (with the tile's name and borders to align) after a cover page that carries a 10 cm check
 square, the tile map and the piece list. Lengths are metres inside.
@@ -19,6 +21,7 @@ import numpy as np
 
 from ..files import atomic_write_bytes, atomic_write_text
 from .dxf import notch_marks
+from .dxf_notches import notch_slits
 from .edges import Edge
 from .model import Loop, Pattern
 
@@ -87,7 +90,8 @@ def layout(pattern: Pattern, *, width: float = 1.5, fit=None) -> Sheet:
     """
     boxes = {}
     for p in pattern.panels:
-        poly = p.outline.polygon(16)
+        # the cut line lies outside the sew line: the piece takes the room of both
+        poly = np.vstack([p.outline.polygon(16), np.asarray(p.cut_line).reshape(-1, 2)])
         boxes[p.name] = (poly.min(axis=0), poly.max(axis=0))
     order = sorted(pattern.panels, key=lambda p: -(boxes[p.name][1][1] - boxes[p.name][0][1]))
     width = max(width, max(float(hi[0] - lo[0]) for lo, hi in boxes.values()) + 2 * _GAP)
@@ -136,6 +140,21 @@ def _labels(sheet: Sheet):
         notches.append((at + off, inner + off))
         seams.append((inner + off + 2.5 * (inner - at), seam))
     return names, grains, notches, seams
+
+
+def _marks(sheet: Sheet):
+    """What is drawn on the pieces, in sheet coordinates [m]: the pieces' notches as slits
+    into the fabric ((2, 2) each), cut lines (closed, (k, 2)), internal lines ((k, 2)) and
+    drill holes ((2,) each)."""
+    slits, cuts, lines, holes = [], [], [], []
+    for p in sheet.pattern.panels:
+        off = sheet.offsets[p.name]
+        slits += [s + off for s in notch_slits(p, length=0.008)]
+        if p.cut_line:
+            cuts.append(np.asarray(p.cut_line) + off)
+        lines += [np.asarray(ln.points) + off for ln in p.lines]
+        holes += [np.asarray(h) + off for h in p.drill_holes]
+    return slits, cuts, lines, holes
 
 
 def _fit_polys(sheet: Sheet) -> tuple[np.ndarray, np.ndarray] | tuple[None, None]:
@@ -199,10 +218,27 @@ def svg_text(sheet: Sheet) -> str:
             pts = " ".join(f"{x:.3f},{y:.3f}" for x, y in (tip * _MM, (base + n) * _MM,
                                                            (base - n) * _MM))
             out.append(f'<polygon points="{pts}" fill="#000"/>')
-    for a, b in notches:
+    slits, cuts, lines, holes = _marks(sheet)
+    for a, b in notches + [tuple(s) for s in slits]:
         (x0, y0), (x1, y1) = a * _MM, b * _MM
         out.append(f'<line class="notch" x1="{x0:.3f}" y1="{y0:.3f}" x2="{x1:.3f}" '
                    f'y2="{y1:.3f}" stroke="#c00" stroke-width="0.5"/>')
+
+    def points(pts):
+        return " ".join(f"{x:.3f},{y:.3f}" for x, y in pts * _MM)
+
+    for c in cuts:
+        out.append(f'<polygon class="cut" points="{points(c)}" stroke="#555" '
+                   f'stroke-width="0.3"/>')
+    for ln in lines:
+        out.append(f'<polyline class="line" points="{points(ln)}" stroke="#1f5fa8" '
+                   f'stroke-width="0.35" stroke-dasharray="3 1.5"/>')
+    for at in holes:
+        x, y = at * _MM
+        out.append(f'<g class="drill" stroke="#1f5fa8" stroke-width="0.3">'
+                   f'<circle cx="{x:.3f}" cy="{y:.3f}" r="1.5"/>'
+                   f'<path d="M {x - 2.5:.3f} {y:.3f} H {x + 2.5:.3f} M {x:.3f} {y - 2.5:.3f} '
+                   f'V {y + 2.5:.3f}"/></g>')
     sq = 100.0
     out.append(f'<rect class="check" x="{_GAP * _MM:.3f}" y="{_GAP * _MM * 0.5:.3f}" '
                f'width="{sq}" height="{sq * 0.2:.3f}" stroke="#000" stroke-width="0.3"/>')
@@ -254,8 +290,18 @@ def _draw(ax, sheet: Sheet, *, text_scale: float = 1.0) -> None:
     for a, b in grains:
         ax.add_patch(FancyArrowPatch(a * _MM, b * _MM, arrowstyle="<|-|>", mutation_scale=12,
                                      color="black", lw=0.9))
-    ax.add_collection(LineCollection([np.array([a, b]) * _MM for a, b in notches],
+    slits, cuts, lines, holes = _marks(sheet)
+    ax.add_collection(LineCollection([np.array([a, b]) * _MM for a, b in notches]
+                                     + [s * _MM for s in slits],
                                      colors="#c00000", linewidths=1.2))
+    ax.add_collection(LineCollection([np.vstack([c, c[:1]]) * _MM for c in cuts],
+                                     colors="#555555", linewidths=0.6))
+    ax.add_collection(LineCollection([ln * _MM for ln in lines], colors="#1f5fa8",
+                                     linewidths=0.8, linestyles=(0, (4, 2))))
+    if holes:
+        at = np.array(holes) * _MM
+        ax.plot(at[:, 0], at[:, 1], linestyle="none", marker="$\\oplus$", markersize=9,
+                color="#1f5fa8")
     for at, s in names:
         ax.text(*(at * _MM), s, ha="center", va="center", fontsize=16 * text_scale,
                 weight="bold")

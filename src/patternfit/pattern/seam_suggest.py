@@ -338,12 +338,16 @@ def suggest_seams(pattern: Pattern, *, min_score: float = DEFAULTS.seam_score
             found.extend(_scored(edges, pieces, counts, min(i, j), max(i, j), min_score))
     found.sort(key=lambda f: (-f[0], -f[1], f[2], f[3]))
     used: set[int] = set()
+    chosen = []
+    for item in found:
+        if item[2] in used or item[3] in used:
+            continue
+        used |= {item[2], item[3]}
+        chosen.append(item)
     names: set[str] = {s.name for s in pattern.seams}
     out = []
-    for score, _, i, j, reverse, reasons in found:
-        if i in used or j in used:
-            continue
-        used |= {i, j}
+    for score, _, i, j, reverse, reasons in _caps_matched(chosen, edges, pieces, counts,
+                                                          min_score):
         a, b = edges[i], edges[j]
         name = a.name if a.name == b.name and a.name not in names else \
             f"{a.panel}.{a.name}+{b.panel}.{b.name}"
@@ -353,6 +357,43 @@ def suggest_seams(pattern: Pattern, *, min_score: float = DEFAULTS.seam_score
         out.append(SeamSuggestion(seam, round(float(score), 4), reasons))
     out = _two_spans(pattern, pieces, edges, used, out, min_score)
     return _keep_openings(pattern, out)
+
+
+def _caps_matched(chosen: list, edges: list, pieces: dict, counts: dict,
+                  min_score: float) -> list:
+    """``chosen`` (tuples of :func:`_scored`) with the two cap halves of a sleeve swapped
+    between the front and back armholes they were given where the swap spreads the cap
+    ease more evenly: the cap's ease is shared by its halves in proportion, so the longer
+    half goes into the longer armhole (pair by pair, one half of a cap can be as long as
+    the other armhole and win it: the shirt's back cap half is within 2 mm of its front
+    armhole). Only where both swapped pairs still score at least ``min_score``."""
+    out = list(chosen)
+
+    def sleeve_side(item):
+        a, b = edges[item[2]], edges[item[3]]
+        if pieces[a.panel].kind == "sleeve" and pieces[b.panel].kind in ("front", "back"):
+            return item[2], item[3]
+        if pieces[b.panel].kind == "sleeve" and pieces[a.panel].kind in ("front", "back"):
+            return item[3], item[2]
+        return None
+
+    def ratio(x, y):
+        return edges[x].length / edges[y].length
+
+    for n in range(len(out)):
+        for m in range(n + 1, len(out)):
+            one, two = sleeve_side(out[n]), sleeve_side(out[m])
+            if one is None or two is None or edges[one[0]].panel != edges[two[0]].panel or \
+                    edges[one[1]].panel == edges[two[1]].panel:
+                continue
+            (x1, y1), (x2, y2) = one, two
+            if abs(ratio(x1, y2) - ratio(x2, y1)) >= abs(ratio(x1, y1) - ratio(x2, y2)):
+                continue
+            swapped = [_scored(edges, pieces, counts, min(x, y), max(x, y), min_score)
+                       for x, y in ((x1, y2), (x2, y1))]
+            if all(swapped):
+                out[n], out[m] = swapped[0][0], swapped[1][0]
+    return out
 
 
 def _rise(pattern: Pattern, panel: str, point) -> float:
