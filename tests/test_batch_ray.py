@@ -21,15 +21,15 @@ from patternfit.batch import (Inputs, ResultLog, Task, TaskOptions,  # noqa: E40
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 ARGS = ["batch", "--pattern", "skirt", "--sizes", "S,M", "--bodies",
-        "female_thin,female_average", "--fabrics", "cotton_shirting", "--triangles", "1000",
-        ]
+        "female_thin,female_average", "--fabrics", "cotton_shirting", "--triangles", "1000"]
 
 
 def _batch(out, *extra, workers=2, **kw):
     env = {**os.environ, "PYTHONPATH": f"{SRC}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
-    return subprocess.Popen([sys.executable, "-m", "patternfit.cli.main", *ARGS, "--workers",
-                             str(workers), "--out", str(out), *extra], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, **kw)
+    command = [sys.executable, "-m", "patternfit.cli.main", *ARGS, "--workers", str(workers),
+               "--out", str(out), *extra]
+    return subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            text=True, **kw)
 
 
 def _rows_written(csv_path) -> int:
