@@ -131,7 +131,7 @@ def published(args, settings_text, dump):
     """The Cusick test of every published fabric at each compression share, against its
     measured drape coefficient."""
     comps = [float(c) for c in args.compression.split(",")]
-    table = published_drapes()
+    table = {k: v for k, v in published_drapes().items() if not args.ids or k in args.ids}
     rows, sims = [], {c: [] for c in comps}
     for fid, pub in table.items():
         row = [fid, pub.description, f"{pub.drape_coefficient:.3f}"]
@@ -153,6 +153,9 @@ def published(args, settings_text, dump):
             dump.setdefault(fid, {})[f"cusick_compression_{c:g}"] = cus.to_dict()
         row.append(fmt(pub.drape_coefficient_reference, ".3f"))
         rows.append(tuple(row))
+        print("  done:", " | ".join(row), flush=True)
+        if args.json:
+            args.json.write_text(dumps_finite_json(dump, indent=1) + "\n")
     header = ["fabric", "what", "measured DC"]
     for c in comps:
         header += [f"sim DC c={c:g} mean (min-max)", "sim/meas", "nodes", "shrunk %", "s"]
@@ -179,6 +182,7 @@ def main():
     ap.add_argument("--only", choices=("presets", "published"),
                     help="run one of the two sections (default both)")
     ap.add_argument("--fabrics", nargs="+", default=list(FABRICS))
+    ap.add_argument("--ids", nargs="+", help="published fabrics to run (default all)")
     ap.add_argument("--triangles", type=int, default=4000, help="Cusick mesh")
     ap.add_argument("--seeds", type=int, default=5, help="Cusick starts")
     ap.add_argument("--meshes", default="6,12,24",

@@ -298,7 +298,7 @@ class KitReading:
     ----------
     drape_coefficient : float
         Cusick drape coefficient, mean over the starts [-] (30 cm specimen, 18 cm disc,
-        4,000 triangles, 5 starts, full stretch stiffness in compression).
+        4,000 triangles, starts 0-2, full stretch stiffness in compression).
     drape_coefficient_min, drape_coefficient_max : float
         Its range over the starts [-].
     nodes : float
@@ -320,9 +320,17 @@ class KitReading:
 
 #: The kit's readings of the presets and the published fabrics, stored from runs (a test
 #: re-runs the kit on them): Cusick at the kit's defaults (30/18 cm, 4,000 triangles, the
-#: force stop, Newton, compression 1.0), 5 starts for the presets, 3 for the published
-#: fabrics; cantilever along the warp at 6, 12, 24 edges per bending length.
-#: Presets: ``python benchmarks/physics.py --only presets`` (commit and date in
-#: docs/fabrics.md, "Testing a fabric"); published fabrics: ``python benchmarks/physics.py
-#: --only published --seeds 3`` (docs/fabrics.md, "Published drape tests").
-KIT_READINGS: dict[str, KitReading] = {}
+#: force stop, Newton, compression 1.0), starts 0-2; cantilever along the warp at 12 and
+#: 24 edges per bending length (the finest).
+#: Presets: ``python benchmarks/physics.py --only presets --seeds 3 --meshes 12,24``;
+#: published fabrics: ``python benchmarks/physics.py --only published --seeds 3``; both at
+#: commit 05b5c0d (docs/fabrics.md, "Testing a fabric" and "Published drape tests").
+KIT_READINGS: dict[str, KitReading] = {
+    "cotton_shirting": KitReading(0.6749, 0.6497, 0.6956, 8.0, 0.01931),
+    "jersey_knit": KitReading(0.2904, 0.2814, 0.2993, 9.0, 0.013891),
+    "stretch_knit": KitReading(0.3821, 0.3734, 0.3865, 8.7, 0.015363),
+    "petrak_m1": KitReading(0.3356, 0.3340, 0.3390, 7.3),
+    "petrak_m2": KitReading(0.4370, 0.3800, 0.4810, 6.0),
+    "petrak_m3": KitReading(0.2745, 0.2624, 0.2857, 9.0),
+    "petrak_m5": KitReading(0.2563, 0.2457, 0.2625, 9.3),
+}
