@@ -327,10 +327,13 @@ class KitReading:
 #: commit 05b5c0d (docs/fabrics.md, "Testing a fabric" and "Published drape tests").
 KIT_READINGS: dict[str, KitReading] = {
     "cotton_shirting": KitReading(0.6749, 0.6497, 0.6956, 8.0, 0.01931),
+    "wool_coating": KitReading(0.5387, 0.5266, 0.5479, 7.7, 0.018188),
     "jersey_knit": KitReading(0.2904, 0.2814, 0.2993, 9.0, 0.013891),
     "stretch_knit": KitReading(0.3821, 0.3734, 0.3865, 8.7, 0.015363),
     "petrak_m1": KitReading(0.3356, 0.3340, 0.3390, 7.3),
     "petrak_m2": KitReading(0.4370, 0.3800, 0.4810, 6.0),
     "petrak_m3": KitReading(0.2745, 0.2624, 0.2857, 9.0),
+    "petrak_m4": KitReading(0.2239, 0.2138, 0.2345, 9.7),
     "petrak_m5": KitReading(0.2563, 0.2457, 0.2625, 9.3),
+    "petrak_m6": KitReading(0.3306, 0.3195, 0.3457, 9.3),
 }
