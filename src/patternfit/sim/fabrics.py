@@ -327,6 +327,7 @@ class KitReading:
 #: commit 05b5c0d (docs/fabrics.md, "Testing a fabric" and "Published drape tests").
 KIT_READINGS: dict[str, KitReading] = {
     "cotton_shirting": KitReading(0.6749, 0.6497, 0.6956, 8.0, 0.01931),
+    "denim": KitReading(0.5763, 0.5468, 0.5983, 8.0, 0.017002),
     "wool_coating": KitReading(0.5387, 0.5266, 0.5479, 7.7, 0.018188),
     "jersey_knit": KitReading(0.2904, 0.2814, 0.2993, 9.0, 0.013891),
     "stretch_knit": KitReading(0.3821, 0.3734, 0.3865, 8.7, 0.015363),
