@@ -955,9 +955,11 @@ def write_cusick_picture(result: CusickResult, path) -> Path:
                      fontsize=9)
     for ax in axes.ravel()[k:]:
         ax.axis("off")
-    fig.suptitle(f"Cusick drape, {result.fabric}: DC {result.drape_coefficient:.3f} "
-                 f"(spread {result.drape_coefficient_spread:.3f}), nodes {result.nodes:.1f}; "
-                 f"top view, colour = height [mm]", fontsize=10)
+    parts = (f"Cusick drape, {result.fabric}", f"DC {result.drape_coefficient:.3f} (spread "
+             f"{result.drape_coefficient_spread:.3f}), nodes {result.nodes:.1f}",
+             "top view, colour = height [mm]")
+    # fewer than three panels are too narrow for the title on one line
+    fig.suptitle(("; " if cols >= 3 else "\n").join(parts), fontsize=10)
     fig.colorbar(coll, ax=axes.ravel().tolist(), shrink=0.8, label="height [mm]")
     try:
         return _save(fig, path)
