@@ -1,12 +1,18 @@
-"""The virtual fabric-testing kit on every preset: hanging strip, Peirce's cantilever, Cusick.
+"""The virtual fabric-testing kit on every preset (hanging strip, Peirce's cantilever,
+Cusick), and the Cusick test of the published fabrics against their measured drape
+coefficients.
 
-Run ``python benchmarks/physics.py [--fabrics denim ...] [--triangles 4000] [--seeds 5]
-[--meshes 6,12,24] [--figures DIR] [--json FILE]``; prints one table row per preset (strip
+Run ``python benchmarks/physics.py [--only presets|published] [--fabrics denim ...]
+[--triangles 4000] [--seeds 5] [--meshes 6,12,24] [--compression 1.0,0.05] [--figures DIR]
+[--json FILE]``; prints one table row per preset (strip
 stretch over rho g L^2 / (2 k); cantilever bending length measured / expected, finest mesh,
 and the change between the two finest; Cusick drape coefficient mean (min-max over the
 starts), nodes, and the share of the free area shrunk by more than 1 %; solves at rest;
-seconds per test; ``--setting stop=force ...`` passes SolverSettings fields), then
-the cantilever's mesh series. The machine and the solver's source state (commit and a hash
+seconds per test; ``--setting stop=force ...`` passes SolverSettings fields over the
+kit's), then the cantilever's mesh series; then one row per published fabric (measured
+drape coefficient, simulated mean (min-max) and simulated / measured at each
+``--compression``, nodes, area shrunk by more than 1 %, the source's own CLO3D figure) and
+how well the simulated order follows the measured one. The machine and the solver's source state (commit and a hash
 of the working tree's sim/solver.py, kernels.py, energies.py) are printed with it, since
 the solver changes under the kit (docs/fabrics.md, "Testing a fabric").
 """
@@ -23,7 +29,7 @@ import _path  # noqa: F401  (tests/ on sys.path, as every benchmark)
 from _table import machine, print_table
 from patternfit.files import dumps_finite_json
 from patternfit.sim import fabric_test as kit
-from patternfit.sim.fabrics import FABRICS
+from patternfit.sim.fabrics import FABRICS, published_drapes
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -41,57 +47,21 @@ def solver_state() -> str:
     return f"commit {rev}, sim/solver.py+kernels.py+energies.py sha1 {h.hexdigest()[:10]}"
 
 
-def solver_settings(pairs):
-    """SolverSettings with ``KEY=VALUE`` fields (numbers, true/false or text), or None."""
-    if not pairs:
-        return None
-    from patternfit.sim.solver import SolverSettings
-
-    values = {}
-    for pair in pairs:
-        key, _, text = pair.partition("=")
-        low = text.lower()
-        if low in ("true", "false"):
-            values[key] = low == "true"
-            continue
-        try:
-            values[key] = int(text)
-        except ValueError:
-            try:
-                values[key] = float(text)
-            except ValueError:
-                values[key] = text
-    return SolverSettings(**values)
-
-
 def fmt(value, spec, scale=1.0):
     return "n/a" if value is None else format(value * scale, spec)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--fabrics", nargs="+", default=list(FABRICS))
-    ap.add_argument("--triangles", type=int, default=4000, help="Cusick mesh")
-    ap.add_argument("--seeds", type=int, default=5, help="Cusick starts")
-    ap.add_argument("--meshes", default="6,12,24",
-                    help="cantilever mesh sizes, edges per bending length")
-    ap.add_argument("--figures", type=Path, help="write the Cusick top views here")
-    ap.add_argument("--json", type=Path, help="write every result here")
-    ap.add_argument("--setting", nargs="*", default=[], metavar="KEY=VALUE",
-                    help="SolverSettings fields for every solve, e.g. stop=force method=newton")
-    args = ap.parse_args()
+def presets(args, settings, dump):
+    """The strip, cantilever and Cusick tests of every preset in ``args.fabrics``."""
     meshes = tuple(int(m) for m in args.meshes.split(","))
-    settings = solver_settings(args.setting)
-    # compile the solver's kernels outside the timings
-    kit.strip_test("denim", length=0.1)
-    print(f"{time.strftime('%Y-%m-%d %H:%M')}; {machine()}; {solver_state()}; settings "
-          f"{' '.join(args.setting) or f'kit default {kit.AT_REST}'}")
-    rows, series, dump = [], [], {}
+    rows, series = [], []
+    triangles = None
     for name in args.fabrics:
         strip = kit.strip_test(name, settings=settings)
         cant = kit.cantilever_test(name, meshes=meshes, settings=settings)
         cus = kit.cusick_test(name, triangles=args.triangles, seeds=tuple(range(args.seeds)),
                               settings=settings)
+        triangles = cus.triangles
         solves = [strip.solve] + [r.solve for m in cant.meshes for r in m.runs] + \
             [r.solve for r in cus.runs]
         rest = sum(s.at_rest for s in solves)
@@ -111,18 +81,14 @@ def main():
                            fmt(m.bending_length_m, ".2f", 1e3),
                            fmt(m.bending_length_m and m.bending_length_m
                                / cant.bending_length_expected_m, ".3f")))
-        bad = sorted({(s.stop_reason, fmt((s.residual or {}).get("residual_rms")
-                                          if isinstance(s.residual, dict) else None, ".3g"))
-                      for s in solves if not s.at_rest})
-        if bad:
-            print(f"  {name}: solves not at rest (stop reason, residual rms): {bad}")
+        not_at_rest(name, solves)
         if args.figures:
             args.figures.mkdir(parents=True, exist_ok=True)
             kit.write_cusick_picture(cus, args.figures / f"cusick_{name}.png")
         dump[name] = {"strip": strip.to_dict(), "cantilever": cant.to_dict(),
                       "cusick": cus.to_dict()}
     print_table(f"fabric tests (strip 0.5 x 0.05 m; cantilever {args.meshes} edges per "
-                f"bending length, 25 mm strip; Cusick 30/18 cm, {cus.triangles} triangles, "
+                f"bending length, 25 mm strip; Cusick 30/18 cm, {triangles} triangles, "
                 f"{args.seeds} starts)", rows,
                 ("fabric", "strip ratio", "bending length mm (meas / exp)", "ratio",
                  "mesh Δ %", "Cusick DC mean (min-max)", "nodes", "shrunk %",
@@ -130,6 +96,116 @@ def main():
     print_table("cantilever mesh series (finest last; ratio = reading / expected)", series,
                 ("fabric", "edge mm", "triangles", "solves", "overhang mm", "tip °",
                  "bending length mm", "ratio"))
+
+
+def not_at_rest(name, solves):
+    bad = sorted({(s.stop_reason, fmt((s.residual or {}).get("residual_rms")
+                                      if isinstance(s.residual, dict) else None, ".3g"))
+                  for s in solves if not s.at_rest})
+    if bad:
+        print(f"  {name}: solves not at rest (stop reason, residual rms): {bad}")
+
+
+def ranks(values):
+    order = sorted(range(len(values)), key=values.__getitem__)
+    out = [0] * len(values)
+    for rank, i in enumerate(order):
+        out[i] = rank
+    return out
+
+
+def order_agreement(measured, simulated):
+    """(pairs ordered as measured, pairs, Spearman's rho) over all pairs of fabrics."""
+    n = len(measured)
+    pairs = [(i, j) for i in range(n) for j in range(i + 1, n)
+             if measured[i] != measured[j]]
+    right = sum((measured[i] - measured[j]) * (simulated[i] - simulated[j]) > 0
+                for i, j in pairs)
+    rm, rs = ranks(measured), ranks(simulated)
+    rho = 1 - 6 * sum((a - b) ** 2 for a, b in zip(rm, rs)) / (n * (n * n - 1)) if n > 1 \
+        else float("nan")
+    return right, len(pairs), rho
+
+
+def published(args, settings_text, dump):
+    """The Cusick test of every published fabric at each compression share, against its
+    measured drape coefficient."""
+    comps = [float(c) for c in args.compression.split(",")]
+    table = {k: v for k, v in published_drapes().items() if not args.ids or k in args.ids}
+    rows, sims = [], {c: [] for c in comps}
+    for fid, pub in table.items():
+        row = [fid, pub.description, f"{pub.drape_coefficient:.3f}"]
+        for c in comps:
+            st = kit.settings_from_pairs([*settings_text, f"compression={c}"])
+            cus = kit.cusick_test(pub.fabric, triangles=args.triangles,
+                                  seeds=tuple(range(args.seeds)), settings=st)
+            dcs = [r.drape_coefficient for r in cus.runs]
+            shrunk = max(r.compressed_share for r in cus.runs)
+            sims[c].append(cus.drape_coefficient)
+            row += [f"{cus.drape_coefficient:.3f} ({min(dcs):.3f}-{max(dcs):.3f})",
+                    f"{cus.drape_coefficient / pub.drape_coefficient:.2f}",
+                    f"{cus.nodes:.1f} ({cus.nodes_min}-{cus.nodes_max})",
+                    f"{shrunk * 100:.1f}", f"{cus.seconds:.0f}"]
+            not_at_rest(f"{fid} compression {c}", [r.solve for r in cus.runs])
+            if args.figures:
+                args.figures.mkdir(parents=True, exist_ok=True)
+                kit.write_cusick_picture(cus, args.figures / f"cusick_{fid}_c{c:g}.png")
+            dump.setdefault(fid, {})[f"cusick_compression_{c:g}"] = cus.to_dict()
+        row.append(fmt(pub.drape_coefficient_reference, ".3f"))
+        rows.append(tuple(row))
+        print("  done:", " | ".join(row), flush=True)
+        if args.json:
+            args.json.write_text(dumps_finite_json(dump, indent=1) + "\n")
+    header = ["fabric", "what", "measured DC"]
+    for c in comps:
+        header += [f"sim DC c={c:g} mean (min-max)", "sim/meas", "nodes", "shrunk %", "s"]
+    header.append("CLO3D DC (source)")
+    print_table(f"Cusick drape test of published fabrics (30/18 cm, {args.triangles} "
+                f"triangles, {args.seeds} starts; c = stretch stiffness kept in compression); "
+                f"sources: docs/fabrics.md", rows, tuple(header))
+    measured = [p.drape_coefficient for p in table.values()]
+    for c in comps:
+        right, pairs, rho = order_agreement(measured, sims[c])
+        within = sum(abs(s / m - 1) <= 0.15 for s, m in zip(sims[c], measured))
+        print(f"compression {c:g}: {within}/{len(measured)} within ±15 % of the measured DC; "
+              f"{right}/{pairs} pairs in the measured order; Spearman rho {rho:.2f}")
+    ref = [p.drape_coefficient_reference for p in table.values()]
+    if all(r is not None for r in ref):
+        right, pairs, rho = order_agreement(measured, ref)
+        within = sum(abs(r / m - 1) <= 0.15 for r, m in zip(ref, measured))
+        print(f"the sources' CLO3D: {within}/{len(measured)} within ±15 %; {right}/{pairs} "
+              f"pairs in order; Spearman rho {rho:.2f}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--only", choices=("presets", "published"),
+                    help="run one of the two sections (default both)")
+    ap.add_argument("--fabrics", nargs="+", default=list(FABRICS))
+    ap.add_argument("--ids", nargs="+", help="published fabrics to run (default all)")
+    ap.add_argument("--triangles", type=int, default=4000, help="Cusick mesh")
+    ap.add_argument("--seeds", type=int, default=5, help="Cusick starts")
+    ap.add_argument("--meshes", default="6,12,24",
+                    help="cantilever mesh sizes, edges per bending length")
+    ap.add_argument("--compression", default="1.0,0.05",
+                    help="published fabrics: stretch stiffness kept in compression, a share "
+                         "per column group")
+    ap.add_argument("--figures", type=Path, help="write the Cusick top views here")
+    ap.add_argument("--json", type=Path, help="write every result here")
+    ap.add_argument("--setting", nargs="*", default=[], metavar="KEY=VALUE",
+                    help="SolverSettings fields for every solve over the kit's "
+                         f"{kit.AT_REST}, e.g. compression=0.05")
+    args = ap.parse_args()
+    settings = kit.settings_from_pairs(args.setting)
+    # compile the solver's kernels outside the timings
+    kit.strip_test("denim", length=0.1)
+    print(f"{time.strftime('%Y-%m-%d %H:%M')}; {machine()}; {solver_state()}; settings: kit "
+          f"{kit.AT_REST} {' '.join(args.setting)}")
+    dump = {}
+    if args.only in (None, "presets"):
+        presets(args, settings, dump)
+    if args.only in (None, "published"):
+        published(args, args.setting, dump)
     if args.json:
         args.json.write_text(dumps_finite_json(dump, indent=1) + "\n")
         print(f"wrote {args.json}")

@@ -15,7 +15,12 @@ from patternfit.cli.main import app
 from patternfit.files import dumps_finite_json
 from patternfit.geometry import triangle_areas
 from patternfit.sim import fabric_test as kit
-from patternfit.sim.fabrics import get_fabric
+from patternfit.sim.fabrics import FABRICS, KIT_READINGS, get_fabric, published_drapes
+
+#: two published fabrics whose simulated drape coefficients keep their measured order (0.286
+#: < 0.549) at the kit's 4K triangles (docs/fabrics.md, "Published drape tests": 5 of the 6
+#: pairs among M3-M6 do at 4K, the lightest two M1, M2 lock and drape too stiff there)
+ORDERED_PAIR = ("petrak_m4", "petrak_m6")
 
 runner = CliRunner()
 
@@ -116,7 +121,7 @@ def test_cusick_drape_coefficient_and_nodes(drapes):
         assert {"drape_coefficient", "nodes", "triangles", "seconds", "fabric",
                 "drape_coefficient_spread", "residual"} <= set(d)
         json.loads(dumps_finite_json(d))
-    # stiffer fabric (bending length 30 mm against 15 mm) stands out further
+    # stiffer fabric (bending length 20 mm against 15 mm) stands out further
     assert (drapes["cotton_shirting"].drape_coefficient
             > drapes["jersey_knit"].drape_coefficient + 0.2)
 
@@ -181,3 +186,89 @@ def test_presets_on_the_full_bench(fabric):
     d = kit.cusick_test(fabric)
     assert d.converged and 0.0 < d.drape_coefficient < 1.0
     assert d.drape_coefficient_spread < 0.1
+
+
+# ------------------------------------------------- stored readings and published drapes
+
+
+def _reading_check(name, triangles=4000, seeds=(0,)):
+    """Re-run the kit's Cusick test on ``name`` as its stored reading was made (kit
+    defaults, the first of its starts) and compare."""
+    stored = KIT_READINGS[name]
+    r = kit.cusick_test(name, triangles=triangles, seeds=seeds)
+    assert r.converged, name
+    # the stored mean is over seeds 0..n-1; seed 0 lies within their range
+    assert stored.drape_coefficient_min - 0.01 <= r.drape_coefficient \
+        <= stored.drape_coefficient_max + 0.01, name
+    return r
+
+
+def test_stored_drape_coefficient_agrees_with_a_kit_run():
+    """``patternfit fabrics`` prints stored readings; one is re-run here (the rest in the
+    slow test below)."""
+    _reading_check("jersey_knit")
+
+
+def test_stored_bending_length_agrees_with_a_kit_run():
+    """The stored reading is the finest of 12 and 24 edges per bending length; 12 alone
+    reads within 2 % of it (the two differ by 0.4-1.4 %, docs/fabrics.md)."""
+    stored = KIT_READINGS["jersey_knit"].bending_length
+    r = kit.cantilever_test("jersey_knit", meshes=(12,))
+    assert r.converged
+    assert r.bending_length_measured_m == pytest.approx(stored, rel=0.02)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(KIT_READINGS))
+def test_every_stored_reading_agrees_with_a_kit_run(name):
+    _reading_check(name)
+    stored = KIT_READINGS[name].bending_length
+    if stored is not None:
+        r = kit.cantilever_test(name, meshes=(12, 24))
+        assert r.bending_length_measured_m == pytest.approx(stored, rel=0.005)
+
+
+def test_every_fabric_has_a_stored_reading():
+    assert set(FABRICS) | set(published_drapes()) <= set(KIT_READINGS)
+    assert all(KIT_READINGS[f].bending_length for f in FABRICS)
+
+
+def test_drape_order_of_two_published_fabrics_follows_the_measured_order():
+    """Petrak et al. 2025 measured the first of ORDERED_PAIR draping further (the lower drape
+    coefficient) than the second; the simulated drape coefficients keep that order (kit
+    defaults, one start)."""
+    table = published_drapes()
+    lo, hi = ORDERED_PAIR
+    assert table[lo].drape_coefficient < table[hi].drape_coefficient
+    sim = {n: kit.cusick_test(n, triangles=4000, seeds=(0,)) for n in (lo, hi)}
+    assert all(r.converged for r in sim.values())
+    assert sim[lo].drape_coefficient < sim[hi].drape_coefficient
+
+
+def test_cli_fabrics_lists_presets_and_published_fabrics():
+    r = runner.invoke(app, ["fabrics", "--json"])
+    assert r.exit_code == 0, r.output
+    rows = {row["name"]: row for row in json.loads(r.stdout)["fabrics"]}
+    assert set(FABRICS) | set(published_drapes()) == set(rows)
+    denim = rows["denim"]
+    assert denim["kind"] == "preset" and "KES" in denim["source"]
+    assert denim["bending_length_m"]["warp"] == pytest.approx(get_fabric("denim").bending_length)
+    assert denim["kit"]["drape_coefficient"] == KIT_READINGS["denim"].drape_coefficient
+    m6 = rows["petrak_m6"]
+    assert m6["kind"] == "published" and m6["drape_coefficient_measured"] == 0.549
+    text = runner.invoke(app, ["fabrics"])
+    assert text.exit_code == 0 and "petrak_m6" in text.output and "0.549" in text.output
+
+
+def test_cli_set_passes_solver_settings_and_refuses_unknown_ones():
+    r = runner.invoke(app, ["fabric-test", "strip", "-f", "jersey", "--length", "0.2",
+                            "--set", "compression=0.05", "--json"])
+    assert r.exit_code == 0, r.output
+    for bad, words in ((["--set", "stiffness_of_doom=2"], "unknown solver setting"),
+                       (["--set", "compression"], "KEY=VALUE"),
+                       (["--set", "compression=nan"], "compression")):
+        r = runner.invoke(app, ["fabric-test", "strip", "-f", "jersey", *bad])
+        assert r.exit_code == 2 and words in r.output, r.output
+    assert kit.kit_settings().compression == 1.0
+    assert kit.settings_from_pairs(["compression=0.05", "self_collision=false"]) == \
+        kit.kit_settings(compression=0.05, self_collision=False)

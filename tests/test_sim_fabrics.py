@@ -8,8 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from patternfit.sim.fabrics import (ARCSIM_BENDING_FACTOR, FABRICS, Fabric, FabricError,
-                                    get_fabric, load_fabric)
+from patternfit.sim.fabrics import (ARCSIM_BENDING_FACTOR, FABRICS, KES_BENDING,
+                                    PRESET_SOURCES, Fabric, FabricError, get_fabric,
+                                    load_fabric, published_drapes)
 
 
 def test_presets_cover_the_required_fabrics_in_si_ranges():
@@ -25,7 +26,7 @@ def test_presets_cover_the_required_fabrics_in_si_ranges():
 
 
 @pytest.mark.parametrize("name, row0, bend0, density", [
-    ("cotton_shirting", (2016.55, 9.17, 2034.98, 104.76), (125.41e-6, 125.41e-6), None),
+    ("cotton_shirting", (2016.55, 9.17, 2034.98, 104.76), None, None),
     ("jersey_knit", (16.594, -14.696, 34.477, 36.860), (23.192e-6, 14.268e-6), 0.187),
     ("stretch_knit", (42.871, -0.235, 65.166, 83.176), (46.238e-6, 32.244e-6), 0.276),
 ])  # royal-target, gray-interlock, ivory-rib-knit
@@ -37,8 +38,9 @@ def test_presets_follow_their_wang_2011_samples(name, row0, bend0, density):
     assert f.stretch_warp == pytest.approx(2 * row0[2], rel=5e-3)
     assert f.stretch_weft == pytest.approx(2 * row0[0], rel=5e-3)
     assert f.shear == pytest.approx(row0[3] / 2, rel=5e-3)
-    assert f.bending_warp == pytest.approx(bend0[0] / 4, rel=5e-3)
-    assert f.bending_weft == pytest.approx(bend0[1] / 4, rel=5e-3)
+    if bend0 is not None:
+        assert f.bending_warp == pytest.approx(bend0[0] / 4, rel=5e-3)
+        assert f.bending_weft == pytest.approx(bend0[1] / 4, rel=5e-3)
     if density is not None:
         assert f.density == density
 
@@ -112,9 +114,41 @@ def test_peirce_bending_lengths_are_those_of_garment_fabrics():
             assert 0.010 < (b / (f.density * GRAVITY)) ** (1 / 3) < 0.035, f.name
 
 
-def test_shirting_thickness_follows_penava_2014():
-    """docs/fabrics.md: 100 % cotton plain weave, Penava et al. 2014 Table 1, T = 0.318 mm."""
-    assert FABRICS["cotton_shirting"].thickness == pytest.approx(0.318e-3, rel=1e-9)
+def test_shirting_follows_penava_2014_and_a_kes_broadcloth():
+    """docs/fabrics.md: 100 % cotton plain weave, Penava et al. 2014 Table 1, T = 0.318 mm at
+    150.3 g/m^2; bending: KES-FB2 B = 0.118 gf cm^2/cm of Matsudaira et al. 2015's cotton
+    broad, 1 gf cm^2/cm = 9.80665e-3 N x 0.01 m."""
+    f = FABRICS["cotton_shirting"]
+    assert f.thickness == pytest.approx(0.318e-3, rel=1e-9)
+    assert f.density == pytest.approx(0.1503, rel=1e-9)
+    assert KES_BENDING == pytest.approx(9.80665e-3 * 0.01, rel=1e-12)
+    assert f.bending_warp == f.bending_weft == pytest.approx(11.572e-6, rel=1e-4)
+
+
+def test_published_fabrics_convert_from_their_clo3d_units():
+    """Petrak et al. 2025, fabric M1 as transcribed: 135.17 g/m^2, 0.31 mm, stretch
+    477226 / 458614 g/s^2, shear 41000 g/s^2, bending 1950 / 610 g mm^2/s^2, DC 0.223
+    (CLO3D 0.349): g/s^2 = 1e-3 N/m, g mm^2/s^2 = 1e-9 N m."""
+    table = published_drapes()
+    assert sorted(table) == [f"petrak_m{i}" for i in range(1, 7)]
+    m1 = table["petrak_m1"]
+    f = m1.fabric
+    assert (f.density, f.thickness) == pytest.approx((0.13517, 0.31e-3), rel=1e-12)
+    assert (f.stretch_warp, f.stretch_weft, f.shear) == pytest.approx((477.226, 458.614, 41.0),
+                                                                      rel=1e-12)
+    assert (f.bending_warp, f.bending_weft) == pytest.approx((1.95e-6, 0.61e-6), rel=1e-12)
+    assert (m1.drape_coefficient, m1.drape_coefficient_reference) == (0.223, 0.349)
+    assert "10.3390/su17041388" in m1.provenance and "Petrak" in m1.source
+    measured = [p.drape_coefficient for p in table.values()]
+    assert min(measured) == 0.223 and max(measured) == 0.549
+    for p in table.values():  # garment wovens: bending lengths of 7-15 mm
+        assert 0.007 < p.fabric.bending_length_weft and p.fabric.bending_length < 0.015
+        assert get_fabric(p.fabric.name) is p.fabric
+
+
+def test_every_preset_names_its_source():
+    assert set(PRESET_SOURCES) == set(FABRICS)
+    assert all(len(text) > 20 for text in PRESET_SOURCES.values())
 
 
 def test_denim_density_is_wangs_measured_denim():

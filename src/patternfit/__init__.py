@@ -15,9 +15,10 @@ __version__ = "0.1.0"
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
            "DesignSession", "FabricError", "FitOutcome", "InputError", "PatternError",
            "__version__", "correct", "correct_design", "design_session", "drafted_too_small",
-           "drape_and_evaluate", "evaluate_saved", "list_bodies", "list_fabrics",
-           "list_garments", "mesh_garment", "place_and_evaluate", "placed_fitting_ratio",
-           "read_body", "read_fabric", "read_pattern", "save_any_pattern", "save_garment"]
+           "drape_and_evaluate", "evaluate_saved", "fabric_catalogue", "list_bodies",
+           "list_fabrics", "list_garments", "mesh_garment", "place_and_evaluate",
+           "placed_fitting_ratio", "read_body", "read_fabric", "read_pattern", "save_any_pattern",
+           "save_garment"]
 
 
 def __getattr__(name: str):

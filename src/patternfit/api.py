@@ -52,7 +52,8 @@ from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
 from .sim.drape import Drape, drape
-from .sim.fabrics import FABRICS, Fabric, FabricError, get_fabric
+from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
+                          get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
 from .sim.placement import place_on_body, place_on_cylinders
@@ -63,12 +64,13 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "GIRTHS", "InputError", "PatternError", "SeamSuggestion", "SolverSettings", "Verdict",
            "VerdictRules", "accept_seams", "add_seam", "body_from_measurements", "check_sewn",
            "correct", "correct_design", "design_session", "drafted_too_small",
-           "drape_and_evaluate", "evaluate_drape", "evaluate_saved", "fabric_test", "list_bodies",
-           "list_body_sets", "list_engines", "list_fabrics", "list_garments", "list_sizes",
-           "mesh_garment", "place_and_evaluate", "placed_fitting_ratio", "read_bodies",
-           "read_body", "read_fabric", "read_pattern", "remove_seam", "save_any_pattern",
-           "save_garment", "seam_table", "set_seam_ease", "suggest_seams", "verdict_rules",
-           "with_distance_field", "write_fabric_test_picture", "write_pattern"]
+           "drape_and_evaluate", "evaluate_drape", "evaluate_saved", "fabric_catalogue",
+           "fabric_test", "list_bodies", "list_body_sets", "list_engines", "list_fabrics",
+           "list_garments", "list_sizes", "mesh_garment", "place_and_evaluate",
+           "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric", "read_pattern",
+           "remove_seam", "save_any_pattern", "save_garment", "seam_table", "set_seam_ease",
+           "suggest_seams", "verdict_rules", "with_distance_field", "write_fabric_test_picture",
+           "write_pattern"]
 
 
 def list_garments() -> list[str]:
@@ -84,6 +86,32 @@ def list_sizes() -> list[str]:
 def list_fabrics() -> list[str]:
     """Names of the fabric presets."""
     return list(FABRICS)
+
+
+def fabric_catalogue() -> list[dict]:
+    """Every fabric preset, then every published test fabric (``kind`` "preset" or
+    "published"), JSON-ready: ``name``, ``constants`` (SI, as :class:`Fabric`),
+    ``bending_length_m`` {warp, weft} from the constants, ``(B / (density g))^(1/3)`` [m],
+    ``kit``: what the virtual fabric-testing kit read on it (Cusick ``drape_coefficient``
+    mean, min, max and ``nodes`` [-]; cantilever ``bending_length`` [m] or None), stored from
+    the run named in docs/fabrics.md, or None; ``source``; published ones also
+    ``drape_coefficient_measured`` and ``drape_coefficient_reference`` (the source's own
+    simulation) [-], ``description`` and ``provenance`` (the source in full)."""
+    rows = []
+    entries = [(f, "preset", PRESET_SOURCES.get(name, ""), None) for name, f in FABRICS.items()]
+    entries += [(p.fabric, "published", p.source, p) for p in published_drapes().values()]
+    for fab, kind, source, pub in entries:
+        reading = KIT_READINGS.get(fab.name)
+        row = {"name": fab.name, "kind": kind, "constants": fab.to_dict(),
+               "bending_length_m": {"warp": fab.bending_length,
+                                    "weft": fab.bending_length_weft},
+               "kit": None if reading is None else reading.to_dict(), "source": source}
+        if pub is not None:
+            row |= {"description": pub.description, "provenance": pub.provenance,
+                    "drape_coefficient_measured": pub.drape_coefficient,
+                    "drape_coefficient_reference": pub.drape_coefficient_reference}
+        rows.append(row)
+    return rows
 
 
 #: the virtual fabric tests :func:`fabric_test` runs

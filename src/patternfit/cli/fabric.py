@@ -130,6 +130,11 @@ def fabric_test(
                                        "(fabric_test_<test>.json) and the pictures here "
                                        "(cusick: top view; cantilever: side view)."),
     json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", metavar="KEY=VALUE",
+                                             help="A solver setting for every solve, over "
+                                                  "the kit's (force stop, Newton, "
+                                                  "compression=1.0), e.g. --set "
+                                                  "compression=0.05; repeatable."),
 ) -> None:
     """Test a fabric on the virtual bench: a hanging strip's stretch against ρgL²/(2k),
     Peirce's cantilever bending length against (B/(ρg))^(1/3), or the Cusick drape
@@ -153,6 +158,10 @@ def fabric_test(
     from .. import api
     from ..sim import fabric_test as kit
 
+    try:
+        settings = kit.settings_from_pairs(set_ or [])
+    except ValueError as err:
+        fail(f"--set: {err}")
     fab = api.read_fabric(fabric)
     with console.status(f"[bold]{test}[/] test of {escape(fab.name)}") as status:
         def progress(text: str) -> None:
@@ -161,17 +170,18 @@ def fabric_test(
         if test == "strip":
             result = kit.strip_test(fab, direction=direction or "warp",
                                     length=0.5 if length is None else length,
-                                    progress=progress)
+                                    settings=settings, progress=progress)
         elif test == "cantilever":
             result = kit.cantilever_test(fab, direction=direction or "warp",
                                          meshes=sizes or (6, 12, 24), keep_shape=out is not None,
-                                         progress=progress)
+                                         settings=settings, progress=progress)
         else:
             result = kit.cusick_test(
                 fab, specimen=kit.CUSICK_SPECIMEN if specimen is None else specimen,
                 disc=kit.CUSICK_DISC if disc is None else disc,
                 triangles=4000 if triangles is None else triangles,
-                seeds=tuple(range(5 if seeds is None else seeds)), progress=progress)
+                seeds=tuple(range(5 if seeds is None else seeds)), settings=settings,
+                progress=progress)
     report = {**result.to_dict(), "fabric_constants": fab.to_dict()}
     files = []
     if out is not None:
@@ -201,3 +211,41 @@ def fabric_test(
     if not result.passed:
         fail(f"the {test} test of {fab.name} failed its checks (see 'passed', 'converged' and "
              "'ratio' in the result)", CHECKS_FAILED)
+
+
+@app.command("fabrics")
+def fabrics(
+    json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON."),
+) -> None:
+    """List the fabric presets and the published test fabrics: Peirce's bending length from
+    their constants and as the virtual cantilever read it, the Cusick drape coefficient and
+    nodes the virtual drape test gave (stored from the runs in docs/fabrics.md), the
+    measured drape coefficient of the published ones, and where the numbers come from."""
+    from .. import api
+
+    rows = api.fabric_catalogue()
+    if json_out:
+        print_json({"fabrics": rows})
+        return
+    table = Table(title="fabrics: c = bending length (B/(ρg))^(1/3) warp / weft, and as the "
+                        "virtual cantilever read it (warp); DC = Cusick drape coefficient, "
+                        "30 cm on 18 cm, simulated (min–max over starts) and measured")
+    for col in ("name", "g/m²", "c [mm]", "c kit", "DC sim", "nodes", "DC meas"):
+        table.add_column(col, overflow="fold")
+    for r in rows:
+        kit = r["kit"] or {}
+        c = r["bending_length_m"]
+        dc = kit.get("drape_coefficient")
+        table.add_row(
+            r["name"], f"{r['constants']['density'] * 1e3:.0f}",
+            f"{c['warp'] * 1e3:.1f} / {c['weft'] * 1e3:.1f}",
+            _num(None if kit.get("bending_length") is None else kit["bending_length"] * 1e3,
+                 ".1f"),
+            "n/a" if dc is None else f"{dc:.3f} ({kit['drape_coefficient_min']:.3f}–"
+                                     f"{kit['drape_coefficient_max']:.3f})",
+            _num(kit.get("nodes"), ".1f"), _num(r.get("drape_coefficient_measured"), ".3f"))
+    console.print(table)
+    for r in rows:
+        what = r["source"] if r["kind"] == "preset" else f"{r['description']}; {r['source']}"
+        console.print(f"[bold]{escape(r['name'])}[/]: {escape(what)}", highlight=False)
+    console.print("sources in full: docs/fabrics.md, or --json")

@@ -13,7 +13,10 @@ naming the file (``file``) and the field (``place``).
 
 from __future__ import annotations
 
+import json
 from dataclasses import asdict, dataclass
+from functools import lru_cache
+from importlib.resources import files
 from pathlib import Path
 
 from ..arguments import number
@@ -67,6 +70,11 @@ class Fabric:
         """Peirce's bending length along the warp, ``(B / (density g))^(1/3)`` [m]."""
         return (self.bending_warp / (self.density * GRAVITY)) ** (1.0 / 3.0)
 
+    @property
+    def bending_length_weft(self) -> float:
+        """Peirce's bending length along the weft, ``(B_weft / (density g))^(1/3)`` [m]."""
+        return (self.bending_weft / (self.density * GRAVITY)) ** (1.0 / 3.0)
+
     def to_dict(self) -> dict:
         """The fabric as a JSON-ready dictionary in SI units."""
         return asdict(self)
@@ -114,16 +122,21 @@ def _check_values(values: dict, source) -> None:
 #: the spread over other meshes in docs/fabrics.md.
 ARCSIM_BENDING_FACTOR = 0.25
 
-#: Built-in fabrics (sources in docs/fabrics.md). The knits and the shirting take Wang et al.
-#: 2011's zero-curvature bending samples: row 0 (hinges along the weft / course, i.e. curvature
+#: KES-F bending rigidity B: gf cm^2/cm = gf cm = 9.80665e-3 N x 0.01 m [N m per gf cm^2/cm]
+KES_BENDING = 9.80665e-5
+
+#: Built-in fabrics (sources in docs/fabrics.md). The knits take Wang et al. 2011's
+#: zero-curvature bending samples: row 0 (hinges along the weft / course, i.e. curvature
 #: along the warp / wale) and row 2 (the other way). The denim's density is the ``density`` of
-#: Wang's ``11oz-black-denim`` file; its other values are a KES-measured denim.
+#: Wang's ``11oz-black-denim`` file; its other values are a KES-measured denim. The shirting
+#: bends like a KES-measured cotton broadcloth (Matsudaira et al. 2015, B = 0.118 gf cm^2/cm)
+#: and weighs what a measured cotton plain weave of its thickness weighs (Penava et al. 2014);
+#: its stretch and shear are Wang's ``royal-target`` cotton/polyester woven.
 FABRICS: dict[str, Fabric] = {
     f.name: f for f in (
-        Fabric("cotton_shirting", density=0.115, stretch_warp=4.07e3, stretch_weft=4.03e3,
-               shear=52.4, bending_warp=ARCSIM_BENDING_FACTOR * 125.409805e-6,
-               bending_weft=ARCSIM_BENDING_FACTOR * 125.409805e-6, friction=0.4,
-               thickness=0.318e-3),
+        Fabric("cotton_shirting", density=0.1503, stretch_warp=4.07e3, stretch_weft=4.03e3,
+               shear=52.4, bending_warp=KES_BENDING * 0.118, bending_weft=KES_BENDING * 0.118,
+               friction=0.4, thickness=0.318e-3),
         Fabric("denim", density=0.324, stretch_warp=8.9e3, stretch_weft=8.9e3, shear=122.0,
                bending_warp=16.9e-6, bending_weft=16.9e-6, friction=0.4, thickness=1.07e-3),
         Fabric("wool_coating", density=0.45, stretch_warp=2.1e3, stretch_weft=1.7e3,
@@ -138,6 +151,22 @@ FABRICS: dict[str, Fabric] = {
                bending_weft=ARCSIM_BENDING_FACTOR * 32.243889e-6, friction=0.5,
                thickness=0.6e-3),
     )
+}
+
+#: where each preset's numbers come from, in short (the full table and status of every value:
+#: docs/fabrics.md, "Values and sources")
+PRESET_SOURCES = {
+    "cotton_shirting": "bending: KES-F B of a cotton broadcloth (Matsudaira et al. 2015); weight "
+                       "and thickness: a cotton plain weave (Penava et al. 2014, Table 1); "
+                       "stretch, shear: Wang et al. 2011 royal-target",
+    "denim": "KES-F denim (J. Textiles 2016, 4614168, Table 5); density: Wang et al. 2011 "
+             "11oz-black-denim",
+    "wool_coating": "stretch, shear: SiroFAST wool suiting; density: melton trade range; "
+                    "bending and thickness assumed",
+    "jersey_knit": "Wang et al. 2011 gray-interlock (stretch, shear, bending, density); "
+                   "thickness assumed",
+    "stretch_knit": "Wang et al. 2011 ivory-rib-knit (stretch, shear, bending, density); "
+                    "thickness assumed",
 }
 
 _ALIASES = {"cotton": "cotton_shirting", "shirting": "cotton_shirting", "wool": "wool_coating",
@@ -177,15 +206,135 @@ def load_fabric(path) -> Fabric:
 
 def get_fabric(name_or_path) -> Fabric:
     """A preset by name (``cotton_shirting``, ``denim``, ...; ``cotton``, ``wool``, ``jersey``,
-    ``stretch`` also work), a :class:`Fabric` as is, or a user fabric from a JSON file."""
+    ``stretch`` also work), a published test fabric by id (``petrak_m1`` ...,
+    :func:`published_drapes`), a :class:`Fabric` as is, or a user fabric from a JSON file."""
     if isinstance(name_or_path, Fabric):
         return name_or_path
     key = str(name_or_path).strip().lower().replace("-", "_").replace(" ", "_")
     key = _ALIASES.get(key, key)
     if key in FABRICS:
         return FABRICS[key]
+    if key in published_drapes():
+        return published_drapes()[key].fabric
     path = Path(str(name_or_path))
     if path.suffix.lower() == ".json" or path.exists():
         return load_fabric(path)
-    raise FabricError(f"unknown preset {name_or_path!r} (presets: {', '.join(FABRICS)}; or a "
-                      ".json file)", place="fabric")
+    raise FabricError(f"unknown preset {name_or_path!r} (presets: {', '.join(FABRICS)}; "
+                      f"published test fabrics: {', '.join(published_drapes())}; or a .json "
+                      "file)", place="fabric")
+
+
+@dataclass(frozen=True)
+class PublishedDrape:
+    """A fabric whose drape coefficient was measured and published with its mechanical data.
+
+    Attributes
+    ----------
+    fabric : Fabric
+        Its constants converted to SI (docs/fabrics.md, "Published drape tests").
+    drape_coefficient : float
+        The measured drape coefficient [-].
+    drape_coefficient_reference : float or None
+        The source's own simulation of the same test (CLO3D for Petrak et al. 2025) [-].
+    description : str
+        Weave, fibre content and weight.
+    source : str
+        The citation, in short.
+    provenance : str
+        The source in full and how it was read.
+    """
+
+    fabric: Fabric
+    drape_coefficient: float
+    drape_coefficient_reference: float | None
+    description: str
+    source: str
+    provenance: str
+
+
+#: CLO3D's physical-property units in SI: stretch and shear [g/s^2] -> N/m, bending
+#: [g mm^2/s^2] -> N m (dimensional, docs/fabrics.md)
+CLO_STRETCH = 1e-3
+CLO_BENDING = 1e-9
+#: friction of the published fabrics, which their sources do not report; the Cusick test
+#: pins the disc and has no body, so it does not enter the drape coefficient [-]
+_UNREPORTED_FRICTION = 0.4
+
+
+@lru_cache(maxsize=1)
+def published_drapes() -> dict[str, PublishedDrape]:
+    """The fabrics of ``data/fabrics/*.json`` with published drape coefficients, by id
+    (``petrak_m1`` ... ``petrak_m6``: Petrak et al. 2025, six wovens, KES-FB converted to
+    CLO3D units by the authors, converted here to SI)."""
+    out = {}
+    for path in sorted((files("patternfit") / "data" / "fabrics").iterdir(),
+                       key=lambda p: p.name):
+        if not path.name.endswith(".json"):
+            continue
+        data = json.loads(path.read_text(encoding="utf-8"))
+        for row in data["fabrics"]:
+            fab = Fabric(row["id"], density=row["mass_g_m2"] / 1000.0,
+                         stretch_warp=row["stretch_warp_g_s2"] * CLO_STRETCH,
+                         stretch_weft=row["stretch_weft_g_s2"] * CLO_STRETCH,
+                         shear=row["shear_g_s2"] * CLO_STRETCH,
+                         bending_warp=row["bending_warp_g_mm2_s2"] * CLO_BENDING,
+                         bending_weft=row["bending_weft_g_mm2_s2"] * CLO_BENDING,
+                         friction=_UNREPORTED_FRICTION, thickness=row["thickness_mm"] / 1000.0)
+            out[row["id"]] = PublishedDrape(
+                fab, float(row["drape_coefficient"]), row.get("drape_coefficient_clo3d"),
+                f"{row['name']} ({row['composition']}, {row['mass_g_m2']} g/m^2)",
+                f"{data['citation']}, fabric {row['id'].rsplit('_', 1)[-1].upper()}",
+                f"{data['source']}; read from {data['read_from']}")
+    return out
+
+
+@dataclass(frozen=True)
+class KitReading:
+    """What the virtual fabric-testing kit (``patternfit.sim.fabric_test``) read on a fabric,
+    stored from a run (the command is beside each table) and checked against a fresh run by
+    tests/test_fabric_test.py.
+
+    Attributes
+    ----------
+    drape_coefficient : float
+        Cusick drape coefficient, mean over the starts [-] (30 cm specimen, 18 cm disc,
+        4,000 triangles, starts 0-2, full stretch stiffness in compression).
+    drape_coefficient_min, drape_coefficient_max : float
+        Its range over the starts [-].
+    nodes : float
+        Mean number of nodes [-].
+    bending_length : float or None
+        Peirce cantilever bending length along the warp, finest mesh (24 edges per bending
+        length) [m]; None where not run.
+    """
+
+    drape_coefficient: float
+    drape_coefficient_min: float
+    drape_coefficient_max: float
+    nodes: float
+    bending_length: float | None = None
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+#: The kit's readings of the presets and the published fabrics, stored from runs (a test
+#: re-runs the kit on them): Cusick at the kit's defaults (30/18 cm, 4,000 triangles, the
+#: force stop, Newton, compression 1.0), starts 0-2; cantilever along the warp at 12 and
+#: 24 edges per bending length (the finest).
+#: Presets: ``python benchmarks/physics.py --only presets --seeds 3 --meshes 12,24``;
+#: published fabrics: ``python benchmarks/physics.py --only published --seeds 3``; both at
+#: commit 05b5c0d (docs/fabrics.md, "Testing a fabric" and "Published drape tests").
+KIT_READINGS: dict[str, KitReading] = {
+    "cotton_shirting": KitReading(0.6749, 0.6497, 0.6956, 8.0, 0.01931),
+    "denim": KitReading(0.5763, 0.5468, 0.5983, 8.0, 0.017002),
+    "wool_coating": KitReading(0.5387, 0.5266, 0.5479, 7.7, 0.018188),
+    "jersey_knit": KitReading(0.2904, 0.2814, 0.2993, 9.0, 0.013891),
+    "stretch_knit": KitReading(0.3821, 0.3734, 0.3865, 8.7, 0.015363),
+    "petrak_m1": KitReading(0.3356, 0.3340, 0.3390, 7.3),
+    "petrak_m2": KitReading(0.4370, 0.3800, 0.4810, 6.0),
+    "petrak_m3": KitReading(0.2745, 0.2624, 0.2857, 9.0),
+    "petrak_m4": KitReading(0.2239, 0.2138, 0.2345, 9.7),
+    "petrak_m5": KitReading(0.2563, 0.2457, 0.2625, 9.3),
+    "petrak_m6": KitReading(0.3306, 0.3195, 0.3457, 9.3),
+}
