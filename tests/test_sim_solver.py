@@ -196,17 +196,14 @@ def test_contact_stiffens_until_nothing_is_inside():
     assert -0.25 < res.checks.min_clearance_mm < 0.25
 
 
-#: the force-balance solver (issue 19): Newton on the projected Hessian, the force stop, full
-#: stretch stiffness in compression
-AT_REST = SolverSettings(stop="force", method="newton", compression=1.0)
-
-
-def test_force_rule_drape_is_at_rest_and_a_warm_start_stays_put():
+def test_default_drape_is_at_rest_and_a_warm_start_stays_put():
+    """The default stop is a force balance (L-BFGS, then Newton on the projected Hessian;
+    full stretch stiffness in compression)."""
     from scenes import draped
 
     from patternfit.sim.drape import redrape
 
-    m, d = draped("skirt", "female_thin", 1500, settings=AT_REST)
+    m, d = draped("skirt", "female_thin", 1500)
     c = d.checks
     assert c.equilibrium and c.residual_rms <= 0.01 and c.residual_p99 <= 0.1, c
     assert c.inside_vertices == 0 and c.self_intersections == 0
@@ -216,12 +213,12 @@ def test_force_rule_drape_is_at_rest_and_a_warm_start_stays_put():
 
 
 def test_kinematic_rule_reports_the_residual_it_leaves():
-    """The earlier (default) rule's rest is not a force balance; the checks say how far."""
+    """The earlier rule's rest is not a force balance; the checks say how far."""
     v, t = rect_mesh(0.1, 0.1, 4e-4)
     pinned = np.flatnonzero(v[:, 0] < 1e-9)
     x0 = np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]]
-    for settings in (SolverSettings(self_collision=False),
-                     SolverSettings(self_collision=False, stop="force", method="newton")):
+    for settings in (SolverSettings(self_collision=False, stop="kinematic"),
+                     SolverSettings(self_collision=False)):
         res = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", pinned=pinned,
                             settings=settings).solve(x0)
         assert res.converged and res.checks.residual_rms is not None
