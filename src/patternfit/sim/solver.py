@@ -602,8 +602,10 @@ class GarmentSolver:
         self._base = (self.terms.membrane_pd + self._Qpre
                       + sp.diags(self._mass / s.precond_dt ** 2)).tocsr()
 
-    def _refresh(self, x, friction_on):
-        """Contact stiffness, friction anchors, self-collision pairs, preconditioner."""
+    def _refresh(self, x, friction_on, hold=False):
+        """Contact stiffness, friction anchors, self-collision pairs, preconditioner.
+        ``hold``: new contacts are anchored so that friction balances the tangential force
+        on them (up to the Coulomb limit) instead of where they are (see ``_anchors``)."""
         s = self.settings
         n = self._n
         diag = np.zeros(n)
@@ -618,33 +620,47 @@ class GarmentSolver:
             self._kc = self._contact_k()
             near = d < self._reach + s.contact_band
             diag[near] = s.contact_precond * self._kc[near]
-            if friction_on and self.fabric.friction > 0:
-                pen = self._reach - d
-                idx = np.flatnonzero((pen > 0) & self._free)
-                nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
-                self._fr_idx = idx
-                self._fr_anchor = self._anchors(x, idx, nrm)
-                self._fr_normal = np.ascontiguousarray(nrm)
-                self._fr_limit = self.fabric.friction * self._kc[idx] * pen[idx]
         else:
             self._kc = self._contact_k()
         if self.settings.self_collision and (self._x_pairs is None
                                              or self._moved_since_pairs(x)):
             self._find_pairs(x)
+        if self.body is not None and friction_on and self.fabric.friction > 0:
+            pen = self._reach - d
+            idx = np.flatnonzero((pen > 0) & self._free)
+            nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
+            self._fr_normal = np.ascontiguousarray(nrm)
+            self._fr_limit = self.fabric.friction * self._kc[idx] * pen[idx]
+            # the gradient of every other term (friction is off here): what friction holds
+            held = self._energy(x)[1][idx] if hold else None
+            self._fr_anchor = self._anchors(x, idx, nrm, held)
+            self._fr_idx = idx
         if not self._newton_on:
             self._ensure_factor(diag)
 
-    def _anchors(self, x, idx, normal):
+    def _anchors(self, x, idx, normal, grad=None):
         """Friction anchors of the contact vertices ``idx``.
 
         A vertex that sticks (tangential offset from its anchor below the slip distance)
         keeps its anchor, so static friction holds instead of creeping one slip distance per
         update; one that slides is re-anchored a slip distance behind, at the Coulomb limit;
-        a new contact is anchored where it is.
+        a new contact is anchored where it is, or, given ``grad`` (k, 3) [N] (the gradient of
+        the other terms at those vertices), where friction balances its tangential part up to
+        the Coulomb limit (a start taken from a saved rest: static friction held it there, and
+        anchored in place it would first have to slip to carry that force; the 1.5K skirt
+        restarted from its rest moved 5.4 mm).
         """
         slip = self.settings.friction_slip
         held = self._anchor_of[idx]
         new = x[idx].copy()
+        if grad is not None:
+            # E = limit |u|^2 / (2 slip), u = P (x - a): its gradient limit u / slip cancels
+            # the tangential gradient when u = -slip g_t / limit (at most slip long)
+            gt = grad - np.einsum("ij,ij->i", grad, normal)[:, None] * normal
+            u = -slip * gt / np.maximum(self._fr_limit, 1e-300)[:, None]
+            m = np.linalg.norm(u, axis=1)
+            u *= np.minimum(1.0, slip / np.maximum(m, 1e-300))[:, None]
+            new -= u
         has = ~np.isnan(held[:, 0])
         u = x[idx] - held
         u -= np.einsum("ij,ij->i", u, normal)[:, None] * normal
@@ -803,7 +819,9 @@ class GarmentSolver:
         if warm and not same:
             # the anchors move with their vertices: friction keeps the force it held
             self._anchor_of += x - self._reduce(self._held)
-        self._refresh(x, friction_on=friction_from == 0)
+        # a cold start with friction on at once (from a saved or coarser rest) is held by
+        # static friction where it stands
+        self._refresh(x, friction_on=friction_from == 0, hold=friction_from == 0 and not warm)
         energy, grad = self._energy(x)
         lbfgs = _LBFGS(s.history)
         # the work of lifting the garment by 10 cm: the energy scale of a warm start, whose
