@@ -61,7 +61,9 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
     first = drape(pattern, mesh, body, "cotton", settings=SolverSettings(**(knobs or {})))
     wall = time.perf_counter() - t0
     fit = FitEvaluator(mesh)(first.positions)
-    rows.append(("first", first, wall, fit.fitting_ratio))
+    # (read now: a re-drape gives the solver the edited rest shapes)
+    rows.append(("first", first, wall, fit.fitting_ratio,
+                 first.solver.compressed_share(first.result.x)))
     if figures:
         from patternfit.fit.pictures import plot_3d_map
         plot_3d_map(first.positions, mesh, fit, os.path.join(figures, f"drape_{garment}.png"),
@@ -78,9 +80,10 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
         last = redrape(last, mesh)
         wall = time.perf_counter() - t0
         name = "re-drape" if edits == 1 else f"hem {step * 100:+.0f}cm"
-        rows.append((name, last, wall, FitEvaluator(mesh)(last.positions).fitting_ratio))
+        rows.append((name, last, wall, FitEvaluator(mesh)(last.positions).fitting_ratio,
+                     last.solver.compressed_share(last.result.x)))
     out = []
-    for name, d, wall, ratio in rows:
+    for name, d, wall, ratio, compressed in rows:
         c = d.checks
         out.append({"garment": garment, "body": body_name, "triangles": len(mesh.triangles),
                     "run": name, "iterations": d.report_extra()["timing"]["iterations"],
@@ -93,7 +96,7 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
                     "crossing": c.self_intersections, "equilibrium": c.equilibrium,
                     "rms": c.residual_rms if c.residual_rms is not None else float("nan"),
                     "p99": c.residual_p99 if c.residual_p99 is not None else float("nan"),
-                    "compressed": d.solver.compressed_share(d.result.x),
+                    "compressed": compressed,
                     "start": str(d.timing.get("start", "-")),
                     "ratio": ratio})
     return out
