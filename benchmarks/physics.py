@@ -5,7 +5,7 @@ Run ``python benchmarks/physics.py [--fabrics denim ...] [--triangles 4000] [--s
 stretch over rho g L^2 / (2 k); cantilever bending length measured / expected, finest mesh,
 and the change between the two finest; Cusick drape coefficient mean (min-max over the
 starts), nodes, and the share of the free area shrunk by more than 1 %; solves at rest;
-seconds per test; ``--setting stop=force ...`` passes SolverSettings fields), then
+seconds per test; ``--setting stop=kinematic ...`` passes SolverSettings fields), then
 the cantilever's mesh series. The machine and the solver's source state (commit and a hash
 of the working tree's sim/solver.py, kernels.py, energies.py) are printed with it, since
 the solver changes under the kit (docs/fabrics.md, "Testing a fabric").
@@ -78,7 +78,7 @@ def main():
     ap.add_argument("--figures", type=Path, help="write the Cusick top views here")
     ap.add_argument("--json", type=Path, help="write every result here")
     ap.add_argument("--setting", nargs="*", default=[], metavar="KEY=VALUE",
-                    help="SolverSettings fields for every solve, e.g. stop=force method=newton")
+                    help="SolverSettings fields for every solve, e.g. stop=kinematic compression=0.05")
     args = ap.parse_args()
     meshes = tuple(int(m) for m in args.meshes.split(","))
     settings = solver_settings(args.setting)
