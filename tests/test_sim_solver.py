@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import triangle
 
 from patternfit.body.sdf import DistanceField
+from patternfit.constants import limits, tol
 from patternfit.sim.fabrics import get_fabric
 from patternfit.sim.solver import GarmentSolver, SolverSettings
 
@@ -225,3 +228,25 @@ def test_kinematic_rule_reports_the_residual_it_leaves():
         if settings.stop == "force":
             assert res.checks.residual_rms <= 0.01 and res.checks.residual_p99 <= 0.1
             assert res.checks.equilibrium
+
+
+def test_penetrations_are_counted_beyond_the_tolerance_and_fail_above_the_limit():
+    """A vertex counts as inside the body only deeper than ``tol.penetration``; the checks
+    fail above ``limits.body_penetrations`` and ``limits.self_intersections`` (both 0)."""
+    ax = np.arange(-0.1, 0.1 + 1e-9, 0.01)
+    X, Y, Z = np.meshgrid(ax, ax, ax, indexing="ij")
+    floor = DistanceField((-0.1, -0.1, -0.1), 0.01, Y)  # the body is y < 0
+    v, t = rect_mesh(0.1, 0.1, 2e-4)
+    v -= 0.05
+    solver = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", body=floor)
+    x = np.c_[v[:, 0], np.full(len(v), 0.01), v[:, 1]]
+    x[0, 1] = -0.5 * tol.penetration  # within the tolerance
+    x[1, 1] = -2.0 * tol.penetration  # beyond it
+    c = solver.checks(x, converged=True, residual=(0.0, 0.0))
+    assert c.inside_vertices == 1 and c.max_depth_mm == pytest.approx(2e3 * tol.penetration)
+    assert c.inside_vertices > limits.body_penetrations and not c.passed
+    x[1, 1] = 0.01
+    ok = solver.checks(x, converged=True, residual=(0.0, 0.0))
+    assert ok.inside_vertices == 0 and ok.passed
+    crossed = replace(ok, self_intersections=limits.self_intersections + 1)
+    assert not crossed.passed
