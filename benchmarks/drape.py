@@ -1,10 +1,14 @@
 """Benchmark of the drape of the built-in garments on the built-in bodies (static engine).
 
-Run ``python benchmarks/drape.py [--garments coat skirt trousers] [--cold] [--figures DIR]``;
-prints, per garment (the paper's sizes: coat 22K, skirt 15K, trousers 20K triangles), the
-first drape (placement, sewing, drape under gravity) and a warm re-drape after a 3 cm hem
-edit: iterations, seconds, peak memory, the checks and the fitting ratio. Each garment runs
-in its own process so that the peak memory is its own. ``--cold`` also times the first
+Run ``python benchmarks/drape.py [--garments coat skirt trousers] [--rules force kinematic]
+[--cold] [--figures DIR]``; prints, per garment (the paper's sizes: coat 22K, skirt 15K,
+trousers 20K triangles) and stopping rule, the first drape (placement, sewing, drape under
+gravity) and a warm re-drape after a 3 cm hem edit: iterations, seconds, peak memory, the
+checks (residual rms / p99, equilibrium) and the fitting ratio. The rules side by side:
+``force`` is the solver's default (L-BFGS, then Newton steps to a force balance, full
+stiffness in compression); ``kinematic`` the earlier one (L-BFGS stopped by small steps,
+5 % stiffness in compression), whose states are not at rest by the force measure. Each
+garment runs in its own process so that the peak memory is its own. ``--cold`` also times the first
 drape with an empty distance-field cache (the field is computed, not read). ``--edits N``
 goes on with N - 1 more hem edits (lengths in ``HEM_STEPS``), each re-draped from the last
 equilibrium as in a design session: the iterations a re-drape needs depend on where the
@@ -28,6 +32,9 @@ import _path  # noqa: F401  (tests/ on sys.path)
 CASES = {"coat": ("male_heavy", 22000), "skirt": ("female_thin", 15000),
          "trousers": ("male_thin", 20000)}
 
+#: the stopping rules compared: SolverSettings fields of each
+RULES = {"force": {}, "kinematic": {"stop": "kinematic", "compression": 0.05}}
+
 #: successive hem moves [m] of ``--edits`` (down is negative: -0.03 lengthens by 3 cm)
 HEM_STEPS = (-0.03, 0.02, -0.01, 0.03, -0.02, 0.01)
 
@@ -50,11 +57,13 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
     body = load_body(body_name)
     pattern, mesh = meshed(garment, triangles)
     rows = []
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     first = drape(pattern, mesh, body, "cotton", settings=SolverSettings(**(knobs or {})))
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     fit = FitEvaluator(mesh)(first.positions)
-    rows.append(("first", first, wall, fit.fitting_ratio))
+    # (read now: a re-drape gives the solver the edited rest shapes)
+    rows.append(("first", first, wall, cpu, fit.fitting_ratio,
+                 first.solver.compressed_share(first.result.x)))
     if figures:
         from patternfit.fit.pictures import plot_3d_map
         plot_3d_map(first.positions, mesh, fit, os.path.join(figures, f"drape_{garment}.png"),
@@ -67,17 +76,18 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
         pattern_next = move_edge(pattern, panel, "hem", (0.0, step), partner=True)
         mesh = update_mesh(pattern, pattern_next, mesh)
         pattern = pattern_next
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         last = redrape(last, mesh)
-        wall = time.perf_counter() - t0
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         name = "re-drape" if edits == 1 else f"hem {step * 100:+.0f}cm"
-        rows.append((name, last, wall, FitEvaluator(mesh)(last.positions).fitting_ratio))
+        rows.append((name, last, wall, cpu, FitEvaluator(mesh)(last.positions).fitting_ratio,
+                     last.solver.compressed_share(last.result.x)))
     out = []
-    for name, d, wall, ratio in rows:
+    for name, d, wall, cpu, ratio, compressed in rows:
         c = d.checks
         out.append({"garment": garment, "body": body_name, "triangles": len(mesh.triangles),
                     "run": name, "iterations": d.report_extra()["timing"]["iterations"],
-                    "seconds": wall,
+                    "seconds": wall, "cpu": cpu,
                     "sdf_seconds": d.timing.get("distance_field_seconds", 0.0),
                     "coarse": f"{d.timing['coarse_iterations']}/{d.timing['coarse_seconds']:.1f}"
                     if "coarse_iterations" in d.timing else "-",
@@ -86,7 +96,7 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
                     "crossing": c.self_intersections, "equilibrium": c.equilibrium,
                     "rms": c.residual_rms if c.residual_rms is not None else float("nan"),
                     "p99": c.residual_p99 if c.residual_p99 is not None else float("nan"),
-                    "compressed": d.solver.compressed_share(d.result.x),
+                    "compressed": compressed,
                     "start": str(d.timing.get("start", "-")),
                     "ratio": ratio})
     return out
@@ -100,9 +110,10 @@ def main():
     ap.add_argument("--figures", default=None, help="directory for drape_<garment>.png")
     ap.add_argument("--edits", type=int, default=1,
                     help="successive hem edits re-draped after the first drape (HEM_STEPS)")
+    ap.add_argument("--rules", nargs="+", default=list(RULES), choices=list(RULES),
+                    help="stopping rules to compare (RULES)")
     ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE",
-                    help="SolverSettings fields to change, e.g. refresh=50 or, for the "
-                    "earlier solver, stop=kinematic method=lbfgs compression=0.05")
+                    help="SolverSettings fields to change (over the rule's), e.g. refresh=50")
     ap.add_argument("--one", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
     def value(v):
@@ -122,24 +133,27 @@ def main():
           "contact margin 3 mm; re-drapes after hem edits (front, or the first panel, and "
           "its seam partner; -3 cm = 3 cm longer), each from the last equilibrium; "
           "2-core CPU")
-    print("iters and seconds of the whole run; coarse: iterations/seconds of the whole "
+    print("iters, seconds (wall) and cpu (the process's CPU seconds: on a shared machine the "
+          "fairer measure) of the whole run; coarse: iterations/seconds of the whole "
           "coarse drape (2K triangles: placement, sewing, drape) that starts the fine one; "
           "rms / p99: residual |F_i| / (m_i g) at the end (rest: <= 0.01 / 0.1); compr: share "
-          "of the area compressed by more than 1 %")
-    print(f"{'garment':>8} {'tri':>6} {'run':>10} {'iters':>6} {'seconds':>8} {'sdf s':>6} "
+          "of the area compressed by more than 1 %; rule: force (default) or kinematic "
+          "(the earlier stop)")
+    print(f"{'garment':>8} {'rule':>9} {'tri':>6} {'run':>10} {'iters':>6} {'seconds':>8} {'cpu':>7} {'sdf s':>6} "
           f"{'coarse':>9} {'peak MB':>8} {'inside':>6} {'clear mm':>8} {'seam mm':>7} {'cross':>5} "
           f"{'equil':>5} {'rms':>7} {'p99':>7} {'compr':>6} {'ratio':>7} {'start':>8}")
-    for garment in args.garments:
+    for garment, rule in ((g, r) for g in args.garments for r in args.rules):
         runs = [("warm", None)]
         if args.cold:
             runs.append(("cold", tempfile.mkdtemp(prefix="patternfit-cache-")))
+        rule_set = [f"{k}={v}" for k, v in RULES[rule].items()] + args.set
         for label, cache in runs:
             env = dict(os.environ)
             if cache:
                 env["PATTERNFIT_CACHE"] = cache
             cmd = [sys.executable, __file__, "--one", garment, "--edits", str(args.edits),
-                   "--set", *args.set]
-            if args.figures and label == "warm":
+                   "--set", *rule_set]
+            if args.figures and label == "warm" and rule == args.rules[0]:
                 cmd += ["--figures", args.figures]
             done = subprocess.run(cmd, env=env, capture_output=True, text=True)
             if done.returncode:
@@ -149,8 +163,8 @@ def main():
                 if label == "cold" and r["run"] != "first":
                     continue
                 run = r["run"] + (" cold" if label == "cold" else "")
-                print(f"{garment:>8} {r['triangles']:>6} {run:>10} {r['iterations']:>6} "
-                      f"{r['seconds']:>8.2f} {r['sdf_seconds']:>6.2f} {r['coarse']:>9} "
+                print(f"{garment:>8} {rule:>9} {r['triangles']:>6} {run:>10} {r['iterations']:>6} "
+                      f"{r['seconds']:>8.2f} {r['cpu']:>7.2f} {r['sdf_seconds']:>6.2f} {r['coarse']:>9} "
                       f"{r['peak_mb']:>8.0f} "
                       f"{r['inside']:>6} {r['clear_mm']:>8.3f} {r['seam_mm']:>7.3f} "
                       f"{r['crossing']:>5} {str(r['equilibrium']):>5} {r['rms']:>7.4f} "

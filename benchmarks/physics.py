@@ -8,7 +8,7 @@ Run ``python benchmarks/physics.py [--only presets|published] [--fabrics denim .
 stretch over rho g L^2 / (2 k); cantilever bending length measured / expected, finest mesh,
 and the change between the two finest; Cusick drape coefficient mean (min-max over the
 starts), nodes, and the share of the free area shrunk by more than 1 %; solves at rest;
-seconds per test; ``--setting stop=force ...`` passes SolverSettings fields over the
+seconds per test; ``--setting stop=kinematic ...`` passes SolverSettings fields over the
 kit's), then the cantilever's mesh series; then one row per published fabric (measured
 drape coefficient, simulated mean (min-max) and simulated / measured at each
 ``--compression``, nodes, area shrunk by more than 1 %, the source's own CLO3D figure) and

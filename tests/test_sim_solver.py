@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import triangle
 
 from patternfit.body.sdf import DistanceField
+from patternfit.constants import limits, tol
 from patternfit.sim.fabrics import get_fabric
 from patternfit.sim.solver import GarmentSolver, SolverSettings
 
@@ -196,17 +199,14 @@ def test_contact_stiffens_until_nothing_is_inside():
     assert -0.25 < res.checks.min_clearance_mm < 0.25
 
 
-#: the force-balance solver (issue 19): Newton on the projected Hessian, the force stop, full
-#: stretch stiffness in compression
-AT_REST = SolverSettings(stop="force", method="newton", compression=1.0)
-
-
-def test_force_rule_drape_is_at_rest_and_a_warm_start_stays_put():
+def test_default_drape_is_at_rest_and_a_warm_start_stays_put():
+    """The default stop is a force balance (L-BFGS, then Newton on the projected Hessian;
+    full stretch stiffness in compression)."""
     from scenes import draped
 
     from patternfit.sim.drape import redrape
 
-    m, d = draped("skirt", "female_thin", 1500, settings=AT_REST)
+    m, d = draped("skirt", "female_thin", 1500)
     c = d.checks
     assert c.equilibrium and c.residual_rms <= 0.01 and c.residual_p99 <= 0.1, c
     assert c.inside_vertices == 0 and c.self_intersections == 0
@@ -216,15 +216,37 @@ def test_force_rule_drape_is_at_rest_and_a_warm_start_stays_put():
 
 
 def test_kinematic_rule_reports_the_residual_it_leaves():
-    """The earlier (default) rule's rest is not a force balance; the checks say how far."""
+    """The earlier rule's rest is not a force balance; the checks say how far."""
     v, t = rect_mesh(0.1, 0.1, 4e-4)
     pinned = np.flatnonzero(v[:, 0] < 1e-9)
     x0 = np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]]
-    for settings in (SolverSettings(self_collision=False),
-                     SolverSettings(self_collision=False, stop="force", method="newton")):
+    for settings in (SolverSettings(self_collision=False, stop="kinematic"),
+                     SolverSettings(self_collision=False)):
         res = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", pinned=pinned,
                             settings=settings).solve(x0)
         assert res.converged and res.checks.residual_rms is not None
         if settings.stop == "force":
             assert res.checks.residual_rms <= 0.01 and res.checks.residual_p99 <= 0.1
             assert res.checks.equilibrium
+
+
+def test_penetrations_are_counted_beyond_the_tolerance_and_fail_above_the_limit():
+    """A vertex counts as inside the body only deeper than ``tol.penetration``; the checks
+    fail above ``limits.body_penetrations`` and ``limits.self_intersections`` (both 0)."""
+    ax = np.arange(-0.1, 0.1 + 1e-9, 0.01)
+    X, Y, Z = np.meshgrid(ax, ax, ax, indexing="ij")
+    floor = DistanceField((-0.1, -0.1, -0.1), 0.01, Y)  # the body is y < 0
+    v, t = rect_mesh(0.1, 0.1, 2e-4)
+    v -= 0.05
+    solver = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", body=floor)
+    x = np.c_[v[:, 0], np.full(len(v), 0.01), v[:, 1]]
+    x[0, 1] = -0.5 * tol.penetration  # within the tolerance
+    x[1, 1] = -2.0 * tol.penetration  # beyond it
+    c = solver.checks(x, converged=True, residual=(0.0, 0.0))
+    assert c.inside_vertices == 1 and c.max_depth_mm == pytest.approx(2e3 * tol.penetration)
+    assert c.inside_vertices > limits.body_penetrations and not c.passed
+    x[1, 1] = 0.01
+    ok = solver.checks(x, converged=True, residual=(0.0, 0.0))
+    assert ok.inside_vertices == 0 and ok.passed
+    crossed = replace(ok, self_intersections=limits.self_intersections + 1)
+    assert not crossed.passed

@@ -37,6 +37,10 @@ class Tolerances:
     notch_reach: float = 1e-3
     #: how far apart (in arc-length fraction) two edges' notches may lie and still match [-]
     notch_match: float = 0.02
+    #: a draped vertex counts as inside the body (a penetration) when the body's distance
+    #: field puts it deeper than this [m]: the field is trilinear on a 5 mm grid, and the
+    #: contact keeps cloth 3 mm clear, so a drape at rest sits well above it
+    penetration: float = 1e-3
 
 
 tol = Tolerances()
@@ -85,6 +89,12 @@ class Limits:
     #: largest ease a seam may state (:attr:`~patternfit.pattern.model.Seam.ease`: longer
     #: side / shorter side - 1); 1.0 is a 2:1 gather [-]
     seam_ease: float = 1.0
+    #: a drape fails with more vertices inside the body (deeper than
+    #: :attr:`Tolerances.penetration`) than this [-] ...
+    body_penetrations: int = 0
+    #: ... or more triangle pairs crossing each other than this [-]: GarmentCode's dataset
+    #: rejects above 35 body and 300 self intersections; a drape at rest here has none
+    self_intersections: int = 0
 
 
 limits = Limits()

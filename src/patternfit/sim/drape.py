@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..constants import limits
 from ..defaults import DEFAULTS
 from ..mesh.garment import GarmentMesh
 from ..mesh.transfer import follow_edit, transfer
@@ -102,13 +103,14 @@ def solver_reasons(checks, stop_reason: str | None = None) -> list[str]:
     if checks.passed:
         return []
     out = []
-    if checks.inside_vertices:
+    if checks.inside_vertices > limits.body_penetrations:
         out.append(f"{checks.inside_vertices} vertices inside the body (deepest "
-                   f"{checks.max_depth_mm:.1f} mm)")
+                   f"{checks.max_depth_mm:.1f} mm; limit {limits.body_penetrations})")
     if not checks.seam_gap_max_mm < 0.5:
         out.append(f"seams open by up to {checks.seam_gap_max_mm:.1f} mm")
-    if checks.self_intersections:
-        out.append(f"{checks.self_intersections} crossed triangle pairs")
+    if checks.self_intersections > limits.self_intersections:
+        out.append(f"{checks.self_intersections} crossed triangle pairs (limit "
+                   f"{limits.self_intersections})")
     if not checks.equilibrium:
         out.append("no equilibrium" + (f" (stopped: {stop_reason})" if stop_reason else ""))
     return out or ["the solver's checks failed"]
@@ -240,9 +242,10 @@ def _sew_and_drape(solver: GarmentSolver, x0, timing: dict, *, relax_iterations:
     sewn = solver.solve(x0, progress=progress)
     sewing_its = sewn.iterations
     if sewn.welded and not sewn.interrupted and relax_iterations > 0:
-        # the sewn garment relaxes (still without gravity) from the seams' pull
+        # the sewn garment relaxes (still without gravity) from the seams' pull; its end is
+        # only the drape's start, so the kinematic rule stops it
         solver.settings = replace(settings, gravity=(0.0, 0.0, 0.0),
-                                  max_iterations=relax_iterations)
+                                  max_iterations=relax_iterations, stop="kinematic")
         sewn = solver.solve(sewn.x, progress=progress)
         sewing_its += sewn.iterations
     timing.update(sewing_seconds=time.perf_counter() - t, sewing_iterations=sewing_its)
@@ -271,6 +274,8 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
     solver.weld()
     t = time.perf_counter()
     timing = {"distance_field_seconds": t_sdf, "coarse_iterations": 0}
+    # the coarse drape only starts the fine one: the kinematic rule stops it
+    options = {**options, "settings": replace(options["settings"], stop="kinematic")}
     for share in _COARSE_TRIES:
         small = mesh_pattern(pattern, triangles=int(share * coarse))
         first = drape(pattern, small, body, fabric, placed=transfer(mesh, x0, small),

@@ -455,7 +455,8 @@ def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
         solver = GarmentSolver(mesh.vertices, mesh.triangles, mesh.grain[mesh.triangle_panel],
                                fabric, seam_pairs=mesh.seam_pairs, body=field_,
                                settings=replace(SolverSettings(), gravity=(0.0, 0.0, 0.0),
-                                                max_iterations=sewing_iterations))
+                                                max_iterations=sewing_iterations,
+                                                stop="kinematic"))
         t = time.perf_counter()
         sewn = solver.solve(x0, progress=progress)
         timing.update(sewing_seconds=time.perf_counter() - t, sewing_iterations=sewn.iterations)

@@ -2,9 +2,12 @@
 
 Minimises the total potential energy over the 3D vertex positions (METHOD.md section 5):
 membrane + bending + gravity + body contact + lagged friction + lagged self-repulsion +
-seam springs, with L-BFGS whose initial Hessian is a prefactored sparse Cholesky (cholespy)
-of the constant quadratic part plus a contact-stiffness diagonal (METHOD.md 5.1). Units:
-metres, kilograms, seconds, newtons, joules. See ``docs/simulation.md``.
+seam springs. L-BFGS, whose initial Hessian is a prefactored sparse Cholesky (cholespy) of
+the constant quadratic part plus a contact-stiffness diagonal (METHOD.md 5.1), makes the
+large motions; Newton steps on the PSD-projected Hessian of every term, solved by conjugate
+gradients preconditioned by a Cholesky factor of a recent Hessian, finish at a force balance
+(METHOD.md 5.2). Units: metres, kilograms, seconds, newtons, joules. See
+``docs/simulation.md``.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ import scipy.sparse as sp
 from cholespy import CholeskySolverD, MatrixType
 
 from ..arguments import array
-from ..constants import GRAVITY
+from ..constants import GRAVITY, limits, tol
 from ..geometry import unique_edges
 from . import kernels
 from .energies import MeshTerms, build_terms, spring_matrix
@@ -46,21 +49,18 @@ class SolverSettings:
     max_iterations: int = 5000
     time_limit: float = 300.0
     #: stopping rule: "force" stops at a force balance (``residual_rms`` and
-    #: ``residual_p99`` below); "kinematic" is the earlier rule on steps, energy drop and
-    #: drift (``step_tol`` ... ``drift_tol``), kept to compare with: its states are not at
-    #: rest by the force measure (docs/simulation.md)
-    stop: str = "kinematic"
+    #: ``residual_p99`` below): L-BFGS steps until the kinematic rule below holds, then
+    #: Newton steps until the forces balance; "kinematic" is the earlier rule on steps,
+    #: energy drop and drift (``step_tol`` ... ``drift_tol``) with L-BFGS alone, kept for
+    #: stages whose end is only a start (the gravity-free relaxation, the coarse drape) and
+    #: to compare with: its states are not at rest by the force measure (docs/simulation.md)
+    stop: str = "force"
     #: equilibrium: the residual |F_i| / (m_i g) over the free vertices (F_i the total force
     #: -dE/dx_i of the energy minimised, m_i the lumped mass, g = 9.80665 m/s^2) has an rms
     #: at most this [-] ...
     residual_rms: float = 0.01
     #: ... and a 99th percentile at most this [-]
     residual_p99: float = 0.1
-    #: descent direction once the seams are welded: "newton" (a Newton step on the PSD-
-    #: projected Hessian of every term, solved by conjugate gradients preconditioned by a
-    #: Cholesky factor of an earlier Hessian) or "lbfgs" (the earlier solver; sewing always
-    #: uses it)
-    method: str = "lbfgs"
     #: Newton: the Hessian gets the regulariser m / newton_dt^2 [s] (rigid motions of a
     #: garment without support or friction are otherwise singular)
     newton_dt: float = 1.0
@@ -70,10 +70,8 @@ class SolverSettings:
     #: the preconditioner is refactored from the current Hessian
     newton_cg_max: int = 100
     newton_refactor: int = 40
-    #: Newton: iterations between outer updates (``refresh`` for L-BFGS) and before friction
-    #: (``friction_delay`` for L-BFGS)
+    #: Newton: iterations between outer updates (``refresh`` for L-BFGS)
     newton_refresh: int = 4
-    newton_friction_delay: int = 8
     step_tol: float = 5e-5
     energy_tol: float = 1e-5
     patience: int = 5
@@ -111,8 +109,9 @@ class SolverSettings:
     self_detect: float = 1.0
     #: cloth-cloth distance kept, as a share of the mean edge length (at least the thickness)
     self_gap: float = 0.1
-    #: stretch stiffness kept in compression, as a share [-]
-    compression: float = 0.05
+    #: stretch stiffness kept in compression, as a share [-]: 1 (full stiffness) makes
+    #: cloth fold rather than shrink (bending carries the buckling; docs/simulation.md)
+    compression: float = 1.0
     seam_stiffness: float = 1e3
     seam_growth: float = 4.0
     seam_stiffness_max: float = 1e7
@@ -136,7 +135,8 @@ class SolverSettings:
 class DrapeChecks:
     """Checks of a solved state (every result carries them)."""
 
-    #: vertices with negative distance to the body, and the deepest of them [mm]
+    #: vertices deeper in the body than ``constants.tol.penetration``, and the deepest
+    #: vertex's depth [mm]
     inside_vertices: int
     max_depth_mm: float
     #: smallest vertex distance to the body [mm] (None without a body)
@@ -156,9 +156,11 @@ class DrapeChecks:
 
     @property
     def passed(self) -> bool:
-        """No vertex inside, seams closed (< 0.5 mm), no crossing, equilibrium reached."""
-        return (self.inside_vertices == 0 and self.seam_gap_max_mm < 0.5
-                and self.self_intersections == 0 and self.equilibrium)
+        """Vertices inside the body and crossed triangle pairs within
+        ``constants.limits`` (none), seams closed (< 0.5 mm), equilibrium reached."""
+        return (self.inside_vertices <= limits.body_penetrations
+                and self.seam_gap_max_mm < 0.5
+                and self.self_intersections <= limits.self_intersections and self.equilibrium)
 
     def to_dict(self) -> dict:
         return {"inside_vertices": self.inside_vertices, "max_depth_mm": self.max_depth_mm,
@@ -326,6 +328,7 @@ class GarmentSolver:
         self._hpattern = None
         self._nfactor = None
         self._cg_last = 0
+        self._newton_on = False
         self._build()
 
     # ------------------------------------------------------------------------ set-up
@@ -599,8 +602,10 @@ class GarmentSolver:
         self._base = (self.terms.membrane_pd + self._Qpre
                       + sp.diags(self._mass / s.precond_dt ** 2)).tocsr()
 
-    def _refresh(self, x, friction_on):
-        """Contact stiffness, friction anchors, self-collision pairs, preconditioner."""
+    def _refresh(self, x, friction_on, hold=False):
+        """Contact stiffness, friction anchors, self-collision pairs, preconditioner.
+        ``hold``: new contacts are anchored so that friction balances the tangential force
+        on them (up to the Coulomb limit) instead of where they are (see ``_anchors``)."""
         s = self.settings
         n = self._n
         diag = np.zeros(n)
@@ -615,33 +620,47 @@ class GarmentSolver:
             self._kc = self._contact_k()
             near = d < self._reach + s.contact_band
             diag[near] = s.contact_precond * self._kc[near]
-            if friction_on and self.fabric.friction > 0:
-                pen = self._reach - d
-                idx = np.flatnonzero((pen > 0) & self._free)
-                nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
-                self._fr_idx = idx
-                self._fr_anchor = self._anchors(x, idx, nrm)
-                self._fr_normal = np.ascontiguousarray(nrm)
-                self._fr_limit = self.fabric.friction * self._kc[idx] * pen[idx]
         else:
             self._kc = self._contact_k()
         if self.settings.self_collision and (self._x_pairs is None
                                              or self._moved_since_pairs(x)):
             self._find_pairs(x)
-        if self.settings.method != "newton" or not self._welded:
+        if self.body is not None and friction_on and self.fabric.friction > 0:
+            pen = self._reach - d
+            idx = np.flatnonzero((pen > 0) & self._free)
+            nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
+            self._fr_normal = np.ascontiguousarray(nrm)
+            self._fr_limit = self.fabric.friction * self._kc[idx] * pen[idx]
+            # the gradient of every other term (friction is off here): what friction holds
+            held = self._energy(x)[1][idx] if hold else None
+            self._fr_anchor = self._anchors(x, idx, nrm, held)
+            self._fr_idx = idx
+        if not self._newton_on:
             self._ensure_factor(diag)
 
-    def _anchors(self, x, idx, normal):
+    def _anchors(self, x, idx, normal, grad=None):
         """Friction anchors of the contact vertices ``idx``.
 
         A vertex that sticks (tangential offset from its anchor below the slip distance)
         keeps its anchor, so static friction holds instead of creeping one slip distance per
         update; one that slides is re-anchored a slip distance behind, at the Coulomb limit;
-        a new contact is anchored where it is.
+        a new contact is anchored where it is, or, given ``grad`` (k, 3) [N] (the gradient of
+        the other terms at those vertices), where friction balances its tangential part up to
+        the Coulomb limit (a start taken from a saved rest: static friction held it there, and
+        anchored in place it would first have to slip to carry that force; the 1.5K skirt
+        restarted from its rest moved 5.4 mm).
         """
         slip = self.settings.friction_slip
         held = self._anchor_of[idx]
         new = x[idx].copy()
+        if grad is not None:
+            # E = limit |u|^2 / (2 slip), u = P (x - a): its gradient limit u / slip cancels
+            # the tangential gradient when u = -slip g_t / limit (at most slip long)
+            gt = grad - np.einsum("ij,ij->i", grad, normal)[:, None] * normal
+            u = -slip * gt / np.maximum(self._fr_limit, 1e-300)[:, None]
+            m = np.linalg.norm(u, axis=1)
+            u *= np.minimum(1.0, slip / np.maximum(m, 1e-300))[:, None]
+            new -= u
         has = ~np.isnan(held[:, 0])
         u = x[idx] - held
         u -= np.einsum("ij,ij->i", u, normal)[:, None] * normal
@@ -771,9 +790,13 @@ class GarmentSolver:
         # friction anchors and contact stiffness, and friction acts from the first iteration
         same = self._held is not None and np.array_equal(x_full, self._held)
         warm = not sewing and self._held is not None and (same or resume)
-        newton = s.method == "newton"
-        delay = s.newton_friction_delay if newton else s.friction_delay
+        force_rule = s.stop == "force"
+        delay = s.friction_delay
         friction_from = None if sewing else (0 if warm else delay)
+        # L-BFGS steps (cheap, the large motions) until the kinematic rule holds, then (force
+        # rule) Newton steps, whose Hessian sees the stiff contact and membrane, to the
+        # force balance
+        self._newton_on = False
 
         def setup(x_red, keep):
             self._f = self._mass[:, None] * np.asarray(s.gravity)[None, :]
@@ -796,7 +819,9 @@ class GarmentSolver:
         if warm and not same:
             # the anchors move with their vertices: friction keeps the force it held
             self._anchor_of += x - self._reduce(self._held)
-        self._refresh(x, friction_on=friction_from == 0)
+        # a cold start with friction on at once (from a saved or coarser rest) is held by
+        # static friction where it stands
+        self._refresh(x, friction_on=friction_from == 0, hold=friction_from == 0 and not warm)
         energy, grad = self._energy(x)
         lbfgs = _LBFGS(s.history)
         # the work of lifting the garment by 10 cm: the energy scale of a warm start, whose
@@ -809,7 +834,6 @@ class GarmentSolver:
         marks = [(0, x.copy())]  # (iteration, positions): the start, then every half window
         converged = interrupted = False
         reason = "iterations"
-        force_rule = s.stop == "force"
         try:
             while True:
                 if it >= s.max_iterations:
@@ -818,8 +842,7 @@ class GarmentSolver:
                 if time.perf_counter() - t_start > s.time_limit:
                     reason = "time"
                     break
-                newton_now = newton and not sewing
-                every = s.newton_refresh if newton_now else s.refresh
+                every = s.newton_refresh if self._newton_on else s.refresh
                 if it - last_refresh >= every or (sewing and calm >= s.patience):
                     last_refresh = it
                     if sewing:
@@ -852,7 +875,7 @@ class GarmentSolver:
                     converged, reason = True, "converged"
                     break
                 g = grad.ravel()
-                newton_now = newton and not sewing  # (the weld may have come just now)
+                newton_now = self._newton_on
                 if newton_now:
                     d = self._newton_direction(x, grad)
                 else:
@@ -863,6 +886,8 @@ class GarmentSolver:
                     d = -self._precondition(g)
                     gd = kernels.dot(g, d)
                 if not gd < 0.0:
+                    if self._to_newton(sewing):
+                        continue
                     converged, reason = self._stalled(sewing, grad)
                     break
                 # a capped step cannot tunnel through the body, nor follow the unbounded
@@ -883,6 +908,8 @@ class GarmentSolver:
                     if lbfgs.count and not newton_now:
                         lbfgs.reset()
                         continue
+                    if self._to_newton(sewing):
+                        continue
                     converged, reason = self._stalled(sewing, grad)
                     break
                 step_vec = x_new - x
@@ -902,10 +929,13 @@ class GarmentSolver:
                     marks = marks[-2:] + [(it, x.copy())]
                 small = step < s.step_tol and drop <= s.energy_tol * max(total_drop, e_scale)
                 calm = calm + 1 if small else 0
-                if not force_rule and calm >= s.patience and not sewing \
+                if not newton_now and calm >= s.patience and not sewing \
                         and _drift(x, it, marks, s.window) <= s.drift_tol:
                     if self._can_stiffen(x):
                         last_refresh = it - s.refresh  # stiffen the contact and go on
+                        continue
+                    if self._to_newton(sewing):
+                        last_refresh = it - s.newton_refresh  # refresh for Newton's Hessian
                         continue
                     converged, reason = True, "converged"
                     break
@@ -951,6 +981,14 @@ class GarmentSolver:
             return False
         return float(np.sqrt(np.percentile(r2, 99))) <= s.residual_p99
 
+    def _to_newton(self, sewing) -> bool:
+        """Switch from L-BFGS to Newton steps (force rule, seams welded, not yet switched);
+        whether it switched."""
+        if sewing or self._newton_on or self.settings.stop != "force":
+            return False
+        self._newton_on = True
+        return True
+
     def _stalled(self, sewing, grad):
         """(converged, reason) when no descent step is found: at rest by the force rule, or
         (kinematic rule) whenever not sewing."""
@@ -995,7 +1033,7 @@ class GarmentSolver:
         x = array(x, "x", shape=(None, 3), contiguous=True)
         if self.body is not None:
             d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
-            inside = int((d < 0).sum())
+            inside = int((d < -tol.penetration).sum())
             depth = float(max(0.0, -d.min()) * 1e3)
             clearance = float(d.min() * 1e3)
         else:
