@@ -193,7 +193,10 @@ class DesignSession:
         elif self.relax > 1.0 and self.position == 0:
             wide_pattern, wide_mesh = _widened(st.pattern, st.mesh, self.relax)
             first = drape(wide_pattern, wide_mesh, self.body, self.fabric, progress=progress)
-            result = redrape(first, st.mesh, start=first.result.x, progress=progress)
+            # the true rest shapes are reached in stages, as after a large edit: in one step
+            # from 1 / 0.6 of the width the force stop ran out of iterations (the demo)
+            self._drape = first
+            result = self._staged_redrape(st.mesh, first.result.x, progress)
             result.placed = first.placed
             result.seconds += first.seconds
             result.timing = {**first.timing, "relaxed_sewing_seconds": first.seconds}
