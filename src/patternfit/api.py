@@ -286,7 +286,8 @@ def read_bodies(spec: str | Path, *, units: str | None = None) -> list[Body]:
         bodies = [read_body(p, units=units) for p in files]
     else:
         sets = list_body_sets()
-        known = sorted({n for members in sets.values() for n in members})
+        # in the sets' own order (a population runs XS to XXL), not alphabetically
+        known = list(dict.fromkeys(n for members in sets.values() for n in members))
         names: list = []
         for item in (s.strip() for s in str(spec).split(",")):
             if not item:
