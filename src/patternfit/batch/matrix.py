@@ -156,7 +156,7 @@ def _html(rows, panels, sizes, bodies, lines) -> str:
     by_key = {(r["pattern"], r["fabric"], r["size"], r["body"]): r for r in rows}
     esc = html.escape
     out = ["<!doctype html><html><head><meta charset='utf-8'><title>fit matrix</title>",
-           "<style>body{font:13px sans-serif;margin:16px}table{border-collapse:collapse}"
+           "<style>body{font:13px sans-serif;margin:16px}table{border-collapse:separate;border-spacing:3px}"
            "td,th{border:1px solid #ccc;padding:3px;text-align:center;vertical-align:top;max-width:170px}"
            "td img{display:block;height:120px;margin:auto}"
            "td div{font-size:11px;padding:2px}</style></head><body>",
