@@ -13,7 +13,7 @@ kit's), then the cantilever's mesh series; then one row per published fabric (me
 drape coefficient, simulated mean (min-max) and simulated / measured at each
 ``--compression``, nodes, area shrunk by more than 1 %, the source's own CLO3D figure) and
 how well the simulated order follows the measured one. The machine and the solver's source state (commit and a hash
-of the working tree's sim/solver.py, kernels.py, energies.py) are printed with it, since
+of the working tree's sim/solver.py, kernels/, energies.py) are printed with it, since
 the solver changes under the kit (docs/fabrics.md, "Testing a fabric").
 """
 
@@ -42,9 +42,10 @@ def solver_state() -> str:
     except (OSError, subprocess.CalledProcessError):
         rev = "?"
     h = hashlib.sha1()
-    for name in ("solver.py", "kernels.py", "energies.py"):
-        h.update((ROOT / "src" / "patternfit" / "sim" / name).read_bytes())
-    return f"commit {rev}, sim/solver.py+kernels.py+energies.py sha1 {h.hexdigest()[:10]}"
+    sim = ROOT / "src" / "patternfit" / "sim"
+    for path in (sim / "solver.py", *sorted((sim / "kernels").glob("*.py")), sim / "energies.py"):
+        h.update(path.read_bytes())
+    return f"commit {rev}, sim/solver.py+kernels/+energies.py sha1 {h.hexdigest()[:10]}"
 
 
 def fmt(value, spec, scale=1.0):

@@ -8,7 +8,7 @@ import pytest
 
 from patternfit.constants import GRAVITY
 from patternfit.sim import kernels
-from patternfit.sim.energies import build_terms
+from patternfit.sim.energies import build_terms, spring_matrix
 from patternfit.sim.solver import GarmentSolver, SolverSettings
 
 from scenes import grain_at, rect_mesh, sphere_field
@@ -112,8 +112,18 @@ def test_contact_friction_seam_and_repulsion_gradients():
 
     a, b = np.arange(0, 10), np.arange(10, 20)
 
+    # both regimes of the bounded seam pull: limit / k = 1 cm; the gaps straddle it
+    x[b[:5]] = x[a[:5]] + rng.normal(scale=2e-3, size=(5, 3))
+    gaps = np.linalg.norm(x[a] - x[b], axis=1)
+    assert (gaps < 0.01).any() and (gaps > 0.01).any()
+
     def seams(y, g):
         return kernels.seam_springs(y, a, b, 50.0, np.full(10, 0.5), g)
+
+    # and both of friction's: sticking (|u| < slip) and sliding
+    u = x[idx] - anchor
+    u -= np.einsum("ij,ij->i", u, nrm)[:, None] * nrm
+    assert (np.linalg.norm(u, axis=1) < 1e-3).any() and (np.linalg.norm(u, axis=1) > 1e-3).any()
 
     for term in (contact, friction, seams):
         grad = np.zeros_like(x)
@@ -135,6 +145,33 @@ def test_contact_friction_seam_and_repulsion_gradients():
     assert rep(y, grad) > 0
     np.testing.assert_allclose(grad, _fd_gradient(lambda z: rep(z, np.zeros_like(z)), y),
                                atol=1e-7)
+
+
+def test_bending_and_weld_springs_are_quadratic_forms_with_the_right_gradient():
+    """The bending matrix Q and the welded seams' spring matrix enter the energy as
+    ``sum_c x_c^T Q x_c / 2`` with gradient ``Q x``: finite differences agree, and bending
+    costs nothing on a rigid motion of the flat sheet but something on a fold."""
+    v, _, T, x = _sheet(seed=6)
+    n = len(v)
+    pairs = np.c_[np.arange(0, 5), np.arange(5, 10)]
+    for Q in (T.bending, spring_matrix(pairs, 40.0, n)):
+        Q = Q.tocsr()
+
+        def energy(y, Q=Q):
+            return 0.5 * float(np.einsum("ij,ij->", y, Q @ y))
+
+        np.testing.assert_allclose(Q @ x, _fd_gradient(energy, x),
+                                   atol=1e-6 * np.abs(Q @ x).max())
+    flat = np.c_[v, np.zeros(n)]
+    c, s = np.cos(0.7), np.sin(0.7)
+    rigid = flat @ np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]).T + [0.1, -0.2, 0.3]
+    fold = flat.copy()
+    fold[:, 2] = 0.3 * np.maximum(v[:, 0] - 0.03, 0.0)
+    bend = T.bending.tocsr()
+    scale = np.abs(bend).sum()
+    for y in (flat, rigid):
+        assert np.abs(bend @ y).max() < 1e-9 * scale
+    assert 0.5 * float(np.einsum("ij,ij->", fold, bend @ fold)) > 1e-9
 
 
 def test_residual_of_an_unsupported_flat_sheet_is_its_weight():

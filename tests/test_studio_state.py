@@ -129,6 +129,30 @@ def test_progress_follows_the_phases_monotonically(client, callbacks):
     assert monotone([f for _, _, f, _ in callbacks]) and monotone([n for *_, n in callbacks])
 
 
+def test_tracker_follows_the_phases_the_runner_names():
+    """The relaxed first drape of a session: sew, relax, drape the widened garment, then a
+    staged re-drape; the stages count as the settling, iterations add up over the runs."""
+    tracker = studio_state.DrapeTracker()
+    tracker.plan = [(n, 100.0) for n in ("sewing", "relaxing", "draping", "settling")]
+    seen = []
+    for name, its in (("sewing", 5), ("relaxing", 3), ("draping", 4), ("stage 1 of 2", 2),
+                      ("settling", 3)):
+        tracker.enter(name)
+        for it in range(1, its + 1):
+            tracker.update(it)
+            seen.append((tracker.phase, tracker.iterations, tracker.fraction))
+    phases = [p for p, _, _ in seen]
+    assert [p for i, p in enumerate(phases) if i == 0 or p != phases[i - 1]] == \
+        ["sewing", "relaxing", "draping", "settling"]
+    assert [n for _, n, _ in seen] == list(range(1, 18))
+    assert monotone([f for *_, f in seen]) and seen[-1][2] > 0.75
+    # a phase the plan does not have further on moves the bar on by one
+    tracker.plan = [("sewing", 1.0), ("draping", 1.0)]
+    tracker.index, tracker.last, tracker.done = 0, 4, 0
+    tracker.enter("unplanned")
+    assert tracker.phase == "draping" and tracker.iterations == 4
+
+
 def test_large_mesh_plan_drapes_coarse_then_settles():
     mesh = SimpleNamespace(n_triangles=22000)
     session = SimpleNamespace(state=SimpleNamespace(mesh=mesh), relax=1.0, position=0,

@@ -15,7 +15,7 @@ import re
 import shutil
 import time
 from contextlib import contextmanager
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
@@ -40,6 +40,7 @@ from ..pattern.model import Pattern
 from ..pattern.seam_suggest import check_sewn
 from ..sim.drape import Drape, drape, redrape
 from ..sim.fabrics import Fabric, get_fabric
+from ..sim.schedule import Plan
 
 #: the editing tools a session applies by name (``patternfit.edit``)
 EDIT_OPS = ("move_point", "move_edge", "edit_curve", "lengthen", "grade", "insert_dart",
@@ -59,12 +60,6 @@ _BODY = re.compile(r"body-[0-9a-f]{32}\.npz")
 
 def _new_key() -> str:
     return os.urandom(16).hex()
-
-#: largest motion of a flat vertex [m] between the stages of a warm re-drape
-STAGE_LENGTH = 0.03
-#: iteration limit of a warm re-drape's intermediate stages
-STAGE_ITERATIONS = 200
-
 
 @dataclass(eq=False)
 class State:
@@ -209,36 +204,16 @@ class DesignSession:
         return result
 
     def _staged_redrape(self, mesh: GarmentMesh, start, progress) -> Drape:
-        """Warm re-drape to the rest shapes of ``mesh``, reached in stages of at most
-        ``STAGE_LENGTH`` of flat-vertex motion, the intermediate ones solved for at most
-        ``STAGE_ITERATIONS``: a garment whose rest shapes grew by 12 cm at once (a coat
-        corrected from 65% of its width) expands faster than the solver's lagged
-        self-collision pairs follow and crossed itself (7-8 crossing pairs on the Table 2
-        coat and trousers); in three stages of 4 cm, 0 or 1; in four of 3 cm, 0, and
-        faster than in one."""
-        solver = self._drape.solver
-        old = solver.rest
+        """Warm re-drape to the rest shapes of ``mesh`` in stages
+        (:meth:`patternfit.sim.schedule.Plan.staged`: at most ``schedule.STAGE_LENGTH`` of flat-vertex
+        motion each), from ``start`` or, when that is the last drape itself, from the last
+        drape moved with the edit."""
         if np.array_equal(start, self._drape.positions):
-            # the last drape itself: redrape starts from it moved with the edit
             start = None
-        change = float(np.linalg.norm(mesh.vertices - old, axis=1).max(initial=0.0))
-        stages = max(1, int(np.ceil(change / STAGE_LENGTH)))
-        full, previous, seconds = solver.settings, self._drape, 0.0
-        try:
-            solver.settings = replace(full, max_iterations=min(STAGE_ITERATIONS,
-                                                               full.max_iterations))
-            for k in range(1, stages):
-                previous = redrape(previous, mesh.with_vertices(old + k / stages
-                                                                * (mesh.vertices - old)),
-                                   start=start, progress=progress)
-                start, seconds = None, seconds + previous.seconds
-                if previous.result.interrupted:
-                    break
-        finally:
-            solver.settings = full
-        result = redrape(previous, mesh, start=start, progress=progress)
-        result.seconds += seconds
-        return result
+        change = float(np.linalg.norm(mesh.vertices - self._drape.solver.rest,
+                                      axis=1).max(initial=0.0))
+        return redrape(self._drape, mesh, start=start, plan=Plan.staged(change),
+                       progress=progress)
 
     # -- editing -------------------------------------------------------------------------
     def apply(self, op: str, *, label: str | None = None, cache=None, **args):

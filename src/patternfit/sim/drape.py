@@ -14,13 +14,17 @@ import numpy as np
 from ..constants import limits
 from ..defaults import DEFAULTS
 from ..mesh.garment import GarmentMesh
-from ..mesh.transfer import follow_edit, transfer
+from ..mesh.transfer import transfer
 from ..mesh.triangulate import mesh_pattern
 from ..pattern.model import Pattern
 from .fabrics import Fabric, get_fabric
 from .onbody import OnBodyChecks, on_body_checks
 from .placement import place_on_body
+from .schedule import Plan, run_plan
 from .solver import DrapeResult, GarmentSolver, SolverSettings
+
+#: least distance kept from the body by default [m] (see ``drape``'s ``contact_margin``)
+CONTACT_MARGIN = 0.003
 
 
 @dataclass(eq=False)
@@ -124,9 +128,13 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
           settings: SolverSettings | None = None, clearance: float = DEFAULTS.clearance,
           spacing: float = 0.005,
           placed=None, start=None, sewing_iterations: int = 1500, relax_iterations: int = 300,
-          contact_margin: float = 0.003, sewing_self_collision: bool = False,
+          contact_margin: float = CONTACT_MARGIN, sewing_self_collision: bool = False,
           coarse: int | None = 2000, progress=None) -> Drape:
     """Place, sew and drape ``mesh`` on ``body`` to static equilibrium.
+
+    The solves follow :meth:`patternfit.sim.schedule.Plan.first_drape` (sew, relax, drape;
+    ``timing["phases"]`` names those that ran), or :meth:`~patternfit.sim.schedule.Plan.settle`
+    from ``start`` or a coarse drape.
 
     Parameters
     ----------
@@ -203,10 +211,15 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
         return d
     solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh), fabric,
                            seam_pairs=mesh.seam_pairs, body=field_, settings=settings)
-    timing = {"distance_field_seconds": t_sdf}
-    result = _sew_and_drape(solver, x0, timing, relax_iterations=relax_iterations,
-                            sewing_iterations=sewing_iterations,
-                            sewing_self_collision=sewing_self_collision, progress=progress)
+    plan = Plan.first_drape(sewing_iterations=sewing_iterations,
+                            relax_iterations=relax_iterations,
+                            sewing_self_collision=sewing_self_collision)
+    run = run_plan(solver, plan, x0, progress=progress)
+    result = run.result
+    timing = {"distance_field_seconds": t_sdf,
+              "sewing_seconds": run.seconds("sewing", "relaxing"),
+              "sewing_iterations": run.iterations("sewing", "relaxing"),
+              "phases": [p.name for p in run.phases]}
     d = Drape(positions=result.x[solver.vertex_map], placed=x0, result=result, solver=solver,
               seconds=time.perf_counter() - t0, timing=timing)
     d.check_on_body(pattern, mesh, body)
@@ -223,36 +236,9 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
                            seam_pairs=mesh.seam_pairs, body=field_,
                            settings=replace(settings, friction_delay=0))
     solver.weld()
-    result = solver.solve(x, progress=progress)
+    result = run_plan(solver, Plan.settle(), x, progress=progress).result
     return Drape(positions=result.x[solver.vertex_map], placed=x, result=result, solver=solver,
                  seconds=0.0, timing={"start": "saved"})
-
-
-def _sew_and_drape(solver: GarmentSolver, x0, timing: dict, *, relax_iterations: int,
-                   sewing_iterations: int, sewing_self_collision: bool, progress):
-    """Sew without gravity (stopping at the weld), relax without gravity, then drape under
-    gravity; fills ``timing`` with the sewing's seconds and iterations."""
-    settings = solver.settings
-    # Sewing happens in place, without gravity: a garment hanging from open seams would fall
-    # off the body while the seam springs stiffen.
-    solver.settings = replace(settings, gravity=(0.0, 0.0, 0.0),
-                              max_iterations=sewing_iterations, stop_at_weld=True,
-                              self_collision=settings.self_collision and sewing_self_collision)
-    t = time.perf_counter()
-    sewn = solver.solve(x0, progress=progress)
-    sewing_its = sewn.iterations
-    if sewn.welded and not sewn.interrupted and relax_iterations > 0:
-        # the sewn garment relaxes (still without gravity) from the seams' pull; its end is
-        # only the drape's start, so the kinematic rule stops it
-        solver.settings = replace(settings, gravity=(0.0, 0.0, 0.0),
-                                  max_iterations=relax_iterations, stop="kinematic")
-        sewn = solver.solve(sewn.x, progress=progress)
-        sewing_its += sewn.iterations
-    timing.update(sewing_seconds=time.perf_counter() - t, sewing_iterations=sewing_its)
-    solver.settings = settings
-    if sewn.welded and not sewn.interrupted:
-        return solver.solve(sewn.x, progress=progress)
-    return sewn
 
 
 #: coarse sizes tried, as multiples of ``coarse``, until one's equilibrium carried to the
@@ -291,57 +277,35 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
         start = transfer(small, first.positions, mesh)
         if solver.crossings(start) == 0:
             break
-    result = solver.solve(start, progress=progress)
+    result = run_plan(solver, Plan.settle(), start, progress=progress).result
     return Drape(positions=result.x[solver.vertex_map], placed=x0, result=result, solver=solver,
                  seconds=time.perf_counter() - t0, timing=timing)
 
 
-#: a re-drape's moved start may lie this far inside the body [mm]: contact pushes such
-#: vertices out along the distance field's gradient (the 22K coat's hem lowered 3 cm: 12
-#: vertices, 2.7 mm deep); much deeper, a vertex could be pushed out through the far side of
-#: a thin limb
-_MOVED_DEPTH_MM = 5.0
-
-
 def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, pattern: Pattern | None = None,
-            progress=None) -> Drape:
+            plan: Plan | None = None, progress=None) -> Drape:
     """Drape again after an edit that kept the mesh topology (new rest shapes only); the
     factorisation is reused when it can be.
 
     The solve starts from ``start`` ((n3, 3) [m] per simulated vertex) when given; else from
-    the previous equilibrium moved with the edit (:func:`patternfit.mesh.transfer.follow_edit`:
-    a lowered hem starts lower, where it settles in a fraction of the iterations of a start
-    with the new cloth compressed: 15K skirt 1,575 -> 75, 22K coat 675 -> 175), unless that
-    state crosses itself more than the previous one (layers folded flat, e.g. a trouser hem
-    pooled on the feet, move through each other: 49 crossed pairs after a 3 cm hem edit of
-    the 20K trousers) or enters the body deeper than ``_MOVED_DEPTH_MM`` (a panel taken in);
-    then from the previous equilibrium as it is. (Half or a quarter of the motion crossed
-    less, but settled no faster than none of it.)
-    ``timing["start"]`` says which: "given", "moved" or "previous".
+    the previous equilibrium moved with the edit, or as it is when the moved state crosses
+    itself or enters the body (:func:`patternfit.sim.schedule.start_after_edit`).
+    ``timing["start"]`` says which: "given", "moved" or "previous" (of the last phase).
+    ``plan`` (default :meth:`Plan.redrape() <patternfit.sim.schedule.Plan.redrape>`, one
+    step) may reach the new rest shapes in stages (:meth:`~patternfit.sim.schedule.Plan.staged`).
     The on-body checks run against ``pattern`` (the edited pattern; the previous drape's
     when None: an edit keeps the panels' parts and the anchor) and the previous body.
     """
     t0 = time.perf_counter()
     solver = previous.solver
     if start is not None:
-        x0, how = np.asanyarray(start, dtype=np.float64), "given"
-    else:
-        x0, how = previous.result.x, "previous"
-        if mesh.vertices.shape == solver.rest.shape and not np.array_equal(mesh.vertices,
-                                                                           solver.rest):
-            moved = follow_edit(solver.rest, mesh.vertices, solver.triangles,
-                                previous.positions)
-            rows = np.zeros_like(x0)
-            np.add.at(rows, solver.vertex_map, moved)
-            rows /= np.maximum(np.bincount(solver.vertex_map, minlength=len(rows)), 1)[:, None]
-            now, then = solver.checks(rows), solver.checks(x0)
-            if (now.self_intersections <= then.self_intersections
-                    and now.max_depth_mm <= max(then.max_depth_mm, _MOVED_DEPTH_MM)):
-                x0, how = rows, "moved"
-    solver.set_rest(mesh.vertices)
-    result = solver.solve(x0, resume=how == "moved", progress=progress)
+        start = np.asanyarray(start, dtype=np.float64)
+    run = run_plan(solver, plan or Plan.redrape(), previous.result.x, rest=mesh.vertices,
+                   start=start, progress=progress)
+    result = run.result
     d = Drape(positions=result.x[solver.vertex_map], placed=previous.placed, result=result,
-              solver=solver, seconds=time.perf_counter() - t0, timing={"start": how})
+              solver=solver, seconds=time.perf_counter() - t0,
+              timing={"start": run.start, "phases": [p.name for p in run.phases]})
     pattern = pattern if pattern is not None else previous.pattern
     if pattern is not None and previous.body is not None:
         d.check_on_body(pattern, mesh, previous.body)

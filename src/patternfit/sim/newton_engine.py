@@ -17,7 +17,7 @@ imported here only when a Newton drape is asked for. Warp compiles its kernels o
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -25,9 +25,10 @@ from ..geometry import face_adjacency, face_cross
 from ..defaults import DEFAULTS
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
-from .drape import Drape, drape
+from .drape import CONTACT_MARGIN, Drape, drape
 from .fabrics import Fabric, get_fabric
 from .placement import place_on_body
+from .schedule import Plan, run_plan
 from .solver import DrapeResult, GarmentSolver, SolverSettings
 
 #: Our bending energy reads B through Bergou's hinge weight 3 l^2 / (A1 + A2) divided by 3.4
@@ -409,7 +410,7 @@ def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
                  settings: NewtonSettings | None = None, device: str | None = None,
                  from_static: Drape | None = None, clearance: float = 0.03,
                  spacing: float = 0.005, placed=None, sewing_iterations: int = 1500,
-                 progress=None) -> Drape:
+                 relax_iterations: int = 300, progress=None) -> Drape:
     """Drape ``mesh`` on ``body`` with Newton's Style3D until it comes to rest.
 
     Same interface and result as :func:`patternfit.sim.drape.drape` (positions per flat
@@ -417,10 +418,11 @@ def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
 
     Parameters
     ----------
-    pattern, mesh, body, fabric, clearance, spacing, placed, sewing_iterations
+    pattern, mesh, body, fabric, clearance, spacing, placed, sewing_iterations, relax_iterations
         As for :func:`patternfit.sim.drape.drape`; the placement and the gravity-free
-        sewing phase are the static engine's, so both engines start from the same sewn
-        garment.
+        sewing and relaxation are the static engine's
+        (:meth:`patternfit.sim.schedule.Plan.sewing`, with the static drape's contact
+        margin), so both engines start from the same sewn garment.
     settings : NewtonSettings, optional
     device : str, optional
         Warp device; default CUDA when present, else the CPU.
@@ -454,12 +456,12 @@ def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
             else np.asanyarray(placed, dtype=np.float64)
         solver = GarmentSolver(mesh.vertices, mesh.triangles, mesh.grain[mesh.triangle_panel],
                                fabric, seam_pairs=mesh.seam_pairs, body=field_,
-                               settings=replace(SolverSettings(), gravity=(0.0, 0.0, 0.0),
-                                                max_iterations=sewing_iterations,
-                                                stop="kinematic"))
-        t = time.perf_counter()
-        sewn = solver.solve(x0, progress=progress)
-        timing.update(sewing_seconds=time.perf_counter() - t, sewing_iterations=sewn.iterations)
+                               settings=SolverSettings(contact_margin=CONTACT_MARGIN))
+        plan = Plan.sewing(sewing_iterations=sewing_iterations, relax_iterations=relax_iterations)
+        run = run_plan(solver, plan, x0, progress=progress)
+        sewn = run.result
+        timing.update(sewing_seconds=run.seconds(*plan.names),
+                      sewing_iterations=run.iterations(*plan.names))
         if not sewn.welded or sewn.interrupted:
             return Drape(positions=sewn.x[solver.vertex_map], placed=x0, result=sewn,
                          solver=solver, seconds=time.perf_counter() - t0,

@@ -51,7 +51,7 @@ STRETCH_SCALE = FitScale(limit=0.10, band=0.01)
 #: the drape engines a studio session can take: the design session drapes with the static
 #: (quasi-static) solver only; ``api.list_engines()`` lists the others and whether installed
 ENGINES = ("static",)
-#: the phases of a drape, as ``patternfit.sim.drape`` runs them (each one solver run):
+#: the phases of a drape, as ``patternfit.sim.schedule`` names them (each one solver run):
 #: a drape from the placement sews (no gravity, until the seams weld), relaxes the sewn
 #: garment (no gravity) and drapes under gravity; a mesh larger than three times the coarse
 #: size does those three on a coarse mesh and then settles the fine one from it; a re-drape
@@ -108,7 +108,8 @@ class DrapeTracker:
     """Turns the solver's progress callbacks of one drape into phases, a monotone fraction
     and an iteration count that never goes back (the solver counts each run from 1).
 
-    ``begin(session)`` before each drape; ``update(iteration)`` for each callback."""
+    ``begin(session)`` before each drape; ``enter(name)`` as the drape's runner starts a
+    phase; ``update(iteration)`` for each callback."""
 
     def __init__(self):
         self.plan: list[tuple[str, float]] = []
@@ -128,6 +129,20 @@ class DrapeTracker:
     @property
     def phase(self) -> str | None:
         return self.plan[self.index][0] if self.plan else None
+
+    def enter(self, name: str) -> None:
+        """The drape's runner starts phase ``name`` (a re-drape's stages belong to its
+        settling): the bar moves to that phase of the plan, or on by one when the plan does
+        not have it further on."""
+        key = "settling" if name.startswith("stage ") else name
+        names = [n for n, _ in self.plan]
+        started = self.done + self.last > 0
+        self.done += self.last
+        self.last = 0
+        if key in names[self.index:]:
+            self.index = names.index(key, self.index)
+        elif started and names:
+            self.index = min(self.index + 1, len(names) - 1)
 
     def update(self, it: int) -> None:
         if it <= self.last:  # the solver started its next run: the next phase
@@ -550,6 +565,7 @@ class Studio:
             share = (len(job.rounds) + tracker.fraction) / job.drapes
             job.fraction = max(job.fraction, min(0.99, share))
 
+        progress.phase = tracker.enter  # the runner names each phase as it starts
         session = state = None
         try:
             with self.lock:

@@ -1,0 +1,27 @@
+"""Numba kernels of the garment solver, by topic (SI units: m, N, J):
+
+- :mod:`.energy_terms`: each energy term's value and gradient (membrane, body contact,
+  friction, seam springs, vertex-triangle and edge-edge repulsion) and the membrane's
+  Hessian;
+- :mod:`.collision`: the grid search for the lagged repulsion pairs and the count of
+  crossed triangle pairs;
+- :mod:`.optimiser`: the L-BFGS vector loops and the stopping rule's step measures.
+
+Every kernel is serial numba compiled with ``cache=True`` (a fixed summation order makes two
+runs bit-identical). The solver calls them as ``kernels.NAME``; the names are re-exported
+here.
+"""
+
+from __future__ import annotations
+
+# the solver's distance lookup (compiled in body.sdf, where the distance field lives)
+from ...body.sdf import sdf_query
+from .collision import intersecting_pairs, near_edge_pairs, near_pairs
+from .energy_terms import (SDF_SLOPE, contact, edge_repulsion, friction, membrane,
+                           membrane_hessian, seam_springs, self_repulsion)
+from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
+
+__all__ = ["SDF_SLOPE", "axpy", "contact", "dot", "edge_repulsion", "friction",
+           "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move",
+           "max_row_norm", "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs",
+           "sdf_query", "seam_springs", "self_repulsion"]

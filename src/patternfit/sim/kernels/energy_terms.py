@@ -1,0 +1,292 @@
+"""Numba kernels of the garment's energy terms: value and gradient per term, serial and
+deterministic; the membrane's Hessian for the Newton solver.
+
+All lengths in metres, forces in newtons, energies in joules. Every kernel adds its gradient
+into ``grad`` (n, 3) and returns its energy, so that one pass over each term gives both.
+Kernels are serial on purpose: a fixed summation order makes two runs bit-identical. The
+lagged pairs that the repulsion terms take are found in :mod:`.collision`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ...body.sdf import trilinear_at as _trilinear
+
+# ---------------------------------------------------------------------------------------
+# membrane
+
+
+@njit(cache=True)
+def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, grad):
+    """Orthotropic membrane (Baraff-Witkin strain measures on the grain frame).
+
+    ``w_u = sum_j cu[t, j] x[tris[t, j]]`` is the image of the unit warp vector (column 1 of
+    the deformation gradient F), ``w_v`` that of the weft. Energy per triangle
+    ``A (k_u e_u^2 + k_v e_v^2 + k_s s^2) / 2`` with ``e = |w| - 1`` and ``s = w_u . w_v``;
+    a stretch stiffness is multiplied by ``compression`` while its strain is negative, so
+    that fabric buckles rather than shrinks.
+    """
+    energy = 0.0
+    for t in range(tris.shape[0]):
+        a0, a1, a2 = tris[t, 0], tris[t, 1], tris[t, 2]
+        u0, u1, u2 = cu[t, 0], cu[t, 1], cu[t, 2]
+        v0, v1, v2 = cv[t, 0], cv[t, 1], cv[t, 2]
+        wux = u0 * x[a0, 0] + u1 * x[a1, 0] + u2 * x[a2, 0]
+        wuy = u0 * x[a0, 1] + u1 * x[a1, 1] + u2 * x[a2, 1]
+        wuz = u0 * x[a0, 2] + u1 * x[a1, 2] + u2 * x[a2, 2]
+        wvx = v0 * x[a0, 0] + v1 * x[a1, 0] + v2 * x[a2, 0]
+        wvy = v0 * x[a0, 1] + v1 * x[a1, 1] + v2 * x[a2, 1]
+        wvz = v0 * x[a0, 2] + v1 * x[a1, 2] + v2 * x[a2, 2]
+        lu = np.sqrt(wux * wux + wuy * wuy + wuz * wuz)
+        lv = np.sqrt(wvx * wvx + wvy * wvy + wvz * wvz)
+        eu = lu - 1.0
+        ev = lv - 1.0
+        s = wux * wvx + wuy * wvy + wuz * wvz
+        ku = k_warp if eu > 0.0 else k_warp * compression
+        kv = k_weft if ev > 0.0 else k_weft * compression
+        a = area[t]
+        energy += 0.5 * a * (ku * eu * eu + kv * ev * ev + k_shear * s * s)
+        fu = a * ku * eu / max(lu, 1e-12)
+        fv = a * kv * ev / max(lv, 1e-12)
+        fs = a * k_shear * s
+        gux = fu * wux + fs * wvx
+        guy = fu * wuy + fs * wvy
+        guz = fu * wuz + fs * wvz
+        gvx = fv * wvx + fs * wux
+        gvy = fv * wvy + fs * wuy
+        gvz = fv * wvz + fs * wuz
+        for j in range(3):
+            i = tris[t, j]
+            cj = cu[t, j]
+            dj = cv[t, j]
+            grad[i, 0] += cj * gux + dj * gvx
+            grad[i, 1] += cj * guy + dj * gvy
+            grad[i, 2] += cj * guz + dj * gvz
+    return energy
+
+
+# ---------------------------------------------------------------------------------------
+# body contact and friction
+
+
+#: bound on the slope of the trilinear distance interpolant [m/m]: each partial derivative is
+#: a blend of grid differences of a 1-Lipschitz distance, so |grad| <= sqrt(3); 2 leaves room
+#: for the seam between the exact band and the upsampled far field
+SDF_SLOPE = 2.0
+
+
+@njit(cache=True)
+def contact(x, values, origin, spacing, thickness, stiffness, seen, room, grad):
+    """Penalty ``k_i (h - d_i)^2 / 2`` on every vertex whose distance ``d_i`` is below ``h``.
+
+    ``stiffness`` (n,) [N/m] is per vertex (area times the contact pressure stiffness).
+    ``seen`` (n, 3) [m] and ``room`` (n,) [m] spare the lookups that cannot matter: a vertex
+    less than ``room_i`` from ``seen_i``, where it was last looked up, is still beyond ``h``
+    (the distance changes by at most ``SDF_SLOPE`` per metre moved). Both are updated here;
+    start them at ``inf`` and 0.
+    """
+    energy = 0.0
+    for i in range(x.shape[0]):
+        m0 = x[i, 0] - seen[i, 0]
+        m1 = x[i, 1] - seen[i, 1]
+        m2 = x[i, 2] - seen[i, 2]
+        if m0 * m0 + m1 * m1 + m2 * m2 < room[i] * room[i]:
+            continue
+        d, gx, gy, gz = _trilinear(values, origin, spacing, x[i])
+        pen = thickness - d
+        seen[i, 0] = x[i, 0]
+        seen[i, 1] = x[i, 1]
+        seen[i, 2] = x[i, 2]
+        room[i] = max(-pen, 0.0) / SDF_SLOPE
+        if pen > 0.0:
+            k = stiffness[i]
+            energy += 0.5 * k * pen * pen
+            f = k * pen
+            grad[i, 0] -= f * gx
+            grad[i, 1] -= f * gy
+            grad[i, 2] -= f * gz
+    return energy
+
+
+@njit(cache=True)
+def friction(x, idx, anchor, normal, limit, slip, grad):
+    """Lagged Coulomb friction on anchored contact vertices.
+
+    Tangential displacement ``u = P (x_i - a_i)`` from the anchor ``a_i`` (``P`` projects out
+    the anchor's normal). Energy ``mu_lambda_i f(|u|)`` with ``f(u) = u^2 / (2 slip)`` below
+    ``slip`` and ``u - slip / 2`` above: a stiff spring that gives way at the Coulomb force
+    ``limit_i = mu * normal force`` [N].
+    """
+    energy = 0.0
+    for k in range(idx.shape[0]):
+        i = idx[k]
+        u = np.empty(3)
+        for c in range(3):
+            u[c] = x[i, c] - anchor[k, c]
+        un = u[0] * normal[k, 0] + u[1] * normal[k, 1] + u[2] * normal[k, 2]
+        for c in range(3):
+            u[c] -= un * normal[k, c]
+        m = np.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
+        if m < slip:
+            energy += limit[k] * m * m / (2.0 * slip)
+            s = limit[k] / slip
+        else:
+            energy += limit[k] * (m - 0.5 * slip)
+            s = limit[k] / m
+        for c in range(3):
+            grad[i, c] += s * u[c]
+    return energy
+
+
+@njit(cache=True)
+def seam_springs(x, a, b, stiffness, limit, grad):
+    """Zero-length seam springs with a bounded pull between vertices ``a[k]`` and ``b[k]``.
+
+    Energy ``k g^2 / 2`` for a gap ``g`` below ``r_k = limit_k / k`` and ``limit_k (g - r_k / 2)``
+    beyond: the spring [N/m] near closing, a constant pull ``limit_k`` [N] when far apart, so
+    that body contact (which grows without bound) wins and an edge slides round the body
+    rather than being dragged through it.
+    """
+    energy = 0.0
+    for j in range(a.shape[0]):
+        i, k = a[j], b[j]
+        d0 = x[i, 0] - x[k, 0]
+        d1 = x[i, 1] - x[k, 1]
+        d2 = x[i, 2] - x[k, 2]
+        g = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        r = limit[j] / stiffness
+        if g <= r:
+            energy += 0.5 * stiffness * g * g
+            s = stiffness
+        else:
+            energy += limit[j] * (g - 0.5 * r)
+            s = limit[j] / g
+        grad[i, 0] += s * d0
+        grad[i, 1] += s * d1
+        grad[i, 2] += s * d2
+        grad[k, 0] -= s * d0
+        grad[k, 1] -= s * d1
+        grad[k, 2] -= s * d2
+    return energy
+
+
+# ---------------------------------------------------------------------------------------
+# self-collision: vertex-triangle and edge-edge repulsion
+
+
+@njit(cache=True)
+def self_repulsion(x, tris, pairs, bary, normal, radius, stiffness, grad):
+    """Lagged vertex-triangle repulsion.
+
+    Pair ``p`` = (vertex, triangle) keeps the barycentric coordinates and the unit normal
+    (pointing to the vertex's side) found when the pair was made; the signed distance
+    ``d = n . (x_v - sum_j b_j x_j)`` is pushed above ``radius`` by ``k_v (r - d)^2 / 2``.
+    """
+    energy = 0.0
+    for p in range(pairs.shape[0]):
+        v = pairs[p, 0]
+        t = pairs[p, 1]
+        d = 0.0
+        for c in range(3):
+            q = x[v, c]
+            for j in range(3):
+                q -= bary[p, j] * x[tris[t, j], c]
+            d += normal[p, c] * q
+        pen = radius - d
+        if pen > 0.0:
+            k = stiffness[v]
+            energy += 0.5 * k * pen * pen
+            f = k * pen
+            for c in range(3):
+                grad[v, c] -= f * normal[p, c]
+                for j in range(3):
+                    grad[tris[t, j], c] += f * bary[p, j] * normal[p, c]
+    return energy
+
+
+@njit(cache=True)
+def edge_repulsion(x, edges, pairs, st, normal, radius, stiffness, grad):
+    """Lagged edge-edge repulsion: the distance ``d = n . (p(s) - q(t))`` between the points
+    found at the pair's making, along its direction then, is pushed above ``radius`` by
+    ``k (r - d)^2 / 2`` with ``k`` the mean of the four vertices' ``stiffness`` [N/m]."""
+    energy = 0.0
+    w = np.empty(4)
+    v = np.empty(4, dtype=np.int64)
+    for p in range(pairs.shape[0]):
+        e, f = pairs[p, 0], pairs[p, 1]
+        v[0], v[1], v[2], v[3] = edges[e, 0], edges[e, 1], edges[f, 0], edges[f, 1]
+        s, t = st[p, 0], st[p, 1]
+        w[0], w[1], w[2], w[3] = 1.0 - s, s, t - 1.0, -t
+        d = 0.0
+        for c in range(3):
+            q = 0.0
+            for j in range(4):
+                q += w[j] * x[v[j], c]
+            d += normal[p, c] * q
+        pen = radius - d
+        if pen > 0.0:
+            k = 0.25 * (stiffness[v[0]] + stiffness[v[1]] + stiffness[v[2]] + stiffness[v[3]])
+            energy += 0.5 * k * pen * pen
+            force = k * pen
+            for j in range(4):
+                for c in range(3):
+                    grad[v[j], c] -= force * w[j] * normal[p, c]
+    return energy
+
+
+# ---------------------------------------------------------------------------------------
+# Hessians for the Newton solver (SolverSettings.method = "newton")
+
+
+@njit(cache=True)
+def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, out):
+    """Positive semi-definite Hessian of :func:`membrane`, per triangle: ``out`` (m, 81) holds
+    the 9x9 block over (corner j, coordinate c) x (corner k, coordinate d), row-major.
+
+    In the images ``w_u``, ``w_v`` of the warp and weft the stretch term
+    ``k (|w| - 1)^2 / 2`` has the Hessian ``k (w^ w^T + max(e, 0) / |w| (I - w^ w^T))``: the
+    transverse part, negative in compression, is clamped at zero; the shear term
+    ``k_s s^2 / 2`` keeps its Gauss-Newton part ``k_s a a^T`` (``a = (w_v, w_u)``) and drops
+    ``k_s s`` times an indefinite coupling. Exact where every yarn is stretched and the shear
+    is zero; a PSD bound otherwise (Newton then takes a descent step).
+    """
+    Huu = np.empty((3, 3))
+    Hvv = np.empty((3, 3))
+    Huv = np.empty((3, 3))
+    wu = np.empty(3)
+    wv = np.empty(3)
+    for t in range(tris.shape[0]):
+        a0, a1, a2 = tris[t, 0], tris[t, 1], tris[t, 2]
+        for c in range(3):
+            wu[c] = cu[t, 0] * x[a0, c] + cu[t, 1] * x[a1, c] + cu[t, 2] * x[a2, c]
+            wv[c] = cv[t, 0] * x[a0, c] + cv[t, 1] * x[a1, c] + cv[t, 2] * x[a2, c]
+        lu = max(np.sqrt(wu[0] ** 2 + wu[1] ** 2 + wu[2] ** 2), 1e-12)
+        lv = max(np.sqrt(wv[0] ** 2 + wv[1] ** 2 + wv[2] ** 2), 1e-12)
+        eu = lu - 1.0
+        ev = lv - 1.0
+        ku = k_warp if eu > 0.0 else k_warp * compression
+        kv = k_weft if ev > 0.0 else k_weft * compression
+        a = area[t]
+        tu = max(eu, 0.0) / lu
+        tv = max(ev, 0.0) / lv
+        for c in range(3):
+            for d in range(3):
+                eye = 1.0 if c == d else 0.0
+                nu = wu[c] * wu[d] / (lu * lu)
+                nv = wv[c] * wv[d] / (lv * lv)
+                Huu[c, d] = a * (ku * (nu + tu * (eye - nu)) + k_shear * wv[c] * wv[d])
+                Hvv[c, d] = a * (kv * (nv + tv * (eye - nv)) + k_shear * wu[c] * wu[d])
+                Huv[c, d] = a * k_shear * wv[c] * wu[d]
+        for j in range(3):
+            uj = cu[t, j]
+            vj = cv[t, j]
+            for k in range(3):
+                uk = cu[t, k]
+                vk = cv[t, k]
+                for c in range(3):
+                    for d in range(3):
+                        out[t, (j * 3 + c) * 9 + k * 3 + d] = (
+                            uj * uk * Huu[c, d] + uj * vk * Huv[c, d]
+                            + vj * uk * Huv[d, c] + vj * vk * Hvv[c, d])
