@@ -11,7 +11,8 @@ from ..fit.export import export_garment
 from ..fit.report import fit_report, write_report
 from ..pattern.formats import save_any_pattern
 from .payload import stale_maps
-from .state import Refused, Studio
+from .jobs import Refused
+from .state import Studio
 
 #: the files the page offers, and what each holds
 EXPORTS = {

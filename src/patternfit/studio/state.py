@@ -37,6 +37,7 @@ from ..loop.session import holds_session
 from ..pattern.library import GARMENTS
 from ..pattern.sizes import SIZE_NAMES
 from ..sim.fabrics import FABRICS
+from .jobs import Background, Refused
 from .words import describe_edit, designer_message
 
 #: triangle count of a new session's garment mesh unless asked otherwise
@@ -65,11 +66,8 @@ _PHASE_ITERATIONS = {"sewing": 150, "relaxing": 300, "draping": 600, "settling":
 COORDINATE_STATES = 4
 #: ``patternfit.sim.drape.drape``'s default coarse size [triangles]
 _COARSE = 2000
-
-
-class Refused(RuntimeError):
-    """A request that cannot be done in the session's present state (HTTP 409): a change
-    while a drape runs, an export of a drape that is not there."""
+#: why a change, or another drape, is refused while a drape runs
+_DRAPING = "a drape is running: stop it first, or wait for it to finish"
 
 
 class StaleRevision(Exception):
@@ -210,8 +208,7 @@ class Studio:
         self.folder.mkdir(parents=True, exist_ok=True)
         self.lock = threading.RLock()
         self.revision = 0
-        self.job = DrapeJob()
-        self._thread: threading.Thread | None = None
+        self._drapes = Background(DrapeJob(), "patternfit-drape")
         #: the coordinates of recent states' meshes (state key -> CoordinateCache), newest
         #: last: drags, the edit a drag ends in, and undo back to a state reuse them
         self._coords: OrderedDict[str, CoordinateCache] = OrderedDict()
@@ -454,7 +451,7 @@ class Studio:
 
     def _refuse_while_draping(self) -> None:
         if self.job.running:
-            raise Refused("a drape is running: stop it first, or wait for it to finish")
+            raise Refused(_DRAPING)
 
     # -- edits ---------------------------------------------------------------------------
     def apply(self, op: str, args: dict, revision: int | None = None) -> dict:
@@ -523,18 +520,19 @@ class Studio:
             self._refuse_while_draping()
             self.check_revision(revision)
             self.ensure()
-            self.job = DrapeJob(running=True, kind=kind)
-            self._thread = threading.Thread(target=self._run_drape, args=(self.job,),
-                                            daemon=True, name="patternfit-drape")
-            self._thread.start()
+            self._drapes.start(DrapeJob(kind=kind), self._run_drape, busy=_DRAPING)
+
+    @property
+    def job(self) -> DrapeJob:
+        """The drape (or correction) running, or the last one run."""
+        return self._drapes.job
 
     def stop_drape(self) -> None:
-        self.job.stop = True
+        self._drapes.stop()
 
     def wait(self, timeout: float | None = None) -> None:
         """Wait for the background drape (tests, shutdown)."""
-        if self._thread is not None:
-            self._thread.join(timeout)
+        self._drapes.wait(timeout)
 
     def _run_drape(self, job: DrapeJob) -> None:
         t0 = time.perf_counter()
@@ -576,10 +574,8 @@ class Studio:
         except Exception as exc:  # shown in the page; the server keeps serving
             job.error = designer_message(exc)
         finally:
-            job.elapsed = time.perf_counter() - t0
             if job.error is None and not job.stopped:
                 job.fraction = 1.0
-            job.running = False
             job.finished = time.time()
 
     def _run_correction(self, job: DrapeJob, session, progress) -> None:

@@ -11,7 +11,8 @@ from fastapi.responses import Response
 from ..exports import EXPORTS, export as export_bytes, verdict as verdict_of
 from ..payload import garment3d as garment_payload
 from ..requests import Revisioned, body, in_worker, studio_of
-from ..state import Refused, Studio
+from ..jobs import Refused
+from ..state import Studio
 
 router = APIRouter(prefix="/api")
 
