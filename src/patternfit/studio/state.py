@@ -32,12 +32,12 @@ from ..defaults import DEFAULTS
 from ..edit import CoordinateCache, update_mesh
 from ..errors import InputError, SessionError
 from ..files import atomic_write_text, dumps_finite_json, read_json_file
-from ..fit.colormap import FitScale
 from ..loop.session import holds_session
 from ..pattern.library import GARMENTS
 from ..pattern.sizes import SIZE_NAMES
 from ..sim.fabrics import FABRICS
 from .jobs import Background, Refused
+from .payload import Views
 from .words import describe_edit, designer_message
 
 #: triangle count of a new session's garment mesh unless asked otherwise
@@ -47,8 +47,6 @@ UPLOAD_SUFFIXES = {"pattern": (".json", ".dxf"),
                    "fabric": (".json",)}
 #: the editing tools the live drag preview accepts (they keep the mesh topology)
 DRAG_OPS = ("move_point", "move_edge", "edit_curve", "move_dart")
-#: relative stretch at which the warp/weft colours saturate [-]
-STRETCH_SCALE = FitScale(limit=0.10, band=0.01)
 #: the drape engines a studio session can take: the design session drapes with the static
 #: (quasi-static) solver only; ``api.list_engines()`` lists the others and whether installed
 ENGINES = ("static",)
@@ -213,6 +211,8 @@ class Studio:
         #: last: drags, the edit a drag ends in, and undo back to a state reuse them
         self._coords: OrderedDict[str, CoordinateCache] = OrderedDict()
         self._warming: threading.Thread | None = None
+        #: what the page draws of recent states (made once each, see _warm)
+        self.views = Views()
         # the background saver of edits (see _save)
         self._save_lock = threading.Lock()
         self._save_pending = False
@@ -301,13 +301,17 @@ class Studio:
             return cache
 
     def _warm(self) -> None:
-        """Compute the current state's coordinates in the background (on a 22K coat about
-        1-2 s a panel), so that the first drag after an edit, an undo or a new session does
-        not wait for them; it gives way as soon as a drape starts."""
-        cache = self.coordinates(self.session.state)
+        """Make what the page asks for next in the background: the current state's 2D and
+        3D payloads (the page fetches them right after a change), then its coordinates (on a
+        22K coat about 1-2 s a panel), so that the first drag after an edit, an undo or a
+        new session does not wait for them; it gives way as soon as a drape starts."""
+        state = self.session.state
+        cache = self.coordinates(state)
         job = self.job
 
         def run():
+            for kind in ("geometry", "garment3d")[:1 + (state.positions is not None)]:
+                self.views.get(kind, state).binary()
             for panel in range(len(cache.mesh.panel_names)):
                 if self.job is not job or job.running:
                     return
