@@ -88,8 +88,15 @@ const view = new View3D($("view3d"), {
 });
 
 // -- loading ----------------------------------------------------------------------------
-async function refresh({ geometry = true } = {}) {
-  const s = await api("/api/state");
+// The state and the geometry are asked for at once (the page load: together with the
+// options and the body), the garment and the verdict as soon as the state says they changed.
+function fetchState({ geometry = true } = {}) {
+  return { state: api("/api/state"), geometry: geometry ? getArrays("/api/geometry") : null };
+}
+
+async function refresh({ geometry = true, fetched = null } = {}) {
+  const asked = fetched || fetchState({ geometry });
+  const s = await asked.state;
   studio.revision = s.revision;
   showFields(s.fields);
   const r = s.fitting_ratio;
@@ -119,7 +126,12 @@ async function refresh({ geometry = true } = {}) {
     // marked "not re-draped"), at the same time as the geometry
     const garmentChanged = s.drape_id !== studio.drapeId || !s.draped;
     const garment = garmentChanged && s.draped ? getArrays("/api/garment3d") : null;
-    studio.geometry = await getArrays("/api/geometry");
+    const verdictKey = `${s.drape_id}/${s.maps_stale}`;
+    const verdict = verdictKey === studio.verdictKey ? null :
+      (s.draped && !s.maps_stale ? api("/api/verdict") : Promise.resolve({}));
+    if (garment) garment.catch(() => {});
+    if (verdict) verdict.catch(() => {});
+    studio.geometry = await asked.geometry;
     editor.setGeometry(studio.geometry);
     seamTool.show();
     $("grade-panel").innerHTML = studio.geometry.panel_names.map((n) => `<option>${n}</option>`).join("");
@@ -128,10 +140,9 @@ async function refresh({ geometry = true } = {}) {
       studio.drapeId = s.drape_id;
     }
     view.setStale(s.maps_stale);
-    const verdictKey = `${s.drape_id}/${s.maps_stale}`;
-    if (verdictKey !== studio.verdictKey) {
+    if (verdict) {
       studio.verdictKey = verdictKey;
-      showVerdict(s.draped && !s.maps_stale ? await api("/api/verdict") : {});
+      showVerdict(await verdict);
     }
     showLegend();
   }
@@ -514,6 +525,12 @@ setInterval(async () => {
 }, 3000);
 
 async function start() {
+  // everything the page shows is asked for at once; the session fields are filled in once
+  // the options are there
+  const first = fetchState();
+  first.state.catch(() => {}); first.geometry.catch(() => {});
+  const body = getArrays("/api/body");
+  body.catch(() => {});
   const o = await api("/api/options");
   const fill = (id, items, labels) => { $(id).innerHTML = items.map((v) => `<option value="${v}" title="${labels ? labels[v] : ""}">${v}</option>`).join(""); };
   fill("garment", Object.keys(o.garments), o.garments); fill("size", o.sizes); fill("body", o.bodies);
@@ -524,8 +541,7 @@ async function start() {
   for (const a of $("exports").querySelectorAll("a")) a.onclick = download;
   $("correct-btn").disabled = !o.correct_available;
   $("correct-btn").title = o.correct_available ? "" : "automatic correction is not available in this version";
-  const body = getArrays("/api/body");  // fetched while the session loads
-  await refresh();  // the session fields come from /api/state (showFields)
+  await refresh({ fetched: first });  // the session fields come from /api/state (showFields)
   view.setBody(await body);
   document.body.dataset.ready = "1";
 }
