@@ -62,6 +62,9 @@ PHASE_WORDS = {"sewing": "closing the seams", "relaxing": "relaxing the sewn gar
 _PHASE_ITERATIONS = {"sewing": 150, "relaxing": 300, "draping": 600, "settling": 300}
 #: states whose drag coordinates are kept (the current one and the last few undone)
 COORDINATE_STATES = 4
+#: the longest the background saver waits for the page's payloads of a change to be made
+#: before it writes the change [s] (both want the CPU the page is waiting on)
+SAVE_DEFER = 2.0
 #: ``patternfit.sim.drape.drape``'s default coarse size [triangles]
 _COARSE = 2000
 #: why a change, or another drape, is refused while a drape runs
@@ -211,8 +214,11 @@ class Studio:
         #: last: drags, the edit a drag ends in, and undo back to a state reuse them
         self._coords: OrderedDict[str, CoordinateCache] = OrderedDict()
         self._warming: threading.Thread | None = None
-        #: what the page draws of recent states (made once each, see _warm)
+        #: what the page draws of recent states (made once each, see _warm); ``_drawn`` is
+        #: set once the current state's are made
         self.views = Views()
+        self._drawn = threading.Event()
+        self._drawn.set()
         # the background saver of edits (see _save)
         self._save_lock = threading.Lock()
         self._save_pending = False
@@ -248,6 +254,7 @@ class Studio:
         the disk (a 22K mesh takes ~0.4 s to compress); :meth:`flush` waits for it."""
         self.revision += 1
         self._publish()
+        self._warm()
         if later:
             with self._save_lock:
                 self._save_pending = True
@@ -257,7 +264,6 @@ class Studio:
                     self._saver.start()
         else:
             self._write()
-        self._warm()
 
     def _write(self) -> None:
         with self.lock:
@@ -266,6 +272,7 @@ class Studio:
 
     def _save_loop(self) -> None:
         while True:
+            self._drawn.wait(SAVE_DEFER)  # the page's payloads first
             with self._save_lock:
                 if not self._save_pending:
                     self._saver = None
@@ -289,12 +296,16 @@ class Studio:
 
     # -- the coordinates of drags ----------------------------------------------------------
     def coordinates(self, state) -> CoordinateCache:
-        """The coordinate cache of ``state``'s mesh (made empty on first use; panels are
-        computed when first dragged, or beforehand by :meth:`_warm`)."""
+        """The coordinate cache of ``state``'s mesh (made on first use, with the panels that
+        recent states' meshes have alike; the others are computed when first dragged, or
+        beforehand by :meth:`_warm`)."""
         with self.lock:
             cache = self._coords.pop(state.key, None)
             if cache is None or cache.mesh is not state.mesh:
                 cache = CoordinateCache(state.mesh)
+                # the panels an edit left alone keep the coordinates of the state before
+                for other in reversed(self._coords.values()):
+                    cache.adopt(other)
             self._coords[state.key] = cache
             while len(self._coords) > COORDINATE_STATES:
                 self._coords.popitem(last=False)
@@ -308,10 +319,17 @@ class Studio:
         state = self.session.state
         cache = self.coordinates(state)
         job = self.job
+        self._drawn.clear()
 
         def run():
-            for kind in ("geometry", "garment3d")[:1 + (state.positions is not None)]:
-                self.views.get(kind, state).binary()
+            try:
+                # the garment only after a drape: an edit keeps the drape shown
+                for kind in ("geometry", "garment3d")[:1 + (state.fitting_ratio is not None)]:
+                    self.views.get(kind, state).binary()
+            except Exception:  # pragma: no cover - the page's own request reports it
+                pass
+            finally:
+                self._drawn.set()
             for panel in range(len(cache.mesh.panel_names)):
                 if self.job is not job or job.running:
                     return

@@ -287,13 +287,11 @@ async function sendDrag() {
   }
 }
 
-async function waitDrag() {
-  while (inflight) await new Promise((r) => setTimeout(r, 5));
-  pending = null; live = null;
-}
-
+// The drop applies the edit at once: a preview still on its way is not waited for (its
+// answer finds the drag over and is dropped); the server's edit reuses the coordinates the
+// previews computed, or waits for the ones being computed.
 async function applyEdit(h, offset) {
-  await waitDrag();
+  pending = null; live = null;
   await edit(h.op, dragArgs(h, offset));
 }
 
