@@ -209,7 +209,8 @@ function showLegend() {
 }
 
 // -- editing ----------------------------------------------------------------------------
-let inflight = false, pending = null;
+// inflight: a drag preview asked for and not answered yet
+let inflight = false;
 
 function dragArgs(h, offset) {
   const args = { ...h.args, offset };
@@ -217,21 +218,31 @@ function dragArgs(h, offset) {
   return args;
 }
 
-// Live drag: exact previews from the server (one request in flight, the newest offset wins)
-// and, between them, the mesh moved on the page by the drag's linear basis (how every vertex
+// Live drag: exact previews from the server, asked for by a worker (drag_worker.js: one
+// request in flight, the newest offset wins, whatever the main thread is busy with) and,
+// between them, the mesh moved on the page by the drag's linear basis (how every vertex
 // moves per metre of offset), redrawn once per animation frame.
-let live = null;
+let live = null, drags = 0;
+const dragWorker = new Worker("/static/drag_worker.js");
+dragWorker.postMessage({ token: TOKEN });
+dragWorker.onmessage = (e) => previewArrived(e.data);
 
 function dragPreview(h, offset) {
   if (!live || live.h !== h) startLive(h);
   live.offset = offset;
-  pending = { op: h.op, args: dragArgs(h, offset) };
-  if (!inflight) sendDrag();
+  inflight = true;
+  dragWorker.postMessage({ id: live.id, req: { op: h.op, args: dragArgs(h, offset) } });
   if (!live.raf) live.raf = requestAnimationFrame(drawLive);
 }
 
+// the drag is over (dropped or cancelled): a preview still on its way is dropped
+function endLive() {
+  live = null;
+  dragWorker.postMessage({ cancel: true });
+}
+
 function startLive(h) {
-  const me = { h, base: Float32Array.from(studio.geometry.vertices), baseOffset: [0, 0], basis: null, offset: [0, 0], raf: 0 };
+  const me = { h, id: ++drags, base: Float32Array.from(studio.geometry.vertices), baseOffset: [0, 0], basis: null, offset: [0, 0], raf: 0 };
   live = me;
   fetch("/api/drag/basis", { method: "POST", headers: JSON_HEADERS, body: JSON.stringify({ op: h.op, args: dragArgs(h, [0, 0]) }) })
     .then((r) => (r.ok ? r.arrayBuffer() : null))
@@ -260,30 +271,22 @@ function drawLive() {
   if (st.frames > 1) $("drag-rate").textContent = `live mesh: ${(1000 * (st.frames - 1) / (st.t1 - st.t0)).toFixed(0)} frames/s, ${(st.exact || 0)} exact updates`;
 }
 
-async function sendDrag() {
-  const req = pending; pending = null; inflight = true;
+// an answer of the drag worker: an exact preview, a refusal, or nothing left in flight
+function previewArrived(m) {
+  if (m.idle) { inflight = false; return; }
   const L = live;
-  try {
-    const r = await fetch("/api/drag", { method: "POST", headers: JSON_HEADERS, body: JSON.stringify(req) });
-    if (r.ok) {
-      const v = new Float32Array(await r.arrayBuffer());
-      if (L && live === L && !v.every(Number.isFinite)) {
-        if (editor.refusePreview()) message("This move cannot be shown: the preview came back broken", "error", "edit");
-      } else if (L && live === L) {
-        L.moved = (r.headers.get("X-Moved") || "").split(",").filter(Boolean);
-        editor.acceptPreview(req.args.offset);
-        L.base = v; L.baseOffset = req.args.offset;
-        studio.dragStats.exact = (studio.dragStats.exact || 0) + 1;
-        if (!L.raf) L.raf = requestAnimationFrame(drawLive);
-      }
-    } else {
-      const text = (await r.json()).error;
-      // once per drag; the preview stops moving
-      if (editor.refusePreview()) message(`This move cannot be made: ${text}`, "error", "edit");
-    }
-  } finally {
-    inflight = false;
-    if (pending) sendDrag();
+  if (!L || L.id !== m.id || m.network) return;  // a drag that is over; the server gone
+  if (m.ok && !m.finite) {
+    if (editor.refusePreview()) message("This move cannot be shown: the preview came back broken", "error", "edit");
+  } else if (m.ok) {
+    L.moved = m.moved.split(",").filter(Boolean);
+    editor.acceptPreview(m.req.args.offset);
+    L.base = new Float32Array(m.buffer); L.baseOffset = m.req.args.offset;
+    studio.dragStats.exact = (studio.dragStats.exact || 0) + 1;
+    if (!L.raf) L.raf = requestAnimationFrame(drawLive);
+  } else if (editor.refusePreview()) {
+    // once per drag; the preview stops moving
+    message(`This move cannot be made: ${m.error}`, "error", "edit");
   }
 }
 
@@ -291,7 +294,7 @@ async function sendDrag() {
 // answer finds the drag over and is dropped); the server's edit reuses the coordinates the
 // previews computed, or waits for the ones being computed.
 async function applyEdit(h, offset) {
-  pending = null; live = null;
+  endLive();
   await edit(h.op, dragArgs(h, offset));
 }
 
@@ -345,7 +348,7 @@ function inTextField(el) {
 function cancelDrag() {
   const dragging = !!editor.drag;
   editor.drag = null;  // the pointer's release then drops nothing
-  live = null; pending = null;
+  endLive();
   editor.selected = null;
   if (studio.geometry) editor.setGeometry(studio.geometry);  // handles and mesh back in place
   $("selected").textContent = dragging ? "drag cancelled" : "click a handle to select it";
