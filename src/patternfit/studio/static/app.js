@@ -89,7 +89,9 @@ const view = new View3D($("view3d"), {
 
 // -- loading ----------------------------------------------------------------------------
 // The state and the geometry are asked for at once (the page load: together with the
-// options and the body), the garment and the verdict as soon as the state says they changed.
+// options, the body, the garment and the verdict), the garment and the verdict otherwise as
+// soon as the state says they changed; the meshes are drawn once all of them are there (in
+// headless Chromium each frame drawn in between is a slow software-rendered frame).
 function fetchState({ geometry = true } = {}) {
   return { state: api("/api/state"), geometry: geometry ? getArrays("/api/geometry") : null };
 }
@@ -125,24 +127,24 @@ async function refresh({ geometry = true, fetched = null } = {}) {
     // the garment is fetched when its drape changed (an edit keeps the drape: it is only
     // marked "not re-draped"), at the same time as the geometry
     const garmentChanged = s.drape_id !== studio.drapeId || !s.draped;
-    const garment = garmentChanged && s.draped ? getArrays("/api/garment3d") : null;
+    const garment = garmentChanged && s.draped ? (asked.garment || getArrays("/api/garment3d")) : null;
     const verdictKey = `${s.drape_id}/${s.maps_stale}`;
     const verdict = verdictKey === studio.verdictKey ? null :
-      (s.draped && !s.maps_stale ? api("/api/verdict") : Promise.resolve({}));
-    if (garment) garment.catch(() => {});
-    if (verdict) verdict.catch(() => {});
-    studio.geometry = await asked.geometry;
+      (s.draped && !s.maps_stale ? (asked.verdict || api("/api/verdict")) : Promise.resolve({}));
+    if (verdict) verdict.catch(() => {});  // awaited below: a refusal is reported there
+    const [geo, garmentData] = await Promise.all([asked.geometry, garment]);
+    studio.geometry = geo;
     editor.setGeometry(studio.geometry);
     seamTool.show();
     $("grade-panel").innerHTML = studio.geometry.panel_names.map((n) => `<option>${n}</option>`).join("");
     if (garmentChanged) {
-      view.setGarment(garment ? await garment : null);
+      view.setGarment(garmentData);
       studio.drapeId = s.drape_id;
     }
     view.setStale(s.maps_stale);
     if (verdict) {
       studio.verdictKey = verdictKey;
-      showVerdict(await verdict);
+      showVerdict(await verdict);  // words only: drawn after the meshes
     }
     showLegend();
   }
@@ -528,8 +530,10 @@ setInterval(async () => {
 async function start() {
   // everything the page shows is asked for at once; the session fields are filled in once
   // the options are there
-  const first = fetchState();
-  first.state.catch(() => {}); first.geometry.catch(() => {});
+  // the garment and the verdict before the state says whether there is a drape: refused
+  // (409) when there is none, and then not used
+  const first = { ...fetchState(), garment: getArrays("/api/garment3d"), verdict: api("/api/verdict") };
+  for (const p of Object.values(first)) p.catch(() => {});
   const body = getArrays("/api/body");
   body.catch(() => {});
   const o = await api("/api/options");
