@@ -262,7 +262,8 @@ function drawLive() {
   let v = L.base;
   if (L.basis) {
     const n = v.length, dx = L.offset[0] - L.baseOffset[0], dy = L.offset[1] - L.baseOffset[1];
-    v = new Float32Array(n);
+    if (!L.shown || L.shown.length !== n) L.shown = new Float32Array(n);  // one buffer a drag
+    v = L.shown;
     for (let i = 0; i < n; i++) v[i] = L.base[i] + L.basis[i] * dx + L.basis[n + i] * dy;
   }
   editor.setPreview(v, { moved: L.moved, trusted: true });
