@@ -422,7 +422,11 @@ export class Editor {
     this.wire = new THREE.LineSegments(w, new THREE.RawShaderMaterial({
       glslVersion: THREE.GLSL3, vertexShader: WIRE_VERTEX, fragmentShader: WIRE_FRAGMENT, transparent: true,
       uniforms: { ...uniforms, colour: { value: new THREE.Vector4(0x28 / 255, 0x28 / 255, 0x28 / 255, 0.35) } } }));
-    this.fill.frustumCulled = this.wire.frustumCulled = false;
+    // their "position" is a vertex number, not a place: never culled, no bounds computed
+    for (const o of [this.fill, this.wire]) {
+      o.frustumCulled = false;
+      o.geometry.boundingSphere = new THREE.Sphere(new THREE.Vector3(), Infinity);
+    }
     const h = new THREE.BufferGeometry();
     h.setAttribute("position", new THREE.BufferAttribute(new Float32Array(9), 3));
     this.hi = new THREE.LineLoop(h, new THREE.LineBasicMaterial({ color: 0x000000 }));
