@@ -394,29 +394,38 @@ export class Editor {
   // pattern fades them towards grey in linear light, as three.js's Color.lerp did.
   buildScene() {
     const geo = this.geo, tri = geo.triangles, m = tri.length / 3, n = geo.vertices.length / 2;
+    this.gridView = null;
+    // an edit that kept the mesh's topology (a drag's drop) keeps the scene: only the
+    // colours change (the vertices are drawn from the texture every frame)
+    if (!this.fill || this.screenCount !== n || !sameArray(this.meshEdges.triangles, tri)) this.buildMesh(tri, n);
+    const col = this.fill.geometry.getAttribute("color"), c = col.array, rgb = geo.colors;
+    for (let t = 0; t < m; t++) {
+      for (let k = 0; k < 9; k++) c[9 * t + k] = rgb ? rgb[3 * t + (k % 3)] : PLAIN[k % 3];
+    }
+    col.needsUpdate = true;
+    this.fill.material.uniforms.stale.value = rgb && geo.stale ? STALE_GREY : 0;
+  }
+
+  // the scene of a mesh of triangles (3m,) over n vertices
+  buildMesh(tri, n) {
     for (const o of this.scene.children) o.geometry.dispose();
     this.scene.clear();
-    this.gridView = null;
-    if (!this.meshEdges || !sameArray(this.meshEdges.triangles, tri)) {
-      this.meshEdges = { triangles: tri, edges: uniqueEdges(tri, n) };
-    }
+    this.meshEdges = { triangles: tri, edges: uniqueEdges(tri, n) };
     this.edges = this.meshEdges.edges;
+    this.screenCount = n;
     const W = Math.min(1024, Math.max(1, n)), H = Math.max(1, Math.ceil(n / W));
     if (!this.screenPos || this.screenPos.image.width !== W || this.screenPos.image.height !== H) {
       if (this.screenPos) this.screenPos.dispose();
       this.screenPos = new THREE.DataTexture(new Float32Array(2 * W * H), W, H, THREE.RGFormat, THREE.FloatType);
       this.screenPos.magFilter = this.screenPos.minFilter = THREE.NearestFilter;
     }
-    const col = new Uint8Array(9 * m);
-    if (geo.colors) for (let t = 0; t < m; t++) for (let k = 0; k < 3; k++) col.set(geo.colors.subarray(3 * t, 3 * t + 3), 9 * t + 3 * k);
-    else for (let i = 0; i < 3 * m; i++) col.set(PLAIN, 3 * i);
     const g = new THREE.BufferGeometry();
     g.setAttribute("position", new THREE.BufferAttribute(Float32Array.from(tri), 1));
-    g.setAttribute("color", new THREE.BufferAttribute(col, 3, true));
+    g.setAttribute("color", new THREE.BufferAttribute(new Uint8Array(3 * tri.length), 3, true));
     const uniforms = { screen: { value: this.screenPos } };
     this.fill = new THREE.Mesh(g, new THREE.RawShaderMaterial({
       glslVersion: THREE.GLSL3, vertexShader: FILL_VERTEX, fragmentShader: FILL_FRAGMENT, side: THREE.DoubleSide,
-      uniforms: { ...uniforms, stale: { value: geo.colors && geo.stale ? STALE_GREY : 0 } } }));
+      uniforms: { ...uniforms, stale: { value: 0 } } }));
     const w = new THREE.BufferGeometry();
     w.setAttribute("position", new THREE.BufferAttribute(Float32Array.from(this.edges), 1));
     this.wire = new THREE.LineSegments(w, new THREE.RawShaderMaterial({
