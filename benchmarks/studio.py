@@ -2,13 +2,15 @@
 rate, release of a drag to the applied edit; this tree against an older commit.
 
     python benchmarks/studio.py [--triangles 22000] [--seconds 4] [--old 75ecbe1] [--repeat 3]
+                                [--session /tmp/studio-coat22k]
 
 Prints one table, a row per tree (``--old REF``: the package of that commit, extracted with
 ``git archive`` into a temporary folder, measured by this same script in a subprocess). The
 draped session is made once (by the oldest tree, whose files every later one reads) and
 each measurement starts from a copy of it; with ``--repeat N`` the trees take turns N times
 (each row in a process of its own) and the table gives each figure's median, so that a
-machine whose load changes meets both alike:
+machine whose load changes meets both alike. ``--session DIR`` keeps the draped session in
+``DIR`` (made on the first run, a 22K drape takes minutes): later runs start from it.
 
 - load [s]: page opened until ready (options, state, geometry, garment and body drawn),
   median of 3 loads of the draped session; MB: bytes of /api/geometry, /api/garment3d
@@ -78,15 +80,20 @@ SIZES = """async () => {
 
 
 def prepare(folder: str, triangles: int) -> None:
-    """A studio session in ``folder``: the coat on male_average, draped."""
+    """A studio session in ``folder``: the coat on male_average, draped (made beside it
+    and renamed when done, so that an interrupted run leaves no half-made session)."""
     from patternfit.studio.state import Studio
 
-    studio = Studio(folder)
+    part = Path(f"{folder}.part")
+    shutil.rmtree(part, ignore_errors=True)
+    studio = Studio(part)
     studio.new(garment="coat", body="male_average", triangles=triangles)
     studio.start_drape()
     studio.wait()
     if studio.session.positions is None:
         raise SystemExit(f"the drape failed: {studio.job.error}")
+    studio.flush()
+    part.rename(folder)
 
 
 def measure(session: str, seconds: float) -> dict:
@@ -164,6 +171,8 @@ def main():
     ap.add_argument("--seconds", type=float, default=4.0)
     ap.add_argument("--old", default=None, help="a commit to compare with (e.g. 75ecbe1)")
     ap.add_argument("--repeat", type=int, default=1, help="turns of each tree (medians)")
+    ap.add_argument("--session", default=None,
+                    help="a folder for the draped session, made once and reused")
     ap.add_argument("--row", default=None, help=argparse.SUPPRESS)  # a session to measure
     ap.add_argument("--prepare", default=None, help=argparse.SUPPRESS)  # a folder to fill
     a = ap.parse_args()
@@ -176,8 +185,9 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         trees = [(a.old, extract(a.old, tmp))] if a.old else []
         trees.append(("this tree", None))
-        session = str(Path(tmp) / "session")
-        run(trees[0][1], "--prepare", session, "--triangles", str(a.triangles))
+        session = a.session or str(Path(tmp) / "session")
+        if not Path(session).exists():
+            run(trees[0][1], "--prepare", session, "--triangles", str(a.triangles))
         runs = {name: [] for name, _ in trees}
         for _ in range(a.repeat):
             for name, src in trees:

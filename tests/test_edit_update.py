@@ -60,6 +60,55 @@ def test_identity_edit_and_cache_reuse(base):
         update_mesh(p, frames[0], m.with_vertices(m.vertices), cache=cache)
 
 
+def test_cache_adopts_the_panels_an_edit_left_alone(base):
+    """A new mesh's cache takes over the old cache's coordinates of the panels whose
+    vertices did not move: the same numbers as computed afresh, and the next update from
+    the new mesh is the same as without a cache."""
+    p, m = base
+    old = CoordinateCache(m)
+    for panel in range(len(m.panel_names)):
+        old.get(panel)
+    q = edit_curve(p, "A", "top", (0.0, 0.03))
+    m2 = update_mesh(p, q, m, cache=old)
+    new = CoordinateCache(m2)
+    assert new.adopt(old) == [1]                   # panel A moved, B did not
+    fresh = panel_coordinates(m2, 1)
+    kept = new.panels[1]
+    for name in ("control", "rows", "interior", "triangles", "weights"):
+        np.testing.assert_array_equal(getattr(kept, name), getattr(fresh, name))
+    assert not np.array_equal(new.get(0).weights, old.get(0).weights)
+    r = edit_curve(q, "B", "top", (0.0, 0.02))
+    np.testing.assert_allclose(update_mesh(q, r, m2, cache=new).vertices,
+                               update_mesh(q, r, m2).vertices, atol=1e-9)
+    # a mesh of another topology takes nothing
+    assert CoordinateCache(mesh_pattern(p, triangles=300)).adopt(old) == []
+
+
+def test_cache_shared_by_threads_computes_a_panel_once(base, monkeypatch):
+    import threading
+
+    from patternfit.edit import update
+
+    p, m = base
+    calls, gate = [], threading.Event()
+    real = update.panel_coordinates
+
+    def slow(mesh, panel):
+        calls.append(panel)
+        gate.wait(5)
+        return real(mesh, panel)
+
+    monkeypatch.setattr(update, "panel_coordinates", slow)
+    cache, got = CoordinateCache(m), []
+    threads = [threading.Thread(target=lambda: got.append(cache.get(0))) for _ in range(3)]
+    for t in threads:
+        t.start()
+    gate.set()
+    for t in threads:
+        t.join(30)
+    assert calls == [0] and len(got) == 3 and all(g is got[0] for g in got)
+
+
 def test_partner_edit_moves_both_panels_and_seams_still_pair(base):
     p, m = base
     q = move_point(p, "A", "top", (0.0, 0.05), partner=True)

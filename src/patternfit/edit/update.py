@@ -9,6 +9,7 @@ loops for a panel with inner loops. Lengths in metres.
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass, field
 
 import numba
@@ -123,16 +124,43 @@ class CoordinateCache:
     """Per-panel coordinates of one mesh, computed on first use and then reused.
 
     Valid for ``mesh`` only: keep it while dragging (every frame updates from the same base
-    mesh), build a new one for the mesh an edit produced.
+    mesh), build a new one for the mesh an edit produced (:meth:`adopt` takes over the
+    panels the edit left as they were). Threads may share it: a panel asked for while
+    another thread computes it waits for that computation instead of repeating it.
     """
 
     mesh: GarmentMesh
     panels: dict = field(default_factory=dict)
+    _locks: dict = field(default_factory=dict, repr=False)
+    _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
 
     def get(self, panel: int) -> PanelCoordinates:
-        if panel not in self.panels:
-            self.panels[panel] = panel_coordinates(self.mesh, panel)
+        with self._lock:
+            lock = self._locks.setdefault(panel, threading.Lock())
+        with lock:
+            if panel not in self.panels:
+                self.panels[panel] = panel_coordinates(self.mesh, panel)
         return self.panels[panel]
+
+    def adopt(self, other: CoordinateCache) -> list[int]:
+        """Take ``other``'s coordinates of every panel that is the same in both meshes (same
+        topology, same vertex positions of the panel): computed from the same numbers,
+        they are the same numbers. An edit moves a few panels; the others keep theirs.
+        Returns the panels taken."""
+        a, b = self.mesh, other.mesh
+        if a is not b and not all(np.array_equal(getattr(a, k), getattr(b, k)) for k in
+                                  ("triangles", "triangle_panel", "vertex_panel",
+                                   "boundary_vertices", "boundary_loop", "loop_panel")):
+            return []
+        taken = []
+        for panel, coords in list(other.panels.items()):
+            if panel in self.panels:
+                continue
+            ids = a.panel_vertices(panel)
+            if a is b or np.array_equal(a.vertices[ids], b.vertices[ids]):
+                self.panels[panel] = coords
+                taken.append(panel)
+        return taken
 
 
 @dataclass(frozen=True)

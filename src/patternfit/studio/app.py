@@ -28,7 +28,8 @@ from ..constants import limits
 from .fabric_lab import FabricLab
 from .guard import LOCAL_HOSTS, Guard
 from .routes import ROUTERS
-from .state import Refused, StaleRevision, Studio
+from .jobs import Refused
+from .state import StaleRevision, Studio
 from .words import designer_message
 
 STATIC = Path(__file__).parent / "static"

@@ -11,7 +11,8 @@ from ..fit.export import export_garment
 from ..fit.report import fit_report, write_report
 from ..pattern.formats import save_any_pattern
 from .payload import stale_maps
-from .state import Refused, Studio
+from .jobs import Refused
+from .state import Studio
 
 #: the files the page offers, and what each holds
 EXPORTS = {
@@ -31,7 +32,7 @@ def export(studio: Studio, name: str) -> bytes:
         path = Path(tmp) / name
         kind = EXPORTS[name]
         if kind == "pattern":
-            fit = s.evaluate() if s.positions is not None and path.suffix in (".svg", ".pdf") \
+            fit = studio.views.fit(s.state) if s.positions is not None and path.suffix in (".svg", ".pdf") \
                 else None
             colours = None if fit is None else (s.mesh.vertices, s.mesh.triangles,
                                                 FitScale().colors(fit.area_change),
@@ -43,18 +44,19 @@ def export(studio: Studio, name: str) -> bytes:
             raise Refused("the 3D state is from the drape before the last edit: re-drape "
                           "first")
         elif kind == "garment":
-            fit = s.evaluate()
+            fit = studio.views.fit(s.state)
             rgb = FitScale().colors(vertex_values(s.mesh.triangles, fit.area_change,
                                                   s.mesh.n_vertices, weights=fit.area_2d))
             path = export_garment(s.positions, s.mesh.triangles, rgb, path)
         else:
-            path = write_report(report(s), path)
+            path = write_report(report(s, studio.views.fit(s.state)), path)
         return Path(path).read_bytes()
 
 
-def report(s) -> dict:
-    """The fit report of session ``s``'s draped state (what ``report.json`` holds)."""
-    return fit_report(s.mesh, s.evaluate(), state="draped",
+def report(s, fit) -> dict:
+    """The fit report of session ``s``'s draped state (what ``report.json`` holds), whose
+    fit evaluation is ``fit``."""
+    return fit_report(s.mesh, fit, state="draped",
                       extra={"checks": s.state.checks, "history": s.summary()})
 
 
@@ -70,5 +72,5 @@ def verdict(studio: Studio) -> dict:
         s = studio.ensure()
         if s.positions is None or stale_maps(s.state):
             return {}
-        full = report(s)
+        full = report(s, studio.views.fit(s.state))
     return {k: full[k] for k in VERDICT_KEYS if k in full}

@@ -10,13 +10,12 @@ bending length), the Cusick drape on 1,500 triangles from 2 perturbed starts (ab
 from __future__ import annotations
 
 import tempfile
-import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from .. import api
-from .state import Refused
+from .jobs import Background
 from .words import designer_message
 
 #: the options of each test in the studio (see the module docstring)
@@ -54,33 +53,31 @@ class FabricLab:
     """Runs one fabric test at a time in a background thread."""
 
     def __init__(self):
-        self.job = FabricJob()
-        self._thread: threading.Thread | None = None
-        self._lock = threading.Lock()
+        self._runner = Background(FabricJob(), "patternfit-fabric-test")
+
+    @property
+    def job(self) -> FabricJob:
+        """The test running or last run."""
+        return self._runner.job
 
     def start(self, test: str, fabric) -> None:
         """Test ``fabric`` (a :class:`~patternfit.sim.fabrics.Fabric`) with ``test`` (one of
         ``STUDIO_OPTIONS``); Refused while another test runs."""
         if test not in STUDIO_OPTIONS:
             raise ValueError(f"test: expected one of {', '.join(STUDIO_OPTIONS)}")
-        with self._lock:
-            if self.job.running:
-                raise Refused("a fabric test is running: stop it first, or wait for it")
-            self.job = FabricJob(test=test, fabric=fabric.name, running=True,
-                                 text="starting")
-            self._thread = threading.Thread(target=self._run, args=(self.job, fabric),
-                                            daemon=True, name="patternfit-fabric-test")
-            self._thread.start()
+        self._runner.start(FabricJob(test=test, fabric=fabric.name, text="starting"),
+                           self._run, fabric,
+                           busy="a fabric test is running: stop it first, or wait for it")
 
     def stop(self) -> None:
-        self.job.stop = True
+        self._runner.stop()
 
     def wait(self, timeout: float | None = None) -> None:
         """Wait for the running test (tests, shutdown)."""
-        if self._thread is not None:
-            self._thread.join(timeout)
+        self._runner.wait(timeout)
 
-    def _run(self, job: FabricJob, fabric) -> None:
+    @staticmethod
+    def _run(job: FabricJob, fabric) -> None:
         t0 = time.perf_counter()
 
         def progress(text: str) -> None:
@@ -101,6 +98,3 @@ class FabricLab:
             job.stopped, job.text = True, "stopped"
         except Exception as exc:  # shown in the page; the server keeps serving
             job.error = designer_message(exc)
-        finally:
-            job.elapsed = time.perf_counter() - t0
-            job.running = False

@@ -15,6 +15,9 @@ Any other client gets the same fields as JSON, arrays as (flat) lists. Lengths [
 from __future__ import annotations
 
 import json
+import threading
+from collections import OrderedDict
+from typing import Callable
 
 import numpy as np
 from fastapi import Request
@@ -22,9 +25,12 @@ from fastapi.responses import JSONResponse, Response
 
 from .. import api
 from ..fit.colormap import FitScale
-from .state import STRETCH_SCALE
 
 BINARY = "application/octet-stream"
+#: relative stretch at which the warp/weft colours saturate [-]
+STRETCH_SCALE = FitScale(limit=0.10, band=0.01)
+#: history states whose payloads are kept (the current one, the last few undone)
+KEPT_STATES = 4
 #: the typed arrays the page reads: numpy dtype -> the header's name (JS typed array)
 DTYPES = {"<f4": "float32", "<i4": "int32", "|u1": "uint8"}
 
@@ -36,8 +42,15 @@ class Payload:
 
     def __init__(self, header: dict, arrays: dict[str, np.ndarray]):
         self.header, self.arrays = header, arrays
+        self._binary: bytes | None = None
 
     def binary(self) -> bytes:
+        """The binary body (made once: a payload is never changed after it is made)."""
+        if self._binary is None:
+            self._binary = self._pack()
+        return self._binary
+
+    def _pack(self) -> bytes:
         table, parts, offset = {}, [], 0
         for name, a in self.arrays.items():
             a = np.ascontiguousarray(a)
@@ -89,11 +102,53 @@ def stale_maps(st) -> bool:
     return st.positions is not None and st.fitting_ratio is None
 
 
-def geometry(s) -> Payload:
+class Views:
+    """What the page draws of the last few history states, each made once: a state's
+    pattern and mesh are never replaced, and its positions only by a whole new array (a
+    re-drape), so an entry holds while the state keeps the positions it was made from.
+
+    ``get(kind, state)`` makes ``kind`` (one of ``MAKERS``, or any name with ``make``)
+    on first use; two requests for the same one wait for one making, so the studio can make
+    them in the background after a change while the page already asks. The fit evaluation
+    (``api.evaluate_drape``) is shared by the 2D and 3D payloads of a state.
+    """
+
+    def __init__(self, keep: int = KEPT_STATES):
+        self.keep = keep
+        self._lock = threading.Lock()
+        self._items: OrderedDict = OrderedDict()  # state key -> {kind: [lock, value]}
+
+    def _slot(self, st, kind: str) -> list:
+        with self._lock:
+            entry = self._items.get(st.key)
+            if entry is None or entry["positions"] is not st.positions:
+                entry = self._items[st.key] = {"positions": st.positions}
+            self._items.move_to_end(st.key)
+            while len(self._items) > self.keep:
+                self._items.popitem(last=False)
+            return entry.setdefault(kind, [threading.Lock(), None])
+
+    def get(self, kind: str, st, make: Callable | None = None):
+        """``kind`` of history state ``st``: ``make(st, views)`` (default ``MAKERS[kind]``)
+        on first use, kept while ``st`` keeps its positions."""
+        slot = self._slot(st, kind)
+        with slot[0]:
+            if slot[1] is None:
+                slot[1] = (make or MAKERS[kind])(st, self)
+            return slot[1]
+
+    def fit(self, st):
+        """The fit evaluation of ``st``'s drape (``api.evaluate_drape``; None: not draped)."""
+        return self.get("fit", st, lambda s, _: None if s.positions is None else
+                        api.evaluate_drape(s.mesh, s.positions))
+
+
+def geometry(s, views: Views | None = None) -> Payload:
     """The 2D picture of history state ``s`` (a session's ``state``, whose pattern and mesh
     are never replaced: read without the session's lock): pattern outlines, the mesh (flat
     vertices (n, 2) [m], triangles (m, 3), the panel of each triangle), and the fit colours
-    of the last drape (``stale`` when they are not this pattern's)."""
+    of the last drape (``stale`` when they are not this pattern's). ``views``: where the fit
+    evaluation is kept (shared with :func:`garment3d`)."""
     mesh = s.mesh
     panels = []
     for p in s.pattern.panels:
@@ -115,18 +170,18 @@ def geometry(s) -> Payload:
     header = {"panels": panels, "seams": seams, "panel_names": list(mesh.panel_names),
               "colors": None, "stale": stale_maps(s)}
     if s.positions is not None:
-        fit = api.evaluate_drape(mesh, s.positions)
+        fit = (views or Views()).fit(s)
         del header["colors"]
         arrays["colors"] = rgb(FitScale().colors(fit.area_change))
         arrays["area_change"] = f4(fit.area_change)
     return Payload(header, arrays)
 
 
-def garment3d(s) -> Payload:
+def garment3d(s, views: Views | None = None) -> Payload:
     """The draped garment of history state ``s``: positions (n, 3) [m], triangles, the
     three fit maps (values and colours per triangle) with their legends; ``stale`` as in
-    :func:`geometry`."""
-    fit = api.evaluate_drape(s.mesh, s.positions)
+    :func:`geometry`, ``views`` too."""
+    fit = (views or Views()).fit(s)
     scale = FitScale()
     maps = {"area_change": (fit.area_change, scale), "warp": (fit.warp - 1, STRETCH_SCALE),
             "weft": (fit.weft - 1, STRETCH_SCALE)}
@@ -144,3 +199,7 @@ def garment3d(s) -> Payload:
 def body(b) -> Payload:
     """The body mesh: vertices (n, 3) [m], faces (m, 3)."""
     return Payload({"name": b.name}, {"vertices": f4(b.vertices), "faces": i4(b.faces)})
+
+
+#: the payloads :class:`Views` makes by name
+MAKERS = {"geometry": geometry, "garment3d": garment3d}

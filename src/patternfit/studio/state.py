@@ -32,11 +32,12 @@ from ..defaults import DEFAULTS
 from ..edit import CoordinateCache, update_mesh
 from ..errors import InputError, SessionError
 from ..files import atomic_write_text, dumps_finite_json, read_json_file
-from ..fit.colormap import FitScale
 from ..loop.session import holds_session
 from ..pattern.library import GARMENTS
 from ..pattern.sizes import SIZE_NAMES
 from ..sim.fabrics import FABRICS
+from .jobs import Background, Refused
+from .payload import Views
 from .words import describe_edit, designer_message
 
 #: triangle count of a new session's garment mesh unless asked otherwise
@@ -46,8 +47,6 @@ UPLOAD_SUFFIXES = {"pattern": (".json", ".dxf"),
                    "fabric": (".json",)}
 #: the editing tools the live drag preview accepts (they keep the mesh topology)
 DRAG_OPS = ("move_point", "move_edge", "edit_curve", "move_dart")
-#: relative stretch at which the warp/weft colours saturate [-]
-STRETCH_SCALE = FitScale(limit=0.10, band=0.01)
 #: the drape engines a studio session can take: the design session drapes with the static
 #: (quasi-static) solver only; ``api.list_engines()`` lists the others and whether installed
 ENGINES = ("static",)
@@ -63,13 +62,13 @@ PHASE_WORDS = {"sewing": "closing the seams", "relaxing": "relaxing the sewn gar
 _PHASE_ITERATIONS = {"sewing": 150, "relaxing": 300, "draping": 600, "settling": 300}
 #: states whose drag coordinates are kept (the current one and the last few undone)
 COORDINATE_STATES = 4
+#: the longest the background saver waits for the page's payloads of a change to be made
+#: before it writes the change [s] (both want the CPU the page is waiting on)
+SAVE_DEFER = 2.0
 #: ``patternfit.sim.drape.drape``'s default coarse size [triangles]
 _COARSE = 2000
-
-
-class Refused(RuntimeError):
-    """A request that cannot be done in the session's present state (HTTP 409): a change
-    while a drape runs, an export of a drape that is not there."""
+#: why a change, or another drape, is refused while a drape runs
+_DRAPING = "a drape is running: stop it first, or wait for it to finish"
 
 
 class StaleRevision(Exception):
@@ -225,12 +224,16 @@ class Studio:
         self.folder.mkdir(parents=True, exist_ok=True)
         self.lock = threading.RLock()
         self.revision = 0
-        self.job = DrapeJob()
-        self._thread: threading.Thread | None = None
+        self._drapes = Background(DrapeJob(), "patternfit-drape")
         #: the coordinates of recent states' meshes (state key -> CoordinateCache), newest
         #: last: drags, the edit a drag ends in, and undo back to a state reuse them
         self._coords: OrderedDict[str, CoordinateCache] = OrderedDict()
         self._warming: threading.Thread | None = None
+        #: what the page draws of recent states (made once each, see _warm); ``_drawn`` is
+        #: set once the current state's are made
+        self.views = Views()
+        self._drawn = threading.Event()
+        self._drawn.set()
         # the background saver of edits (see _save)
         self._save_lock = threading.Lock()
         self._save_pending = False
@@ -266,6 +269,7 @@ class Studio:
         the disk (a 22K mesh takes ~0.4 s to compress); :meth:`flush` waits for it."""
         self.revision += 1
         self._publish()
+        self._warm()
         if later:
             with self._save_lock:
                 self._save_pending = True
@@ -275,7 +279,6 @@ class Studio:
                     self._saver.start()
         else:
             self._write()
-        self._warm()
 
     def _write(self) -> None:
         with self.lock:
@@ -284,6 +287,7 @@ class Studio:
 
     def _save_loop(self) -> None:
         while True:
+            self._drawn.wait(SAVE_DEFER)  # the page's payloads first
             with self._save_lock:
                 if not self._save_pending:
                     self._saver = None
@@ -307,25 +311,40 @@ class Studio:
 
     # -- the coordinates of drags ----------------------------------------------------------
     def coordinates(self, state) -> CoordinateCache:
-        """The coordinate cache of ``state``'s mesh (made empty on first use; panels are
-        computed when first dragged, or beforehand by :meth:`_warm`)."""
+        """The coordinate cache of ``state``'s mesh (made on first use, with the panels that
+        recent states' meshes have alike; the others are computed when first dragged, or
+        beforehand by :meth:`_warm`)."""
         with self.lock:
             cache = self._coords.pop(state.key, None)
             if cache is None or cache.mesh is not state.mesh:
                 cache = CoordinateCache(state.mesh)
+                # the panels an edit left alone keep the coordinates of the state before
+                for other in reversed(self._coords.values()):
+                    cache.adopt(other)
             self._coords[state.key] = cache
             while len(self._coords) > COORDINATE_STATES:
                 self._coords.popitem(last=False)
             return cache
 
     def _warm(self) -> None:
-        """Compute the current state's coordinates in the background (on a 22K coat about
-        1-2 s a panel), so that the first drag after an edit, an undo or a new session does
-        not wait for them; it gives way as soon as a drape starts."""
-        cache = self.coordinates(self.session.state)
+        """Make what the page asks for next in the background: the current state's 2D and
+        3D payloads (the page fetches them right after a change), then its coordinates (on a
+        22K coat about 1-2 s a panel), so that the first drag after an edit, an undo or a
+        new session does not wait for them; it gives way as soon as a drape starts."""
+        state = self.session.state
+        cache = self.coordinates(state)
         job = self.job
+        self._drawn.clear()
 
         def run():
+            try:
+                # the garment only after a drape: an edit keeps the drape shown
+                for kind in ("geometry", "garment3d")[:1 + (state.fitting_ratio is not None)]:
+                    self.views.get(kind, state).binary()
+            except Exception:  # pragma: no cover - the page's own request reports it
+                pass
+            finally:
+                self._drawn.set()
             for panel in range(len(cache.mesh.panel_names)):
                 if self.job is not job or job.running:
                     return
@@ -469,7 +488,7 @@ class Studio:
 
     def _refuse_while_draping(self) -> None:
         if self.job.running:
-            raise Refused("a drape is running: stop it first, or wait for it to finish")
+            raise Refused(_DRAPING)
 
     # -- edits ---------------------------------------------------------------------------
     def apply(self, op: str, args: dict, revision: int | None = None) -> dict:
@@ -538,18 +557,19 @@ class Studio:
             self._refuse_while_draping()
             self.check_revision(revision)
             self.ensure()
-            self.job = DrapeJob(running=True, kind=kind)
-            self._thread = threading.Thread(target=self._run_drape, args=(self.job,),
-                                            daemon=True, name="patternfit-drape")
-            self._thread.start()
+            self._drapes.start(DrapeJob(kind=kind), self._run_drape, busy=_DRAPING)
+
+    @property
+    def job(self) -> DrapeJob:
+        """The drape (or correction) running, or the last one run."""
+        return self._drapes.job
 
     def stop_drape(self) -> None:
-        self.job.stop = True
+        self._drapes.stop()
 
     def wait(self, timeout: float | None = None) -> None:
         """Wait for the background drape (tests, shutdown)."""
-        if self._thread is not None:
-            self._thread.join(timeout)
+        self._drapes.wait(timeout)
 
     def _run_drape(self, job: DrapeJob) -> None:
         t0 = time.perf_counter()
@@ -592,10 +612,8 @@ class Studio:
         except Exception as exc:  # shown in the page; the server keeps serving
             job.error = designer_message(exc)
         finally:
-            job.elapsed = time.perf_counter() - t0
             if job.error is None and not job.stopped:
                 job.fraction = 1.0
-            job.running = False
             job.finished = time.time()
 
     def _run_correction(self, job: DrapeJob, session, progress) -> None:

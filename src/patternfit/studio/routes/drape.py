@@ -9,9 +9,9 @@ from fastapi import APIRouter, Depends, HTTPException, Request
 from fastapi.responses import Response
 
 from ..exports import EXPORTS, export as export_bytes, verdict as verdict_of
-from ..payload import garment3d as garment_payload
 from ..requests import Revisioned, body, in_worker, studio_of
-from ..state import Refused, Studio
+from ..jobs import Refused
+from ..state import Studio
 
 router = APIRouter(prefix="/api")
 
@@ -52,7 +52,7 @@ async def garment3d(request: Request, studio: Studio = Depends(studio_of)):
         st = studio.current()  # no lock, as the geometry
         if st.positions is None:
             raise Refused("nothing draped yet")
-        return garment_payload(st)
+        return studio.views.get("garment3d", st)
     return (await in_worker(read)).response(request)
 
 

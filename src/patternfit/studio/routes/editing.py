@@ -7,7 +7,7 @@ import numpy as np
 from fastapi import APIRouter, Depends, Request
 from fastapi.responses import Response
 
-from ..payload import BINARY, geometry as geometry_payload
+from ..payload import BINARY
 from ..requests import Edit, body, in_worker, studio_of
 from ..state import Studio
 
@@ -18,7 +18,8 @@ router = APIRouter(prefix="/api")
 async def geometry(request: Request, studio: Studio = Depends(studio_of)):
     # no lock: a state's pattern and mesh are never replaced, so the geometry does not wait
     # for the background saver (0.4 s at 22K) or an edit
-    return (await in_worker(lambda: geometry_payload(studio.current()))).response(request)
+    payload = await in_worker(lambda: studio.views.get("geometry", studio.current()))
+    return payload.response(request)
 
 
 @router.post("/edit")

@@ -13,7 +13,8 @@ from pydantic import AfterValidator, BaseModel, ConfigDict
 
 from ... import api
 from ..requests import Revisioned, body, in_worker, studio_of
-from ..state import Refused, Studio
+from ..jobs import Refused
+from ..state import Studio
 
 router = APIRouter(prefix="/api/fabric")
 

@@ -88,8 +88,17 @@ const view = new View3D($("view3d"), {
 });
 
 // -- loading ----------------------------------------------------------------------------
-async function refresh({ geometry = true } = {}) {
-  const s = await api("/api/state");
+// The state and the geometry are asked for at once (the page load: together with the
+// options, the body, the garment and the verdict), the garment and the verdict otherwise as
+// soon as the state says they changed; the meshes are drawn once all of them are there (in
+// headless Chromium each frame drawn in between is a slow software-rendered frame).
+function fetchState({ geometry = true } = {}) {
+  return { state: api("/api/state"), geometry: geometry ? getArrays("/api/geometry") : null };
+}
+
+async function refresh({ geometry = true, fetched = null } = {}) {
+  const asked = fetched || fetchState({ geometry });
+  const s = await asked.state;
   studio.revision = s.revision;
   showFields(s.fields);
   const r = s.fitting_ratio;
@@ -118,20 +127,24 @@ async function refresh({ geometry = true } = {}) {
     // the garment is fetched when its drape changed (an edit keeps the drape: it is only
     // marked "not re-draped"), at the same time as the geometry
     const garmentChanged = s.drape_id !== studio.drapeId || !s.draped;
-    const garment = garmentChanged && s.draped ? getArrays("/api/garment3d") : null;
-    studio.geometry = await getArrays("/api/geometry");
+    const garment = garmentChanged && s.draped ? (asked.garment || getArrays("/api/garment3d")) : null;
+    const verdictKey = `${s.drape_id}/${s.maps_stale}`;
+    const verdict = verdictKey === studio.verdictKey ? null :
+      (s.draped && !s.maps_stale ? (asked.verdict || api("/api/verdict")) : Promise.resolve({}));
+    if (verdict) verdict.catch(() => {});  // awaited below: a refusal is reported there
+    const [geo, garmentData] = await Promise.all([asked.geometry, garment]);
+    studio.geometry = geo;
     editor.setGeometry(studio.geometry);
     seamTool.show();
     $("grade-panel").innerHTML = studio.geometry.panel_names.map((n) => `<option>${n}</option>`).join("");
     if (garmentChanged) {
-      view.setGarment(garment ? await garment : null);
+      view.setGarment(garmentData);
       studio.drapeId = s.drape_id;
     }
     view.setStale(s.maps_stale);
-    const verdictKey = `${s.drape_id}/${s.maps_stale}`;
-    if (verdictKey !== studio.verdictKey) {
+    if (verdict) {
       studio.verdictKey = verdictKey;
-      showVerdict(s.draped && !s.maps_stale ? await api("/api/verdict") : {});
+      showVerdict(await verdict);  // words only: drawn after the meshes
     }
     showLegend();
   }
@@ -198,7 +211,8 @@ function showLegend() {
 }
 
 // -- editing ----------------------------------------------------------------------------
-let inflight = false, pending = null;
+// inflight: a drag preview asked for and not answered yet
+let inflight = false;
 
 function dragArgs(h, offset) {
   const args = { ...h.args, offset };
@@ -206,21 +220,31 @@ function dragArgs(h, offset) {
   return args;
 }
 
-// Live drag: exact previews from the server (one request in flight, the newest offset wins)
-// and, between them, the mesh moved on the page by the drag's linear basis (how every vertex
+// Live drag: exact previews from the server, asked for by a worker (drag_worker.js: one
+// request in flight, the newest offset wins, whatever the main thread is busy with) and,
+// between them, the mesh moved on the page by the drag's linear basis (how every vertex
 // moves per metre of offset), redrawn once per animation frame.
-let live = null;
+let live = null, drags = 0;
+const dragWorker = new Worker("/static/drag_worker.js");
+dragWorker.postMessage({ token: TOKEN });
+dragWorker.onmessage = (e) => previewArrived(e.data);
 
 function dragPreview(h, offset) {
   if (!live || live.h !== h) startLive(h);
   live.offset = offset;
-  pending = { op: h.op, args: dragArgs(h, offset) };
-  if (!inflight) sendDrag();
+  inflight = true;
+  dragWorker.postMessage({ id: live.id, req: { op: h.op, args: dragArgs(h, offset) } });
   if (!live.raf) live.raf = requestAnimationFrame(drawLive);
 }
 
+// the drag is over (dropped or cancelled): a preview still on its way is dropped
+function endLive() {
+  live = null;
+  dragWorker.postMessage({ cancel: true });
+}
+
 function startLive(h) {
-  const me = { h, base: Float32Array.from(studio.geometry.vertices), baseOffset: [0, 0], basis: null, offset: [0, 0], raf: 0 };
+  const me = { h, id: ++drags, base: Float32Array.from(studio.geometry.vertices), baseOffset: [0, 0], basis: null, offset: [0, 0], raf: 0 };
   live = me;
   fetch("/api/drag/basis", { method: "POST", headers: JSON_HEADERS, body: JSON.stringify({ op: h.op, args: dragArgs(h, [0, 0]) }) })
     .then((r) => (r.ok ? r.arrayBuffer() : null))
@@ -238,7 +262,8 @@ function drawLive() {
   let v = L.base;
   if (L.basis) {
     const n = v.length, dx = L.offset[0] - L.baseOffset[0], dy = L.offset[1] - L.baseOffset[1];
-    v = new Float32Array(n);
+    if (!L.shown || L.shown.length !== n) L.shown = new Float32Array(n);  // one buffer a drag
+    v = L.shown;
     for (let i = 0; i < n; i++) v[i] = L.base[i] + L.basis[i] * dx + L.basis[n + i] * dy;
   }
   editor.setPreview(v, { moved: L.moved, trusted: true });
@@ -249,40 +274,30 @@ function drawLive() {
   if (st.frames > 1) $("drag-rate").textContent = `live mesh: ${(1000 * (st.frames - 1) / (st.t1 - st.t0)).toFixed(0)} frames/s, ${(st.exact || 0)} exact updates`;
 }
 
-async function sendDrag() {
-  const req = pending; pending = null; inflight = true;
+// an answer of the drag worker: an exact preview, a refusal, or nothing left in flight
+function previewArrived(m) {
+  if (m.idle) { inflight = false; return; }
   const L = live;
-  try {
-    const r = await fetch("/api/drag", { method: "POST", headers: JSON_HEADERS, body: JSON.stringify(req) });
-    if (r.ok) {
-      const v = new Float32Array(await r.arrayBuffer());
-      if (L && live === L && !v.every(Number.isFinite)) {
-        if (editor.refusePreview()) message("This move cannot be shown: the preview came back broken", "error", "edit");
-      } else if (L && live === L) {
-        L.moved = (r.headers.get("X-Moved") || "").split(",").filter(Boolean);
-        editor.acceptPreview(req.args.offset);
-        L.base = v; L.baseOffset = req.args.offset;
-        studio.dragStats.exact = (studio.dragStats.exact || 0) + 1;
-        if (!L.raf) L.raf = requestAnimationFrame(drawLive);
-      }
-    } else {
-      const text = (await r.json()).error;
-      // once per drag; the preview stops moving
-      if (editor.refusePreview()) message(`This move cannot be made: ${text}`, "error", "edit");
-    }
-  } finally {
-    inflight = false;
-    if (pending) sendDrag();
+  if (!L || L.id !== m.id || m.network) return;  // a drag that is over; the server gone
+  if (m.ok && !m.finite) {
+    if (editor.refusePreview()) message("This move cannot be shown: the preview came back broken", "error", "edit");
+  } else if (m.ok) {
+    L.moved = m.moved.split(",").filter(Boolean);
+    editor.acceptPreview(m.req.args.offset);
+    L.base = new Float32Array(m.buffer); L.baseOffset = m.req.args.offset;
+    studio.dragStats.exact = (studio.dragStats.exact || 0) + 1;
+    if (!L.raf) L.raf = requestAnimationFrame(drawLive);
+  } else if (editor.refusePreview()) {
+    // once per drag; the preview stops moving
+    message(`This move cannot be made: ${m.error}`, "error", "edit");
   }
 }
 
-async function waitDrag() {
-  while (inflight) await new Promise((r) => setTimeout(r, 5));
-  pending = null; live = null;
-}
-
+// The drop applies the edit at once: a preview still on its way is not waited for (its
+// answer finds the drag over and is dropped); the server's edit reuses the coordinates the
+// previews computed, or waits for the ones being computed.
 async function applyEdit(h, offset) {
-  await waitDrag();
+  endLive();
   await edit(h.op, dragArgs(h, offset));
 }
 
@@ -336,7 +351,7 @@ function inTextField(el) {
 function cancelDrag() {
   const dragging = !!editor.drag;
   editor.drag = null;  // the pointer's release then drops nothing
-  live = null; pending = null;
+  endLive();
   editor.selected = null;
   if (studio.geometry) editor.setGeometry(studio.geometry);  // handles and mesh back in place
   $("selected").textContent = dragging ? "drag cancelled" : "click a handle to select it";
@@ -514,6 +529,14 @@ setInterval(async () => {
 }, 3000);
 
 async function start() {
+  // everything the page shows is asked for at once; the session fields are filled in once
+  // the options are there
+  // the garment and the verdict before the state says whether there is a drape: refused
+  // (409) when there is none, and then not used
+  const first = { ...fetchState(), garment: getArrays("/api/garment3d"), verdict: api("/api/verdict") };
+  for (const p of Object.values(first)) p.catch(() => {});
+  const body = getArrays("/api/body");
+  body.catch(() => {});
   const o = await api("/api/options");
   const fill = (id, items, labels) => { $(id).innerHTML = items.map((v) => `<option value="${v}" title="${labels ? labels[v] : ""}">${v}</option>`).join(""); };
   fill("garment", Object.keys(o.garments), o.garments); fill("size", o.sizes); fill("body", o.bodies);
@@ -524,8 +547,7 @@ async function start() {
   for (const a of $("exports").querySelectorAll("a")) a.onclick = download;
   $("correct-btn").disabled = !o.correct_available;
   $("correct-btn").title = o.correct_available ? "" : "automatic correction is not available in this version";
-  const body = getArrays("/api/body");  // fetched while the session loads
-  await refresh();  // the session fields come from /api/state (showFields)
+  await refresh({ fetched: first });  // the session fields come from /api/state (showFields)
   view.setBody(await body);
   document.body.dataset.ready = "1";
 }

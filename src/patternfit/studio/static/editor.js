@@ -22,11 +22,32 @@ const STALE_GREY = 0.7;  // how far colours of a drape older than the pattern fa
 const GREY = new THREE.Color(0.62, 0.62, 0.62);
 const SEAM_COLOURS = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
                       "#8c564b", "#e377c2", "#bcbd22", "#7f7f7f"];
+const PLAIN = [232, 236, 228];  // the mesh before any drape, sRGB bytes (0.91, 0.925, 0.894)
+// the mesh shaders: each corner's screen position [px] fetched from the vertex texture
+const AT_VERTEX = `precision highp float; precision highp int; precision highp sampler2D;
+uniform mat4 projectionMatrix; uniform mat4 modelViewMatrix; uniform sampler2D screen;
+in float position;  // the mesh vertex of this corner
+vec4 place() {
+  int i = int(position + 0.5), w = textureSize(screen, 0).x;
+  return projectionMatrix * modelViewMatrix * vec4(texelFetch(screen, ivec2(i % w, i / w), 0).xy, 0.0, 1.0);
+}
+`;
+const FILL_VERTEX = AT_VERTEX + `uniform float stale; in vec3 color; out vec3 vColor;
+vec3 linear(vec3 c) { return mix(c * 0.0773993808, pow(c * 0.9478672986 + 0.0521327014, vec3(2.4)), step(vec3(0.04045), c)); }
+vec3 srgb(vec3 c) { return mix(c * 12.92, 1.055 * pow(c, vec3(0.41666)) - 0.055, step(vec3(0.0031308), c)); }
+void main() { vColor = srgb(mix(linear(color), vec3(${GREY.r}), stale)); gl_Position = place(); }`;
+const FILL_FRAGMENT = `precision highp float; in vec3 vColor; out vec4 fragColor;
+void main() { fragColor = vec4(vColor, 1.0); }`;
+const WIRE_VERTEX = AT_VERTEX + "void main() { gl_Position = place(); }";
+const WIRE_FRAGMENT = `precision highp float; uniform vec4 colour; out vec4 fragColor;
+void main() { fragColor = colour; }`;
 
 export class Editor {
   constructor(canvas, svg, { onDrag, onDrop, onSelect, onClickPanel, onStale, onTape, onPick, scaleEl, readoutEl }) {
     this.canvas = canvas; this.svg = svg;
     this.scaleEl = scaleEl || null; this.readoutEl = readoutEl || null;
+    this.readoutSize = [0, 0];
+    if (readoutEl) new ResizeObserver(() => { this.readoutSize = [readoutEl.offsetWidth, readoutEl.offsetHeight]; }).observe(readoutEl);
     this.k = 1; this.fitK = 1; this.ox = PAD; this.oy = 0; this.userView = false; this.viewKey = null;
     this.pan = null; this.readout = "";
     this.onDrag = onDrag; this.onDrop = onDrop; this.onSelect = onSelect;
@@ -313,9 +334,11 @@ export class Editor {
     el.textContent = this.readout; el.hidden = false;
     if (e) d.pointer = [e.clientX, e.clientY];
     if (d.pointer) {
-      const r = this.svg.getBoundingClientRect();
+      // the editor's place (fixed during a drag) and the box's size as last laid out
+      // (kept by a ResizeObserver): a frame of a drag forces no layout
+      const r = d.rect || (d.rect = this.svg.getBoundingClientRect());
       const X = d.pointer[0] - r.left, Y = d.pointer[1] - r.top;
-      const w = el.offsetWidth, hgt = el.offsetHeight;
+      const [w, hgt] = this.readoutSize;
       el.style.left = `${Math.max(2, X + 16 + w > this.W ? X - 16 - w : X + 16)}px`;
       el.style.top = `${Math.max(2, Math.min(this.H - hgt - 2, Y + 16))}px`;
     }
@@ -363,35 +386,56 @@ export class Editor {
 
   highlight(t) { this.highlighted = t; this.drawMesh(); }
 
-  // the mesh as one triangle soup (flat colour per triangle) and its unique edges
+  // The mesh as one triangle soup (flat colour per triangle) and its unique edges, whose
+  // corners name their mesh vertex: the vertices' screen positions [px] live in a float
+  // texture, so a frame of a drag uploads n vertices (88 KB at 22K triangles) rather than
+  // every corner of every triangle and edge (1.6 MB), and the page's work per frame is a
+  // loop over the vertices. Colours stay the server's sRGB bytes; a drape older than the
+  // pattern fades them towards grey in linear light, as three.js's Color.lerp did.
   buildScene() {
-    const geo = this.geo, tri = geo.triangles, m = tri.length / 3;
-    this.scene.clear();
+    const geo = this.geo, tri = geo.triangles, m = tri.length / 3, n = geo.vertices.length / 2;
     this.gridView = null;
-    const col = new Float32Array(9 * m), c = new THREE.Color();
+    // an edit that kept the mesh's topology (a drag's drop) keeps the scene: only the
+    // colours change (the vertices are drawn from the texture every frame)
+    if (!this.fill || this.screenCount !== n || !sameArray(this.meshEdges.triangles, tri)) this.buildMesh(tri, n);
+    const col = this.fill.geometry.getAttribute("color"), c = col.array, rgb = geo.colors;
     for (let t = 0; t < m; t++) {
-      if (geo.colors) c.setRGB(geo.colors[3 * t] / 255, geo.colors[3 * t + 1] / 255, geo.colors[3 * t + 2] / 255, THREE.SRGBColorSpace);
-      else c.setRGB(0.91, 0.925, 0.894, THREE.SRGBColorSpace);
-      // a drape older than the pattern: its colours faded towards grey ("not re-draped")
-      if (geo.colors && geo.stale) c.lerp(GREY, STALE_GREY);
-      for (let k = 0; k < 3; k++) col.set([c.r, c.g, c.b], 9 * t + 3 * k);
+      for (let k = 0; k < 9; k++) c[9 * t + k] = rgb ? rgb[3 * t + (k % 3)] : PLAIN[k % 3];
+    }
+    col.needsUpdate = true;
+    this.fill.material.uniforms.stale.value = rgb && geo.stale ? STALE_GREY : 0;
+  }
+
+  // the scene of a mesh of triangles (3m,) over n vertices
+  buildMesh(tri, n) {
+    for (const o of this.scene.children) o.geometry.dispose();
+    this.scene.clear();
+    this.meshEdges = { triangles: tri, edges: uniqueEdges(tri, n) };
+    this.edges = this.meshEdges.edges;
+    this.screenCount = n;
+    const W = Math.min(1024, Math.max(1, n)), H = Math.max(1, Math.ceil(n / W));
+    if (!this.screenPos || this.screenPos.image.width !== W || this.screenPos.image.height !== H) {
+      if (this.screenPos) this.screenPos.dispose();
+      this.screenPos = new THREE.DataTexture(new Float32Array(2 * W * H), W, H, THREE.RGFormat, THREE.FloatType);
+      this.screenPos.magFilter = this.screenPos.minFilter = THREE.NearestFilter;
     }
     const g = new THREE.BufferGeometry();
-    g.setAttribute("position", new THREE.BufferAttribute(new Float32Array(9 * m), 3));
-    g.setAttribute("color", new THREE.BufferAttribute(col, 3));
-    this.fill = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide }));
-    const seen = new Set(), edges = [], n = geo.vertices.length / 2;
-    for (let t = 0; t < m; t++) {
-      for (let k = 0; k < 3; k++) {
-        const a = tri[3 * t + k], b = tri[3 * t + (k + 1) % 3];
-        const key = a < b ? a * n + b : b * n + a;
-        if (!seen.has(key)) { seen.add(key); edges.push(a, b); }
-      }
-    }
-    this.edges = Uint32Array.from(edges);
+    g.setAttribute("position", new THREE.BufferAttribute(Float32Array.from(tri), 1));
+    g.setAttribute("color", new THREE.BufferAttribute(new Uint8Array(3 * tri.length), 3, true));
+    const uniforms = { screen: { value: this.screenPos } };
+    this.fill = new THREE.Mesh(g, new THREE.RawShaderMaterial({
+      glslVersion: THREE.GLSL3, vertexShader: FILL_VERTEX, fragmentShader: FILL_FRAGMENT, side: THREE.DoubleSide,
+      uniforms: { ...uniforms, stale: { value: 0 } } }));
     const w = new THREE.BufferGeometry();
-    w.setAttribute("position", new THREE.BufferAttribute(new Float32Array(3 * this.edges.length), 3));
-    this.wire = new THREE.LineSegments(w, new THREE.LineBasicMaterial({ color: 0x282828, transparent: true, opacity: 0.35 }));
+    w.setAttribute("position", new THREE.BufferAttribute(Float32Array.from(this.edges), 1));
+    this.wire = new THREE.LineSegments(w, new THREE.RawShaderMaterial({
+      glslVersion: THREE.GLSL3, vertexShader: WIRE_VERTEX, fragmentShader: WIRE_FRAGMENT, transparent: true,
+      uniforms: { ...uniforms, colour: { value: new THREE.Vector4(0x28 / 255, 0x28 / 255, 0x28 / 255, 0.35) } } }));
+    // their "position" is a vertex number, not a place: never culled, no bounds computed
+    for (const o of [this.fill, this.wire]) {
+      o.frustumCulled = false;
+      o.geometry.boundingSphere = new THREE.Sphere(new THREE.Vector3(), Infinity);
+    }
     const h = new THREE.BufferGeometry();
     h.setAttribute("position", new THREE.BufferAttribute(new Float32Array(9), 3));
     this.hi = new THREE.LineLoop(h, new THREE.LineBasicMaterial({ color: 0x000000 }));
@@ -404,25 +448,23 @@ export class Editor {
 
   drawMesh() {
     if (!this.geo || !this.fill || !this.W) return;
-    const v = this.vertices, tri = this.geo.triangles, k = this.k;
-    if (v.length !== 2 * this.vertexPanel.length) return;  // never a half-mapped mesh
-    const X = new Float32Array(v.length / 2), Y = new Float32Array(v.length / 2);
-    for (let i = 0; i < X.length; i++) {
-      const p = this.vertexPanel[i];
-      X[i] = this.ox + (v[2 * i] + this.offsets[p][0]) * k;
-      Y[i] = this.oy - (v[2 * i + 1] + this.offsets[p][1]) * k;
+    const v = this.vertices, tri = this.geo.triangles, k = this.k, vp = this.vertexPanel;
+    if (v.length !== 2 * vp.length) return;  // never a half-mapped mesh
+    const P = this.screenPos.image.data, off = this.offsets, ox = this.ox, oy = this.oy;
+    for (let i = 0; i < vp.length; i++) {
+      const o = off[vp[i]];
+      P[2 * i] = ox + (v[2 * i] + o[0]) * k;
+      P[2 * i + 1] = oy - (v[2 * i + 1] + o[1]) * k;
     }
-    const put = (attr, ids) => {
-      const a = attr.array;
-      for (let j = 0; j < ids.length; j++) { a[3 * j] = X[ids[j]]; a[3 * j + 1] = Y[ids[j]]; }
-      attr.needsUpdate = true;
-    };
-    put(this.fill.geometry.getAttribute("position"), tri);
+    this.screenPos.needsUpdate = true;
     this.wire.visible = this.showMesh;
-    if (this.showMesh) put(this.wire.geometry.getAttribute("position"), this.edges);
     const t = this.highlighted;
     this.hi.visible = t >= 0 && t < tri.length / 3;
-    if (this.hi.visible) put(this.hi.geometry.getAttribute("position"), [tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]]);
+    if (this.hi.visible) {
+      const a = this.hi.geometry.getAttribute("position");
+      for (let c = 0; c < 3; c++) { const i = tri[3 * t + c]; a.array[3 * c] = P[2 * i]; a.array[3 * c + 1] = P[2 * i + 1]; }
+      a.needsUpdate = true;
+    }
     // 10 cm grid, and a 1 cm one when zoomed in far enough; both follow the view (built
     // again only when the view changed, not in every frame of a drag)
     const view = `${this.ox},${this.oy},${k},${this.W},${this.H}`;
@@ -744,6 +786,32 @@ function inside(poly, x, y, tol = 0) {
     if ((yi > y) !== (yj > y) && x < ((xj - xi) * (y - yi)) / (yj - yi) + xi) c = !c;
   }
   return c;
+}
+
+// each edge of the triangles (3m,) once, as vertex pairs (2e,): sorted by (a, b), a < b
+function uniqueEdges(tri, n) {
+  const keys = new Float64Array(tri.length);
+  for (let t = 0; t < tri.length; t += 3) {
+    for (let k = 0; k < 3; k++) {
+      const a = tri[t + k], b = tri[t + (k + 1) % 3];
+      keys[t + k] = a < b ? a * n + b : b * n + a;
+    }
+  }
+  keys.sort();
+  const out = [];
+  for (let j = 0; j < keys.length; j++) {
+    if (j && keys[j] === keys[j - 1]) continue;
+    const a = Math.floor(keys[j] / n);
+    out.push(a, keys[j] - a * n);
+  }
+  return Uint32Array.from(out);
+}
+
+function sameArray(a, b) {
+  if (a === b) return true;
+  if (a.length !== b.length) return false;
+  for (let i = 0; i < a.length; i++) if (a[i] !== b[i]) return false;
+  return true;
 }
 
 function allFinite(a) {

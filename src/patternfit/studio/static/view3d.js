@@ -36,7 +36,12 @@ export class View3D {
     this.render();
   }
 
-  render() { this.renderer.render(this.scene, this.camera); }
+  // one render per animation frame however many changes ask for it (a session's load
+  // sets the garment, its colours, the stale state and the body, each of which rendered)
+  render() {
+    if (this.frame) return;
+    this.frame = requestAnimationFrame(() => { this.frame = 0; this.renderer.render(this.scene, this.camera); });
+  }
 
   setBody(body) {
     if (this.body) this.scene.remove(this.body);

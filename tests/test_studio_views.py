@@ -1,0 +1,75 @@
+"""The page's payloads are made once per history state and drape (``payload.Views``): what
+is kept equals what a fresh making gives, a re-drape (a new positions array) is made again,
+and two requests at once share one making."""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from patternfit import api
+from patternfit.studio import payload
+
+
+@pytest.fixture(scope="module")
+def state():
+    s = api.design_session("skirt", triangles=400)
+    st = s.state
+    # a 3D state as a drape gives one: the flat mesh lifted, stretched 3 % across
+    st.positions = np.c_[st.mesh.vertices * [1.03, 1.0], np.full(st.mesh.n_vertices, 1.0)]
+    return st
+
+
+def same(a: payload.Payload, b: payload.Payload) -> None:
+    assert a.header == b.header and a.arrays.keys() == b.arrays.keys()
+    for k in a.arrays:
+        np.testing.assert_array_equal(a.arrays[k], b.arrays[k], err_msg=k)
+    assert a.binary() == b.binary()
+
+
+def test_kept_payloads_equal_fresh_ones_and_follow_a_redrape(state):
+    views = payload.Views()
+    for kind, make in payload.MAKERS.items():
+        kept = views.get(kind, state)
+        assert views.get(kind, state) is kept
+        same(kept, make(state))
+    old = views.get("geometry", state)
+    # a re-drape replaces the positions array: everything of the state is made again
+    state.positions = state.positions * [1.0, 1.02, 1.0]
+    new = views.get("geometry", state)
+    assert new is not old
+    same(new, payload.geometry(state))
+    assert not np.array_equal(new.arrays["area_change"], old.arrays["area_change"])
+    assert views.fit(state).fitting_ratio == api.evaluate_drape(state.mesh,
+                                                                state.positions).fitting_ratio
+
+
+def test_states_are_kept_apart_and_only_the_last_few(state):
+    views = payload.Views(keep=2)
+    others = [replace(state, key=f"other{i}") for i in range(3)]
+    made = [views.get("geometry", s) for s in others]
+    assert len({id(p) for p in made}) == 3
+    assert views.get("geometry", others[2]) is made[2]
+    assert views.get("geometry", others[0]) is not made[0]  # dropped: made again
+
+
+def test_two_requests_at_once_share_one_making(state):
+    views, calls, gate = payload.Views(), [], threading.Event()
+
+    def slow(st, _views):
+        calls.append(st.key)
+        gate.wait(5)
+        return object()
+
+    out = []
+    threads = [threading.Thread(target=lambda: out.append(views.get("slow", state, slow)))
+               for _ in range(2)]
+    for t in threads:
+        t.start()
+    gate.set()
+    for t in threads:
+        t.join(10)
+    assert calls == [state.key] and len(out) == 2 and out[0] is out[1]
