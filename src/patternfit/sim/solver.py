@@ -112,6 +112,11 @@ class SolverSettings:
     #: stretch stiffness kept in compression, as a share [-]: 1 (full stiffness) makes
     #: cloth fold rather than shrink (bending carries the buckling; docs/simulation.md)
     compression: float = 1.0
+    #: ... and while the seams are open (``compression`` from the weld on): sewing pulls the
+    #: panels together at rates no real cloth sees, and cloth that cannot shrink buckles
+    #: where seams converge, through itself at a junction such as the trousers' crotch
+    #: (2K trousers: 10 crossed pairs at the weld with 1.0, none with 0.05)
+    sewing_compression: float = 0.05
     seam_stiffness: float = 1e3
     seam_growth: float = 4.0
     seam_stiffness_max: float = 1e7
@@ -405,7 +410,7 @@ class GarmentSolver:
         grad = np.zeros_like(x)
         e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, self.fabric.stretch_warp,
                              self.fabric.stretch_weft, self.fabric.shear,
-                             self.settings.compression, grad)
+                             self._compression, grad)
         qx = self._Q @ x
         e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", self._f, x))
         grad += qx - self._f
@@ -691,6 +696,12 @@ class GarmentSolver:
         self._epairs, self._est, self._enormal = kernels.near_edge_pairs(
             x, self._near_edges, self._detect, 2 * self._detect, self._root)
         self._x_pairs = x.copy()
+
+    @property
+    def _compression(self):
+        """Share of the stretch stiffness kept in compression now [-]."""
+        s = self.settings
+        return s.compression if self._welded else s.sewing_compression
 
     @property
     def _reach(self):
