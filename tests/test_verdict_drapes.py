@@ -1,7 +1,8 @@
 """The verdict on real drapes (small meshes) and the correction's edits for it: a size S
-skirt reads tighter than an XL on the same body; trousers that slid are too loose; a
-region too tight is let out by translating its edges (seams matched, symmetry kept); the
-Table 2 coat goes from too tight to no region too tight (slow)."""
+skirt reads tighter than an XL on the same body; XL trousers too long for the body fail
+(they did not slide: not "too loose"); a region too tight is let out by translating its
+edges (seams matched, symmetry kept); the Table 2 coat goes from too tight to no region too
+tight (slow)."""
 
 from __future__ import annotations
 
@@ -32,19 +33,26 @@ def test_a_size_s_skirt_reads_tighter_than_an_xl_on_the_same_body():
     assert "below the waist" in large.judgement.reason
 
 
-@pytest.mark.xfail(reason=(
-    "issue 19 open: under the force stop (the default since this session) the XL trousers slide 6 cm, not "
-    "> 10 cm, and stop at the iteration limit with 17 crossed pairs: failed, not too loose"))
-def test_trousers_that_slid_are_too_loose(tmp_path):
+def test_trousers_too_long_for_the_body_fail_without_sliding(tmp_path):
     import json
 
+    from patternfit.sim.onbody import ON_BODY
+
+    # measured (1K triangles, at rest, no crossed pair): the XL's waistband rests on the
+    # thin woman's hips 4-6 cm below her waist, within the anchor's tolerance (it did not
+    # slide: the skirt test above has one that did), and its legs, longer than hers, hang
+    # 11-12 cm below her feet. Under the earlier kinematic stop it read "slid 10+ cm, too
+    # loose"; with crossed pairs left at its crotch it reached no force balance at all.
     o = pf.drape_and_evaluate("trousers", "female_thin", "cotton", triangles=1000, size="XL")
-    assert not o.passed and o.checks["anchor_offset_mm"] < -100.0  # slid below the waist
-    assert o.verdict == "too loose"
+    c = o.checks
+    assert c["self_intersections"] == 0 and c["equilibrium"], c
+    assert -1000.0 * ON_BODY.anchor_tolerance < c["anchor_offset_mm"] < 0.0
+    assert c["below_feet_vertices"] > 0 and not o.passed
+    assert o.verdict == "failed" and "below the feet" in o.judgement.reason
     report = o.write(tmp_path, pictures=False)
     saved = json.loads((tmp_path / "report.json").read_text())
-    assert saved["verdict"] == report["verdict"] == "too loose"
-    assert set(saved["region_verdicts"]) == set(o.region_verdicts)
+    assert saved["verdict"] == report["verdict"] == "failed"
+    assert saved["checks"]["passed"] is False and not saved["region_verdicts"]
 
 
 def _stretched(pattern, mesh, factor, above):

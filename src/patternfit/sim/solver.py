@@ -25,6 +25,7 @@ from ..constants import GRAVITY, limits, tol
 from ..geometry import unique_edges
 from . import kernels
 from .energies import MeshTerms, build_terms, spring_matrix
+from .crossings import crossed_pairs, wrong_sides
 from .fabrics import Fabric, get_fabric
 
 
@@ -109,6 +110,12 @@ class SolverSettings:
     self_detect: float = 1.0
     #: cloth-cloth distance kept, as a share of the mean edge length (at least the thickness)
     self_gap: float = 0.1
+    #: once the seams are welded, every pair search also looks for crossed triangles and
+    #: turns the repulsion of each crossing's vertex to the side it came from
+    #: (``crossings.wrong_sides``): the lagged pairs otherwise hold a crossing made
+    #: while sewing (the sewing solve has no self-collision) for good (2K trousers: 10
+    #: crossed pairs at their crotch at rest without it, none with it)
+    untangle: bool = True
     #: stretch stiffness kept in compression, as a share [-]: 1 (full stiffness) makes
     #: cloth fold rather than shrink (bending carries the buckling; docs/simulation.md)
     compression: float = 1.0
@@ -691,6 +698,33 @@ class GarmentSolver:
         self._epairs, self._est, self._enormal = kernels.near_edge_pairs(
             x, self._near_edges, self._detect, 2 * self._detect, self._root)
         self._x_pairs = x.copy()
+        if self._welded and self.settings.untangle:
+            self._untangle(x)
+
+    def _untangle(self, x):
+        """Turn the self-collision pairs towards undoing the crossings at ``x``: each vertex
+        that passed through a triangle (``crossings.wrong_sides``) gets a pair with that
+        triangle whose normal points back to the side it came from (replacing the pair the
+        search made, which would hold it where it is), and the edge pairs around a crossing,
+        which would hold it too, are dropped until it is undone."""
+        tris = self.terms.tris
+        crossed = crossed_pairs(x, tris, self.terms.edge_length, self._root)
+        if not len(crossed):
+            return
+        vt, bary, normal = wrong_sides(x, tris, crossed)
+        _, first = np.unique(vt[:, 0] * len(tris) + vt[:, 1], return_index=True)
+        vt, bary, normal = vt[first], bary[first], normal[first]
+        keep = ~np.isin(self._pairs[:, 0] * len(tris) + self._pairs[:, 1],
+                        vt[:, 0] * len(tris) + vt[:, 1])
+        self._pairs = np.ascontiguousarray(np.r_[self._pairs[keep], vt])
+        self._bary = np.ascontiguousarray(np.r_[self._bary[keep], bary])
+        self._pnormal = np.ascontiguousarray(np.r_[self._pnormal[keep], normal])
+        near = np.zeros(self._n, bool)
+        near[tris[crossed].ravel()] = True
+        ok = ~near[self._near_edges[self._epairs].reshape(len(self._epairs), 4)].any(axis=1)
+        self._epairs = np.ascontiguousarray(self._epairs[ok])
+        self._est = np.ascontiguousarray(self._est[ok])
+        self._enormal = np.ascontiguousarray(self._enormal[ok])
 
     @property
     def _reach(self):
