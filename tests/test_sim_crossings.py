@@ -7,7 +7,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from patternfit.sim import kernels
-from patternfit.sim.crossings import crossed_pairs, wrong_sides
+from patternfit.sim.crossings import wrong_sides
+from patternfit.sim.kernels import crossed_pairs
 from patternfit.sim.solver import GarmentSolver, SolverSettings
 
 from scenes import grain_at, square_mesh
@@ -34,14 +35,36 @@ def test_vertices_to_be_welded_make_neighbours():
     assert len(crossed_pairs(X, TRIS, 0.03, np.array([0, 1, 2, 0, 4, 5]))) == 0
 
 
+def _hits(p, q, a, b, c):
+    """Whether segment pq crosses triangle abc: the segment's ends on opposite sides of the
+    plane (or on it) and the crossing point inside the triangle, by signed areas."""
+    n = np.cross(b - a, c - a)
+    dp, dq = (p - a) @ n, (q - a) @ n
+    if dp * dq > 0.0 or dp == dq:
+        return False
+    h = p + dp / (dp - dq) * (q - p)
+    return all(np.cross(v - u, h - u) @ n >= 0.0 for u, v in ((a, b), (b, c), (c, a)))
+
+
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**32 - 1))
-def test_without_roots_the_count_is_the_solver_check(seed):
+def test_crossed_pairs_are_every_crossing_pair_found_one_by_one(seed):
+    # the grid's broad phase must not lose a pair that a check of every pair finds
     rng = np.random.default_rng(seed)
     x = rng.uniform(0.0, 0.05, size=(30, 3))
     tris = np.array([rng.choice(30, 3, replace=False) for _ in range(20)])
-    assert len(crossed_pairs(x, tris, 0.02, np.arange(30))) == \
-        kernels.intersecting_pairs(x, tris, 0.02)
+    expected = set()
+    for t in range(len(tris)):
+        for u in range(t + 1, len(tris)):
+            if set(tris[t]) & set(tris[u]):
+                continue
+            ends = [(i, (i + 1) % 3) for i in range(3)]
+            if any(_hits(*x[tris[s][[i, j]]], *x[tris[o]])
+                   for s, o in ((t, u), (u, t)) for i, j in ends):
+                expected.add((t, u))
+    found = {tuple(p) for p in crossed_pairs(x, tris, 0.02, np.arange(30))}
+    assert found == expected
+    assert kernels.intersecting_pairs(x, tris, 0.02) == len(expected)
 
 
 def _dented_sheets():

@@ -17,7 +17,7 @@ import numpy as np
 from patternfit.body.builtin import load_body
 from patternfit.mesh import mesh_pattern
 from patternfit.pattern.library import build
-from patternfit.sim.crossings import crossed_pairs
+from patternfit.sim.kernels import crossed_pairs
 from patternfit.sim.drape import drape
 from patternfit.sim.solver import SolverSettings
 

@@ -1,5 +1,5 @@
-"""Crossed cloth: the triangle pairs of a garment that cut through each other, and which
-vertex of each crossing passed through (the solver untangles them: ``SolverSettings.untangle``).
+"""Crossed cloth: which vertex of each crossing found by ``kernels.crossed_pairs`` passed
+through (the solver untangles them: ``SolverSettings.untangle``).
 
 Lengths in metres. Two triangles are neighbours (never counted as crossed) when they share a
 vertex's ``root``: the vertex itself, or while the seams are still open any vertex the weld
@@ -11,36 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .kernels import _box_pairs, _rows, _segment_hits_triangle
-
-
-@njit(cache=True)
-def crossed_pairs(x, tris, cell, root):
-    """Triangle pairs (k, 2) int, lower index first, whose surfaces cross each other at
-    positions ``x`` (n, 3) [m]; pairs sharing a vertex's ``root`` (n,) int are skipped.
-    ``cell`` [m]: grid step of the broad phase (about an edge length)."""
-    candidates = _box_pairs(x, tris, cell, 0.0)
-    out = []
-    for k in range(candidates.shape[0]):
-        t, u = candidates[k, 0], candidates[k, 1]
-        shared = False
-        for i in range(3):
-            for j in range(3):
-                if root[tris[t, i]] == root[tris[u, j]]:
-                    shared = True
-        if shared:
-            continue
-        hit = False
-        for (p, q) in ((0, 1), (1, 2), (2, 0)):
-            if _segment_hits_triangle(x[tris[t, p]], x[tris[t, q]], x[tris[u, 0]],
-                                      x[tris[u, 1]], x[tris[u, 2]]) or \
-                    _segment_hits_triangle(x[tris[u, p]], x[tris[u, q]], x[tris[t, 0]],
-                                           x[tris[t, 1]], x[tris[t, 2]]):
-                hit = True
-                break
-        if hit:
-            out.append((t, u))
-    return _rows(out, np.empty((len(out), 2), dtype=np.int64))
+from .kernels.collision import _rows, _segment_hits_triangle
 
 
 @njit(cache=True)

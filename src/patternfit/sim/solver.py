@@ -25,7 +25,7 @@ from ..constants import GRAVITY, limits, tol
 from ..geometry import unique_edges
 from . import kernels
 from .energies import MeshTerms, build_terms, spring_matrix
-from .crossings import crossed_pairs, wrong_sides
+from .crossings import wrong_sides
 from .fabrics import Fabric, get_fabric
 
 
@@ -708,7 +708,7 @@ class GarmentSolver:
         search made, which would hold it where it is), and the edge pairs around a crossing,
         which would hold it too, are dropped until it is undone."""
         tris = self.terms.tris
-        crossed = crossed_pairs(x, tris, self.terms.edge_length, self._root)
+        crossed = kernels.crossed_pairs(x, tris, self.terms.edge_length, self._root)
         if not len(crossed):
             return
         vt, bary, normal = wrong_sides(x, tris, crossed)

@@ -276,27 +276,35 @@ def _segment_hits_triangle(p, q, a, b, c):
 
 
 @njit(cache=True)
-def intersecting_pairs(x, tris, cell):
-    """Number of triangle pairs, sharing no vertex, whose surfaces cross each other."""
+def crossed_pairs(x, tris, cell, root):
+    """Triangle pairs (k, 2) int, lower index first, whose surfaces cross each other at
+    positions ``x`` (n, 3) [m]; pairs sharing a vertex's ``root`` (n,) int are skipped.
+    ``cell`` [m]: grid step of the broad phase (about an edge length)."""
     candidates = _box_pairs(x, tris, cell, 0.0)
-    count = 0
+    out = []
     for k in range(candidates.shape[0]):
         t, u = candidates[k, 0], candidates[k, 1]
         shared = False
         for i in range(3):
             for j in range(3):
-                if tris[t, i] == tris[u, j]:
+                if root[tris[t, i]] == root[tris[u, j]]:
                     shared = True
         if shared:
             continue
         hit = False
         for (p, q) in ((0, 1), (1, 2), (2, 0)):
             if _segment_hits_triangle(x[tris[t, p]], x[tris[t, q]], x[tris[u, 0]],
-                                      x[tris[u, 1]], x[tris[u, 2]]):
+                                      x[tris[u, 1]], x[tris[u, 2]]) or \
+                    _segment_hits_triangle(x[tris[u, p]], x[tris[u, q]], x[tris[t, 0]],
+                                           x[tris[t, 1]], x[tris[t, 2]]):
                 hit = True
-            if _segment_hits_triangle(x[tris[u, p]], x[tris[u, q]], x[tris[t, 0]],
-                                      x[tris[t, 1]], x[tris[t, 2]]):
-                hit = True
+                break
         if hit:
-            count += 1
-    return count
+            out.append((t, u))
+    return _rows(out, np.empty((len(out), 2), dtype=np.int64))
+
+
+@njit(cache=True)
+def intersecting_pairs(x, tris, cell):
+    """Number of triangle pairs, sharing no vertex, whose surfaces cross each other."""
+    return crossed_pairs(x, tris, cell, np.arange(x.shape[0])).shape[0]
