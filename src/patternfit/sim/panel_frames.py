@@ -24,9 +24,12 @@ FRAME_MISMATCH = 0.05
 #: surface exceeds this [m], ...
 PLACED_FAR = 0.40
 #: ... or more than this share of its vertices lie inside the body [-], or the top of the
-#: body panels lies farther than this [m] from the height the garment hangs from
+#: body panels lies farther than this [m] from the height the garment hangs from: a
+#: placement made for another body (GarmentCode's shirt for its 1.72 m mean body sat 11 cm
+#: below a 1.78 m body's neck and slid off it; its flare skirt, within 1 cm of the waist,
+#: draped as placed)
 PLACED_INSIDE = 0.3
-PLACED_HEIGHT = 0.25
+PLACED_HEIGHT = 0.05
 
 #: body measurement giving the height of each anchor (:attr:`Pattern.anchor`) [m]
 ANCHOR_HEIGHT = {"waist": "waist_height", "neck": "neck_base_height"}
@@ -65,7 +68,9 @@ def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
 def upright_frames(pattern: Pattern, mesh: GarmentMesh,
                    roles: dict[str, PanelRole]) -> np.ndarray:
     """Flat positions (n, 2) [m] of ``mesh`` with every panel turned upright about its own
-    centre (:func:`~patternfit.pattern.roles.upright_turn`) and, when a seam between body
+    centre (:func:`~patternfit.pattern.roles.upright_turn`), a panel drawn clockwise (seen
+    from inside) turned over about its vertical middle so that every panel is seen from
+    outside, and, when a seam between body
     panels joins edges more than :data:`FRAME_MISMATCH` apart in height at both of its ends,
     body panels shifted in height, panel by panel from the first along the seams, so that
     each seam's two sides meet at the end where they met best.
@@ -79,6 +84,13 @@ def upright_frames(pattern: Pattern, mesh: GarmentMesh,
         ids = mesh.panel_vertices(pi)
         c = flat[ids].mean(axis=0)
         flat[ids] = (flat[ids] - c) @ upright_turn(up).T + c
+    for pi, panel in enumerate(pattern.panels):
+        if panel.outline.signed_area() < 0:
+            # drawn clockwise: seen from inside (GarmentCode draws every panel as seen from
+            # the front, a back panel's outside facing away): turned over to be seen from
+            # outside like ours, so that its side seams meet the front's
+            ids = mesh.panel_vertices(pi)
+            flat[ids, 0] = 2.0 * flat[ids, 0].mean() - flat[ids, 0]
     body = {p.name for p in pattern.panels if not roles[p.name].part.startswith("arm")}
     index = {p.name: i for i, p in enumerate(pattern.panels)}
     # per seam between two body panels: its sewn vertex pairs (a's side first)
