@@ -68,9 +68,9 @@ def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
 def upright_frames(pattern: Pattern, mesh: GarmentMesh,
                    roles: dict[str, PanelRole]) -> np.ndarray:
     """Flat positions (n, 2) [m] of ``mesh`` with every panel turned upright about its own
-    centre (:func:`~patternfit.pattern.roles.upright_turn`), a panel drawn clockwise (seen
-    from inside) turned over about its vertical middle so that every panel is seen from
-    outside, and, when a seam between body
+    centre (:func:`~patternfit.pattern.roles.upright_turn`), a GarmentCode panel drawn
+    clockwise (seen from inside) turned over about its vertical middle so that every panel
+    is seen from outside, and, when a seam between body
     panels joins edges more than :data:`FRAME_MISMATCH` apart in height at both of its ends,
     body panels shifted in height, panel by panel from the first along the seams, so that
     each seam's two sides meet at the end where they met best.
@@ -84,11 +84,15 @@ def upright_frames(pattern: Pattern, mesh: GarmentMesh,
         ids = mesh.panel_vertices(pi)
         c = flat[ids].mean(axis=0)
         flat[ids] = (flat[ids] - c) @ upright_turn(up).T + c
+    garmentcode = isinstance(pattern.meta, dict) and \
+        pattern.meta.get("source_format") == "garmentcode"
     for pi, panel in enumerate(pattern.panels):
-        if panel.outline.signed_area() < 0:
-            # drawn clockwise: seen from inside (GarmentCode draws every panel as seen from
-            # the front, a back panel's outside facing away): turned over to be seen from
-            # outside like ours, so that its side seams meet the front's
+        if garmentcode and panel.outline.signed_area() < 0:
+            # GarmentCode's outline direction says which side faces out: drawn clockwise,
+            # the panel is seen from inside (its back panels, drawn as seen from the front);
+            # turned over to be seen from outside like ours, so that its side seams meet the
+            # front's (a DXF's right piece of a pair runs clockwise too, but is seen from
+            # outside: mirrored, not turned)
             ids = mesh.panel_vertices(pi)
             flat[ids, 0] = 2.0 * flat[ids, 0].mean() - flat[ids, 0]
     body = {p.name for p in pattern.panels if not roles[p.name].part.startswith("arm")}
