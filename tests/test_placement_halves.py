@@ -103,3 +103,37 @@ def test_every_seam_starts_short_and_nothing_crosses(placed):
     solver = GarmentSolver(mesh.vertices, mesh.triangles, mesh.grain[mesh.triangle_panel],
                            get_fabric("cotton_shirting"), seam_pairs=mesh.seam_pairs)
     assert solver.crossings(x) == 0
+
+
+def lapelled(right_wrong: bool):
+    """The vest with a lapel on the left front: a triangle sewn to the front's neckline,
+    with GarmentCode's ``right_wrong`` (wrong side out: it folds over) or without."""
+    import json
+    from patternfit.pattern.garmentcode import garmentcode_to_dict
+    doc = garmentcode_to_dict(vest())
+    for entry in doc["pattern"]["panels"].values():
+        entry.pop("patternfit_placement", None)
+    doc.pop("patternfit_seam_names", None)
+    neck = vest().panel("left_ftorso").edges()["e4"]
+    a, b = (np.asarray(p) * 100 for p in (neck.start, neck.end))
+    doc["pattern"]["panels"]["left_lapel"] = {
+        "translation": [0.0, 0.0, 30.0], "rotation": [0.0, 0.0, 0.0],
+        "vertices": [b.tolist(), a.tolist(), (a + [0.0, 12.0]).tolist()],
+        "edges": [{"endpoints": [0, 1], "curvature": {"type": "quadratic",
+                                                        "params": [[0.5, -0.3]]}},
+                  {"endpoints": [1, 2]}, {"endpoints": [2, 0]}]}
+    stitch = [{"panel": "left_ftorso", "edge": 4}, {"panel": "left_lapel", "edge": 0}]
+    if right_wrong:
+        stitch.append("right_wrong")
+    doc["pattern"]["stitches"].append(stitch)
+    return garmentcode_from_dict(json.loads(json.dumps(doc)), name="lapelled")
+
+
+@pytest.mark.parametrize("right_wrong", [True, False])
+def test_a_panel_sewn_wrong_side_out_is_turned_over(right_wrong):
+    from patternfit.sim.panel_frames import _turned_over
+    pattern = lapelled(right_wrong)
+    turned = {pattern.panels[i].name for i in _turned_over(pattern, panel_roles(pattern))}
+    # the back halves run clockwise (seen from inside) whatever the lapel
+    assert {"left_btorso", "right_btorso"} <= turned
+    assert ("left_lapel" in turned) == right_wrong

@@ -65,12 +65,47 @@ def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
     return np.asarray(panel.grainline, dtype=np.float64)
 
 
+def _turned_over(pattern: Pattern, roles: dict[str, PanelRole]) -> list[int]:
+    """The panels to turn over before placing, so that every panel is seen from outside.
+
+    A GarmentCode panel drawn clockwise is seen from inside: GarmentCode's outline direction
+    says which side faces out (its back panels are drawn as seen from the front). A DXF's
+    right piece of a pair runs clockwise too, but is its left piece mirrored, seen from
+    outside: not turned. Then the seams: two panels seen from the same side are sewn end to
+    start when their outlines run the same way round (``Seam.reverse`` is whether they do);
+    a seam that says otherwise sews one of them wrong side out (GarmentCode's
+    ``right_wrong``: a lapel, a facing). From the body panels (bodice, skirt, leg) along the
+    seams, every other panel sewn wrong side out to one seen from outside is turned over."""
+    garmentcode = isinstance(pattern.meta, dict) and \
+        pattern.meta.get("source_format") == "garmentcode"
+    index = {p.name: i for i, p in enumerate(pattern.panels)}
+    way = {}
+    for p in pattern.panels:
+        ccw = p.outline.signed_area() >= 0
+        way[p.name] = ccw or garmentcode  # the way round once turned to be seen from outside
+    turned = {p.name: garmentcode and p.outline.signed_area() < 0 for p in pattern.panels}
+    flip = {p.name: False for p in pattern.panels
+            if roles[p.name].kind in ("bodice", "skirt", "leg")}
+    grew = True
+    while grew:
+        grew = False
+        for s in pattern.seams:
+            for here, there in ((s.a.panel, s.b.panel), (s.b.panel, s.a.panel)):
+                if here == there or here not in flip or there in flip:
+                    continue
+                wrong = s.reverse != (way[here] == way[there])
+                flip[there] = flip[here] != wrong
+                grew = True
+    return [index[n] for n in index if turned[n] != flip.get(n, False)]
+
+
 def upright_frames(pattern: Pattern, mesh: GarmentMesh,
                    roles: dict[str, PanelRole]) -> np.ndarray:
     """Flat positions (n, 2) [m] of ``mesh`` with every panel turned upright about its own
-    centre (:func:`~patternfit.pattern.roles.upright_turn`), a GarmentCode panel drawn
-    clockwise (seen from inside) turned over about its vertical middle so that every panel
-    is seen from outside, and, when a seam between body
+    centre (:func:`~patternfit.pattern.roles.upright_turn`), a panel seen from inside (a
+    GarmentCode panel drawn clockwise, or one sewn wrong side out: :func:`_turned_over`)
+    turned over about its vertical middle so that every panel is seen from outside, and,
+    when a seam between body
     panels joins edges more than :data:`FRAME_MISMATCH` apart in height at both of its ends,
     body panels shifted in height, panel by panel from the first along the seams, so that
     each seam's two sides meet at the end where they met best.
@@ -84,17 +119,9 @@ def upright_frames(pattern: Pattern, mesh: GarmentMesh,
         ids = mesh.panel_vertices(pi)
         c = flat[ids].mean(axis=0)
         flat[ids] = (flat[ids] - c) @ upright_turn(up).T + c
-    garmentcode = isinstance(pattern.meta, dict) and \
-        pattern.meta.get("source_format") == "garmentcode"
-    for pi, panel in enumerate(pattern.panels):
-        if garmentcode and panel.outline.signed_area() < 0:
-            # GarmentCode's outline direction says which side faces out: drawn clockwise,
-            # the panel is seen from inside (its back panels, drawn as seen from the front);
-            # turned over to be seen from outside like ours, so that its side seams meet the
-            # front's (a DXF's right piece of a pair runs clockwise too, but is seen from
-            # outside: mirrored, not turned)
-            ids = mesh.panel_vertices(pi)
-            flat[ids, 0] = 2.0 * flat[ids, 0].mean() - flat[ids, 0]
+    for pi in _turned_over(pattern, roles):
+        ids = mesh.panel_vertices(pi)
+        flat[ids, 0] = 2.0 * flat[ids, 0].mean() - flat[ids, 0]
     body = {p.name for p in pattern.panels if not roles[p.name].part.startswith("arm")}
     index = {p.name: i for i, p in enumerate(pattern.panels)}
     # per seam between two body panels: its sewn vertex pairs (a's side first)
