@@ -147,7 +147,7 @@ def test_a_size_the_table_lacks_is_refused_naming_its_sizes(graded):
         load_dxf(graded, size="XXL")
 
 
-def test_api_and_cli_read_the_table_beside_the_dxf(graded):
+def test_the_api_reads_the_table_beside_the_dxf(graded):
     p = api.read_pattern(graded, size="L")
     assert p.meta["size"] == "L" and p.meta["sizes"] == SIZES
 

@@ -3,15 +3,25 @@ round trip of the built-in dress and coat once slid them to the hips, their anch
 in ``meta``, which a DXF does not carry. The round trip is the user's:
 ``patternfit convert X.json X.dxf``, then the DXF read back (with its side file)."""
 
+import warnings
+
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from patternfit import api
 from patternfit.body.builtin import load_body
 from patternfit.cli.main import app
 from patternfit.mesh import mesh_pattern
+from patternfit.pattern.dxf import load_dxf
 from patternfit.pattern.formats import load_any_pattern
 from patternfit.pattern.library import GARMENTS, build
+from patternfit.pattern.roles import panel_roles
 from patternfit.sim.drape import drape
+from patternfit.sim.fabrics import get_fabric
+from patternfit.sim.placement import place_on_body
+from patternfit.sim.solver import GarmentSolver
+from test_dxf_aama import SIZES, accumark, half_front, skirt_piece, sleeve
 
 BODY = {"female": "female_average", "male": "male_average"}
 
@@ -54,14 +64,6 @@ def test_every_built_in_drapes_after_a_dxf_round_trip(name, tmp_path):
 
 # -- other tools' DXF files, built to the AAMA layer rules (tests/test_dxf_aama.py's writer) -----
 def _placed(path, size):
-    import warnings
-
-    import numpy as np
-
-    from patternfit import api
-    from patternfit.pattern.dxf import load_dxf
-    from patternfit.pattern.roles import panel_roles
-    from patternfit.sim.placement import place_on_body
     # as a user would: the DXF has no seams, the suggested ones are accepted
     pattern = load_dxf(path, size=size)
     pattern = api.accept_seams(pattern, api.suggest_seams(pattern))
@@ -77,11 +79,6 @@ def _placed(path, size):
 
 @pytest.mark.parametrize("size", ["34", "38"])
 def test_an_accumark_top_with_folds_pairs_and_sizes_is_placed_by_its_names(tmp_path, size):
-    import numpy as np
-
-    from patternfit.sim.fabrics import get_fabric
-    from patternfit.sim.solver import GarmentSolver
-    from test_dxf_aama import SIZES, accumark, half_front, sleeve
     blocks = []
     for s, g in SIZES.items():
         blocks += [{"name": "FRONT", "size": s, "runs": half_front(g), "fold": ((0, 0), (0, 410))},
@@ -104,9 +101,6 @@ def test_an_accumark_top_with_folds_pairs_and_sizes_is_placed_by_its_names(tmp_p
 
 
 def test_an_accumark_skirt_with_allowance_hangs_from_the_waist(tmp_path):
-    import numpy as np
-
-    from test_dxf_aama import accumark, skirt_piece
     blocks = []
     for name in ("FRONT SKIRT", "BACK SKIRT"):
         piece = skirt_piece()

@@ -42,7 +42,8 @@ from ..constants import limits
 from ..files import read_bytes_capped
 from .errors import PatternError
 
-__all__ = ["RuleTable", "graded_by_rules", "parse_rules", "read_rules", "rules_path"]
+__all__ = ["RuleTable", "graded_by_rules", "parse_rules", "read_rules", "rule_points",
+           "rules_path"]
 
 _UNIT = {"METRIC": 0.001, "ENGLISH": 0.0254}
 _RULE = re.compile(r"RULE\s*:\s*DELTA\s+(\d+)\s*$", re.IGNORECASE)
