@@ -137,3 +137,15 @@ def test_a_panel_sewn_wrong_side_out_is_turned_over(right_wrong):
     # the back halves run clockwise (seen from inside) whatever the lapel
     assert {"left_btorso", "right_btorso"} <= turned
     assert ("left_lapel" in turned) == right_wrong
+
+
+def test_a_dxf_round_trip_keeps_which_panels_are_turned_over(tmp_path):
+    # a DXF does not say the file came from GarmentCode: the seams do (the back halves are
+    # sewn end to start to the fronts although they run the other way round)
+    from patternfit.pattern.dxf import load_dxf, save_dxf
+    from patternfit.sim.panel_frames import _turned_over
+    pattern = lapelled(True)
+    back = load_dxf(save_dxf(pattern, tmp_path / "vest.dxf"))
+    names = {n: {p.panels[i].name for i in _turned_over(p, panel_roles(p))}
+             for n, p in (("file", pattern), ("dxf", back))}
+    assert names["file"] == names["dxf"] == {"left_btorso", "right_btorso", "left_lapel"}

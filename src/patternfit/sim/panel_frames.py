@@ -68,24 +68,19 @@ def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
 def _turned_over(pattern: Pattern, roles: dict[str, PanelRole]) -> list[int]:
     """The panels to turn over before placing, so that every panel is seen from outside.
 
-    A GarmentCode panel drawn clockwise is seen from inside: GarmentCode's outline direction
-    says which side faces out (its back panels are drawn as seen from the front). A DXF's
-    right piece of a pair runs clockwise too, but is its left piece mirrored, seen from
-    outside: not turned. Then the seams: two panels seen from the same side are sewn end to
-    start when their outlines run the same way round (``Seam.reverse`` is whether they do);
-    a seam that says otherwise sews one of them wrong side out (GarmentCode's
-    ``right_wrong``: a lapel, a facing). From the body panels (bodice, skirt, leg) along the
-    seams, every other panel sewn wrong side out to one seen from outside is turned over."""
-    garmentcode = isinstance(pattern.meta, dict) and \
-        pattern.meta.get("source_format") == "garmentcode"
+    Two panels seen from outside are sewn end to start when their outlines run the same way
+    round (``Seam.reverse`` says whether a seam is). The body panels (bodice, skirt, leg)
+    drawn counter-clockwise, as ours are, are seen from outside; from them, along the seams,
+    every other panel is turned over where its seam says it is seen from inside: a
+    GarmentCode back panel (drawn clockwise as seen from the front, sewn end to start to
+    the front), a panel sewn wrong side out (GarmentCode's ``right_wrong``: a lapel, a
+    facing). A DXF's right piece of a pair runs clockwise but is its left piece mirrored,
+    seen from outside: its seams (start to start) say so, and it is not turned."""
     index = {p.name: i for i, p in enumerate(pattern.panels)}
-    way = {}
-    for p in pattern.panels:
-        ccw = p.outline.signed_area() >= 0
-        way[p.name] = ccw or garmentcode  # the way round once turned to be seen from outside
-    turned = {p.name: garmentcode and p.outline.signed_area() < 0 for p in pattern.panels}
-    flip = {p.name: False for p in pattern.panels
-            if roles[p.name].kind in ("bodice", "skirt", "leg")}
+    ccw = {p.name: p.outline.signed_area() >= 0 for p in pattern.panels}
+    body = [p.name for p in pattern.panels if roles[p.name].kind in ("bodice", "skirt", "leg")]
+    seeds = [n for n in body if ccw[n]] or body
+    flip = {n: False for n in seeds}
     grew = True
     while grew:
         grew = False
@@ -93,18 +88,17 @@ def _turned_over(pattern: Pattern, roles: dict[str, PanelRole]) -> list[int]:
             for here, there in ((s.a.panel, s.b.panel), (s.b.panel, s.a.panel)):
                 if here == there or here not in flip or there in flip:
                     continue
-                wrong = s.reverse != (way[here] == way[there])
-                flip[there] = flip[here] != wrong
+                seen = ccw[here] != flip[here]  # its way round once turned (if it is)
+                flip[there] = ccw[there] != (seen if s.reverse else not seen)
                 grew = True
-    return [index[n] for n in index if turned[n] != flip.get(n, False)]
+    return [index[n] for n, turned in flip.items() if turned]
 
 
 def upright_frames(pattern: Pattern, mesh: GarmentMesh,
                    roles: dict[str, PanelRole]) -> np.ndarray:
     """Flat positions (n, 2) [m] of ``mesh`` with every panel turned upright about its own
     centre (:func:`~patternfit.pattern.roles.upright_turn`), a panel seen from inside (a
-    GarmentCode panel drawn clockwise, or one sewn wrong side out: :func:`_turned_over`)
-    turned over about its vertical middle so that every panel is seen from outside, and,
+    GarmentCode back panel, one sewn wrong side out: :func:`_turned_over`) turned over about its vertical middle so that every panel is seen from outside, and,
     when a seam between body
     panels joins edges more than :data:`FRAME_MISMATCH` apart in height at both of its ends,
     body panels shifted in height, panel by panel from the first along the seams, so that
