@@ -227,6 +227,14 @@ def test_quantity_two_is_a_left_and_a_mirrored_right_piece(tmp_path):
     assert right.grainline == pytest.approx((-left.grainline[0], left.grainline[1]))
 
 
+def test_quantity_one_left_one_right_is_a_pair(tmp_path):
+    # Optitex writes a left/right pair as "Quantity: 1,1" (one of each)
+    path = accumark(tmp_path / "q.dxf", [{"name": "SLEEVE", "quantity": "1,1",
+                                          "runs": sleeve()}])
+    p = load_dxf(path)
+    assert [q.name for q in p.panels] == ["SLEEVE_L", "SLEEVE_R"]
+
+
 def test_mirror_line_unfolds_the_half_piece(tmp_path):
     half = half_front()
     path = accumark(tmp_path / "f.dxf", [{"name": "FRONT", "runs": half,

@@ -16,11 +16,14 @@ from patternfit.sim.placement import place_on_body
 def test_explicit_placement_is_kept():
     body = load_body("female_thin")
     pattern = build("skirt", "M")
+    # the skirt's waist (its top, drafted at the panel's largest y) at the body's waist
+    y = body.measurements["waist_height"] - max(
+        float(p.outline.polygon(8)[:, 1].max()) for p in pattern.panels)
     placed = []
     for i, panel in enumerate(pattern.panels):
         z = 0.3 if i == 0 else -0.3
         placed.append(replace(panel, placement=Placement(
-            panel.placement.part, panel.placement.side, translation=(0.0, 0.6, z),
+            panel.placement.part, panel.placement.side, translation=(0.0, y, z),
             rotation=(0.0, 0.0 if i == 0 else 180.0, 0.0))))
     pattern = replace(pattern, panels=tuple(placed))
     mesh = mesh_pattern(pattern, triangles=800)

@@ -3,15 +3,25 @@ round trip of the built-in dress and coat once slid them to the hips, their anch
 in ``meta``, which a DXF does not carry. The round trip is the user's:
 ``patternfit convert X.json X.dxf``, then the DXF read back (with its side file)."""
 
+import warnings
+
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from patternfit import api
 from patternfit.body.builtin import load_body
 from patternfit.cli.main import app
 from patternfit.mesh import mesh_pattern
+from patternfit.pattern.dxf import load_dxf
 from patternfit.pattern.formats import load_any_pattern
 from patternfit.pattern.library import GARMENTS, build
+from patternfit.pattern.roles import panel_roles
 from patternfit.sim.drape import drape
+from patternfit.sim.fabrics import get_fabric
+from patternfit.sim.placement import place_on_body
+from patternfit.sim.solver import GarmentSolver
+from test_dxf_aama import SIZES, accumark, half_front, skirt_piece, sleeve
 
 BODY = {"female": "female_average", "male": "male_average"}
 
@@ -50,3 +60,59 @@ def test_the_dress_and_coat_drape_at_the_neck_after_a_dxf_round_trip(name, tmp_p
 @pytest.mark.parametrize("name", [n for n in GARMENTS if n not in ("dress", "coat")])
 def test_every_built_in_drapes_after_a_dxf_round_trip(name, tmp_path):
     _drapes_on_the_body(name, tmp_path)
+
+
+# -- other tools' DXF files, built to the AAMA layer rules (tests/test_dxf_aama.py's writer) -----
+def _placed(path, size):
+    # as a user would: the DXF has no seams, the suggested ones are accepted
+    pattern = load_dxf(path, size=size)
+    pattern = api.accept_seams(pattern, api.suggest_seams(pattern))
+    body = load_body("female_average")
+    mesh = mesh_pattern(pattern, triangles=800)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing imported to replace: no warning
+        x = place_on_body(pattern, mesh, body)
+    centre = np.asarray(body.landmarks["torso_axis"]).mean(axis=0)
+    at = {p.name: x[mesh.panel_vertices(i)] - centre for i, p in enumerate(pattern.panels)}
+    return pattern, panel_roles(pattern), body, mesh, x, at
+
+
+@pytest.mark.parametrize("size", ["34", "38"])
+def test_an_accumark_top_with_folds_pairs_and_sizes_is_placed_by_its_names(tmp_path, size):
+    blocks = []
+    for s, g in SIZES.items():
+        blocks += [{"name": "FRONT", "size": s, "runs": half_front(g), "fold": ((0, 0), (0, 410))},
+                   {"name": "BACK", "size": s, "runs": half_front(g), "fold": ((0, 0), (0, 410))},
+                   {"name": "SLEEVE", "size": s, "quantity": 2, "runs": sleeve(g)}]
+    path = accumark(tmp_path / "top.dxf", blocks, sample="36", scale=25.4)
+    pattern, roles, body, mesh, x, at = _placed(path, size)
+    assert {n: (r.kind, r.part, r.side) for n, r in roles.items()} == {
+        "FRONT": ("bodice", "torso", "front"), "BACK": ("bodice", "torso", "back"),
+        "SLEEVE_L": ("sleeve", "arm_left", "outer"), "SLEEVE_R": ("sleeve", "arm_right", "outer")}
+    assert pattern.anchor == "neck"
+    assert np.median(at["FRONT"][:, 2]) > 0 > np.median(at["BACK"][:, 2])
+    assert np.median(at["SLEEVE_L"][:, 0]) > 0.15 and np.median(at["SLEEVE_R"][:, 0]) < -0.15
+    top = max(float(x[mesh.panel_vertices(i), 1].max()) for i, p in enumerate(pattern.panels)
+              if p.name in ("FRONT", "BACK"))
+    assert top == pytest.approx(body.measurements["neck_base_height"] + 0.01, abs=0.07)
+    solver = GarmentSolver(mesh.vertices, mesh.triangles, mesh.grain[mesh.triangle_panel],
+                           get_fabric("cotton_shirting"), seam_pairs=mesh.seam_pairs)
+    assert solver.crossings(x) == 0
+
+
+def test_an_accumark_skirt_with_allowance_hangs_from_the_waist(tmp_path):
+    blocks = []
+    for name in ("FRONT SKIRT", "BACK SKIRT"):
+        piece = skirt_piece()
+        piece["name"] = name
+        blocks.append(piece)
+    path = accumark(tmp_path / "skirt.dxf", blocks, scale=1.0)
+    pattern, roles, body, mesh, x, at = _placed(path, None)
+    assert [p.cut_line is not None for p in pattern.panels] == [True, True]  # allowance kept
+    assert {n: (r.kind, r.side) for n, r in roles.items()} == {
+        "FRONT SKIRT": ("skirt", "front"), "BACK SKIRT": ("skirt", "back")}
+    assert pattern.anchor == "waist"
+    # the sew line is what is placed: its top 1 cm above the waist
+    assert float(x[:, 1].max()) == pytest.approx(body.measurements["waist_height"] + 0.01,
+                                                 abs=0.02)
+    assert np.median(at["FRONT SKIRT"][:, 2]) > 0 > np.median(at["BACK SKIRT"][:, 2])

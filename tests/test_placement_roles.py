@@ -233,3 +233,46 @@ def test_roles_of_garmentcode_garments_without_names(name):
         got = roles[names[old]]
         assert (got.kind, got.part, got.side) == (kind, part, side), (old, got)
     assert bare.anchor == EXPECTED[name][0]
+
+
+def test_a_hood_without_names_is_read_from_its_seams():
+    # the hoodie's panels called P1, P2...: the two hood halves, sewn to each other along the
+    # crown and by their lower edges into the front and back necklines, are a hood (they
+    # read as a bodice before: their crown seam looked like shoulders)
+    bare, names = unnamed(gc("hoodie"))
+    roles = panel_roles(bare)
+    for old, (kind, part, side) in EXPECTED["hoodie"][1].items():
+        got = roles[names[old]]
+        assert (got.kind, got.part, got.side) == (kind, part, side), (old, got)
+    assert "neckline" in roles[names["hood_left"]].why
+    assert bare.anchor == "neck"
+
+
+def test_a_garmentcode_hood_drawn_sideways_without_names():
+    # GarmentCode draws a hood's halves in their own frames and turns them a quarter about
+    # the body's height (rotation [0, +-90, 0]), each at x = +-(half the neck); names that
+    # say nothing: the halves are a hood, each on the side its placement says
+    import json
+    doc = json.loads((GC / "hoodie_specification.json").read_text())
+    panels = doc["pattern"]["panels"]
+    rename = {"hood_left": "piece_5", "hood_right": "piece_6"}
+    for old, new in rename.items():
+        entry = panels.pop(old)
+        x = 10.8 if old.endswith("left") else -10.8
+        entry["translation"] = [x, 149.4, -11.6]
+        entry["rotation"] = [0.0, 90.0 if x > 0 else -90.0, 0.0]
+        panels[new] = entry
+    for st in doc["pattern"]["stitches"]:
+        for side in st[:2]:
+            side["panel"] = rename.get(side["panel"], side["panel"])
+    from patternfit.pattern.garmentcode import garmentcode_from_dict
+    roles = panel_roles(garmentcode_from_dict(doc))
+    assert (roles["piece_5"].kind, roles["piece_5"].side) == ("hood", "left")
+    assert (roles["piece_6"].kind, roles["piece_6"].side) == ("hood", "right")
+    assert roles["front"].kind == "bodice" and roles["lsleeve"].kind == "sleeve"
+
+
+@pytest.mark.parametrize("name", ["dress", "jumpsuit", "tee", "shirt"])
+def test_no_panel_of_a_garment_without_a_hood_reads_as_one(name):
+    bare, _ = unnamed(gc(name))
+    assert all(r.kind != "hood" for r in panel_roles(bare).values())

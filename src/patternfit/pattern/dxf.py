@@ -6,7 +6,8 @@ The format (layers, units, piece text) and each block read into points by meanin
 its mirror line, the outline fitted on the sew line, cut line, notches, internal lines, drill
 holes, left/right pairs) in :mod:`.dxf_pieces` with the curve fitting in :mod:`.dxf_curves`
 and the notches in :mod:`.dxf_notches`; graded files (one block per piece and size) in
-:mod:`.dxf_grades`; the writer in :mod:`.dxf_write`.
+:mod:`.dxf_grades`, a sample-size file graded by its ``.rul`` rule table in
+:mod:`.dxf_rules`; the writer in :mod:`.dxf_write`.
 
 DXF-AAMA has no seams, edge names or 3D placement: :func:`save_dxf` writes them, with every
 panel's notches (kinds included) and each seam's ease, to a side file ``<name>.seams.json``
@@ -32,6 +33,7 @@ from .dxf_format import LAYERS, PIECE_LAYERS, field, file_scale, read_document, 
 from .dxf_grades import graded_meta, pick_size, pieces_in_size, sizes_of
 from .dxf_notches import notch_marks
 from .dxf_pieces import copy_names, panels_from_piece
+from .dxf_rules import RuleTable, graded_by_rules, read_rules, rule_points, rules_path
 from .dxf_write import dxf_text
 from .errors import PatternError
 from .formats import check_imported
@@ -94,8 +96,10 @@ def save_dxf(pattern: Pattern, path, *, sidecar: bool = True) -> Path:
 
 
 # -- import ------------------------------------------------------------------------------------
-def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None) -> Pattern:
-    """The pattern (no seams) of a DXF file in ``size``; errors without the file."""
+def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
+              rules: RuleTable | None = None) -> Pattern:
+    """The pattern (no seams) of a DXF file in ``size`` (graded by ``rules`` when the file
+    draws one size only); errors without the file."""
     data = read_bytes_capped(path, limit=limits.dxf_bytes, error=PatternError)
     doc = read_document(data)
     # ezdxf makes up a header (metres) for a file without one: only what the file says counts
@@ -116,10 +120,12 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None)
         where = f" in size {size_most}" if size_most is not None else ""
         raise PatternError(f"the DXF has {every + most} blocks with a boundary{where}, more "
                            f"than the limit of {limits.panels} panels")
-    pieces = []
+    pieces, marks = [], {}
     for block in blocks:
         try:
             piece = read_piece(block, scale)
+            if piece is not None and rules is not None:
+                marks[block.name] = rule_points(block, scale)
         except PatternError:
             raise
         except Exception as exc:  # damaged geometry, of whatever kind
@@ -131,6 +137,10 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None)
                            "on layer 1)")
     marked = any(p.ours for p in pieces)
     sample = field(msp_texts, "Sample Size") or None
+    if rules is not None and len(sizes_of(pieces)) <= 1:
+        # the sample size drawn, the others made by the rule table
+        pieces = graded_by_rules(pieces, marks, rules)
+        sample = rules.sample
     chosen = pick_size(sizes_of(pieces), size, sample)
     panels, names, pairs = [], set(), {}
     for piece in pieces_in_size(pieces, chosen):
@@ -154,7 +164,7 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None)
     meta: dict[str, Any] = {"source_format": "dxf-aama", **graded_meta(pieces, chosen, sample)}
     if pairs:
         meta["pairs"] = pairs
-    table = field(msp_texts, "Grade Rule Table")
+    table = field(msp_texts, "Grade Rule Table") or (rules.name if rules else None)
     if table:
         meta["grade_rule_table"] = table
     warnings = _size_warnings(panels, scale, unit_says)
@@ -248,7 +258,7 @@ def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
 
 
 def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool = True,
-             size: str | None = None) -> Pattern:
+             size: str | None = None, rules=None) -> Pattern:
     """Read a DXF-AAMA file into a :class:`Pattern` [m].
 
     sidecar : side file with seams, edge names and placement; by default ``<name>.seams.json``
@@ -263,6 +273,10 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
     size : of a graded file (one block per piece and size), the size to read (case
         ignored); by default the ``Sample Size`` (:mod:`.dxf_grades`). A size the file does
         not have is a :class:`PatternError` naming the file and its sizes.
+    rules : a grade rule table (``.rul``, :mod:`.dxf_rules`); by default the ``.rul`` file
+        beside the DXF when it exists. A DXF drawing one size only is graded by it into the
+        table's sizes (its grade points: ``# N`` texts on layers 2, 3 and 4); a DXF that
+        draws every size keeps its own geometry.
 
     Every problem with the file is a :class:`PatternError` naming the file (the DXF or the
     side file) and where known the piece, the entity or the side file's key: a file that is
@@ -274,8 +288,10 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
     if units is not None and units not in UNITS:
         raise ValueError(f"units: expected one of {sorted(UNITS)}, got {units!r}")
     path = Path(path)
+    rules_file = Path(rules) if rules is not None else rules_path(path)
+    table = read_rules(rules_file) if rules_file is not None else None
     try:
-        pattern = _read_dxf(path, units, prefer_sew, size)
+        pattern = _read_dxf(path, units, prefer_sew, size, table)
     except PatternError as exc:
         raise exc.located(path) from None
     except Exception as exc:  # ezdxf raises many kinds on a damaged file

@@ -165,10 +165,12 @@ class RawPiece:
 
 
 def _quantity(text: str | None, where: dict) -> int:
+    """The piece count of a ``Quantity:`` text: ``2``, or ``1,1`` (Optitex: one left and one
+    right, a mirrored pair like 2)."""
     if text is None or not text.strip():
         return 1
     try:
-        q = int(float(text.strip()))
+        q = sum(int(float(part)) for part in text.strip().split(","))
     except ValueError:
         raise PatternError(f"'Quantity: {text}' is not a number", **where) from None
     if not 1 <= q <= 64:

@@ -12,7 +12,9 @@ this order of trust:
    or a leg when longer than :data:`LEG_LENGTH`); a long narrow band (aspect at least
    :data:`BAND_ASPECT`) is a cuff when sewn to a sleeve, a collar when sewn at the top of a
    bodice, else a waistband; a panel sewn at the top outer corner of a bodice (an armhole)
-   is a sleeve; two long panels sewn along a curved edge at their top (a crotch) are legs.
+   is a sleeve; two long panels sewn along a curved edge at their top (a crotch) are legs;
+   two alike panels sewn to each other along a curve and otherwise only by their lower edges
+   into the top of body panels (the necklines) are a hood's halves.
 
 Front and back come from the stated side where the panels do not all say "front", the name,
 the sign of an explicit placement's z, or the deeper neckline (the front's). Left and right
@@ -37,6 +39,10 @@ LEG_LENGTH = 0.60
 SLEEVE_AREA = 0.8
 #: the share of a panel's height [-] that counts as its top (shoulders, armholes, necklines)
 TOP_SHARE = 0.30
+#: a hood's half is at least this long [m] (a head is 0.23 m high; a collar's piece shorter)
+HOOD_SIZE = 0.30
+#: the two halves of a hood have the same area within this share [-]
+TWIN_AREA = 0.03
 
 #: what a panel is, by kind: the body part it goes on is "torso" unless the kind is
 #: sleeve/cuff (an arm) or leg
@@ -223,6 +229,10 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
                 for e, o, oe in links[n]
                 if _is_armhole(shapes[o], oe) and _cap_of(sh, e)):
             kinds[n], why[n] = "sleeve", "sewn by a curved end into an armhole"
+    for n in open_:  # hoods: sewn by their lower edges into necklines, and to a twin
+        if kinds[n] is None and _is_hood(n, shapes, links, kinds):
+            kinds[n] = "hood"
+            why[n] = "sewn by its lower edges into a neckline and to its twin along a curve"
     for n in open_:
         if kinds[n] is None:
             sewn_up = any(o != n and kinds[o] in ("bodice",) for _, o, _ in links[n])
@@ -232,6 +242,30 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
             kinds[n] = "bodice" if shoulders else "skirt"
             why[n] = "sewn at its top to another panel's top (shoulders)" if shoulders \
                 else ("sewn below a bodice" if sewn_up else "a body panel without shoulders")
+
+
+def _is_hood(n: str, shapes, links, kinds) -> bool:
+    """Whether panel ``n`` is one half of a hood: at least :data:`HOOD_SIZE` long and not
+    a band, sewn to a twin (a panel of the same area within :data:`TWIN_AREA`, not yet
+    known to be anything else) along a curve (the crown), and otherwise only by edges below
+    its top into edges at the top of other panels (the front and back necklines); nothing at
+    its top goes into another panel's top (shoulders)."""
+    sh = shapes[n]
+    if sh.length < HOOD_SIZE or sh.aspect >= BAND_ASPECT:
+        return False
+    area = sh.panel.area()
+    twin = necks = 0
+    for e, o, oe in links[n]:
+        if o == n:
+            return False
+        if kinds[o] in (None, "hood") and abs(shapes[o].panel.area() - area) <= TWIN_AREA * area:
+            if sh.curved(e) or shapes[o].curved(oe):
+                twin += 1
+            continue
+        if sh.at_top(e) or not shapes[o].at_top(oe) or kinds[o] not in (None, "bodice"):
+            return False
+        necks += 1
+    return twin > 0 and necks > 0
 
 
 def _mirrored_legs(a: _Shape, b: _Shape, kind: str) -> bool:

@@ -4,8 +4,9 @@ Every pair of free outline edges on which the seam could lie is scored from the 
 pattern maker reads, each a factor in [0, 1] with its reason in words:
 
 - **length**: equal within the seam tolerance; a sleeve's edge up to 4 cm longer than a
-  body piece's (cap ease); a small ease (up to 5 %); a gather (up to ``limits.seam_ease``);
-  nothing beyond.
+  body piece's (cap ease); a small ease (up to 5 %); a gather (up to ``limits.seam_ease``),
+  likelier into a band at the top of the gathered piece or a cuff at its bottom; nothing
+  beyond.
 - **piece names** (FR/FRONT, BK/BACK, SL/SLEEVE, CF/CB, YOKE, COLLAR, CUFF, BAND, and
   ``_L``/``_R`` or LEFT/RIGHT): front to back, a sleeve or collar to a body piece are
   expected; a left piece is sewn to a right one only along its centre edge (the centre
@@ -19,9 +20,11 @@ pattern maker reads, each a factor in [0, 1] with its reason in words:
   they wrap the body: across the grain their outward normals point opposite ways (a front's
   right edge meets a back's left edge), along the grain the same way (both shoulder edges
   face up); two horizontal edges may also stack (a yoke's lower edge on a back's upper
-  edge). Two edges across their pieces facing the same way along the grain are openings
-  (hem to hem, waist to waist); two facing down may be (cuffs). Not used between a sleeve
-  and another piece: a sleeve's grain runs along the arm.
+  edge), never a front piece's on a back piece's (a front band on the back band). Two
+  edges across their pieces facing the same way along the grain are openings (hem to hem,
+  waist to waist); two facing down may be (cuffs). Between a sleeve and another piece the
+  grain only says that a body piece takes a sleeve at its side (an armhole), not along an
+  edge across its middle (a neckline): a sleeve's grain runs along the arm.
 - **orientation**: ``reverse`` is True when both outlines run the same way round.
 
 One global assignment, greedy on the score: each edge is sewn at most once. A piece then
@@ -96,6 +99,7 @@ class _Piece:
     top: float              # highest point along the grain [m]
     height: float           # extent along the grain [m]
     notched: bool
+    facing: str | None      # "front" or "back" by the name, whatever the kind (band_front)
 
 
 @dataclass(frozen=True)
@@ -154,8 +158,10 @@ def _features(pattern: Pattern, sewn: set) -> tuple[dict, list[_Edge]]:
         orient = 1.0 if panel.outline.signed_area() >= 0 else -1.0
         notches = _notches(panel)
         kind, side = _kind_and_side(panel)
+        facing = next((k for t in _tokens(panel.name) for k in ("front", "back")
+                       if t in _KINDS[k]), None)
         pieces[panel.name] = _Piece(kind, side, orient, 0.5 * (lo + hi), float(hi[1]),
-                                    float(hi[1] - lo[1]), any(notches.values()))
+                                    float(hi[1] - lo[1]), any(notches.values()), facing)
         for k, e in enumerate(panel.outline.edges):
             if (panel.name, e.name) in sewn:
                 continue
@@ -185,8 +191,15 @@ def _length(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece):
     if ratio <= SMALL_EASE:
         return 0.6, f"a small ease ({ratio * 100:.1f} %, Δ {diff * 10:.1f} mm)"
     if ratio <= limits.seam_ease:
-        return 0.3, f"gathered {1 + ratio:.2f}:1 ({max(la, lb) * 100:.1f} into " \
-                    f"{min(la, lb) * 100:.1f} cm)"
+        gathered = f"gathered {1 + ratio:.2f}:1 ({max(la, lb) * 100:.1f} into " \
+                   f"{min(la, lb) * 100:.1f} cm)"
+        # a gather is sewn into a band at the top of the gathered piece (a skirt into its
+        # waistband) or into a cuff at its bottom (a sleeve's wrist)
+        long_e, long_p = (a, pa) if la > lb else (b, pb)
+        at_top = long_e.top >= long_p.top - TOP_SHARE * long_p.height
+        if (short_kind == "band" and at_top) or (short_kind == "cuff" and not at_top):
+            return 0.7, f"{gathered} into a {short_kind}"
+        return 0.3, gathered
     return 0.0, ""
 
 
@@ -275,7 +288,12 @@ def _notch_factor(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece, reverse: bool):
 
 def _grain(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece):
     if (pa.kind == "sleeve") != (pb.kind == "sleeve"):
-        return 1.0, ""   # a sleeve's grain runs along the arm, not with the body's
+        # a sleeve's grain runs along the arm, not with the body's; but a body piece takes
+        # it at the side (an armhole), never along an edge across its middle
+        edge, body = (b, pb) if pa.kind == "sleeve" else (a, pa)
+        if body.kind in _TORSO and edge.span[0] < body.centre[0] < edge.span[1]:
+            return 0.2, "a sleeve sewn across the middle of a body piece (a neckline or hem)"
+        return 1.0, ""
     na, nb = a.normal, b.normal
     wrap = -na[0] * nb[0] + na[1] * nb[1]
     flat = abs(na[1]) > 0.7 and abs(nb[1]) > 0.7
@@ -284,7 +302,10 @@ def _grain(a: _Edge, b: _Edge, pa: _Piece, pb: _Piece):
         return 0.3, "both edges run across their pieces facing the same way (openings)"
     if flat and na[1] < 0 and nb[1] < 0:
         return 0.7, "both edges face down (a hem or a cuff?)"
-    stack = na[0] * nb[0] - na[1] * nb[1] if flat else -1.0
+    # a front piece and a back piece meet around the body, never one above the other (a
+    # front band's lower edge on the back band's upper edge)
+    facing_apart = pa.facing and pb.facing and pa.facing != pb.facing
+    stack = na[0] * nb[0] - na[1] * nb[1] if flat and not facing_apart else -1.0
     cos = max(wrap, stack)
     factor = 0.25 + 0.75 * 0.5 * (1.0 + cos)
     if cos > 0.8:

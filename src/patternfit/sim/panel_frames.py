@@ -24,9 +24,12 @@ FRAME_MISMATCH = 0.05
 #: surface exceeds this [m], ...
 PLACED_FAR = 0.40
 #: ... or more than this share of its vertices lie inside the body [-], or the top of the
-#: body panels lies farther than this [m] from the height the garment hangs from
+#: body panels lies farther than this [m] from the height the garment hangs from: a
+#: placement made for another body (GarmentCode's shirt for its 1.72 m mean body sat 11 cm
+#: below a 1.78 m body's neck and slid off it; its flare skirt, within 1 cm of the waist,
+#: draped as placed)
 PLACED_INSIDE = 0.3
-PLACED_HEIGHT = 0.25
+PLACED_HEIGHT = 0.05
 
 #: body measurement giving the height of each anchor (:attr:`Pattern.anchor`) [m]
 ANCHOR_HEIGHT = {"waist": "waist_height", "neck": "neck_base_height"}
@@ -62,10 +65,41 @@ def _up_direction(pattern: Pattern, mesh: GarmentMesh, pi: int, role: PanelRole,
     return np.asarray(panel.grainline, dtype=np.float64)
 
 
+def _turned_over(pattern: Pattern, roles: dict[str, PanelRole]) -> list[int]:
+    """The panels to turn over before placing, so that every panel is seen from outside.
+
+    Two panels seen from outside are sewn end to start when their outlines run the same way
+    round (``Seam.reverse`` says whether a seam is). The body panels (bodice, skirt, leg)
+    drawn counter-clockwise, as ours are, are seen from outside; from them, along the seams,
+    every other panel is turned over where its seam says it is seen from inside: a
+    GarmentCode back panel (drawn clockwise as seen from the front, sewn end to start to
+    the front), a panel sewn wrong side out (GarmentCode's ``right_wrong``: a lapel, a
+    facing). A DXF's right piece of a pair runs clockwise but is its left piece mirrored,
+    seen from outside: its seams (start to start) say so, and it is not turned."""
+    index = {p.name: i for i, p in enumerate(pattern.panels)}
+    ccw = {p.name: p.outline.signed_area() >= 0 for p in pattern.panels}
+    body = [p.name for p in pattern.panels if roles[p.name].kind in ("bodice", "skirt", "leg")]
+    seeds = [n for n in body if ccw[n]] or body
+    flip = {n: False for n in seeds}
+    grew = True
+    while grew:
+        grew = False
+        for s in pattern.seams:
+            for here, there in ((s.a.panel, s.b.panel), (s.b.panel, s.a.panel)):
+                if here == there or here not in flip or there in flip:
+                    continue
+                seen = ccw[here] != flip[here]  # its way round once turned (if it is)
+                flip[there] = ccw[there] != (seen if s.reverse else not seen)
+                grew = True
+    return [index[n] for n, turned in flip.items() if turned]
+
+
 def upright_frames(pattern: Pattern, mesh: GarmentMesh,
                    roles: dict[str, PanelRole]) -> np.ndarray:
     """Flat positions (n, 2) [m] of ``mesh`` with every panel turned upright about its own
-    centre (:func:`~patternfit.pattern.roles.upright_turn`) and, when a seam between body
+    centre (:func:`~patternfit.pattern.roles.upright_turn`), a panel seen from inside (a
+    GarmentCode back panel, one sewn wrong side out: :func:`_turned_over`) turned over about its vertical middle so that every panel is seen from outside, and,
+    when a seam between body
     panels joins edges more than :data:`FRAME_MISMATCH` apart in height at both of its ends,
     body panels shifted in height, panel by panel from the first along the seams, so that
     each seam's two sides meet at the end where they met best.
@@ -79,6 +113,9 @@ def upright_frames(pattern: Pattern, mesh: GarmentMesh,
         ids = mesh.panel_vertices(pi)
         c = flat[ids].mean(axis=0)
         flat[ids] = (flat[ids] - c) @ upright_turn(up).T + c
+    for pi in _turned_over(pattern, roles):
+        ids = mesh.panel_vertices(pi)
+        flat[ids, 0] = 2.0 * flat[ids, 0].mean() - flat[ids, 0]
     body = {p.name for p in pattern.panels if not roles[p.name].part.startswith("arm")}
     index = {p.name: i for i, p in enumerate(pattern.panels)}
     # per seam between two body panels: its sewn vertex pairs (a's side first)

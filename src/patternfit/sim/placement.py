@@ -202,18 +202,50 @@ def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, flo
     return float(np.abs(d[:, 0]).max()), float(d[:, 1].max()), float(-d[:, 1].min())
 
 
+#: half panels start this far [m] either side of the centre line they are sewn along (not
+#: touching: the solver counts touching cloth as crossed)
+HALF_GAP = 0.005
+
+
+def _halves(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray, roles) -> dict[int, float]:
+    """{panel index: u shift [m]} for torso panels sewn along a vertical seam to another
+    of the same kind and side (a left and a right half, as GarmentCode drafts bodices): the
+    shift puts that seam at u = 0, so the halves lie side by side about the centre line
+    instead of each centred on it."""
+    index = {p.name: i for i, p in enumerate(pattern.panels)}
+    out = {}
+    for k, s in enumerate(pattern.seams):
+        ra, rb = roles[s.a.panel], roles[s.b.panel]
+        if s.a.panel == s.b.panel or ra.part != "torso" or rb.part != "torso" or \
+                (ra.kind, ra.side) != (rb.kind, rb.side) or ra.side not in ("front", "back"):
+            continue
+        pairs = mesh.seam_pairs[mesh.seam_index == k]
+        for name, col in ((s.a.panel, 0), (s.b.panel, 1)):
+            uv = flat[pairs[:, col]]
+            if np.ptp(uv[:, 0]) < 0.3 * np.ptp(uv[:, 1]):  # a centre line runs up the body
+                seam = float(uv[:, 0].mean())
+                away = 1.0 if flat[mesh.panel_vertices(index[name]), 0].mean() > seam else -1.0
+                out[index[name]] = away * HALF_GAP - seam
+    return out
+
+
 def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
-                 arm_gap) -> np.ndarray:
+                 arm_gap, shift: float | None = None) -> np.ndarray:
     """A torso panel: rolled on an ellipse clear of the body, centred on its ``side``
-    (front, back, or the body's left / right for a hood's halves), or on a winged profile
-    when too wide to wrap."""
+    (front, back, or the body's left / right for a hood's halves), or moved across by
+    ``shift`` [m] (a half panel: its centre seam on the middle of that side); on a winged
+    profile when too wide to wrap."""
     y0, y1 = uv[:, 1].min() + dy, uv[:, 1].max() + dy
     hw, front, back = _torso_extent(body, y0, y1, centre)
     depth = max(front, back)
     ring = Ellipse(hw + clearance, depth + clearance, centre)
-    width = float(np.ptp(uv[:, 0]))
+    width = float(np.ptp(uv[:, 0])) if shift is None else 2.0 * float(
+        np.abs(uv[:, 0] + shift).max())
     grow = width / (0.5 * ring.perimeter * 0.97)
-    uv = _centred(uv)
+    if shift is None:
+        uv = _centred(uv)
+    else:
+        uv = uv + [shift, 0.0]
     if grow <= width_limit:
         if grow > 1:
             ring = Ellipse(ring.a * grow, ring.b * grow, centre)
@@ -273,6 +305,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     flat = upright_frames(pattern, mesh, roles)
     lm = body.landmarks
     dy = _vertical_offset(pattern, flat, mesh, roles, body)
+    halves = _halves(pattern, mesh, flat, roles)
     arm_gap = 0.5 * body.measurements.get("bicep", 0.32) / math.pi + clearance + 0.02
     x = np.zeros((mesh.n_vertices, 3))
     torso = np.asarray(lm["torso_axis"])[:, [0, 2]].mean(axis=0)
@@ -290,7 +323,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             arms.setdefault(role.part, []).append(pi)
         else:
             x[ids] = _place_torso(role.side, uv, body, torso, dy, clearance, width_limit,
-                                  arm_gap)
+                                  arm_gap, halves.get(pi))
     for part, panels in legs.items():
         side = part.split("_")[1]
         top, bottom = np.asarray(lm[f"leg_axis_{side}"])
