@@ -77,9 +77,7 @@ def test_redrape_after_a_hem_edit_starts_from_the_state_moved_with_it(thin_woman
 
 
 @pytest.mark.parametrize("garment,body,triangles", [
-    pytest.param("coat", "male_heavy", 2000, marks=pytest.mark.xfail(reason=(
-        "issue 19 open: under the force stop the 2K coat on the heavy man stops at the "
-        "iteration limit, residual rms 7.1, not at rest"))),
+    ("coat", "male_heavy", 2000),
     ("trousers", "male_thin", 1200), ("dress", "female_average", 2000)])
 def test_garment_drapes_and_passes_checks(garment, body, triangles):
     m, d = draped(garment, body, triangles)

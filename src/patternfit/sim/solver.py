@@ -23,7 +23,7 @@ from cholespy import CholeskySolverD, MatrixType
 from ..arguments import array
 from ..constants import GRAVITY, limits, tol
 from ..geometry import unique_edges
-from . import kernels
+from . import body_contact, kernels
 from .energies import MeshTerms, build_terms, spring_matrix
 from .fabrics import Fabric, get_fabric
 
@@ -397,6 +397,12 @@ class GarmentSolver:
         return out / np.bincount(self._group, minlength=self._n)[:, None]
 
     # ------------------------------------------------------------------------ energy
+    def _distance(self, x):
+        """Distances (n,) [m] and gradients (n, 3) of the body's field as contact sees it
+        (the C1 reading of ``body_contact``) at ``x`` (n, 3) [m]."""
+        return body_contact.smooth_sdf_query(self.body.values, self.body.origin,
+                                             self.body.spacing, x)
+
     def _contact_k(self):
         return self.settings.contact_stiffness * self.terms.vertex_area * self._contact_scale
 
@@ -410,7 +416,7 @@ class GarmentSolver:
         e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", self._f, x))
         grad += qx - self._f
         if self.body is not None:
-            e += kernels.contact(x, self.body.values, self.body.origin, self.body.spacing,
+            e += body_contact.contact(x, self.body.values, self.body.origin, self.body.spacing,
                                  self._reach, self._kc, self._seen, self._room, grad)
         if len(self._fr_idx):
             e += kernels.friction(x, self._fr_idx, self._fr_anchor, self._fr_normal,
@@ -468,7 +474,7 @@ class GarmentSolver:
         blocks = np.zeros((self._n, 3, 3))
         blocks += (self._mass / s.newton_dt ** 2)[:, None, None] * np.eye(3)
         if self.body is not None:
-            d, g = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
+            d, g = self._distance(x)
             on = np.flatnonzero(d < self._reach)
             blocks[on] += self._kc[on, None, None] * g[on, :, None] * g[on, None, :]
         if len(self._fr_idx):
@@ -611,7 +617,7 @@ class GarmentSolver:
         diag = np.zeros(n)
         self._fr_idx = np.zeros(0, np.int64)
         if self.body is not None:
-            d, g = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
+            d, g = self._distance(x)
             # a vertex found inside the body (or deeper than half the contact margin, where
             # the true surface may lie) gets a stiffer contact (x4, up to 4^6)
             inside = d < self._floor
@@ -1003,7 +1009,7 @@ class GarmentSolver:
         its contact stiffness not yet at the cap."""
         if self.body is None:
             return False
-        d, _ = kernels.sdf_query(self.body.values, self.body.origin, self.body.spacing, x_red)
+        d, _ = self._distance(x_red)
         return bool(((d < self._floor) & (self._contact_scale < _MAX_CONTACT_SCALE)).any())
 
     def compressed_share(self, x, strain: float = 0.01) -> float:
