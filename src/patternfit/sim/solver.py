@@ -456,8 +456,12 @@ class GarmentSolver:
         indptr = np.searchsorted(rows, np.arange(n3 + 1)).astype(np.int32)
         indices = cols.astype(np.int32)
         k1, k2 = len(r_mem), len(r_mem) + len(r_b)
+        # vertex pairs that share a triangle (and each vertex with itself): the pattern the
+        # Newton preconditioner keeps (see _newton_preconditioner)
+        near = np.unique(np.concatenate([(tris[:, :, None] * self._n + tris[:, None, :]).ravel(),
+                                         np.arange(self._n) * (self._n + 1)]))
         self._hpattern = (tris.copy(), indptr, indices, slot[:k1], slot[k1:k2], slot[k2:],
-                          rows, cols)
+                          rows, cols, near)
         return self._hpattern
 
     def _hessian(self, x):
@@ -466,7 +470,7 @@ class GarmentSolver:
         s = self.settings
         t = self.terms
         f = self.fabric
-        _, indptr, indices, s_mem, s_b, s_d, rows, cols = self._hessian_pattern()
+        _, indptr, indices, s_mem, s_b, s_d, rows, cols, _ = self._hessian_pattern()
         mem = np.empty((len(t.tris), 81))
         kernels.membrane_hessian(x, t.tris, t.cu, t.cv, t.area, f.stretch_warp,
                                  f.stretch_weft, f.shear, s.compression, mem)
@@ -535,15 +539,29 @@ class GarmentSolver:
         return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
                                                      np.concatenate(cols))), shape=(n3, n3))
 
+    def _newton_preconditioner(self, H):
+        """COO (rows, cols, data) of the matrix factored to precondition Newton's CG: ``H``
+        (3n x 3n) on the entries between vertices that share a triangle; every other entry
+        (bending across an edge, self-collision pairs) is dropped and its absolute value added
+        to its row's diagonal, which keeps the matrix above ``H`` (positive definite). The
+        factor's fill then is the membrane's: 15K skirt 1.18 -> 0.23 s a factorisation, 13 ->
+        6 ms a solve, as many CG iterations."""
+        near = self._hessian_pattern()[8]
+        C = H.tocoo()
+        keep = np.isin((C.row // 3) * self._n + C.col // 3, near, assume_unique=False)
+        extra = np.bincount(C.row[~keep], weights=np.abs(C.data[~keep]), minlength=H.shape[0])
+        M = (sp.csr_matrix((C.data[keep], (C.row[keep], C.col[keep])), shape=H.shape)
+             + sp.diags(extra)).tocoo()
+        return M.row.astype(np.int32), M.col.astype(np.int32), M.data
+
     def _newton_direction(self, x, grad):
         """Inexact Newton step: conjugate gradients on H d = -grad, preconditioned by the
         Cholesky factor of this or an earlier Hessian (refactored when CG was slow)."""
         s = self.settings
         H = self._hessian(x)
         if self._nfactor is None or self._cg_last > s.newton_refactor:
-            C = H.tocoo()
-            self._nfactor = CholeskySolverD(H.shape[0], C.row.astype(np.int32),
-                                            C.col.astype(np.int32), C.data, MatrixType.COO)
+            rows, cols, data = self._newton_preconditioner(H)
+            self._nfactor = CholeskySolverD(H.shape[0], rows, cols, data, MatrixType.COO)
             self.factorizations += 1
         b = -grad.reshape(-1, 1)
         b[np.repeat(~self._free, 3)] = 0.0
