@@ -563,39 +563,41 @@ class GarmentSolver:
             rows, cols, data = self._newton_preconditioner(H)
             self._nfactor = CholeskySolverD(H.shape[0], rows, cols, data, MatrixType.COO)
             self.factorizations += 1
-        b = -grad.reshape(-1, 1)
+        b = -grad.ravel()
         b[np.repeat(~self._free, 3)] = 0.0
 
         def prec(r):
-            out = np.zeros_like(r)
-            self._nfactor.solve(np.ascontiguousarray(r), out)
-            return out
+            out = np.zeros((len(r), 1))
+            self._nfactor.solve(r.reshape(-1, 1), out)
+            return out.ravel()
 
+        # (the dot products by kernels.dot: BLAS's threads only wait on a busy machine)
+        dot = kernels.dot
         xk = np.zeros_like(b)
         r = b.copy()
         z = prec(r)
         p = z.copy()
-        rz = float(r.ravel() @ z.ravel())
-        bn = float(np.linalg.norm(b))
+        rz = dot(r, z)
+        tol2 = s.newton_cg_tol ** 2 * dot(b, b)
         its = 0
         for its in range(1, s.newton_cg_max + 1):
             hp = H @ p
-            php = float(p.ravel() @ hp.ravel())
+            php = dot(p, hp)
             if not php > 0.0:
                 break
             a = rz / php
-            xk += a * p
-            r -= a * hp
-            if float(np.linalg.norm(r)) <= s.newton_cg_tol * bn:
+            kernels.axpy(a, p, xk)
+            kernels.axpy(-a, hp, r)
+            if dot(r, r) <= tol2:
                 break
             z = prec(r)
-            rz_new = float(r.ravel() @ z.ravel())
+            rz_new = dot(r, z)
             p = z + (rz_new / rz) * p
             rz = rz_new
         self._cg_last = its
         if not xk.any():
-            return prec(b).ravel()
-        return xk.ravel()
+            return prec(b)
+        return xk
 
     # ------------------------------------------------------------------------ outer updates
     def _set_springs(self, stiffness, pull=1.0):
