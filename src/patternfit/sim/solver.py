@@ -923,13 +923,24 @@ class GarmentSolver:
                 accepted = False
                 # near rest the energy's rounding (its gravity part is large) hides the drop
                 noise = 1e-13 * (abs(energy) + e_scale) if force_rule else 0.0
-                for _ in range(30):
+                for tries in range(30):
                     x_new = x + alpha * d.reshape(-1, 3)
                     e_new, g_new = self._energy(x_new)
                     if e_new <= energy + 1e-4 * alpha * gd + noise:
                         accepted = True
                         break
                     alpha *= 0.5
+                if accepted and newton_now and tries == 0:
+                    # a full Newton step taken whole: try twice as far while that lowers the
+                    # energy further (the projected Hessian is stiffer than the energy where
+                    # cloth buckles or slides, so full steps fall short)
+                    while 2.0 * alpha * longest <= s.max_step:
+                        x_try = x + 2.0 * alpha * d.reshape(-1, 3)
+                        e_try, g_try = self._energy(x_try)
+                        if not e_try < e_new:
+                            break
+                        alpha *= 2.0
+                        x_new, e_new, g_new = x_try, e_try, g_try
                 if not accepted:
                     if lbfgs.count and not newton_now:
                         lbfgs.reset()
