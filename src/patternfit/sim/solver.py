@@ -417,8 +417,9 @@ class GarmentSolver:
         e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", self._f, x))
         grad += qx - self._f
         if self.body is not None:
-            e += body_contact.contact(x, self.body.values, self.body.origin, self.body.spacing,
-                                 self._reach, self._kc, self._seen, self._room, grad)
+            e += body_contact.contact(x, self.body.values, self.body.origin,
+                                      self.body.spacing, self._reach, self._kc, self._seen,
+                                      self._room, grad)
         if len(self._fr_idx):
             e += kernels.friction(x, self._fr_idx, self._fr_anchor, self._fr_normal,
                                   self._fr_limit, self.settings.friction_slip, grad)
