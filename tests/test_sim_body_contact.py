@@ -33,12 +33,17 @@ def test_linear_field_is_reproduced_with_its_gradient(a, b, c, e, p):
     np.testing.assert_allclose(g[0], [a, b, c], atol=1e-5)
 
 
+def _shell(seed, n, lo, hi):
+    """``n`` random points [m] at radii in [lo, hi] around the origin."""
+    rng = np.random.default_rng(seed)
+    u = rng.normal(size=(n, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    return u * rng.uniform(lo, hi, size=(n, 1)), rng
+
+
 def test_sphere_distance_is_close_and_gradient_is_the_derivative():
     field = sphere_field(0.1, half=0.2, h=0.005)
-    rng = np.random.default_rng(1)
-    u = rng.normal(size=(200, 3))
-    u /= np.linalg.norm(u, axis=1, keepdims=True)
-    x = u * rng.uniform(0.095, 0.12, size=(200, 1))
+    x, _ = _shell(1, 200, 0.095, 0.12)
     d, g = body_contact.smooth_sdf_query(field.values, field.origin, field.spacing, x)
     # the B-spline smooths by about h^2/8 * (2 / r): 0.06 mm here
     np.testing.assert_allclose(d, np.linalg.norm(x, axis=1) - 0.1, atol=2e-4)
@@ -66,10 +71,7 @@ def test_gradient_is_continuous_across_a_cell_face_where_trilinear_jumps():
 
 def test_contact_gradient_matches_finite_differences_and_spares_far_vertices():
     field = sphere_field(0.1, half=0.2, h=0.005)
-    rng = np.random.default_rng(2)
-    u = rng.normal(size=(50, 3))
-    u /= np.linalg.norm(u, axis=1, keepdims=True)
-    x = u * rng.uniform(0.098, 0.106, size=(50, 1))
+    x, rng = _shell(2, 50, 0.098, 0.106)
     k = rng.uniform(10.0, 100.0, size=50)
     thickness = 0.003
 
