@@ -81,9 +81,6 @@ def test_proposed_moves_only_widen_and_keep_the_pattern_valid(session):
         assert np.ptp(panel.outline.polygon()[:, 0]) >= np.ptp(old.outline.polygon()[:, 0])
 
 
-@pytest.mark.xfail(reason=(
-    "issue 19 open: under the force stop (the default since this session) a re-drape of the corrected "
-    "pattern does not pass every check (not at rest or crossed)"))
 def test_correction_reaches_the_threshold(session):
     result = correct(session, settings=SETTINGS)
     first, last = result.iterations[0], result.iterations[-1]
