@@ -77,9 +77,7 @@ def test_redrape_after_a_hem_edit_starts_from_the_state_moved_with_it(thin_woman
 
 
 @pytest.mark.parametrize("garment,body,triangles", [
-    pytest.param("coat", "male_heavy", 2000, marks=pytest.mark.xfail(reason=(
-        "issue 19 open: under the force stop the 2K coat on the heavy man stops at the "
-        "iteration limit, residual rms 7.1, not at rest"))),
+    ("coat", "male_heavy", 2000),
     ("trousers", "male_thin", 1200), ("dress", "female_average", 2000)])
 def test_garment_drapes_and_passes_checks(garment, body, triangles):
     m, d = draped(garment, body, triangles)
@@ -120,11 +118,7 @@ def test_trousers_crotch_does_not_cross_itself():
     assert d.checks.self_intersections == 0 and d.checks.passed, d.checks
 
 
-@pytest.mark.slow  # two drapes of 5,000 iterations each (about 65 s of CPU apiece)
-@pytest.mark.xfail(strict=True, reason="issue 19, open: under the default force stop the "
-                   "too-small S dress in stretch knit on female_heavy does not reach a force "
-                   "balance (5,000 iterations: residual rms 2.03, p99 1.50; the kinematic rule "
-                   "called it converged)")
+@pytest.mark.slow  # two drapes to rest (about 20 s in all)
 def test_larger_size_fits_looser():
     # a too-small dress in a stretch knit is stretched (ϖ < 1); a larger one less so
     m_s, small = draped("dress", "female_heavy", 1200, size="S", fabric="stretch_knit")

@@ -81,13 +81,6 @@ def test_proposed_moves_only_widen_and_keep_the_pattern_valid(session):
         assert np.ptp(panel.outline.polygon()[:, 0]) >= np.ptp(old.outline.polygon()[:, 0])
 
 
-@pytest.mark.xfail(reason=(
-    "issue 19 open: the first drape (before any correction) fails its equilibrium, with no "
-    "crossed pair: 5,000 iterations or the time limit, residual rms 139-151, p99 0.56, "
-    "all of it on four waistband vertices whose contact was stiffened x1024, held 1 um "
-    "inside the contact layer on a face of the distance field's grid, where the trilinear "
-    "field's gradient jumps (one of them: 4.46 N net, 4,207 times its weight); the "
-    "corrected re-drape passes (rms 0.005-0.007)"))
 def test_correction_reaches_the_threshold(session):
     result = correct(session, settings=SETTINGS)
     first, last = result.iterations[0], result.iterations[-1]

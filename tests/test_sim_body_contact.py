@@ -1,0 +1,102 @@
+"""The C1 (quadratic B-spline) reading of the body's distance field that contact uses
+(patternfit.sim.body_contact): exact on linear fields, close to a sphere's distance, a
+gradient that is the derivative of the value and continuous across grid cell faces (the
+trilinear one jumps there), and a contact energy whose gradient matches finite differences."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from patternfit.body.sdf import sdf_query
+from patternfit.sim import body_contact
+
+from scenes import sphere_field
+
+ORIGIN = np.zeros(3)
+H = 0.01
+
+
+def _linear_grid(a, b, c, e, n=9):
+    i, j, k = np.meshgrid(*[np.arange(n)] * 3, indexing="ij")
+    return (a * H * i + b * H * j + c * H * k + e).astype(np.float32)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1), st.floats(-0.1, 0.1),
+       st.lists(st.floats(0.02, 0.06), min_size=3, max_size=3))
+def test_linear_field_is_reproduced_with_its_gradient(a, b, c, e, p):
+    values = _linear_grid(a, b, c, e)
+    d, g = body_contact.smooth_sdf_query(values, ORIGIN, H, np.array([p]))
+    assert abs(d[0] - (a * p[0] + b * p[1] + c * p[2] + e)) < 1e-6
+    np.testing.assert_allclose(g[0], [a, b, c], atol=1e-5)
+
+
+def _shell(seed, n, lo, hi):
+    """``n`` random points [m] at radii in [lo, hi] around the origin."""
+    rng = np.random.default_rng(seed)
+    u = rng.normal(size=(n, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    return u * rng.uniform(lo, hi, size=(n, 1)), rng
+
+
+def test_sphere_distance_is_close_and_gradient_is_the_derivative():
+    field = sphere_field(0.1, half=0.2, h=0.005)
+    x, _ = _shell(1, 200, 0.095, 0.12)
+    d, g = body_contact.smooth_sdf_query(field.values, field.origin, field.spacing, x)
+    # the B-spline smooths by about h^2/8 * (2 / r): 0.06 mm here
+    np.testing.assert_allclose(d, np.linalg.norm(x, axis=1) - 0.1, atol=2e-4)
+    h = 1e-6
+    for c in range(3):
+        e = np.zeros(3)
+        e[c] = h
+        dp, _ = body_contact.smooth_sdf_query(field.values, field.origin, field.spacing, x + e)
+        dm, _ = body_contact.smooth_sdf_query(field.values, field.origin, field.spacing, x - e)
+        np.testing.assert_allclose(g[:, c], (dp - dm) / (2 * h), atol=1e-4)
+
+
+def test_gradient_is_continuous_across_a_cell_face_where_trilinear_jumps():
+    field = sphere_field(0.1, half=0.2, h=0.005)
+    # a point just off the sphere, moved across the grid plane x = node 4 steps off axis
+    face = field.origin[0] + field.spacing * np.round((0.06 - field.origin[0]) / field.spacing)
+    y = np.sqrt(0.102 ** 2 - face ** 2)
+    eps = 1e-9
+    pts = np.array([[face - eps, y, 0.0], [face + eps, y, 0.0]])
+    _, g_smooth = body_contact.smooth_sdf_query(field.values, field.origin, field.spacing, pts)
+    _, g_tri = sdf_query(field.values, field.origin, field.spacing, pts)
+    assert np.abs(g_smooth[0] - g_smooth[1]).max() < 1e-5
+    assert np.abs(g_tri[0] - g_tri[1]).max() > 1e-3
+
+
+def test_contact_gradient_matches_finite_differences_and_spares_far_vertices():
+    field = sphere_field(0.1, half=0.2, h=0.005)
+    x, rng = _shell(2, 50, 0.098, 0.106)
+    k = rng.uniform(10.0, 100.0, size=50)
+    thickness = 0.003
+
+    def energy(y):
+        return body_contact.contact(y, field.values, field.origin, field.spacing, thickness, k,
+                                    np.full_like(y, np.inf), np.zeros(len(y)), np.zeros_like(y))
+
+    grad = np.zeros_like(x)
+    seen, room = np.full_like(x, np.inf), np.zeros(len(x))
+    e = body_contact.contact(x, field.values, field.origin, field.spacing, thickness, k, seen,
+                             room, grad)
+    assert e > 0 and (np.abs(grad).sum(axis=1) > 0).any()
+    h = 1e-7
+    fd = np.zeros_like(x)
+    for i in range(len(x)):
+        for c in range(3):
+            xp, xm = x.copy(), x.copy()
+            xp[i, c] += h
+            xm[i, c] -= h
+            fd[i, c] = (energy(xp) - energy(xm)) / (2 * h)
+    np.testing.assert_allclose(grad, fd, atol=1e-6 * np.abs(grad).max())
+    # vertices far outside are not looked up again while they stay within their room
+    far = room > 0
+    assert far.any()
+    again = np.zeros_like(x)
+    body_contact.contact(x, field.values, field.origin, field.spacing, thickness, k, seen, room,
+                         again)
+    np.testing.assert_allclose(again, grad)
