@@ -1,7 +1,8 @@
 """The C1 (quadratic B-spline) reading of the body's distance field that contact uses
-(patternfit.sim.body_contact): exact on linear fields, close to a sphere's distance, a
-gradient that is the derivative of the value and continuous across grid cell faces (the
-trilinear one jumps there), and a contact energy whose gradient matches finite differences."""
+(``body.sdf.smooth_sdf_query``; the solver's ``kernels.contact``): exact on linear fields,
+close to a sphere's distance, a gradient that is the derivative of the value and continuous
+across grid cell faces (the trilinear one jumps there), and a contact energy whose gradient
+matches finite differences."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from patternfit.body.sdf import sdf_query
-from patternfit.sim import body_contact
+from patternfit.sim import kernels
 
 from scenes import sphere_field
 
@@ -28,7 +29,7 @@ def _linear_grid(a, b, c, e, n=9):
        st.lists(st.floats(0.02, 0.06), min_size=3, max_size=3))
 def test_linear_field_is_reproduced_with_its_gradient(a, b, c, e, p):
     values = _linear_grid(a, b, c, e)
-    d, g = body_contact.smooth_sdf_query(values, ORIGIN, H, np.array([p]))
+    d, g = kernels.smooth_sdf_query(values, ORIGIN, H, np.array([p]))
     assert abs(d[0] - (a * p[0] + b * p[1] + c * p[2] + e)) < 1e-6
     np.testing.assert_allclose(g[0], [a, b, c], atol=1e-5)
 
@@ -44,15 +45,15 @@ def _shell(seed, n, lo, hi):
 def test_sphere_distance_is_close_and_gradient_is_the_derivative():
     field = sphere_field(0.1, half=0.2, h=0.005)
     x, _ = _shell(1, 200, 0.095, 0.12)
-    d, g = body_contact.smooth_sdf_query(field.values, field.origin, field.spacing, x)
+    d, g = kernels.smooth_sdf_query(field.values, field.origin, field.spacing, x)
     # the B-spline smooths by about h^2/8 * (2 / r): 0.06 mm here
     np.testing.assert_allclose(d, np.linalg.norm(x, axis=1) - 0.1, atol=2e-4)
     h = 1e-6
     for c in range(3):
         e = np.zeros(3)
         e[c] = h
-        dp, _ = body_contact.smooth_sdf_query(field.values, field.origin, field.spacing, x + e)
-        dm, _ = body_contact.smooth_sdf_query(field.values, field.origin, field.spacing, x - e)
+        dp, _ = kernels.smooth_sdf_query(field.values, field.origin, field.spacing, x + e)
+        dm, _ = kernels.smooth_sdf_query(field.values, field.origin, field.spacing, x - e)
         np.testing.assert_allclose(g[:, c], (dp - dm) / (2 * h), atol=1e-4)
 
 
@@ -63,7 +64,7 @@ def test_gradient_is_continuous_across_a_cell_face_where_trilinear_jumps():
     y = np.sqrt(0.102 ** 2 - face ** 2)
     eps = 1e-9
     pts = np.array([[face - eps, y, 0.0], [face + eps, y, 0.0]])
-    _, g_smooth = body_contact.smooth_sdf_query(field.values, field.origin, field.spacing, pts)
+    _, g_smooth = kernels.smooth_sdf_query(field.values, field.origin, field.spacing, pts)
     _, g_tri = sdf_query(field.values, field.origin, field.spacing, pts)
     assert np.abs(g_smooth[0] - g_smooth[1]).max() < 1e-5
     assert np.abs(g_tri[0] - g_tri[1]).max() > 1e-3
@@ -76,12 +77,12 @@ def test_contact_gradient_matches_finite_differences_and_spares_far_vertices():
     thickness = 0.003
 
     def energy(y):
-        return body_contact.contact(y, field.values, field.origin, field.spacing, thickness, k,
+        return kernels.contact(y, field.values, field.origin, field.spacing, thickness, k,
                                     np.full_like(y, np.inf), np.zeros(len(y)), np.zeros_like(y))
 
     grad = np.zeros_like(x)
     seen, room = np.full_like(x, np.inf), np.zeros(len(x))
-    e = body_contact.contact(x, field.values, field.origin, field.spacing, thickness, k, seen,
+    e = kernels.contact(x, field.values, field.origin, field.spacing, thickness, k, seen,
                              room, grad)
     assert e > 0 and (np.abs(grad).sum(axis=1) > 0).any()
     h = 1e-7
@@ -97,6 +98,6 @@ def test_contact_gradient_matches_finite_differences_and_spares_far_vertices():
     far = room > 0
     assert far.any()
     again = np.zeros_like(x)
-    body_contact.contact(x, field.values, field.origin, field.spacing, thickness, k, seen, room,
+    kernels.contact(x, field.values, field.origin, field.spacing, thickness, k, seen, room,
                          again)
     np.testing.assert_allclose(again, grad)

@@ -23,7 +23,7 @@ from cholespy import CholeskySolverD, MatrixType
 from ..arguments import array
 from ..constants import GRAVITY, limits, tol
 from ..geometry import unique_edges
-from . import body_contact, kernels
+from . import kernels
 from .energies import MeshTerms, build_terms, spring_matrix
 from .crossings import wrong_sides
 from .fabrics import Fabric, get_fabric
@@ -407,8 +407,8 @@ class GarmentSolver:
     # ------------------------------------------------------------------------ energy
     def _distance(self, x):
         """Distances (n,) [m] and gradients (n, 3) of the body's field as contact sees it
-        (the C1 reading of ``body_contact``) at ``x`` (n, 3) [m]."""
-        return body_contact.smooth_sdf_query(self.body.values, self.body.origin,
+        (the field's C1 reading, ``body.sdf.smooth_sdf_query``) at ``x`` (n, 3) [m]."""
+        return kernels.smooth_sdf_query(self.body.values, self.body.origin,
                                              self.body.spacing, x)
 
     def _contact_k(self):
@@ -424,7 +424,7 @@ class GarmentSolver:
         e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", self._f, x))
         grad += qx - self._f
         if self.body is not None:
-            e += body_contact.contact(x, self.body.values, self.body.origin,
+            e += kernels.contact(x, self.body.values, self.body.origin,
                                       self.body.spacing, self._reach, self._kc, self._seen,
                                       self._room, grad)
         if len(self._fr_idx):

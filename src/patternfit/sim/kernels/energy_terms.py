@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ...body.sdf import trilinear_at as _trilinear
+from ...body.sdf import smooth_distance_at
 
 # ---------------------------------------------------------------------------------------
 # membrane
@@ -79,7 +79,8 @@ SDF_SLOPE = 2.0
 
 @njit(cache=True)
 def contact(x, values, origin, spacing, thickness, stiffness, seen, room, grad):
-    """Penalty ``k_i (h - d_i)^2 / 2`` on every vertex whose distance ``d_i`` is below ``h``.
+    """Penalty ``k_i (h - d_i)^2 / 2`` on every vertex whose distance ``d_i`` (the field's C1
+    reading, ``body.sdf.smooth_distance_at``: a continuous contact force) is below ``h``.
 
     ``stiffness`` (n,) [N/m] is per vertex (area times the contact pressure stiffness).
     ``seen`` (n, 3) [m] and ``room`` (n,) [m] spare the lookups that cannot matter: a vertex
@@ -94,7 +95,7 @@ def contact(x, values, origin, spacing, thickness, stiffness, seen, room, grad):
         m2 = x[i, 2] - seen[i, 2]
         if m0 * m0 + m1 * m1 + m2 * m2 < room[i] * room[i]:
             continue
-        d, gx, gy, gz = _trilinear(values, origin, spacing, x[i])
+        d, gx, gy, gz = smooth_distance_at(values, origin, spacing, x[i])
         pen = thickness - d
         seen[i, 0] = x[i, 0]
         seen[i, 1] = x[i, 1]
