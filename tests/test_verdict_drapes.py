@@ -120,9 +120,6 @@ def test_table2_coat_is_too_tight_first_and_none_too_tight_after_correction():
     assert all(row["checks_passed"])
 
 
-@pytest.mark.xfail(reason=(
-    "issue 21 open: on the force-stop drape the take-in of the XL dress is not "
-    "mirror-symmetric (5 cm): the edits follow one side's regions"))
 def test_take_in_a_too_loose_dress_is_a_recorded_symmetric_edit():
     from patternfit.body.builtin import load_body
     from patternfit.loop import DesignSession

@@ -32,6 +32,7 @@ from ..pattern.errors import PatternError
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
 from .regions import find_regions
+from .symmetry import mirrored_triangles, symmetric_moves
 from .widen import edge_moves, let_out_moves
 
 
@@ -277,48 +278,6 @@ def _share_sewn_corners(pattern: Pattern, moves: dict) -> None:
                 moves[k] = moves[k] * (size / n)
 
 
-def _mirror_symmetric(pattern: Pattern, mesh: GarmentMesh, moves: dict) -> None:
-    """Corners that mirror each other — within a panel symmetric about an axis along its
-    grain, or between two panels that are mirror images (left and right legs) — get
-    mirrored moves (the mean of the two), so the symmetry stays."""
-    names = list(mesh.panel_names)
-    for i, a in enumerate(names):
-        for b in names[i:]:
-            pairs = _mirrored_corners(pattern.panel(a), pattern.panel(b), mesh.grain[i])
-            if pairs is None:
-                continue
-            g = mesh.grain[i]
-            c = np.array([-g[1], g[0]])
-            reflect = np.eye(2) - 2.0 * np.outer(c, c)
-            for ka, kb in pairs:
-                ka, kb = (a, ka), (b, kb)
-                if ka in moves and kb in moves and ka < kb:
-                    mean = 0.5 * (moves[ka] + reflect @ moves[kb])
-                    moves[ka], moves[kb] = mean, reflect @ mean
-
-
-def _mirrored_corners(pa, pb, grain):
-    """[(edge of pa, edge of pb)] whose start corners are mirror images across the grain
-    (after aligning the outlines' centres), or None if the outlines are not mirrored."""
-    c = np.array([-grain[1], grain[0]])
-    ea, eb = pa.outline.edges, pb.outline.edges
-    if len(ea) != len(eb):
-        return None
-    qa = np.array([e.start for e in ea])
-    qb = np.array([e.start for e in eb])
-    ma = pa.outline.polygon()
-    mb = pb.outline.polygon()
-    mirrored = qa - 2.0 * np.outer(qa @ c, c)
-    centre_a = 0.5 * (ma.min(axis=0) + ma.max(axis=0))
-    centre_b = 0.5 * (mb.min(axis=0) + mb.max(axis=0))
-    mirrored += centre_b - (centre_a - 2.0 * (centre_a @ c) * c)
-    dist = np.linalg.norm(mirrored[:, None, :] - qb[None, :, :], axis=2)
-    match = np.argmin(dist, axis=1)
-    if not np.all(dist[np.arange(len(qa)), match] < 1e-3):
-        return None
-    return [(ea[k].name, eb[m].name) for k, m in enumerate(match)]
-
-
 def apply_moves(pattern: Pattern, moves: list[CornerMove]) -> Pattern:
     """The pattern with all corner moves made at once; seam sides left of unequal length
     (panels that are not congruent) are closed by the smallest extra moves of the corners
@@ -417,37 +376,63 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
     return out
 
 
+def _partner_region(name: str) -> str | None:
+    """The body region on the other side (``bicep_left`` → ``bicep_right``), or None."""
+    for mine, other in (("_left", "_right"), ("_right", "_left")):
+        if name.endswith(mine):
+            return name[: -len(mine)] + other
+    return None
+
+
 def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
                  settings: CorrectionSettings) -> dict:
     """Corner offsets ``{(panel, edge): (2,) [m]}`` of the edge translations
     (:mod:`patternfit.loop.widen`) for every region the verdict calls too tight — by the
     length its stretch lacks over the region's width, down to a quarter of the tight
     threshold (regions only tight are left: letting them out too, the Table 2 coat's
-    re-drapes crossed themselves, 69–71 pairs) — and, with ``settings.take_in``, too loose — its side edges inward by its
-    ease beyond the middle of the style's range, shared by the panels it spans and their
-    two sides."""
+    re-drapes crossed themselves, 69–71 pairs) — and, with ``settings.take_in``, too
+    loose — its side edges inward by its ease beyond the middle of the style's range,
+    shared by the panels it spans and their two sides.
+
+    Both sides are edited alike (a pattern maker's rule on a symmetric body): a region is
+    taken with its left/right partner (``bicep_left`` with ``bicep_right``; too tight if
+    either is, by the higher stretch; too loose by their mean ease) and its triangles with
+    their mirror images (:func:`~patternfit.loop.symmetry.mirrored_triangles`), so that a
+    drape come to rest a little askew finds the same edges on both sides."""
     moves: dict = {}
     names = list(measures.regions)
     target = 0.25 * settings.rules.tight_share * (verdict.stretch_limit or 0.0)
     mesh = session.mesh
-    for name, rv in verdict.regions.items():
-        tris = np.flatnonzero(measures.triangle_region == names.index(name))
+    done: set = set()
+    for name in verdict.regions:
+        if name in done:
+            continue
+        pair = [n for n in (name, _partner_region(name)) if n in names]
+        done.update(pair)
+        judged = {n: verdict.regions[n] for n in pair if n in verdict.regions}
+        tris = mirrored_triangles(session.pattern, mesh, np.flatnonzero(
+            np.isin(measures.triangle_region, [names.index(n) for n in pair])))
+        tight = [r.stretch_p90 or 0.0 for r in judged.values() if r.verdict == "too tight"]
+        loose = [(n, r.ease_cm) for n, r in judged.items()
+                 if r.verdict == "too loose" and r.ease_cm is not None]
         found: dict = {}
-        if rv.verdict == "too tight":
+        if tight:
             found = let_out_moves(session.pattern, mesh, session.state.positions, tris,
-                                  target, least=rv.stretch_p90 or 0.0)
-        elif settings.take_in and rv.verdict == "too loose" and rv.ease_cm is not None:
-            lo, hi = ease_range(verdict.style, name) or (None, None)
+                                  target, least=max(tight))
+        elif settings.take_in and loose:
+            lo, hi = ease_range(verdict.style, loose[0][0]) or (None, None)
             if hi is None:
                 continue
             middle = hi if lo is None else 0.5 * (lo + hi)
+            ease = float(np.mean([r.ease_cm for r in judged.values()
+                                  if r.ease_cm is not None]))
             panels = np.unique(mesh.triangle_panel[tris])
             for pi in panels:
                 g = mesh.grain[pi]
                 found.update(edge_moves(session.pattern, mesh, int(pi),
                                         tris[mesh.triangle_panel[tris] == pi],
                                         np.array([-g[1], g[0]]),  # across: the girth's way
-                                        -0.01 * (rv.ease_cm - middle) / len(panels)))
+                                        -0.01 * (ease - middle) / len(panels)))
         for key, d in found.items():
             moves[key] = moves.get(key, 0.0) + d
     return moves
@@ -461,7 +446,7 @@ def finish_moves(pattern: Pattern, mesh: GarmentMesh, offsets: dict,
     offsets = dict(offsets)
     for _ in range(3):  # both are averages: alternating them converges
         _share_sewn_corners(pattern, offsets)
-        _mirror_symmetric(pattern, mesh, offsets)
+        offsets = symmetric_moves(pattern, mesh, offsets)
     moves = []
     for (pname, ename), d in offsets.items():
         n = float(np.linalg.norm(d))
