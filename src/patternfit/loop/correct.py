@@ -36,6 +36,10 @@ from .symmetry import mirrored_triangles, symmetric_moves
 from .widen import edge_moves, let_out_moves
 
 
+#: the region verdicts the loop may stop at, and the words it lets out regions for
+GOALS = {"tight": ("too tight",), "fits": ("too tight", "tight")}
+
+
 @dataclass(frozen=True)
 class CorrectionSettings:
     """Knobs of the automatic correction.
@@ -43,7 +47,10 @@ class CorrectionSettings:
     threshold : float     ϖ to reach [-] (``DEFAULTS.threshold``) ...
     rules : VerdictRules  ... with no region too tight by the fit verdict
                           (:mod:`patternfit.fit.verdict`) ...
-    take_in : bool        ... and, when True, none too loose (loose regions are taken in).
+    take_in : bool        ... and, when True, none too loose (loose regions are taken in);
+    goal : str            the worst region verdict the loop may stop at: "tight" (no
+                          region too tight, the issue's rule) or "fits" (none tight
+                          either: tight regions are let out too).
     max_iterations : int  correction rounds (edit + re-drape) at most.
     gain : float          share of the measured lack of fabric added per round [-].
     max_move : float      largest corner move of one round [m].
@@ -59,6 +66,7 @@ class CorrectionSettings:
     threshold: float = DEFAULTS.threshold
     rules: VerdictRules = VerdictRules()
     take_in: bool = False
+    goal: str = "tight"
     max_iterations: int = 3
     gain: float = 1.0
     max_move: float = 0.12
@@ -66,6 +74,10 @@ class CorrectionSettings:
     min_move: float = 1e-3
     warp_min: float = 0.02
     min_angle: float = 10.0
+
+    def __post_init__(self):
+        if self.goal not in GOALS:
+            raise ValueError(f"goal: {self.goal!r} is not one of {', '.join(GOALS)}")
 
 
 @dataclass(frozen=True)
@@ -294,10 +306,11 @@ def apply_moves(pattern: Pattern, moves: list[CornerMove]) -> Pattern:
 
 def fit_reached(fit: FitResult, verdict: Verdict, settings: CorrectionSettings) -> bool:
     """ϖ at the threshold, the drape not failed and no region too tight by the verdict
-    (and, with ``settings.take_in``, none too loose and the garment not slid)."""
+    (with ``settings.goal`` "fits", none tight either; with ``settings.take_in``, none too
+    loose and the garment not slid)."""
     if fit.fitting_ratio < settings.threshold or verdict.overall == "failed":
         return False
-    if verdict.worst("too tight"):
+    if any(verdict.worst(word) for word in GOALS[settings.goal]):
         return False
     return not (settings.take_in and (verdict.overall == "too loose"
                                        or verdict.worst("too loose")))
@@ -412,7 +425,8 @@ def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdic
         judged = {n: verdict.regions[n] for n in pair if n in verdict.regions}
         tris = mirrored_triangles(session.pattern, mesh, np.flatnonzero(
             np.isin(measures.triangle_region, [names.index(n) for n in pair])))
-        tight = [r.stretch_p90 or 0.0 for r in judged.values() if r.verdict == "too tight"]
+        tight = [r.stretch_p90 or 0.0 for r in judged.values()
+                 if r.verdict in GOALS[settings.goal]]
         loose = [(n, r.ease_cm) for n, r in judged.items()
                  if r.verdict == "too loose" and r.ease_cm is not None]
         found: dict = {}

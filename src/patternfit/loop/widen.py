@@ -50,13 +50,25 @@ def _outward_normal(mesh: GarmentMesh, ids) -> np.ndarray:
     return n / max(np.linalg.norm(n), 1e-12)
 
 
+def _taper(params) -> tuple[float, float]:
+    """Weights (start, end) of an edge's two corner moves whose linear blend along the
+    edge moves the points at arc-length fractions ``params`` (k,) by 1 on average with the
+    smallest corner moves: a region near one end moves mostly that corner, one along the
+    whole edge translates it."""
+    s = np.asanyarray(params, dtype=np.float64)
+    m = np.array([np.mean(1.0 - s), np.mean(s)])
+    return tuple(m / float(m @ m))
+
+
 def edge_moves(pattern, mesh: GarmentMesh, panel: int, triangles, direction,
                amount: float) -> dict:
-    """Corner offsets ``{(panel, edge): (2,) [m]}`` that translate the outline edges of
-    panel ``panel`` (its index) bordering ``triangles`` (k,) and facing ``direction`` (2,)
-    by ``amount`` [m] in all along it, outward (half on each side when both sides have
-    such edges; a negative ``amount`` takes in). A corner shared by two moved edges of a
-    side moves once."""
+    """Corner offsets ``{(panel, edge): (2,) [m]}`` that move the outline edges of panel
+    ``panel`` (its index) bordering ``triangles`` (k,) and facing ``direction`` (2,) by
+    ``amount`` [m] in all along it, outward (half on each side when both sides have such
+    edges; a negative ``amount`` takes in), where they border the region: the seam is let
+    out there, tapering to nothing towards a corner far from it (:func:`_taper`), as a
+    pattern maker lets out a side seam at the bust only. A corner of two such edges of a
+    side moves by the mean of what each asks."""
     pname = mesh.panel_names[panel]
     t = mesh.triangles[np.asanyarray(triangles)]
     region = cKDTree(mesh.vertices[np.unique(t)])
@@ -68,20 +80,21 @@ def edge_moves(pattern, mesh: GarmentMesh, panel: int, triangles, direction,
     edges = pattern.panel(pname).outline.edges
     sides: dict = {1.0: [], -1.0: []}
     for k, e in enumerate(edges):
-        ids, _ = mesh.edge_vertices(pname, e.name)
+        ids, params = mesh.edge_vertices(pname, e.name)
         if near[ids].sum() < MIN_EDGE_VERTICES:
             continue
         facing = float(_outward_normal(mesh, ids) @ direction)
         if abs(facing) >= MIN_FACING:
-            sides[float(np.sign(facing))].append(k)
+            sides[float(np.sign(facing))].append((k, params[near[ids]]))
     used = [s for s in sides if sides[s]]
-    moves = {}
+    asked: dict = {}
     for s in used:
         offset = s * (amount / len(used)) * np.asarray(direction, dtype=np.float64)
-        for k in sides[s]:
-            for corner in (edges[k].name, edges[(k + 1) % len(edges)].name):
-                moves[(pname, corner)] = offset
-    return moves
+        for k, params in sides[s]:
+            for corner, w in zip((edges[k].name, edges[(k + 1) % len(edges)].name),
+                                 _taper(params)):
+                asked.setdefault((pname, corner), []).append(w * offset)
+    return {key: np.mean(d, axis=0) for key, d in asked.items()}
 
 
 def let_out_moves(pattern, mesh: GarmentMesh, positions, triangles, target: float, *,
