@@ -103,6 +103,15 @@ def test_the_loop_stops_only_when_no_region_is_too_tight():
         threshold=0.9, take_in=True))
     assert not fit_reached(SimpleNamespace(fitting_ratio=0.85), ok, s)
     assert not fit_reached(fit, Verdict("failed"), s)
+    # with the goal "fits", a tight region keeps the loop going too
+    fits = CorrectionSettings(threshold=0.9, goal="fits")
+    assert not fit_reached(fit, ok, fits)
+    assert fit_reached(fit, Verdict("fits", {"hip": SimpleNamespace(verdict="fits")}), fits)
+    with pytest.raises(ValueError, match="goal"):
+        CorrectionSettings(goal="loose")
+    from patternfit.cli.loop import GOALS as CLI_GOALS
+    from patternfit.loop.correct import GOALS
+    assert set(CLI_GOALS) == set(GOALS)
 
 
 @pytest.mark.slow
