@@ -404,12 +404,13 @@ def _partner_region(name: str) -> str | None:
 def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
                  settings: CorrectionSettings) -> dict:
     """Corner offsets ``{(panel, edge): (2,) [m]}`` of the edge translations
-    (:mod:`patternfit.loop.widen`) for every region the verdict calls too tight — by the
+    (:mod:`patternfit.loop.widen`) for every region the verdict calls too tight (with
+    ``settings.goal`` "fits", tight as well: by default they are left, as letting them
+    out in the same round crossed the 22K Table 2 coat's re-drape, 69–71 pairs) — by the
     length its stretch lacks over the region's width, down to a quarter of the tight
-    threshold (regions only tight are left: letting them out too, the Table 2 coat's
-    re-drapes crossed themselves, 69–71 pairs) — and, with ``settings.take_in``, too
-    loose — its side edges inward by its ease beyond the middle of the style's range,
-    shared by the panels it spans and their two sides.
+    threshold — and, with ``settings.take_in``, too loose — its side edges inward by its
+    ease beyond the middle of the style's range, shared by the panels it spans and their
+    two sides. Two regions asking one corner count once, the larger ask.
 
     Both sides are edited alike (a pattern maker's rule on a symmetric body): a region is
     taken with its left/right partner (``bicep_left`` with ``bicep_right``; too tight if
