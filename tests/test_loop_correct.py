@@ -131,9 +131,9 @@ def test_moves_on_panels_that_are_not_congruent_keep_seams_matched():
 
 
 def test_left_and_right_legs_are_found_mirrored():
-    from patternfit.loop.correct import _mirrored_corners
+    from patternfit.loop.symmetry import mirror
 
     t = build("trousers", "M")
-    pairs = dict(_mirrored_corners(t.panel("front_r"), t.panel("front_l"), np.array([0, 1.0])))
+    pairs = dict(mirror(t.panel("front_r"), t.panel("front_l"), np.array([0, 1.0])).corners)
     assert pairs["waist"] == "crotch"  # front_r: waist starts at the side; front_l: crotch
-    assert _mirrored_corners(t.panel("front_r"), t.panel("back_r"), np.array([0, 1.0])) is None
+    assert mirror(t.panel("front_r"), t.panel("back_r"), np.array([0, 1.0])) is None

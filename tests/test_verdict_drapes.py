@@ -111,6 +111,15 @@ def test_the_loop_stops_only_when_no_region_is_too_tight():
         threshold=0.9, take_in=True))
     assert not fit_reached(SimpleNamespace(fitting_ratio=0.85), ok, s)
     assert not fit_reached(fit, Verdict("failed"), s)
+    # with the goal "fits", a tight region keeps the loop going too
+    fits = CorrectionSettings(threshold=0.9, goal="fits")
+    assert not fit_reached(fit, ok, fits)
+    assert fit_reached(fit, Verdict("fits", {"hip": SimpleNamespace(verdict="fits")}), fits)
+    with pytest.raises(ValueError, match="goal"):
+        CorrectionSettings(goal="loose")
+    from patternfit.cli.loop import GOALS as CLI_GOALS
+    from patternfit.loop.correct import GOALS
+    assert set(CLI_GOALS) == set(GOALS)
 
 
 @pytest.mark.slow
@@ -128,16 +137,14 @@ def test_table2_coat_is_too_tight_first_and_none_too_tight_after_correction():
     assert all(row["checks_passed"])
 
 
-@pytest.mark.xfail(reason=(
-    "issue 21 open: on the force-stop drape the take-in of the XL dress is not "
-    "mirror-symmetric (5 cm): the edits follow one side's regions"))
 def test_take_in_a_too_loose_dress_is_a_recorded_symmetric_edit():
     from patternfit.body.builtin import load_body
     from patternfit.loop import DesignSession
     from patternfit.loop.correct import correct
 
-    # measured (800 triangles): hip ease +33 cm, too loose; taken in 4.6 cm at each side
-    # seam of both panels, it fits after one round
+    # measured (800 triangles): hip ease +33 cm, too loose; taken in 4.8-5.0 cm at each
+    # side seam of both panels, symmetric: hip ease +14.5 cm (fits; the bust then reads
+    # too tight: the bodice's side seam is taken in with the skirt's)
     session = DesignSession(build("dress", "XL"), load_body("female_thin"), "cotton", 800)
     result = correct(session, settings=CorrectionSettings(take_in=True, max_iterations=1))
     first, last = result.iterations[0], result.iterations[-1]
@@ -149,7 +156,7 @@ def test_take_in_a_too_loose_dress_is_a_recorded_symmetric_edit():
                                                              abs=1e-5)
     for name in ("front", "back"):
         poly = new.panel(name).outline.polygon()
-        assert np.ptp(poly[:, 0]) < np.ptp(old.panel(name).outline.polygon()[:, 0])
+        assert new.panel(name).area() < old.panel(name).area() - 0.005  # taken in
         axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
         mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
         assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4

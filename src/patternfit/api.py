@@ -655,11 +655,11 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
                    extra: dict | None = None, progress: Callable | None = None,
                    drape_progress: Callable | None = None,
                    write_progress: Callable | None = None, take_in: bool = False,
-                   verdict_rules: VerdictRules | None = None) -> dict:
+                   verdict_rules: VerdictRules | None = None, goal: str = "tight") -> dict:
     """Correct the session's pattern automatically (drape, find the tight regions, move the
     seam corners, re-drape, until ϖ reaches ``threshold`` — the session's when None — and
-    no region is too tight by the fit verdict (``verdict_rules``; with ``take_in`` none too
-    loose either), or ``max_iterations`` rounds) and write the outputs into ``out``:
+    no region is too tight by the fit verdict (``verdict_rules``; with ``goal`` "fits" none
+    tight either, with ``take_in`` none too loose), or ``max_iterations`` rounds) and write the outputs into ``out``:
     ``pattern.json`` (the corrected pattern), ``report.json`` (with ``verdict`` and
     ``region_verdicts`` of the final drape, and of every iteration), ``before/`` and
     ``after/`` fit outputs and the regions pictures. Returns the report.
@@ -668,7 +668,7 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
     to the solver, ``write_progress(message)`` is called per output written."""
     settings = CorrectionSettings(threshold=session.threshold if threshold is None
                                   else threshold, max_iterations=max_iterations,
-                                  take_in=bool(take_in),
+                                  take_in=bool(take_in), goal=goal,
                                   rules=verdict_rules or VerdictRules())
     result = correct(session, settings=settings, drape_progress=drape_progress,
                      progress=progress)

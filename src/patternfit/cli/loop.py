@@ -14,6 +14,23 @@ from .app import (SIZE_HELP, app, console, fail, finite, print_json, triangles_o
                   verdict_options)
 from .show import exit_if_correction_failed, run_correction, say_guessed_units, show_iteration
 
+#: the correction's goals (``loop.correct.GOALS``; not imported here: the CLI loads the
+#: solver only when a command runs)
+GOALS = ("tight", "fits")
+
+
+def _goal(value: str) -> str:
+    if value not in GOALS:
+        raise typer.BadParameter(f"expected one of {', '.join(GOALS)}, got {value!r}")
+    return value
+
+
+def goal_option():
+    """The ``--goal`` option: the worst region verdict the correction may stop at."""
+    return typer.Option("tight", "--goal", callback=_goal,
+                        help="Stop when no region is worse than this: 'tight' (none too "
+                             "tight) or 'fits' (tight regions are let out too).")
+
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
 
@@ -43,6 +60,7 @@ def correct_command(
                                 callback=finite),
     take_in: bool = typer.Option(False, "--take-in", help="Also take in the regions the "
                                  "verdict calls too loose (ease above the style's range)."),
+    goal: str = goal_option(),
     pressure_max: float = verdict_options()["pressure_max"],
     stretch_limit: float = verdict_options()["stretch_limit"],
     style: str = verdict_options()["style"],
@@ -75,7 +93,8 @@ def correct_command(
     rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
                               style=style)
     report = run_correction(session, out, threshold=threshold, max_iterations=max_iterations,
-                            pictures=pictures, take_in=take_in, verdict_rules=rules)
+                            pictures=pictures, take_in=take_in, verdict_rules=rules,
+                            goal=goal)
     if json_out:
         print_json(report)
         exit_if_correction_failed(report, out)
@@ -100,6 +119,7 @@ def table2(
     figures: Path = typer.Option(Path("docs/figures"), help="Where the colour maps go."),
     max_iterations: int = typer.Option(DEFAULTS.correction_rounds, "--max-iterations", "-k",
                                        min=0, help="Correction rounds at most."),
+    goal: str = goal_option(),
     json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
 ) -> None:
     """The paper's Table 2: coat on the heavy male body, skirt on the thin female body,
@@ -117,7 +137,8 @@ def table2(
         console.print(f"[bold]{row.garment}[/] on {row.body}: {row.describe()}")
         try:
             results.append(run_row(row, triangles=triangles, figures=figures,
-                                   settings=CorrectionSettings(max_iterations=max_iterations),
+                                   settings=CorrectionSettings(max_iterations=max_iterations,
+                                                               goal=goal),
                                    progress=show_iteration))
         except Exception as exc:  # a row that fails is reported, the others still run
             console.print(f"[red]{row.garment}: failed: {type(exc).__name__}: {exc}[/]")

@@ -168,7 +168,7 @@ def show_iteration(it) -> None:
 
 def run_correction(session, out: Path, *, threshold: float, max_iterations: int,
                    extra: dict | None = None, pictures: bool = True, take_in: bool = False,
-                   verdict_rules=None) -> dict:
+                   verdict_rules=None, goal: str = "tight") -> dict:
     """:func:`patternfit.api.correct_design` with a progress bar and a line per iteration;
     returns the report."""
     from .. import api  # the API pulls in the solver: loaded when a command runs, not at --help
@@ -178,7 +178,7 @@ def run_correction(session, out: Path, *, threshold: float, max_iterations: int,
         return api.correct_design(
             session, out, threshold=threshold, max_iterations=max_iterations,
             pictures=pictures, extra=extra, drape_progress=callback, take_in=take_in,
-            verdict_rules=verdict_rules,
+            verdict_rules=verdict_rules, goal=goal,
             progress=lambda it: bar.console.print() or show_iteration(it),
             write_progress=lambda s: bar.update(bar.task_ids[0], info=f"writing {s}"))
 

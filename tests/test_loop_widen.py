@@ -1,0 +1,79 @@
+"""Letting out a too-tight region where the corner moves across the grain cannot reach it:
+a kimono coat stretched at a sleeve's root is widened at its overarm seam and shoulder
+point, one stretched across the shoulders (off every side seam) at its shoulder points;
+both sides alike, seams matched (flat panels stretched as a drape would: no drape)."""
+
+import numpy as np
+import pytest
+
+from patternfit.loop.correct import apply_moves, finish_moves
+from patternfit.loop.symmetry import mirrored_triangles
+from patternfit.loop.widen import let_out_moves
+from patternfit.mesh.triangulate import mesh_pattern
+from patternfit.pattern.library import build
+from patternfit.pattern.validate import check_pattern
+
+
+@pytest.fixture(scope="module")
+def coat():
+    pattern = build("coat", "M")
+    return pattern, mesh_pattern(pattern, triangles=1500)
+
+
+def _stretch(mesh, panel, inside, factor, about):
+    """Flat positions (n, 3) with the vertices of ``panel`` where ``inside(xy)`` stretched
+    across (x) by ``factor`` about x = ``about`` [m], and the triangles all inside."""
+    x = np.zeros((mesh.n_vertices, 3))
+    x[:, :2] = mesh.vertices
+    on = (mesh.vertex_panel == mesh.panel_names.index(panel)) & inside(mesh.vertices)
+    x[on, 0] = about + factor * (x[on, 0] - about)
+    return x, np.flatnonzero(on[mesh.triangles].all(axis=1))
+
+
+def _let_out(pattern, mesh, x, region):
+    tris = mirrored_triangles(pattern, mesh, region)
+    new = apply_moves(pattern, finish_moves(pattern, mesh, let_out_moves(
+        pattern, mesh, x, tris, target=0.0)))
+    check_pattern(new)
+    for seam in new.seams:
+        assert new.seam_side_length(seam.a) == pytest.approx(new.seam_side_length(seam.b),
+                                                             abs=1e-5)
+    for name in ("front", "back"):
+        poly = new.panel(name).outline.polygon()
+        axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
+        mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
+        assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4
+    return new
+
+
+def _corner(pattern, panel, edge):
+    return np.asarray(pattern.panel(panel).edge(edge).start)
+
+
+def test_a_tight_sleeve_root_is_let_out_at_the_overarm_and_shoulder_point(coat):
+    pattern, mesh = coat
+    # the front's left sleeve root (beyond the armpit, above its height) 25 % too wide
+    armpit = _corner(pattern, "front", "underarm_l")
+    x, region = _stretch(mesh, "front", lambda v: (v[:, 0] > armpit[0])
+                         & (v[:, 1] > armpit[1] - 0.1), 1.25, armpit[0])
+    new = _let_out(pattern, mesh, x, region)
+    for corner in ("shoulder_l", "overarm_l"):  # the overarm seam's two ends, outward
+        assert (_corner(new, "front", corner) - _corner(pattern, "front", corner))[0] > 0.01
+    # the right sleeve alike, and the back sewn to them
+    assert (_corner(new, "front", "overarm_r") - _corner(pattern, "front", "overarm_r"))[0] \
+        < -0.01
+    assert not np.allclose(new.panel("back").outline.polygon(),
+                           pattern.panel("back").outline.polygon())
+
+
+def test_tight_shoulders_are_let_out_at_the_shoulder_points(coat):
+    pattern, mesh = coat
+    # across the front's upper chest, between the shoulder points, off every side seam
+    point = _corner(pattern, "front", "shoulder_l")
+    x, region = _stretch(mesh, "front", lambda v: (np.abs(v[:, 0]) < 0.6 * point[0])
+                         & (v[:, 1] > point[1] - 0.12), 1.2, 0.0)
+    new = _let_out(pattern, mesh, x, region)
+    moved = _corner(new, "front", "shoulder_l") - point
+    assert moved[0] > 0.01  # the shoulder point goes out...
+    assert np.allclose(_corner(new, "front", "neckline"), _corner(pattern, "front", "neckline"),
+                       atol=2e-3)  # ... and the neck stays
