@@ -164,7 +164,7 @@ def _bending_matrix(rest, tris, corners_g, vertex_map, n3, faces, corners, area,
     n_hat = perp / h_c[:, None]
     # the other triangle's opposite corner, from its own rest shape (it may lie in another
     # panel, joined at a seam, oriented either way)
-    fa, fb = tris[t, j], tris[t, (j + 1) % 3]
+    fa = tris[t, j]
     oa, ob = tris[o, oj], tris[o, (oj + 1) % 3]
     swap = vertex_map[oa] != vertex_map[fa]
     Ao = rest[np.where(swap, ob, oa)]
@@ -185,15 +185,18 @@ def _bending_matrix(rest, tris, corners_g, vertex_map, n3, faces, corners, area,
     quad = np.stack([pts[..., 0] ** 2 / 2, pts[..., 1] ** 2 / 2, pts[..., 0] * pts[..., 1]],
                     axis=2)
     fold = np.einsum("si,sik->sk", K, quad)  # (s, 3): fold per unit (K_uu, K_vv, K_uv)
-    ids = vertex_map[np.stack([fa, fb, tris[t, (j + 2) % 3], od], axis=1)]
 
-    # per triangle: its sides in edge order (a missing side is a zero row)
-    Kt = np.zeros((m, 3, 4))
+    # per triangle, in edge order (a missing side is a zero row), over six local vertices:
+    # its corners 0-2 and the opposite corner across each edge 3-5
+    Kt = np.zeros((m, 3, 6))
+    Kt[t, j, j] = k0
+    Kt[t, j, (j + 1) % 3] = k1
+    Kt[t, j, (j + 2) % 3] = k2
+    Kt[t, j, 3 + j] = k3
+    ids = np.concatenate([vertex_map[tris], vertex_map[tris[:, :1]].repeat(3, axis=1)], axis=1)
+    ids[t, 3 + j] = vertex_map[od]
     Mt = np.zeros((m, 3, 3))
-    It = np.zeros((m, 3, 4), dtype=np.int64)
-    Kt[t, j] = K
     Mt[t, j] = fold
-    It[t, j] = ids
     has = np.zeros((m, 3), bool)
     has[t, j] = True
     twist = np.sqrt(bend_warp * bend_weft)
@@ -205,12 +208,11 @@ def _bending_matrix(rest, tris, corners_g, vertex_map, n3, faces, corners, area,
     N += np.einsum("te,ef->tef", (~has).astype(float), np.eye(3))
     H = np.linalg.inv(N) * area[:, None, None]
     H *= (has[:, :, None] & has[:, None, :])
-    vals = np.einsum("tef,tei,tfk->teifk", H, Kt, Kt).ravel()
-    rows = np.broadcast_to(It[:, :, :, None, None], (m, 3, 4, 3, 4)).ravel()
-    cols = np.broadcast_to(It[:, None, None, :, :], (m, 3, 4, 3, 4)).ravel()
-    keep = vals != 0.0
-    Q = sp.csr_matrix((vals[keep], (rows[keep], cols[keep])), shape=(n3, n3))
-    Q.sum_duplicates()
+    local = np.einsum("tef,tei,tfk->tik", H, Kt, Kt)  # (m, 6, 6)
+    rows = np.repeat(ids, 6, axis=1).ravel()
+    cols = np.tile(ids, (1, 6)).ravel()
+    Q = sp.coo_matrix((local.ravel(), (rows, cols)), shape=(n3, n3)).tocsr()
+    Q.eliminate_zeros()
     return Q
 
 
