@@ -322,10 +322,11 @@ class KitReading:
 #: re-runs the kit on them): Cusick at the kit's defaults (30/18 cm, 4,000 triangles, the
 #: force stop, Newton, compression 1.0), starts 0-2; cantilever along the warp at 12 and
 #: 24 edges per bending length (the finest).
-#: Presets: ``python benchmarks/physics.py --only presets --seeds 3 --meshes 12,24``;
-#: published fabrics: ``python benchmarks/physics.py --only published --seeds 3``; both at
-#: commit 98bef5a, the force stop's L-BFGS-then-Newton solver (docs/fabrics.md, "Testing a
-#: fabric" and "Published drape tests").
+#: Presets: ``python benchmarks/physics.py --only presets --seeds 3 --meshes 6,12,24
+#: --fabrics NAME``; published fabrics: ``python benchmarks/physics.py --only published
+#: --seeds 3 --compression 1.0``; both at commit 2db2939, the curvature-tensor bending and the
+#: force stop's L-BFGS-then-Newton solver (docs/fabrics.md, "Testing a fabric" and
+#: "Published drape tests").
 KIT_READINGS: dict[str, KitReading] = {
     "cotton_shirting": KitReading(0.6617, 0.6569, 0.6680, 6.7, 0.019306),
     "denim": KitReading(0.5789, 0.5553, 0.5977, 8.0, 0.016999),
