@@ -61,16 +61,17 @@ def test_exact_elastica_backs_peirces_rule():
 
 
 def test_cantilever_reads_back_the_bending_length():
-    """The reading of the finest of two small meshes, within 12 %: the hinge bending reads
-    0.90-0.98 of (B / (rho g))^(1/3) on 100-16,000-triangle strips (docs/fabrics.md), not
-    yet the 5 % of the test kit's check, which ``passed`` reports."""
+    """The reading of the finest of two small meshes (8 edges per bending length, ~1K
+    triangles), within 6 %: the bending reads 0.91 / 0.95 of (B / (rho g))^(1/3) at 4 / 8
+    edges per c, 0.97-0.98 at 24 (docs/fabrics.md), converging from below at first order
+    (the pinned clamp); ``passed`` reports the kit's 5 % on the finest mesh."""
     r = kit.cantilever_test("jersey_knit", meshes=(4, 8))
     fab = get_fabric("jersey_knit")
     expected = (fab.bending_warp / (fab.density * 9.80665)) ** (1 / 3)
     assert r.bending_length_expected_m == pytest.approx(expected)
     assert [m.triangles for m in r.meshes] == sorted(m.triangles for m in r.meshes)
     assert r.converged
-    assert r.bending_length_measured_m == pytest.approx(expected, rel=0.12)
+    assert r.bending_length_measured_m == pytest.approx(expected, rel=0.06)
     assert abs(r.tip_angle_deg - kit.PEIRCE_ANGLE) <= 0.25 or len(r.meshes[-1].runs) == 4
     # the instrument's reading (overhang / 2) and the elastica's agree near 41.5 deg
     assert r.meshes[-1].astm_length_m == pytest.approx(r.bending_length_measured_m, rel=0.01)
@@ -85,7 +86,8 @@ def test_cantilever_weft_uses_the_weft_rigidity():
     r = kit.cantilever_test("jersey_knit", direction="weft", meshes=(4,))
     fab = get_fabric("jersey_knit")
     assert r.rigidity_n_m == fab.bending_weft
-    assert r.bending_length_measured_m == pytest.approx(r.bending_length_expected_m, rel=0.12)
+    # 4 edges per c: 0.93 (the bending gives B_weft exactly along the weft, no blend)
+    assert r.bending_length_measured_m == pytest.approx(r.bending_length_expected_m, rel=0.08)
 
 
 # ----------------------------------------------------------------------- Cusick
@@ -182,7 +184,7 @@ def test_presets_on_the_full_bench(fabric):
     """The benchmark's settings: 4K-triangle Cusick with five starts, cantilever at three
     mesh sizes."""
     c = kit.cantilever_test(fabric)
-    assert c.converged and c.ratio == pytest.approx(1.0, abs=0.12)
+    assert c.converged and c.passed and c.ratio == pytest.approx(1.0, abs=0.05)
     d = kit.cusick_test(fabric)
     assert d.converged and 0.0 < d.drape_coefficient < 1.0
     assert d.drape_coefficient_spread < 0.1

@@ -7,9 +7,10 @@ pairs share one). From these this module builds, once per rest shape:
 - the membrane coefficients: ``w_u = sum_j cu[t, j] x_j`` is the image of the unit warp
   vector of triangle ``t`` (first column of the deformation gradient F in the grain frame),
   ``w_v`` the image of the weft; ``area`` the rest areas;
-- the bending matrix: the quadratic bending model of Bergou et al. (2006) on interior
-  edges, scaled so that the bending rigidity B [N m] means what it says (see
-  ``docs/simulation.md`` and ``_HINGE_SCALE``);
+- the bending matrix: each triangle's curvature tensor recovered from the fold vectors of
+  its interior edges (Bergou et al. 2006's hinge vectors, exact for every quadratic surface
+  on any mesh) and an orthotropic plate energy on it with the fabric's warp and weft
+  rigidities (``_bending_matrix``; docs/simulation.md, "Bending");
 - the constant quadratic part used as the preconditioner (projective-dynamics style).
 """
 
@@ -21,14 +22,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..geometry import interior_edges
-
-#: hinge weight: B theta^2 l^2 / (A1 + A2) times this gives the energy of a fold. The
-#: per-edge mean-curvature reading gives 1.5; measured against the exact isometric bending
-#: energy B kappa^2 / 2 per area of a sheet wrapped on a cylinder, that overshoots by a factor
-#: 3.2-3.45 on constrained-Delaunay meshes (min angle 25-30 deg, 300-10K triangles), every
-#: direction alike; 1.5 / 3.4 makes B [N m] mean what it says (docs/simulation.md).
-_HINGE_SCALE = 1.5 / 3.4
-
 
 @dataclass(frozen=True, eq=False)
 class MeshTerms:
@@ -93,9 +86,9 @@ def build_terms(rest, tris, grain, vertex_map, n3, *, bend_warp, bend_weft,
     k_warp, k_weft, k_shear : float
         Membrane stiffnesses [N/m].
     """
-    corners = _grain_frames(rest, tris, grain)
-    e1 = corners[:, 1] - corners[:, 0]
-    e2 = corners[:, 2] - corners[:, 0]
+    corners_g = _grain_frames(rest, tris, grain)
+    e1 = corners_g[:, 1] - corners_g[:, 0]
+    e2 = corners_g[:, 2] - corners_g[:, 0]
     det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
     area = 0.5 * np.abs(det)
     # inverse of Dm = [e1 e2]; F = Ds Dm^-1, columns = images of the warp / weft unit vectors
@@ -118,52 +111,113 @@ def build_terms(rest, tris, grain, vertex_map, n3, *, bend_warp, bend_weft,
     membrane_pd = sp.csr_matrix(((cc * area[:, None, None]).ravel(), (rows, cols)), shape=(n3, n3))
 
     faces, corners = interior_edges(sim_tris)
-    t1, l1, t2, l2 = faces[:, 0], corners[:, 0], faces[:, 1], corners[:, 1]
-    # hinge in triangle 1's flat frame: edge p0 -> p1, opposite p2; triangle 2 unfolded across
-    i0 = tris[t1, l1]
-    i1 = tris[t1, (l1 + 1) % 3]
-    i2 = tris[t1, (l1 + 2) % 3]
-    P0, P1, P2 = rest[i0], rest[i1], rest[i2]
-    edge = P1 - P0
-    length = np.linalg.norm(edge, axis=1)
-    dA = P2 - P0
-    alpha_a = np.einsum("ij,ij->i", dA, edge) / length
-    h_a = np.abs(edge[:, 0] * dA[:, 1] - edge[:, 1] * dA[:, 0]) / length
-    # match triangle 2's edge ends by simulated vertex: panels joined at a seam may be
-    # oriented either way
-    ja = tris[t2, l2]
-    jb = tris[t2, (l2 + 1) % 3]
-    swap = vertex_map[ja] != vertex_map[i0]
-    j0 = np.where(swap, jb, ja)
-    j1 = np.where(swap, ja, jb)
-    j3 = tris[t2, (l2 + 2) % 3]
-    Q0, Q1, Q3 = rest[j0], rest[j1], rest[j3]
-    edge_b = Q1 - Q0
-    len_b = np.linalg.norm(edge_b, axis=1)
-    dB = Q3 - Q0
-    alpha_b = np.einsum("ij,ij->i", dB, edge_b) / len_b * (length / len_b)
-    h_b = np.abs(edge_b[:, 0] * dB[:, 1] - edge_b[:, 1] * dB[:, 0]) / len_b
-    k2 = 1.0 / h_a
-    k3 = 1.0 / h_b
-    k1 = -(alpha_a * k2 + alpha_b * k3) / length
-    k0 = -(k2 + k3) - k1
-    K = np.stack([k0, k1, k2, k3], axis=1)
-    hinge_sim = np.stack([vertex_map[i0], vertex_map[i1], vertex_map[i2], vertex_map[j3]], axis=1)
-    # rigidity for curvature across the edge: the edge normal's share of warp and weft
-    g = grain[t1] / np.linalg.norm(grain[t1], axis=1, keepdims=True)
-    cos_n = (edge[:, 0] * g[:, 1] - edge[:, 1] * g[:, 0]) / length
-    bend = bend_warp * cos_n ** 2 + bend_weft * (1.0 - cos_n ** 2)
-    weight = _HINGE_SCALE * bend * length ** 2 / (area[t1] + area[t2])
-    hr = np.repeat(hinge_sim, 4, axis=1).ravel()
-    hc = np.tile(hinge_sim, (1, 4)).ravel()
-    hv = (2.0 * weight[:, None, None] * np.einsum("hi,hj->hij", K, K)).ravel()
-    bending = sp.csr_matrix((hv, (hr, hc)), shape=(n3, n3))
+    hinge_sim = np.stack([sim_tris[faces[:, 0], corners[:, 0]],
+                          sim_tris[faces[:, 0], (corners[:, 0] + 1) % 3],
+                          sim_tris[faces[:, 0], (corners[:, 0] + 2) % 3],
+                          sim_tris[faces[:, 1], (corners[:, 1] + 2) % 3]], axis=1)
+    bending = _bending_matrix(rest, tris, corners_g, vertex_map, n3, faces, corners, area,
+                              bend_warp=bend_warp, bend_weft=bend_weft)
 
     edge_length = float(np.mean(np.linalg.norm(e1, axis=1)))
     return MeshTerms(tris=np.ascontiguousarray(sim_tris, dtype=np.int64),
                      cu=np.ascontiguousarray(cu), cv=np.ascontiguousarray(cv),
                      area=area, vertex_area=vertex_area, hinges=hinge_sim,
                      bending=bending, membrane_pd=membrane_pd, edge_length=edge_length)
+
+
+#: eigenvalues of a triangle's fold matrix below this share of its largest are left free
+#: (see ``_bending_matrix``)
+_FOLD_CUTOFF = 1e-3
+
+
+def _bending_matrix(rest, tris, corners_g, vertex_map, n3, faces, corners, area, *,
+                    bend_warp, bend_weft) -> sp.csr_matrix:
+    """Bending Hessian Q [N/m] (energy ``x^T Q x / 2`` per coordinate) of a flat rest mesh.
+
+    Every side of an interior edge, seen from triangle ``t``, gives a hinge vector
+    ``k . x`` over (edge start, edge end, t's opposite corner, the other triangle's opposite
+    corner unfolded into t's plane), k the affine null vector scaled so that ``|k . x|`` is
+    the fold angle (Bergou et al. 2006). On a quadratic height field
+    ``z = (K_uu u^2 + K_vv v^2) / 2 + K_uv u v`` (u along t's warp) that fold is exactly
+    ``m . (K_uu, K_vv, K_uv)`` with ``m = k . (u^2/2, v^2/2, u v)`` at the four corners, so
+    the three sides of an interior triangle give its curvature tensor exactly on any mesh;
+    the triangle stores ``A_t / 2 (B_warp K_uu^2 + B_weft K_vv^2 + 2 B_twist K_uv^2)``
+    (no Poisson coupling; ``B_twist = sqrt(B_warp B_weft)``, Huber's rule for orthotropic
+    plates, so a bend at angle phi to the warp has rigidity
+    ``(sqrt(B_warp) cos^2 phi + sqrt(B_weft) sin^2 phi)^2``). A triangle with a free edge
+    takes the least energy the folds it has allow (the free edge's fold is left open, the
+    natural condition of a free edge). The edge-by-edge hinge energy this replaces has a
+    bending Poisson ratio of -1/3 on any near-equilateral mesh, which let a cantilever strip
+    curl and read its rigidity 8-18 % low (docs/fabrics.md).
+    """
+    m = len(tris)
+    # both sides of every interior edge: (triangle, its edge, other triangle, its edge)
+    t = np.r_[faces[:, 0], faces[:, 1]]
+    j = np.r_[corners[:, 0], corners[:, 1]]
+    o = np.r_[faces[:, 1], faces[:, 0]]
+    oj = np.r_[corners[:, 1], corners[:, 0]]
+    A = corners_g[t, j]
+    P1 = corners_g[t, (j + 1) % 3]
+    C = corners_g[t, (j + 2) % 3]
+    edge = P1 - A
+    length = np.linalg.norm(edge, axis=1)
+    e_hat = edge / length[:, None]
+    dc = C - A
+    alpha_c = np.einsum("ij,ij->i", dc, e_hat)
+    perp = dc - alpha_c[:, None] * e_hat
+    h_c = np.linalg.norm(perp, axis=1)
+    n_hat = perp / h_c[:, None]
+    # the other triangle's opposite corner, from its own rest shape (it may lie in another
+    # panel, joined at a seam, oriented either way)
+    fa = tris[t, j]
+    oa, ob = tris[o, oj], tris[o, (oj + 1) % 3]
+    swap = vertex_map[oa] != vertex_map[fa]
+    Ao = rest[np.where(swap, ob, oa)]
+    Bo = rest[np.where(swap, oa, ob)]
+    od = tris[o, (oj + 2) % 3]
+    eo = Bo - Ao
+    lo = np.linalg.norm(eo, axis=1)
+    do = rest[od] - Ao
+    alpha_d = np.einsum("ij,ij->i", do, eo) / lo * (length / lo)
+    h_d = np.abs(eo[:, 0] * do[:, 1] - eo[:, 1] * do[:, 0]) / lo
+    D = A + alpha_d[:, None] * e_hat - h_d[:, None] * n_hat
+    k2 = 1.0 / h_c
+    k3 = 1.0 / h_d
+    k1 = -(alpha_c * k2 + alpha_d * k3) / length
+    k0 = -(k2 + k3) - k1
+    K = np.stack([k0, k1, k2, k3], axis=1)  # (s, 4)
+    pts = np.stack([A, P1, C, D], axis=1)  # (s, 4, 2), t's grain frame
+    quad = np.stack([pts[..., 0] ** 2 / 2, pts[..., 1] ** 2 / 2, pts[..., 0] * pts[..., 1]],
+                    axis=2)
+    fold = np.einsum("si,sik->sk", K, quad)  # (s, 3): fold per unit (K_uu, K_vv, K_uv)
+
+    # per triangle, in edge order (a missing side is a zero row), over six local vertices:
+    # its corners 0-2 and the opposite corner across each edge 3-5
+    Kt = np.zeros((m, 3, 6))
+    Kt[t, j, j] = k0
+    Kt[t, j, (j + 1) % 3] = k1
+    Kt[t, j, (j + 2) % 3] = k2
+    Kt[t, j, 3 + j] = k3
+    ids = np.concatenate([vertex_map[tris], vertex_map[tris[:, :1]].repeat(3, axis=1)], axis=1)
+    ids[t, 3 + j] = vertex_map[od]
+    Mt = np.zeros((m, 3, 3))
+    Mt[t, j] = fold
+    twist = np.sqrt(bend_warp * bend_weft)
+    d_inv = np.array([1.0 / bend_warp, 1.0 / bend_weft, 1.0 / (2.0 * twist)])
+    # least plate energy given the folds: E = theta^T (M D^-1 M^T)^+ theta / 2 per area. A
+    # missing side is a zero row; so is, in effect, a curvature the folds cannot see (six
+    # points on one conic, e.g. two lines through a grid: no fold for it), left free by the
+    # pseudo-inverse's cut-off rather than made nearly rigid by a tiny eigenvalue (on
+    # quality meshes the smallest eigenvalue is >= 0.03 of the largest for 95 % of the
+    # triangles)
+    N = np.einsum("tea,a,tfa->tef", Mt, d_inv, Mt)
+    H = np.linalg.pinv(N, rcond=_FOLD_CUTOFF, hermitian=True) * area[:, None, None]
+    local = np.einsum("tef,tei,tfk->tik", H, Kt, Kt)  # (m, 6, 6)
+    rows = np.repeat(ids, 6, axis=1).ravel()
+    cols = np.tile(ids, (1, 6)).ravel()
+    Q = sp.coo_matrix((local.ravel(), (rows, cols)), shape=(n3, n3)).tocsr()
+    Q.eliminate_zeros()
+    return Q
 
 
 def spring_matrix(pairs, stiffness: float, n3: int) -> sp.csr_matrix:

@@ -322,20 +322,21 @@ class KitReading:
 #: re-runs the kit on them): Cusick at the kit's defaults (30/18 cm, 4,000 triangles, the
 #: force stop, Newton, compression 1.0), starts 0-2; cantilever along the warp at 12 and
 #: 24 edges per bending length (the finest).
-#: Presets: ``python benchmarks/physics.py --only presets --seeds 3 --meshes 12,24``;
-#: published fabrics: ``python benchmarks/physics.py --only published --seeds 3``; both at
-#: commit 98bef5a, the force stop's L-BFGS-then-Newton solver (docs/fabrics.md, "Testing a
-#: fabric" and "Published drape tests").
+#: Presets: ``python benchmarks/physics.py --only presets --seeds 3 --meshes 6,12,24
+#: --fabrics NAME``; published fabrics: ``python benchmarks/physics.py --only published
+#: --seeds 3 --compression 1.0``; both at commit 2db2939, the curvature-tensor bending and the
+#: force stop's L-BFGS-then-Newton solver (docs/fabrics.md, "Testing a fabric" and
+#: "Published drape tests").
 KIT_READINGS: dict[str, KitReading] = {
-    "cotton_shirting": KitReading(0.6617, 0.6569, 0.6680, 6.7, 0.019306),
-    "denim": KitReading(0.5789, 0.5553, 0.5977, 8.0, 0.016999),
-    "wool_coating": KitReading(0.5335, 0.5235, 0.5476, 7.3, 0.018189),
-    "jersey_knit": KitReading(0.2890, 0.2732, 0.3102, 8.7, 0.013892),
-    "stretch_knit": KitReading(0.3725, 0.3559, 0.3850, 8.0, 0.015363),
-    "petrak_m1": KitReading(0.2464, 0.2314, 0.2718, 10.0),
-    "petrak_m2": KitReading(0.3523, 0.3236, 0.3755, 8.3),
-    "petrak_m3": KitReading(0.2361, 0.2284, 0.2431, 10.0),
-    "petrak_m4": KitReading(0.2020, 0.1918, 0.2127, 10.0),
-    "petrak_m5": KitReading(0.2517, 0.2446, 0.2607, 10.0),
-    "petrak_m6": KitReading(0.3290, 0.3216, 0.3395, 9.3),
+    "cotton_shirting": KitReading(0.6611, 0.6462, 0.6690, 6.7, 0.019451),
+    "denim": KitReading(0.5880, 0.5631, 0.6094, 8.0, 0.017099),
+    "wool_coating": KitReading(0.5415, 0.5341, 0.5547, 7.3, 0.018524),
+    "jersey_knit": KitReading(0.2886, 0.2737, 0.3115, 8.7, 0.014296),
+    "stretch_knit": KitReading(0.3850, 0.3640, 0.4152, 8.7, 0.015826),
+    "petrak_m1": KitReading(0.2570, 0.2520, 0.2631, 10.0),
+    "petrak_m2": KitReading(0.3363, 0.3066, 0.3539, 8.7),
+    "petrak_m3": KitReading(0.2357, 0.2292, 0.2476, 9.3),
+    "petrak_m4": KitReading(0.1951, 0.1912, 0.2013, 10.0),
+    "petrak_m5": KitReading(0.2483, 0.2428, 0.2555, 9.3),
+    "petrak_m6": KitReading(0.3245, 0.3072, 0.3461, 9.0),
 }
