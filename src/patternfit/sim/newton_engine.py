@@ -31,9 +31,11 @@ from .placement import place_on_body
 from .schedule import Plan, run_plan
 from .solver import DrapeResult, GarmentSolver, SolverSettings
 
-#: Our bending energy reads B through Bergou's hinge weight 3 l^2 / (A1 + A2) divided by 3.4
-#: (see "Bending" in docs/simulation.md); Style3D uses that weight as is, so its edge
-#: stiffness is B / 3.4 for the same energy.
+#: Style3D's hinge energy uses Bergou's weight 3 l^2 / (A1 + A2) as is; the static engine's
+#: earlier hinge bending read B through that weight divided by 3.4 (its calibration against
+#: the cantilever), so an edge stiffness of B / 3.4 keeps that calibration. The static engine
+#: now bends by each triangle's curvature tensor ("Bending" in docs/simulation.md), which
+#: this mapping does not follow: the engines' bending agrees only as the old hinge did.
 BENDING_SCALE = 1.0 / 3.4
 
 #: A stiffness continuation for :attr:`NewtonSettings.stretch_ramp`. Style3D moves a bending
