@@ -6,8 +6,11 @@ import json
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from patternfit.mesh import mesh_pattern
+from patternfit.mesh.triangulate import _spacing
 from patternfit.pattern.formats import load_any_pattern
 
 TINY = 0.09  # cm: GarmentCode's 0.9 mm edge
@@ -73,3 +76,23 @@ def test_seam_sides_stay_paired_one_to_one(mesh):
         db = np.linalg.norm(np.diff(vb, axis=0), axis=1)
         assert np.allclose(da / da.sum(), db / db.sum(), rtol=1e-6), s
     assert checked == 4
+
+
+@settings(max_examples=60, deadline=None)
+@given(length=st.floats(0.005, 2.0), h=st.floats(0.005, 0.1),
+       s0=st.floats(1e-4, 0.1), s1=st.floats(1e-4, 0.1))
+def test_graded_spacing_runs_from_the_short_neighbour_up(length, h, s0, s1):
+    n = max(1, round(length / h))
+    u = _spacing(length, n, s0, s1)
+    seg = np.diff(u) * length
+    assert u[0] == 0.0 and u[-1] == 1.0 and len(u) >= n + 1
+    assert np.all(seg > 0)
+    own = length / n
+    if min(s0, s1) >= 0.4 * own:  # nothing much shorter beside it: even, as before
+        assert len(u) == n + 1 and np.allclose(seg, own)
+        return
+    # no segment much longer than the one beside it, nor than the even spacing; the end
+    # segments near the short neighbours' size (within the rounding of the count)
+    assert np.all(seg[1:] / seg[:-1] < 1.6) and np.all(seg[:-1] / seg[1:] < 1.6)
+    assert seg.max() < 1.3 * own
+    assert seg[0] < 2.5 * max(s0, seg.min()) and seg[-1] < 2.5 * max(s1, seg.min())

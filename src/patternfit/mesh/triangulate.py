@@ -95,7 +95,11 @@ def _spacing(length: float, n: int, s0: float, s1: float) -> np.ndarray:
     own = length / n
     if min(s0, s1) >= _GRADE * own:
         return np.arange(n + 1) / n
-    x = np.linspace(0.0, length, 1025)
+    # the size grows by (1 + _GROWTH) per segment: quarter steps of that near both ends
+    k = np.arange(4 * math.ceil(math.log(own / min(s0, s1)) / math.log(1 + _GROWTH)) + 8)
+    steps = ((1 + _GROWTH) ** (k / 4) - 1) / _GROWTH
+    x = np.unique(np.clip(np.concatenate([np.linspace(0.0, length, 257), s0 * steps,
+                                          length - s1 * steps]), 0.0, length))
     size = np.minimum(own, np.minimum(s0 + _GROWTH * x, s1 + _GROWTH * (length - x)))
     phi = np.concatenate([[0.0], np.cumsum(0.5 * (1 / size[1:] + 1 / size[:-1]) * np.diff(x))])
     m = max(n, round(phi[-1]))
