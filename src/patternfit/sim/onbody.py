@@ -136,8 +136,9 @@ def anchor_reach(pattern: Pattern, mesh: GarmentMesh, *, band: float = ON_BODY.t
                  ) -> np.ndarray:
     """How far [m] each vertex lies from the anchor line (:func:`anchor_line`) along the
     flat cloth, seams crossed where they sew (shortest paths over the mesh's edges at
-    their flat lengths, seam pairs joined at no length); ``(n,)``, ``inf`` for a piece sewn
-    to nothing that holds the anchor line.
+    their flat lengths, seam pairs joined at no length: up to about 10 % longer than the
+    straight way across a panel); ``(n,)``, ``inf`` for a piece sewn to nothing that holds
+    the anchor line.
 
     The bound of the far-from-body check: cloth hanging from an anchor line on the body
     cannot stand out from the body farther than the cloth between them is long (a full
@@ -167,9 +168,8 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     ``min_area_ratio`` of the flat area), a vertex is below the feet or far from the body
     surface (the body's distance field with grid step ``spacing`` [m]) by more than both
     ``far`` and the cloth that ties it to the anchor line (:func:`anchor_reach`), or the
-    anchor line
-    (:func:`anchor_line`) ends more than ``anchor_tolerance`` from the height of the body's
-    anchor landmark (:attr:`Pattern.anchor`: waist or neck base). See
+    anchor line (:func:`anchor_line`) ends more than ``anchor_tolerance`` from the height of
+    the body's anchor landmark (:attr:`Pattern.anchor`: waist or neck base). See
     :class:`OnBodySettings` for the thresholds.
     """
     s = settings
