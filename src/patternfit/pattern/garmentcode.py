@@ -54,6 +54,7 @@ from ..geometry import euler_xyz_matrix
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
+from .orientation import twisted_seams
 from .formats import check_imported
 from .io import json_field, json_number, shown
 from .validate import check_size, measured_ease, seam_slack
@@ -318,6 +319,11 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
     pattern, notes = _with_ease(Pattern(name, tuple(panels), tuple(seams)),
                                 data.get(_SEAM_EASE))
     warnings = notes + check_imported(pattern)
+    twisted = twisted_seams(pattern)
+    if twisted:
+        warnings.append("the stitches sew the garment twisted (a cycle of seams turns the "
+                        "cloth over an odd number of times; check the 'right_wrong' tags), closed by "
+                        + ", ".join(twisted))
     keep = {k: data[k] for k in ("parameters", "parameter_order") if k in data}
     meta: dict[str, Any] = {"source_format": "garmentcode", "garmentcode": {
         **keep, "properties": props,

@@ -14,8 +14,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
 
-from ..geometry import triangle_areas
+from ..geometry import triangle_areas, unique_edges
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
 from ..pattern.roles import panel_roles
@@ -35,9 +37,11 @@ class OnBodySettings:
         A vertex lower than ``-below_feet`` is below the feet (the floor is y = 0; a
         trouser hem pooling on the feet measured 8 mm below it).
     far : float
-        A vertex farther than this from the body surface (the body's distance field) is
-        off the body (measured on the built-in garments on the six built-in bodies: at
-        most 0.23 m, the flared skirt's hem on the thin man).
+        A vertex farther than this from the body surface (the body's distance field), and
+        farther than the cloth that ties it to the anchor line is long
+        (:func:`anchor_reach`), is off the body (measured on the built-in garments on the
+        six built-in bodies: at most 0.23 m, the flared skirt's hem on the thin man; a
+        tiered circle skirt's hem, hanging from the neck, stands 0.49 m out).
     anchor_tolerance : float
         The garment's anchor line may end this far above or below the body's anchor
         height (measured on the six built-in bodies: the skirt rests up to 6.8 cm below
@@ -128,6 +132,33 @@ def anchor_line(pattern: Pattern, mesh: GarmentMesh, *, band: float = ON_BODY.to
     return np.concatenate(out) if out else np.zeros(0, dtype=np.int64)
 
 
+def anchor_reach(pattern: Pattern, mesh: GarmentMesh, *, band: float = ON_BODY.top_band
+                 ) -> np.ndarray:
+    """How far [m] each vertex lies from the anchor line (:func:`anchor_line`) along the
+    flat cloth, seams crossed where they sew (shortest paths over the mesh's edges at
+    their flat lengths, seam pairs joined at no length: up to about 10 % longer than the
+    straight way across a panel); ``(n,)``, ``inf`` for a piece sewn to nothing that holds
+    the anchor line.
+
+    The bound of the far-from-body check: cloth hanging from an anchor line on the body
+    cannot stand out from the body farther than the cloth between them is long (a full
+    circle skirt's hem stands out by up to its length, a sleeve's cuff by up to the
+    sleeve's); a piece that flew off, or a garment displaced off the body, does.
+    """
+    n = mesh.n_vertices
+    e = unique_edges(mesh.triangles)
+    w = np.linalg.norm(mesh.vertices[e[:, 0]] - mesh.vertices[e[:, 1]], axis=1)
+    pairs = np.asarray(mesh.seam_pairs, dtype=np.int64).reshape(-1, 2)
+    # a seam pair sits at one point once sewn: a tiny length (csgraph drops zero weights)
+    e = np.concatenate([e, pairs])
+    w = np.concatenate([w, np.full(len(pairs), 1e-12)])
+    graph = coo_matrix((w, (e[:, 0], e[:, 1])), shape=(n, n)).tocsr()
+    line = anchor_line(pattern, mesh, band=band)
+    if not len(line):
+        return np.full(n, np.inf)
+    return dijkstra(graph, directed=False, indices=line, min_only=True)
+
+
 def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                    settings: OnBodySettings = ON_BODY, spacing: float = 0.005) -> OnBodyChecks:
     """Check that ``positions`` (n, 3) [m], a 3D state of ``mesh`` (made from ``pattern``),
@@ -135,9 +166,10 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
 
     Fails, each with its reason in words, when the state has collapsed (3D area below
     ``min_area_ratio`` of the flat area), a vertex is below the feet or far from the body
-    surface (the body's distance field with grid step ``spacing`` [m]), or the anchor line
-    (:func:`anchor_line`) ends more than ``anchor_tolerance`` from the height of the body's
-    anchor landmark (:attr:`Pattern.anchor`: waist or neck base). See
+    surface (the body's distance field with grid step ``spacing`` [m]) by more than both
+    ``far`` and the cloth that ties it to the anchor line (:func:`anchor_reach`), or the
+    anchor line (:func:`anchor_line`) ends more than ``anchor_tolerance`` from the height of
+    the body's anchor landmark (:attr:`Pattern.anchor`: waist or neck base). See
     :class:`OnBodySettings` for the thresholds.
     """
     s = settings
@@ -162,10 +194,12 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                        f"limit {_length(-s.below_feet)})")
     d, _ = body.distance_field(spacing).query(x)
     farthest = float(d.max())
-    far = int((d > s.far).sum())
+    off = d > np.maximum(s.far, anchor_reach(pattern, mesh, band=s.top_band))
+    far = int(off.sum())
     if far:
         reasons.append(f"{far} vertices far from the body (farthest {_length(farthest)} from "
-                       f"its surface, limit {_length(s.far)})")
+                       f"its surface, limit {_length(s.far)} or the cloth's length from "
+                       f"the garment's top)")
     line = anchor_line(pattern, mesh, band=s.top_band)
     height = float(x[line, 1].mean()) if len(line) else None
     offset = None if height is None else height - landmark

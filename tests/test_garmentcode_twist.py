@@ -1,0 +1,72 @@
+"""A GarmentCode file whose stitches sew the cloth into a twisted (one-sided) surface is read
+with a warning naming the seams (GarmentCode's own ``standing_lapel`` is such a file)."""
+
+import json
+
+import pytest
+
+from patternfit.pattern.formats import load_any_pattern
+from patternfit.pattern.library import build
+from patternfit.pattern.orientation import twisted_seams
+
+GARMENTS = ("skirt", "trousers", "dress", "coat", "shirt", "gathered_skirt")
+
+
+def _band(tmp_path, tags, *, clockwise=()):
+    """Three 20 x 10 cm panels sewn into a ring (each one's right edge to the next one's
+    left edge) as GarmentCode writes them; ``tags[i]`` is the third entry of stitch i
+    (``"right_wrong"`` or None); panels in ``clockwise`` are drawn the other way round."""
+    panels = {}
+    for i in range(3):
+        v = [[0, 0], [20, 0], [20, 10], [0, 10]]
+        if i in clockwise:
+            v = v[::-1]
+        panels[f"p{i}"] = {"vertices": v,
+                           "edges": [{"endpoints": [k, (k + 1) % 4]} for k in range(4)],
+                           "translation": [20.0 * i, 100.0, 10.0],
+                           "rotation": [0.0, 0.0, 0.0]}
+    # edge 1 is the right side and edge 3 the left one, drawn either way round
+    stitches = [[{"panel": f"p{i}", "edge": 1}, {"panel": f"p{(i + 1) % 3}", "edge": 3}]
+                + ([tag] if tag else []) for i, tag in enumerate(tags)]
+    path = tmp_path / "band_specification.json"
+    path.write_text(json.dumps({"pattern": {"panels": panels, "stitches": stitches},
+                                "properties": {"units_in_meter": 100}}))
+    return load_any_pattern(path)
+
+
+def _warned(pattern) -> list:
+    return [w for w in pattern.meta.get("warnings", []) if "twisted" in w]
+
+
+def test_a_ring_sewn_right_side_to_right_side_is_not_twisted(tmp_path):
+    p = _band(tmp_path, [None, None, None])
+    assert twisted_seams(p) == [] and _warned(p) == []
+
+
+@pytest.mark.parametrize("tags,twisted", [
+    (["right_wrong", None, None], True),  # one panel turned over on one side only: Moebius
+    (["right_wrong", "right_wrong", None], False),  # turned over, and back
+    (["right_wrong"] * 3, True),
+])
+def test_an_odd_number_of_turns_round_the_ring_is_twisted(tmp_path, tags, twisted):
+    p = _band(tmp_path, tags)
+    assert bool(twisted_seams(p)) == twisted
+    w = _warned(p)
+    assert len(w) == int(twisted)
+    if twisted:
+        assert "right_wrong" in w[0] and any(n in w[0] for n in twisted_seams(p))
+
+
+@pytest.mark.parametrize("tags", [[None] * 3, ["right_wrong", None, None],
+                                  ["right_wrong", "right_wrong", None]])
+def test_drawing_a_panel_clockwise_changes_nothing(tmp_path, tags):
+    """GarmentCode draws its back panels clockwise: both of the panel's seams then join its
+    edges the other way round, and the ring is as twisted as before."""
+    plain = bool(twisted_seams(_band(tmp_path, tags)))
+    assert bool(twisted_seams(_band(tmp_path, tags, clockwise=(1,)))) == plain
+    assert bool(twisted_seams(_band(tmp_path, tags, clockwise=(0, 2)))) == plain
+
+
+@pytest.mark.parametrize("name", GARMENTS)
+def test_the_built_in_garments_are_not_twisted(name):
+    assert twisted_seams(build(name)) == []
