@@ -70,3 +70,13 @@ def test_drawing_a_panel_clockwise_changes_nothing(tmp_path, tags):
 @pytest.mark.parametrize("name", GARMENTS)
 def test_the_built_in_garments_are_not_twisted(name):
     assert twisted_seams(build(name)) == []
+
+
+def test_the_readers_warning_travels_into_the_report(tmp_path):
+    # a drape's report.json carries what the reader warned of, so a failure has its cause
+    from patternfit import api
+    p = _band(tmp_path, ["right_wrong", None, None])
+    report = api.place_and_evaluate(p, triangles=300).write(tmp_path / "out", pictures=False)
+    assert report["pattern_warnings"] == p.meta["warnings"]
+    assert "pattern_warnings" not in api.place_and_evaluate(
+        _band(tmp_path, [None] * 3), triangles=300).write(tmp_path / "ok", pictures=False)

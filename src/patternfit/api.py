@@ -13,7 +13,6 @@ Lengths are metres, times seconds inside; pattern files state their own units.
 
 from __future__ import annotations
 
-import inspect
 import time
 from fnmatch import fnmatchcase
 from dataclasses import dataclass, field
@@ -51,7 +50,7 @@ from .pattern.model import Pattern, Seam
 from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
-from .sim.drape import Drape, drape
+from .sim.drape import CONTACT_MARGIN, Drape, drape
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
                           get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
@@ -423,7 +422,8 @@ class FitOutcome:
     def write(self, folder, *, pictures: bool = True, progress: Callable | None = None) -> dict:
         """Write every output into ``folder`` (report.json, fit_2d.png/.svg, fit_3d.png,
         garment.glb/.obj, garment/, and with :attr:`measures` sections.png and the report
-        keys ``gap_mm``, ``ease_cm``, ``pressure_kpa``) and return the report."""
+        keys ``gap_mm``, ``ease_cm``, ``pressure_kpa``; ``pattern_warnings`` when the reader
+        warned) and return the report."""
         body = None if self.body is None else (self.body.vertices, self.body.faces)
         extra = dict(self.extra)
         if self.body is not None:
@@ -432,15 +432,12 @@ class FitOutcome:
             extra["fabric"] = self.fabric.name
         if self.judgement is not None:
             extra.update(self.judgement.report())
+        # what the reader noticed (e.g. a seam cycle sewn twisted) travels with the result
+        if self.pattern.meta.get("warnings"):
+            extra["pattern_warnings"] = list(self.pattern.meta["warnings"])
         return write_fit_outputs(folder, self.pattern, self.mesh, self.positions, self.fit,
                                  state=self.state, body=body, pictures=pictures, extra=extra,
                                  progress=progress, measures=self.measures)
-
-
-def _drape_margin() -> float:
-    """The contact margin [m] :func:`patternfit.sim.drape.drape` keeps by default (3 mm):
-    the contact distance of a drape whose solver settings are not at hand."""
-    return float(inspect.signature(drape).parameters["contact_margin"].default)
 
 
 def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMeasures:
@@ -448,7 +445,7 @@ def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMea
     used (the static engine's), else the body's default field and the drape's default
     margin (3 mm)."""
     s = getattr(d.solver, "settings", None)
-    s = s if isinstance(s, SolverSettings) else SolverSettings(contact_margin=_drape_margin())
+    s = s if isinstance(s, SolverSettings) else SolverSettings(contact_margin=CONTACT_MARGIN)
     f = getattr(d.solver, "body", None)
     return fit_measures(mesh, d.positions, body, fabric,
                         f if isinstance(f, DistanceField) else None,
@@ -592,7 +589,7 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     if body is None:
         return FitOutcome(pat, m, None, None, x, fit, state="saved")
     b, fab = read_body(body, units=units), read_fabric(fabric)
-    measures = fit_measures(m, x, b, fab, reach=max(fab.thickness, _drape_margin()))
+    measures = fit_measures(m, x, b, fab, reach=max(fab.thickness, CONTACT_MARGIN))
     return FitOutcome(pat, m, b, fab, x, fit, state="saved", measures=measures,
                       judgement=judge_garment(pat, fit, measures, fab, None, verdict_rules))
 

@@ -8,7 +8,7 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import (SIZE_HELP, app, fail, finite, print_json, triangles_option,
+from .app import (SIZE_HELP, app, console, fail, finite, print_json, triangles_option,
                   verdict_options)
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
                    say_guessed_units)
@@ -92,6 +92,8 @@ def drape(
     if json_out:
         print_json(report)
     else:
+        for w in report.get("pattern_warnings", []):
+            console.print(f"[yellow]warning:[/] {w}", highlight=False)
         print_fit_summary(report, out, outcome.seconds)
         print_drape_checks(report)
     exit_if_checks_failed(report, out)
