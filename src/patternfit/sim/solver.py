@@ -1062,9 +1062,6 @@ class GarmentSolver:
         if sewing or self._newton_on or self.settings.stop != "force":
             return False
         self._newton_on = True
-        # a factor kept from the last solve is of other rest shapes and contacts: the first
-        # CG of a re-drape's Newton phase on it ran to its cap (15K skirt: 100 iterations)
-        self._nfactor = None
         return True
 
     def _stalled(self, sewing, grad):
