@@ -557,7 +557,9 @@ class GarmentSolver:
         6 ms a solve, as many CG iterations."""
         near = self._hessian_pattern()[8]
         C = H.tocoo()
-        keep = np.isin((C.row // 3) * self._n + C.col // 3, near, assume_unique=False)
+        key = (C.row // 3).astype(np.int64) * self._n + C.col // 3
+        at = np.minimum(np.searchsorted(near, key), len(near) - 1)
+        keep = near[at] == key
         extra = np.bincount(C.row[~keep], weights=np.abs(C.data[~keep]), minlength=H.shape[0])
         M = (sp.csr_matrix((C.data[keep], (C.row[keep], C.col[keep])), shape=H.shape)
              + sp.diags(extra)).tocoo()
