@@ -142,7 +142,12 @@ export class Editor {
     this.camera.updateProjectionMatrix();
     if (!this.geo) return;
     this.fitK = Math.min((this.W - 2 * PAD) / this.extent[0], (this.H - 2 * PAD - 16) / this.extent[1]);
-    if (!this.userView) { this.k = this.fitK; this.ox = PAD; this.oy = this.H - PAD; }
+    if (!this.userView) {
+      // the pattern centred in the free room (a wide pattern in a tall view sat at the bottom)
+      this.k = this.fitK;
+      this.ox = (this.W - this.k * this.extent[0]) / 2;
+      this.oy = this.H - (this.H - 16 - this.k * this.extent[1]) / 2;
+    }
     this.redraw();
   }
 
