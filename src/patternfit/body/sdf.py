@@ -181,10 +181,8 @@ def smooth_sdf_query(values, origin, spacing, x):
     n = x.shape[0]
     d = np.empty(n)
     g = np.empty((n, 3))
-    p = np.empty(3)
     for i in range(n):
-        p[0], p[1], p[2] = x[i, 0], x[i, 1], x[i, 2]
-        d[i], g[i, 0], g[i, 1], g[i, 2] = smooth_distance_at(values, origin, spacing, p)
+        d[i], g[i, 0], g[i, 1], g[i, 2] = smooth_distance_at(values, origin, spacing, x[i])
     return d, g
 
 

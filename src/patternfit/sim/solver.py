@@ -408,8 +408,7 @@ class GarmentSolver:
     def _distance(self, x):
         """Distances (n,) [m] and gradients (n, 3) of the body's field as contact sees it
         (the field's C1 reading, ``body.sdf.smooth_sdf_query``) at ``x`` (n, 3) [m]."""
-        return kernels.smooth_sdf_query(self.body.values, self.body.origin,
-                                             self.body.spacing, x)
+        return kernels.smooth_sdf_query(self.body.values, self.body.origin, self.body.spacing, x)
 
     def _contact_k(self):
         return self.settings.contact_stiffness * self.terms.vertex_area * self._contact_scale
@@ -424,9 +423,8 @@ class GarmentSolver:
         e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", self._f, x))
         grad += qx - self._f
         if self.body is not None:
-            e += kernels.contact(x, self.body.values, self.body.origin,
-                                      self.body.spacing, self._reach, self._kc, self._seen,
-                                      self._room, grad)
+            e += kernels.contact(x, self.body.values, self.body.origin, self.body.spacing,
+                                 self._reach, self._kc, self._seen, self._room, grad)
         if len(self._fr_idx):
             e += kernels.friction(x, self._fr_idx, self._fr_anchor, self._fr_normal,
                                   self._fr_limit, self.settings.friction_slip, grad)
