@@ -194,7 +194,9 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                        f"limit {_length(-s.below_feet)})")
     d, _ = body.distance_field(spacing).query(x)
     farthest = float(d.max())
-    off = d > np.maximum(s.far, anchor_reach(pattern, mesh, band=s.top_band))
+    off = d > s.far
+    if off.any():  # the cloth's reach (a graph search) only where the distance alone fails
+        off &= d > anchor_reach(pattern, mesh, band=s.top_band)
     far = int(off.sum())
     if far:
         reasons.append(f"{far} vertices far from the body (farthest {_length(farthest)} from "
