@@ -55,7 +55,7 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
     from patternfit.edit import move_edge, update_mesh
     from patternfit.fit import FitEvaluator
     from patternfit.sim.drape import drape, redrape
-    from patternfit.sim.solver import SolverSettings
+    from patternfit.sim.settings import SolverSettings
     from scenes import garment as meshed
 
     body_name, triangles = CASES[garment]

@@ -9,7 +9,8 @@ from hypothesis import strategies as st
 from patternfit.sim import kernels
 from patternfit.sim.crossings import wrong_sides
 from patternfit.sim.kernels import crossed_pairs
-from patternfit.sim.solver import GarmentSolver, SolverSettings
+from patternfit.sim.settings import SolverSettings
+from patternfit.sim.solver import GarmentSolver
 
 from scenes import grain_at, square_mesh
 

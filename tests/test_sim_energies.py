@@ -9,7 +9,9 @@ import pytest
 from patternfit.constants import GRAVITY
 from patternfit.sim import kernels
 from patternfit.sim.energies import build_terms, spring_matrix
-from patternfit.sim.solver import GarmentSolver, SolverSettings
+from patternfit.sim.settings import SolverSettings
+from patternfit.sim.solver import GarmentSolver
+from patternfit.sim.total_energy import energy
 
 from scenes import grain_at, rect_mesh, sphere_field
 
@@ -198,9 +200,10 @@ def test_residual_is_the_finite_difference_force_of_the_total_energy():
     solver = GarmentSolver(v, t, grain_at(20, len(t)), "cotton_shirting", body=body,
                            pinned=pinned, settings=SolverSettings(max_iterations=0))
     res = solver.solve(x0)
-    fd = _fd_gradient(lambda y: solver._energy(y)[0], x0, h=1e-8)
+    fd = _fd_gradient(lambda y: energy(solver.model, solver.state, y,
+                                       settings=solver.settings)[0], x0, h=1e-8)
     free = np.ones(len(v), bool)
     free[pinned] = False
-    r = np.linalg.norm(fd[free], axis=1) / (solver._mass[free] * GRAVITY)
+    r = np.linalg.norm(fd[free], axis=1) / (solver.model.mass[free] * GRAVITY)
     assert res.checks.residual_rms == pytest.approx(np.sqrt(np.mean(r ** 2)), rel=1e-4)
     assert res.checks.residual_p99 == pytest.approx(np.percentile(r, 99), rel=1e-3)

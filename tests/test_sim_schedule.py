@@ -12,7 +12,8 @@ from patternfit.body.builtin import load_body
 from patternfit.edit import move_edge, update_mesh
 from patternfit.sim.placement import place_on_body
 from patternfit.sim.schedule import STAGE_ITERATIONS, Phase, Plan, run_plan
-from patternfit.sim.solver import GarmentSolver, SolverSettings
+from patternfit.sim.settings import SolverSettings
+from patternfit.sim.solver import GarmentSolver
 
 from scenes import garment
 
@@ -99,7 +100,7 @@ class Recorder:
     def __call__(self, it, energy, step, elapsed):
         name = self.names[-1]
         self.seen[name] = self.solver.settings
-        self.rests[name] = self.solver.rest.copy()
+        self.rests[name] = self.solver.model.rest.copy()
         if name == self.stop_in and it == self.at:
             raise self.error
 
@@ -151,7 +152,7 @@ def test_staged_redrape_walks_the_rest_shapes_to_the_edit(skirt, first_drape):
     the edited rest shapes; the solver keeps those and its own settings."""
     pattern, mesh = skirt[0], skirt[1]
     solver, _, first = first_drape
-    old = solver.rest.copy()
+    old = solver.model.rest.copy()
     edited = update_mesh(pattern, move_edge(pattern, panel="front", edge="hem",
                                             offset=(0.0, -0.05), partner=True), mesh)
     rec = Recorder(solver)
@@ -163,7 +164,7 @@ def test_staged_redrape_walks_the_rest_shapes_to_the_edit(skirt, first_drape):
     assert rec.seen["stage 1 of 2"].max_iterations == STAGE_ITERATIONS
     assert run.phases[0].start == "moved" and run.start == "moved"
     assert solver.settings is BASE
-    np.testing.assert_array_equal(solver.rest, edited.vertices)
+    np.testing.assert_array_equal(solver.model.rest, edited.vertices)
     # the plan needs the target rest shapes
     with pytest.raises(ValueError, match="rest"):
         run_plan(solver, Plan.redrape(), run.result.x)

@@ -11,7 +11,8 @@ import triangle
 from patternfit.body.sdf import DistanceField
 from patternfit.constants import limits, tol
 from patternfit.sim.fabrics import get_fabric
-from patternfit.sim.solver import GarmentSolver, SolverSettings
+from patternfit.sim.settings import SolverSettings
+from patternfit.sim.solver import GarmentSolver
 
 from scenes import end_line_load, grain_at, rect_mesh, sphere_field
 
@@ -192,7 +193,7 @@ def test_contact_stiffens_until_nothing_is_inside():
     solver = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", body=floor,
                            settings=SolverSettings(gravity=(0.0, 0.0, 0.0)))
     forces = np.zeros((len(v), 3))
-    forces[:, 1] = -5000.0 * solver.terms.vertex_area
+    forces[:, 1] = -5000.0 * solver.model.terms.vertex_area
     res = solver.solve(x0, forces=forces)
     assert res.converged
     assert res.checks.inside_vertices == 0

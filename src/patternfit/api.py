@@ -56,7 +56,7 @@ from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricE
 from .sim.fabrics import RANGES as FABRIC_RANGES
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
 from .sim.placement import place_on_body, place_on_cylinders
-from .sim.solver import SolverSettings
+from .sim.settings import SolverSettings
 
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
            "DesignSession", "FABRIC_RANGES", "FABRIC_TESTS", "Fabric", "FabricError", "FitOutcome",

@@ -64,7 +64,7 @@ def drape(
     """
     from .. import api
     from ..sim.newton_engine import ENGINES, NewtonMissingError
-    from ..sim.solver import SolverSettings
+    from ..sim.settings import SolverSettings
 
     if engine not in ENGINES or (engine == "static" and (from_static or device)):
         fail(f"--engine: one of {', '.join(ENGINES)}; --device and --from-static need newton")

@@ -326,7 +326,7 @@ def measure_state(session, rules: VerdictRules) -> tuple[FitResult, FitMeasures,
     fit = session.evaluate()
     solver = session._drape.solver if session._drape is not None else None
     margin = solver.settings.contact_margin if solver is not None else 0.003
-    field = solver.body if solver is not None else None
+    field = solver.model.body if solver is not None else None
     m = fit_measures(session.mesh, session.state.positions, session.body, session.fabric,
                      field, reach=max(session.fabric.thickness, margin))
     return fit, m, judge_garment(session.pattern, fit, m, session.fabric,

@@ -181,7 +181,7 @@ class DesignSession:
         st = self.state
         check_sewn(st.pattern)
         same = (self._drape is not None
-                and np.array_equal(self._drape.solver.triangles, st.mesh.triangles)
+                and np.array_equal(self._drape.solver.model.triangles, st.mesh.triangles)
                 and _sewing(self._drape.pattern) == _sewing(st.pattern))
         if same:
             result = self._staged_redrape(st.mesh, st.positions, progress)
@@ -210,7 +210,7 @@ class DesignSession:
         drape moved with the edit."""
         if np.array_equal(start, self._drape.positions):
             start = None
-        change = float(np.linalg.norm(mesh.vertices - self._drape.solver.rest,
+        change = float(np.linalg.norm(mesh.vertices - self._drape.solver.model.rest,
                                       axis=1).max(initial=0.0))
         return redrape(self._drape, mesh, start=start, plan=Plan.staged(change),
                        progress=progress)

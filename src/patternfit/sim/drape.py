@@ -21,7 +21,9 @@ from .fabrics import Fabric, get_fabric
 from .onbody import OnBodyChecks, on_body_checks
 from .placement import place_on_body
 from .schedule import Plan, run_plan
-from .solver import DrapeResult, GarmentSolver, SolverSettings
+from .result import DrapeResult
+from .settings import SolverSettings
+from .solver import GarmentSolver
 
 #: least distance kept from the body by default [m] (see ``drape``'s ``contact_margin``)
 CONTACT_MARGIN = 0.003
@@ -220,7 +222,7 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
               "sewing_seconds": run.seconds("sewing", "relaxing"),
               "sewing_iterations": run.iterations("sewing", "relaxing"),
               "phases": [p.name for p in run.phases]}
-    d = Drape(positions=result.x[solver.vertex_map], placed=x0, result=result, solver=solver,
+    d = Drape(positions=result.x[solver.model.vertex_map], placed=x0, result=result, solver=solver,
               seconds=time.perf_counter() - t0, timing=timing)
     d.check_on_body(pattern, mesh, body)
     return d
@@ -237,7 +239,7 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
                            settings=replace(settings, friction_delay=0))
     solver.weld()
     result = run_plan(solver, Plan.settle(), x, progress=progress).result
-    return Drape(positions=result.x[solver.vertex_map], placed=x, result=result, solver=solver,
+    return Drape(positions=result.x[solver.model.vertex_map], placed=x, result=result, solver=solver,
                  seconds=0.0, timing={"start": "saved"})
 
 
@@ -278,7 +280,7 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
         if solver.crossings(start) == 0:
             break
     result = run_plan(solver, Plan.settle(), start, progress=progress).result
-    return Drape(positions=result.x[solver.vertex_map], placed=x0, result=result, solver=solver,
+    return Drape(positions=result.x[solver.model.vertex_map], placed=x0, result=result, solver=solver,
                  seconds=time.perf_counter() - t0, timing=timing)
 
 
@@ -303,7 +305,7 @@ def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, pattern: Pattern 
     run = run_plan(solver, plan or Plan.redrape(), previous.result.x, rest=mesh.vertices,
                    start=start, progress=progress)
     result = run.result
-    d = Drape(positions=result.x[solver.vertex_map], placed=previous.placed, result=result,
+    d = Drape(positions=result.x[solver.model.vertex_map], placed=previous.placed, result=result,
               solver=solver, seconds=time.perf_counter() - t0,
               timing={"start": run.start, "phases": [p.name for p in run.phases]})
     pattern = pattern if pattern is not None else previous.pattern

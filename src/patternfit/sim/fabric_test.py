@@ -33,7 +33,9 @@ from ..constants import GRAVITY
 from ..files import atomic_write_bytes
 from ..geometry import counter_clockwise, polygon_area, triangle_areas
 from .fabrics import Fabric, get_fabric
-from .solver import DrapeResult, GarmentSolver, SolverSettings
+from .result import DrapeResult
+from .settings import SolverSettings
+from .solver import GarmentSolver
 
 #: tip angle of Peirce's cantilever test (ASTM D1388) [deg]
 PEIRCE_ANGLE = 41.5

@@ -29,7 +29,9 @@ from .drape import CONTACT_MARGIN, Drape, drape
 from .fabrics import Fabric, get_fabric
 from .placement import place_on_body
 from .schedule import Plan, run_plan
-from .solver import DrapeResult, GarmentSolver, SolverSettings
+from .result import DrapeResult
+from .settings import SolverSettings
+from .solver import GarmentSolver
 
 #: Style3D's hinge energy uses Bergou's weight 3 l^2 / (A1 + A2) as is; the static engine's
 #: earlier hinge bending read B through that weight divided by 3.4 (its calibration against
@@ -465,11 +467,11 @@ def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
         timing.update(sewing_seconds=run.seconds(*plan.names),
                       sewing_iterations=run.iterations(*plan.names))
         if not sewn.welded or sewn.interrupted:
-            return Drape(positions=sewn.x[solver.vertex_map], placed=x0, result=sewn,
+            return Drape(positions=sewn.x[solver.model.vertex_map], placed=x0, result=sewn,
                          solver=solver, seconds=time.perf_counter() - t0,
                          timing={**timing, "engine": "newton"})
         vmap = np.asarray(sewn.vertex_map)
-        x_sim = _sim_positions(sewn.x[solver.vertex_map], vmap)
+        x_sim = _sim_positions(sewn.x[solver.model.vertex_map], vmap)
     t = time.perf_counter()
     scene = build_scene(mesh, x_sim, vmap, body, fabric, settings=s, device=device)
     timing["build_seconds"] = time.perf_counter() - t

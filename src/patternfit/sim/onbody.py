@@ -1,7 +1,7 @@
 """On the body, or failed: checks that a draped garment rests on the body where its pattern
 says it hangs from.
 
-The solver's checks (:class:`~patternfit.sim.solver.DrapeChecks`: vertices inside the body,
+The solver's checks (:class:`~patternfit.sim.checks.DrapeChecks`: vertices inside the body,
 seam gaps, crossings, equilibrium) hold as well for a garment that fell 25 m, lies on the
 floor or slid from the shoulders to the hips; these do not. :func:`on_body_checks` is a
 pure function of the pattern, its mesh, the body and the 3D state; every drape carries its

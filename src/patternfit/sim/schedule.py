@@ -22,7 +22,9 @@ from typing import Any, Callable
 import numpy as np
 
 from ..mesh.transfer import follow_edit
-from .solver import DrapeResult, GarmentSolver, SolverSettings
+from .result import DrapeResult
+from .settings import SolverSettings
+from .solver import GarmentSolver
 
 #: largest motion of a flat vertex [m] between the stages of a staged re-drape
 STAGE_LENGTH = 0.03
@@ -224,7 +226,7 @@ def run_plan(solver: GarmentSolver, plan: Plan, x0, *, rest=None, start=None,
         starts.
     """
     base = solver.settings
-    old = solver.rest
+    old = solver.model.rest
     target = None if rest is None else np.asarray(rest, dtype=np.float64)
     if any(p.rest is not None for p in plan.phases) and target is None:
         raise ValueError("rest: the plan re-drapes to new rest shapes; give them")
@@ -250,7 +252,7 @@ def run_plan(solver: GarmentSolver, plan: Plan, x0, *, rest=None, start=None,
             result = solver.solve(x, resume=how == "moved", progress=progress)
             run.phases.append(PhaseRun(phase.name, result, time.perf_counter() - t, how))
             x = result.x
-        if target is not None and not np.array_equal(solver.rest, target):
+        if target is not None and not np.array_equal(solver.model.rest, target):
             solver.set_rest(target)  # ended early: the solver holds the edited pattern
     finally:
         solver.settings = base
@@ -271,12 +273,12 @@ def start_after_edit(solver: GarmentSolver, x, rest) -> tuple[np.ndarray, str]:
     than none of it.)
     """
     x = np.asarray(x, dtype=np.float64)
-    if rest.shape != solver.rest.shape or np.array_equal(rest, solver.rest):
+    if rest.shape != solver.model.rest.shape or np.array_equal(rest, solver.model.rest):
         return x, "previous"
-    moved = follow_edit(solver.rest, rest, solver.triangles, x[solver.vertex_map])
+    moved = follow_edit(solver.model.rest, rest, solver.model.triangles, x[solver.model.vertex_map])
     rows = np.zeros_like(x)
-    np.add.at(rows, solver.vertex_map, moved)
-    rows /= np.maximum(np.bincount(solver.vertex_map, minlength=len(rows)), 1)[:, None]
+    np.add.at(rows, solver.model.vertex_map, moved)
+    rows /= np.maximum(np.bincount(solver.model.vertex_map, minlength=len(rows)), 1)[:, None]
     now, then = solver.checks(rows), solver.checks(x)
     if (now.self_intersections <= then.self_intersections
             and now.max_depth_mm <= max(then.max_depth_mm, MOVED_DEPTH_MM)):

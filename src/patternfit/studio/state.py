@@ -94,7 +94,7 @@ def drape_plan(session) -> list[tuple[str, float]]:
     st = session.state
     n = st.mesh.n_triangles
     previous = getattr(session, "_drape", None)
-    if previous is not None and np.array_equal(previous.solver.triangles, st.mesh.triangles):
+    if previous is not None and np.array_equal(previous.solver.model.triangles, st.mesh.triangles):
         return [("settling", _PHASE_ITERATIONS["settling"] * n)]
     size = _COARSE if n > 3 * _COARSE else n
     plan = [(name, _PHASE_ITERATIONS[name] * size) for name in ("sewing", "relaxing", "draping")]
@@ -123,7 +123,7 @@ class DrapeTracker:
         self.plan = drape_plan(session)
         self.index, self.last, self.done, self.fraction = 0, 0, 0, 0.0
         self.previous = getattr(session, "_drape", None)
-        self.rest = None if self.previous is None else self.previous.solver.rest.copy()
+        self.rest = None if self.previous is None else self.previous.solver.model.rest.copy()
 
     @property
     def phase(self) -> str | None:
@@ -165,7 +165,7 @@ class DrapeTracker:
         already given that drape's solver the new rest shapes, which are put back."""
         prev = self.previous
         if prev is not None and getattr(session, "_drape", None) is prev \
-                and not np.array_equal(prev.solver.rest, self.rest):
+                and not np.array_equal(prev.solver.model.rest, self.rest):
             prev.solver.set_rest(self.rest)
 
 

@@ -1,0 +1,105 @@
+"""Checks of a solved state: vertices inside the body, seam gaps, crossed triangle pairs,
+the force balance (:class:`DrapeChecks`), and the share of compressed cloth (SI units: m;
+reports in mm)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..arguments import array
+from ..constants import limits, tol
+from . import kernels
+from .model import ClothModel
+from .settings import SolverSettings
+
+
+@dataclass(frozen=True)
+class DrapeChecks:
+    """Checks of a solved state (every result carries them)."""
+
+    #: vertices deeper in the body than ``constants.tol.penetration``, and the deepest
+    #: vertex's depth [mm]
+    inside_vertices: int
+    max_depth_mm: float
+    #: smallest vertex distance to the body [mm] (None without a body)
+    min_clearance_mm: float | None
+    #: largest distance between the two sides of a seam pair [mm]
+    seam_gap_max_mm: float
+    #: triangle pairs (sharing no vertex) that cross each other
+    self_intersections: int
+    #: whether the garment is at rest: the stop criterion was met and, where the residual
+    #: is known, residual_rms <= SolverSettings.residual_rms and residual_p99 <=
+    #: SolverSettings.residual_p99
+    equilibrium: bool
+    #: residual force |F_i| / (m_i g) over the free vertices: rms and 99th percentile [-]
+    #: (None where unknown, e.g. a state checked without the solver's energy)
+    residual_rms: float | None = None
+    residual_p99: float | None = None
+
+    @property
+    def passed(self) -> bool:
+        """Vertices inside the body and crossed triangle pairs within
+        ``constants.limits`` (none), seams closed (< 0.5 mm), equilibrium reached."""
+        return (self.inside_vertices <= limits.body_penetrations
+                and self.seam_gap_max_mm < 0.5
+                and self.self_intersections <= limits.self_intersections and self.equilibrium)
+
+    def to_dict(self) -> dict:
+        return {"inside_vertices": self.inside_vertices, "max_depth_mm": self.max_depth_mm,
+                "min_clearance_mm": self.min_clearance_mm,
+                "seam_gap_max_mm": self.seam_gap_max_mm,
+                "self_intersections": self.self_intersections, "equilibrium": self.equilibrium,
+                "residual_rms": self.residual_rms, "residual_p99": self.residual_p99}
+
+
+def compressed_share(model: ClothModel, x, strain: float = 0.01) -> float:
+    """Share of the membrane's rest area [-] whose warp or weft is compressed by more than
+    ``strain`` at simulated positions ``x`` (n3, 3) [m] (cloth that shrinks in plane instead
+    of folding)."""
+    x = model.reduce(array(x, "x", shape=(None, 3), contiguous=True))
+    t = model.terms
+    p = x[t.tris]  # (m, 3, 3)
+    lu = np.linalg.norm(np.einsum("mj,mjc->mc", t.cu, p), axis=1)
+    lv = np.linalg.norm(np.einsum("mj,mjc->mc", t.cv, p), axis=1)
+    short = (lu < 1.0 - strain) | (lv < 1.0 - strain)
+    return float(t.area[short].sum() / t.area.sum())
+
+
+def crossings(model: ClothModel, x) -> int:
+    """Triangle pairs (sharing no vertex once welded) that cross each other at simulated
+    positions ``x`` (n3, 3) [m]."""
+    x = array(x, "x", shape=(None, 3), contiguous=True)
+    # welded pairs are one vertex here, so triangles meeting across a seam are neighbours
+    return int(kernels.intersecting_pairs(model.reduce(x), model.terms.tris,
+                                          model.terms.edge_length))
+
+
+def drape_checks(model: ClothModel, x, *, settings: SolverSettings, converged: bool = False,
+                 residual=None) -> DrapeChecks:
+    """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`.
+    ``residual``: (rms, p99) of the residual force at ``x`` when known; then ``equilibrium``
+    also needs them within the ``settings``' thresholds (force rule)."""
+    x = array(x, "x", shape=(None, 3), contiguous=True)
+    body = model.body
+    if body is not None:
+        d, _ = kernels.sdf_query(body.values, body.origin, body.spacing, x)
+        inside = int((d < -tol.penetration).sum())
+        depth = float(max(0.0, -d.min()) * 1e3)
+        clearance = float(d.min() * 1e3)
+    else:
+        inside, depth, clearance = 0, 0.0, None
+    pairs = model.seam_pairs
+    gap = (float(np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1).max() * 1e3)
+           if len(pairs) else 0.0)
+    crossing = crossings(model, x)
+    rms = p99 = None
+    at_rest = bool(converged)
+    if residual is not None:
+        rms, p99 = float(residual[0]), float(residual[1])
+        if settings.stop == "force":
+            at_rest = at_rest and rms <= settings.residual_rms and p99 <= settings.residual_p99
+    return DrapeChecks(inside_vertices=inside, max_depth_mm=depth, min_clearance_mm=clearance,
+                       seam_gap_max_mm=gap, self_intersections=crossing,
+                       equilibrium=at_rest, residual_rms=rms, residual_p99=p99)

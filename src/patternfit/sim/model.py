@@ -1,0 +1,215 @@
+"""The cloth model of a solve: everything that stays fixed while the solver iterates (SI
+units: m, kg, N).
+
+A :class:`ClothModel` holds the flat rest geometry, the fabric, the seams, the pinned
+vertices and the body's distance field, and what follows from them: the rest-shape energy
+terms (:func:`energies.build_terms`), the lumped masses, which vertices are free. It is
+frozen: a pattern edit (:meth:`ClothModel.with_rest`) and the weld of the seams
+(:meth:`ClothModel.welded_model`) make a new model. The lagged contact and friction state is
+:class:`patternfit.sim.state.ContactState`; the energy of both at positions ``x`` is
+:func:`patternfit.sim.total_energy.energy`.
+
+Vertices come in three numberings: the flat pattern mesh's ``n`` vertices, the ``n3``
+simulated vertices (``vertex_map``: a seam's two sides sewn by springs are two of them), and
+the solved vertices (``group``: once the seams are welded, both sides of a pair are one).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..arguments import array
+from ..body.sdf import DistanceField
+from ..geometry import unique_edges
+from .energies import MeshTerms, build_terms
+from .fabrics import Fabric, get_fabric
+from .settings import SolverSettings
+
+
+@dataclass(frozen=True, eq=False)
+class ClothModel:
+    """A garment's cloth as the solver sees it; made by :meth:`build`.
+
+    Attributes
+    ----------
+    rest : (n, 2) float
+        Flat rest positions of the pattern mesh [m], each panel in its own frame.
+    triangles : (m, 3) int
+        Flat triangles (counter-clockwise).
+    grain : (m, 2) float
+        Warp direction of each triangle in its panel frame (need not be unit).
+    fabric : Fabric
+    vertex_map : (n,) int
+        Simulated vertex of each flat vertex (``n3 = vertex_map.max() + 1``).
+    seam_pairs : (k, 2) int
+        Simulated-vertex pairs to sew.
+    body : DistanceField or None
+        Signed distance field of the body [m].
+    pinned : (p,) int
+        Simulated vertices held at their start position.
+    group : (n3,) int
+        Solved vertex of each simulated vertex (welding merges entries).
+    welded : bool
+        Whether the seam pairs are welded (or there are none).
+
+    Derived (from the above):
+
+    terms : MeshTerms
+        Rest-shape energy terms over the solved vertices.
+    mass : (n_solved,) float
+        Lumped vertex masses [kg].
+    pinned_solved : (q,) int
+        Solved vertices that are pinned.
+    root : (n_solved,) int
+        Solved vertex each solved vertex will be welded into (itself once welded): vertices
+        with the same root are never a self-collision pair.
+    free : (n_solved,) bool
+        Not pinned.
+    edges : (e, 2) int
+        Unique edges in solved vertices.
+    """
+
+    rest: np.ndarray
+    triangles: np.ndarray
+    grain: np.ndarray
+    fabric: Fabric
+    vertex_map: np.ndarray
+    seam_pairs: np.ndarray
+    body: DistanceField | None
+    pinned: np.ndarray
+    group: np.ndarray
+    welded: bool
+    terms: MeshTerms = field(init=False)
+    mass: np.ndarray = field(init=False)
+    pinned_solved: np.ndarray = field(init=False)
+    root: np.ndarray = field(init=False)
+    free: np.ndarray = field(init=False)
+    edges: np.ndarray = field(init=False)
+
+    def __post_init__(self):
+        f = self.fabric
+        n = self.n
+        terms = build_terms(
+            self.rest, self.triangles, self.grain, self.group[self.vertex_map], n,
+            bend_warp=f.bending_warp, bend_weft=f.bending_weft, k_warp=f.stretch_warp,
+            k_weft=f.stretch_weft, k_shear=f.shear)
+        pinned = np.unique(self.group[self.pinned])
+        free = np.ones(n, bool)
+        free[pinned] = False
+        object.__setattr__(self, "terms", terms)
+        object.__setattr__(self, "mass", f.density * terms.vertex_area)
+        object.__setattr__(self, "pinned_solved", pinned)
+        object.__setattr__(self, "root", np.arange(n) if self.welded or not len(self.seam_pairs)
+                           else self.seam_roots())
+        object.__setattr__(self, "free", free)
+        object.__setattr__(self, "edges", np.ascontiguousarray(unique_edges(terms.tris)))
+
+    @classmethod
+    def build(cls, rest, triangles, grain, fabric, *, vertex_map=None, seam_pairs=None,
+              body=None, pinned=None) -> "ClothModel":
+        """The model of a flat pattern mesh, its seams not yet welded; the arguments are
+        :class:`patternfit.sim.solver.GarmentSolver`'s (checked here)."""
+        fabric = get_fabric(fabric)
+        rest = array(rest, "rest", shape=(None, 2), contiguous=True)
+        triangles = array(triangles, "triangles", shape=(None, 3), dtype=np.int64,
+                          contiguous=True)
+        grain = array(grain, "grain", shape=(None, 2), contiguous=True)
+        n, m = len(rest), len(triangles)
+        if len(grain) != m:
+            raise ValueError(f"grain: expected {m} rows (one per triangle), got {len(grain)}")
+        if m == 0 or triangles.min() < 0 or triangles.max() >= n:
+            raise ValueError(f"triangles: indices must lie in [0, {n})")
+        if vertex_map is None:
+            vertex_map = np.arange(n)
+        vmap = array(vertex_map, "vertex_map", shape=(None,), dtype=np.int64,
+                     contiguous=True)
+        if len(vmap) != n or vmap.min() < 0:
+            raise ValueError(f"vertex_map: expected {n} non-negative indices")
+        n3 = int(vmap.max()) + 1
+        seam_pairs = (np.zeros((0, 2), np.int64) if seam_pairs is None
+                      else array(seam_pairs, "seam_pairs", shape=(None, 2), dtype=np.int64,
+                                 contiguous=True))
+        if len(seam_pairs) and (seam_pairs.min() < 0 or seam_pairs.max() >= n3):
+            raise ValueError(f"seam_pairs: indices must lie in [0, {n3})")
+        pinned = (np.zeros(0, np.int64) if pinned is None
+                  else array(pinned, "pinned", shape=(None,), dtype=np.int64, contiguous=True))
+        return cls(rest=rest, triangles=triangles, grain=grain, fabric=fabric,
+                   vertex_map=vmap, seam_pairs=seam_pairs, body=body, pinned=pinned,
+                   group=np.arange(n3), welded=len(seam_pairs) == 0)
+
+    @property
+    def n3(self) -> int:
+        """Simulated vertices."""
+        return int(self.vertex_map.max()) + 1
+
+    @property
+    def n(self) -> int:
+        """Solved vertices."""
+        return int(self.group.max()) + 1
+
+    def with_rest(self, rest) -> "ClothModel":
+        """The model with new rest shapes ``rest`` (n, 2) [m] (same topology), e.g. after a
+        pattern edit."""
+        rest = array(rest, "rest", shape=(None, 2), contiguous=True)
+        if rest.shape != self.rest.shape:
+            raise ValueError(f"rest: expected shape {self.rest.shape}, got {rest.shape}")
+        return replace(self, rest=rest)
+
+    def seam_roots(self) -> np.ndarray:
+        """(n_solved,) int: the solved vertex each solved vertex will be welded into."""
+        parent = np.arange(self.n)
+
+        def find(i):
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        for a, b in self.group[self.seam_pairs]:
+            ra, rb = find(a), find(b)
+            if ra != rb:
+                parent[max(ra, rb)] = min(ra, rb)
+        return np.array([find(i) for i in range(self.n)], dtype=np.int64)
+
+    def welded_model(self) -> "ClothModel":
+        """The model with every seam pair merged into one solved vertex."""
+        _, new = np.unique(self.seam_roots(), return_inverse=True)
+        return replace(self, group=new[self.group], welded=True)
+
+    def reduce(self, x_full) -> np.ndarray:
+        """Mean position (n_solved, 3) [m] of each group of simulated positions ``x_full``
+        (n3, 3) [m]."""
+        out = np.zeros((self.n, 3))
+        np.add.at(out, self.group, x_full)
+        return out / np.bincount(self.group, minlength=self.n)[:, None]
+
+    def seam_gap(self, x_red) -> float:
+        """Widest seam gap [m] at solved positions ``x_red`` (n_solved, 3) [m]."""
+        if not len(self.seam_pairs):
+            return 0.0
+        a, b = self.group[self.seam_pairs[:, 0]], self.group[self.seam_pairs[:, 1]]
+        return float(np.linalg.norm(x_red[a] - x_red[b], axis=1).max())
+
+    # ------------------------------------------------ distances that depend on the settings
+    def reach(self, settings: SolverSettings) -> float:
+        """Distance kept from the body [m]."""
+        return max(self.fabric.thickness, settings.contact_margin)
+
+    @staticmethod
+    def floor(settings: SolverSettings) -> float:
+        """Distance to the body below which the contact is stiffened [m]."""
+        return 0.5 * settings.contact_margin
+
+    def self_gap(self, settings: SolverSettings) -> float:
+        """Cloth-cloth distance kept [m]."""
+        # the fabric thickness, but at least a share of the edge length: with vertex-triangle
+        # pairs only, edges of coarse meshes could otherwise slip through each other
+        return max(self.fabric.thickness, settings.self_gap * self.terms.edge_length)
+
+    def detect(self, settings: SolverSettings) -> float:
+        """Self-collision pairs are sought this far apart [m]."""
+        # they are searched again before any vertex could have closed the margin beyond the
+        # thickness (see solver.solve)
+        return max(2.0 * self.self_gap(settings), settings.self_detect * self.terms.edge_length)

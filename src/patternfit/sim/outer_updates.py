@@ -1,0 +1,208 @@
+"""The outer updates of a solve, every ``SolverSettings.refresh`` iterations (every
+``newton_refresh`` in Newton steps): they write the lagged terms of the
+:class:`~patternfit.sim.state.ContactState` (SI units: m, N).
+
+- :func:`set_springs`: the seam springs' stiffness and pull while sewing;
+- :func:`refresh`: contact stiffness, friction anchors (:func:`anchors`) and self-collision
+  pairs (:func:`find_pairs`, :func:`untangle`);
+- :func:`moved_since_pairs`, :func:`can_stiffen`: whether the pairs or the contact need an
+  update.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from . import kernels
+from .crossings import wrong_sides
+from .energies import spring_matrix
+from .model import ClothModel
+from .settings import SolverSettings
+from .state import MAX_CONTACT_SCALE, ContactState
+from .total_energy import ContactLookups, distance, energy
+
+
+def set_springs(model: ClothModel, state: ContactState, *, settings: SolverSettings,
+                stiffness: float, pull: float = 1.0) -> sp.csr_matrix:
+    """Seam springs of ``stiffness`` [N/m] (bounded by ``pull`` x ``settings.seam_pull``'s
+    contact force) into ``state`` while the seams are open; none once welded. Returns the
+    springs' part of the L-BFGS preconditioner (n, n) [N/m]."""
+    s = settings
+    Q = model.terms.bending
+    # the preconditioner leaves bending out: next to the membrane it is small, and its
+    # wider stencil doubled the factor's fill (22K coat: 3.1 -> 1.4 ms a solve, and as
+    # many iterations or fewer on the three garments)
+    Qpre = sp.csr_matrix(Q.shape)
+    state.seam_limit = None
+    if not model.welded and len(model.seam_pairs):
+        pairs = model.group[model.seam_pairs]
+        if s.seam_pull > 0:
+            # bounded pull (kernels.seam_springs): the preconditioner gets the secant
+            # stiffness of a pull over seam_precond_gap at most
+            kc = s.contact_stiffness * model.terms.vertex_area
+            state.seam_a = np.ascontiguousarray(pairs[:, 0])
+            state.seam_b = np.ascontiguousarray(pairs[:, 1])
+            state.seam_limit = pull * s.seam_pull * np.minimum(kc[pairs[:, 0]], kc[pairs[:, 1]])
+            state.seam_k = float(stiffness)
+            k_pre = min(stiffness, float(np.median(state.seam_limit)) / s.seam_precond_gap)
+            Qpre = Qpre + spring_matrix(pairs, k_pre, model.n)
+        else:
+            Qpre = spring_matrix(pairs, stiffness, model.n)
+            Q = Q + Qpre
+    state.quadratic = Q.tocsr()
+    return Qpre.tocsr()
+
+
+def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettings,
+            friction_on: bool, hold: bool = False,
+            lookups: ContactLookups | None = None) -> np.ndarray:
+    """Contact stiffness, friction anchors and self-collision pairs of ``state`` at solved
+    positions ``x`` (n, 3) [m]. ``hold``: new contacts are anchored so that friction balances
+    the tangential force on them (up to the Coulomb limit) instead of where they are (see
+    :func:`anchors`). Returns the contact diagonal (n,) [N/m] of the L-BFGS preconditioner."""
+    s = settings
+    n = model.n
+    diag = np.zeros(n)
+    state.friction_idx = np.zeros(0, np.int64)
+    reach = model.reach(s)
+    if model.body is not None:
+        d, g = distance(model, x)
+        # a vertex found inside the body (or deeper than half the contact margin, where
+        # the true surface may lie) gets a stiffer contact (x4, up to 4^6)
+        inside = d < model.floor(s)
+        state.contact_scale[inside] = np.minimum(state.contact_scale[inside] * 4.0,
+                                                 MAX_CONTACT_SCALE)
+        state.contact_k = contact_k(model, state, s)
+        near = d < reach + s.contact_band
+        diag[near] = s.contact_precond * state.contact_k[near]
+    else:
+        state.contact_k = contact_k(model, state, s)
+    if s.self_collision and (state.pairs_x is None
+                             or moved_since_pairs(model, state, x, settings=s)):
+        find_pairs(model, state, x, settings=s)
+    if model.body is not None and friction_on and model.fabric.friction > 0:
+        pen = reach - d
+        idx = np.flatnonzero((pen > 0) & model.free)
+        nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
+        state.friction_normal = np.ascontiguousarray(nrm)
+        state.friction_limit = model.fabric.friction * state.contact_k[idx] * pen[idx]
+        # the gradient of every other term (friction is off here): what friction holds
+        held = energy(model, state, x, settings=s, lookups=lookups)[1][idx] if hold else None
+        state.friction_anchor = anchors(state, x, idx, nrm, held, settings=s)
+        state.friction_idx = idx
+    return diag
+
+
+def contact_k(model: ClothModel, state: ContactState, settings: SolverSettings) -> np.ndarray:
+    """Contact stiffness (n,) [N/m] of every vertex: pressure stiffness x vertex area x the
+    state's scale."""
+    return settings.contact_stiffness * model.terms.vertex_area * state.contact_scale
+
+
+def anchors(state: ContactState, x, idx, normal, grad=None, *,
+            settings: SolverSettings) -> np.ndarray:
+    """Friction anchors (k, 3) [m] of the contact vertices ``idx`` (k,) at solved positions
+    ``x`` (n, 3) [m], the body's unit normals there ``normal`` (k, 3); they are also written
+    to ``state.anchor_of`` (NaN elsewhere). Needs ``state.friction_limit`` of ``idx``.
+
+    A vertex that sticks (tangential offset from its anchor below the slip distance) keeps
+    its anchor, so static friction holds instead of creeping one slip distance per update;
+    one that slides is re-anchored a slip distance behind, at the Coulomb limit; a new
+    contact is anchored where it is, or, given ``grad`` (k, 3) [N] (the gradient of the other
+    terms at those vertices), where friction balances its tangential part up to the Coulomb
+    limit (a start taken from a saved rest: static friction held it there, and anchored in
+    place it would first have to slip to carry that force; the 1.5K skirt restarted from its
+    rest moved 5.4 mm).
+    """
+    slip = settings.friction_slip
+    held = state.anchor_of[idx]
+    new = x[idx].copy()
+    if grad is not None:
+        # E = limit |u|^2 / (2 slip), u = P (x - a): its gradient limit u / slip cancels
+        # the tangential gradient when u = -slip g_t / limit (at most slip long)
+        gt = grad - np.einsum("ij,ij->i", grad, normal)[:, None] * normal
+        u = -slip * gt / np.maximum(state.friction_limit, 1e-300)[:, None]
+        m = np.linalg.norm(u, axis=1)
+        u *= np.minimum(1.0, slip / np.maximum(m, 1e-300))[:, None]
+        new -= u
+    has = ~np.isnan(held[:, 0])
+    u = x[idx] - held
+    u -= np.einsum("ij,ij->i", u, normal)[:, None] * normal
+    m = np.linalg.norm(u, axis=1)
+    stick = has & (m <= slip)
+    new[stick] = held[stick]
+    slide = has & (m > slip)
+    new[slide] = x[idx][slide] - slip * u[slide] / m[slide, None]
+    state.anchor_of[:] = np.nan
+    state.anchor_of[idx] = new
+    return np.ascontiguousarray(new)
+
+
+def find_pairs(model: ClothModel, state: ContactState, x, *, settings: SolverSettings):
+    """Vertex-triangle and edge-edge pairs of ``state`` within the detection radius at solved
+    positions ``x`` (n, 3) [m] (lagged self-collision)."""
+    if not settings.self_collision:
+        return
+    detect = model.detect(settings)
+    # grid cells of the search radius for the vertices (a 20K mesh: 9.6 ms, 11.9 at
+    # twice that), twice the radius for the edges' boxes
+    state.pairs, state.bary, state.pair_normal = kernels.near_pairs(
+        x, model.terms.tris, detect, detect, model.root)
+    # edges cross each other only where two sheets are near: search the edges of the
+    # vertex-triangle pairs' vertices and triangles (a tenth of the 20K trousers' edges)
+    near = np.zeros(model.n, bool)
+    near[state.pairs[:, 0]] = True
+    near[model.terms.tris[state.pairs[:, 1]]] = True
+    state.near_edges = np.ascontiguousarray(model.edges[near[model.edges].any(axis=1)])
+    state.edge_pairs, state.edge_st, state.edge_normal = kernels.near_edge_pairs(
+        x, state.near_edges, detect, 2 * detect, model.root)
+    state.pairs_x = x.copy()
+    if model.welded and settings.untangle:
+        untangle(model, state, x)
+
+
+def untangle(model: ClothModel, state: ContactState, x):
+    """Turn the self-collision pairs of ``state`` towards undoing the crossings at solved
+    positions ``x`` (n, 3) [m]: each vertex that passed through a triangle
+    (``crossings.wrong_sides``) gets a pair with that triangle whose normal points back to
+    the side it came from (replacing the pair the search made, which would hold it where it
+    is), and the edge pairs around a crossing, which would hold it too, are dropped until it
+    is undone."""
+    tris = model.terms.tris
+    crossed = kernels.crossed_pairs(x, tris, model.terms.edge_length, model.root)
+    if not len(crossed):
+        return
+    vt, bary, normal = wrong_sides(x, tris, crossed)
+    _, first = np.unique(vt[:, 0] * len(tris) + vt[:, 1], return_index=True)
+    vt, bary, normal = vt[first], bary[first], normal[first]
+    keep = ~np.isin(state.pairs[:, 0] * len(tris) + state.pairs[:, 1],
+                    vt[:, 0] * len(tris) + vt[:, 1])
+    state.pairs = np.ascontiguousarray(np.r_[state.pairs[keep], vt])
+    state.bary = np.ascontiguousarray(np.r_[state.bary[keep], bary])
+    state.pair_normal = np.ascontiguousarray(np.r_[state.pair_normal[keep], normal])
+    near = np.zeros(model.n, bool)
+    near[tris[crossed].ravel()] = True
+    ok = ~near[state.near_edges[state.edge_pairs].reshape(len(state.edge_pairs), 4)].any(axis=1)
+    state.edge_pairs = np.ascontiguousarray(state.edge_pairs[ok])
+    state.edge_st = np.ascontiguousarray(state.edge_st[ok])
+    state.edge_normal = np.ascontiguousarray(state.edge_normal[ok])
+
+
+def moved_since_pairs(model: ClothModel, state: ContactState, x, *,
+                      settings: SolverSettings) -> bool:
+    """Whether two vertices may have closed half the detection margin since the pair search
+    (solved positions ``x`` (n, 3) [m])."""
+    margin = model.detect(settings) - model.self_gap(settings)
+    return kernels.max_relative_move(x, state.pairs_x) > 0.25 * margin
+
+
+def can_stiffen(model: ClothModel, state: ContactState, x, *,
+                settings: SolverSettings) -> bool:
+    """Whether a vertex is inside the body (or deeper than half the contact margin) at solved
+    positions ``x`` (n, 3) [m] with its contact stiffness not yet at the cap."""
+    if model.body is None:
+        return False
+    d, _ = distance(model, x)
+    return bool(((d < model.floor(settings))
+                 & (state.contact_scale < MAX_CONTACT_SCALE)).any())

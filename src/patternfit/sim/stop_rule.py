@@ -1,0 +1,53 @@
+"""The solver's stopping rules: the force balance (the residual |F_i| / (m_i g) over the free
+vertices) and the kinematic rule's drift (SI units: m, N, kg)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..constants import GRAVITY
+from .model import ClothModel
+from .settings import SolverSettings
+
+
+def drift(x, it, marks, window) -> float:
+    """Largest vertex displacement [m] of positions ``x`` (n, 3) [m] at iteration ``it``
+    since the newest mark (``marks``: (iteration, positions) pairs, oldest first) at least
+    ``window`` iterations old, or since the oldest mark (the start) when none is that old
+    yet."""
+    old = [m for i, m in marks if it - i >= window] or [marks[0][1]]
+    return float(np.sqrt(((x - old[-1]) ** 2).sum(axis=1).max()))
+
+
+def residual(model: ClothModel, grad) -> tuple[float, float]:
+    """(rms, 99th percentile) of |F_i| / (m_i g) [-] over the free solved vertices, F = -grad
+    ((n_solved, 3) [N]) of the energy minimised (lagged terms at their current anchors and
+    pairs)."""
+    free = model.free & (model.mass > 0)
+    if not free.any():
+        return 0.0, 0.0
+    r = np.sqrt((grad[free] ** 2).sum(axis=1)) / (model.mass[free] * GRAVITY)
+    return float(np.sqrt(np.mean(r * r))), float(np.percentile(r, 99))
+
+
+def at_rest(model: ClothModel, grad, settings: SolverSettings) -> bool:
+    """Whether the force balance of ``settings.residual_rms`` / ``residual_p99`` holds for the
+    gradient ``grad`` (n_solved, 3) [N] (the p99 is computed only when the rms passes)."""
+    free = model.free & (model.mass > 0)
+    if not free.any():
+        return True
+    r2 = (grad[free] ** 2).sum(axis=1) / (model.mass[free] * GRAVITY) ** 2
+    if float(np.mean(r2)) > settings.residual_rms ** 2:
+        return False
+    return float(np.sqrt(np.percentile(r2, 99))) <= settings.residual_p99
+
+
+def stalled(model: ClothModel, sewing: bool, grad, settings: SolverSettings
+            ) -> tuple[bool, str]:
+    """(converged, reason) when no descent step is found: at rest by the force rule, or
+    (kinematic rule) whenever not sewing."""
+    if sewing:
+        return False, "stalled"
+    if settings.stop == "force" and not at_rest(model, grad, settings):
+        return False, "stalled"
+    return True, "converged"

@@ -1,0 +1,219 @@
+"""The total energy the solver minimises, its gradient and its PSD-projected Hessian, as pure
+functions of the cloth model, the contact state and the positions (SI units: m, N, J).
+
+Energy (METHOD.md section 5): membrane + bending + gravity and external forces + body
+contact + lagged friction + seam springs + lagged self-repulsion (vertex-triangle and
+edge-edge). Nothing here writes the model or the state; the rest-shape terms come from
+``energies.py``, each term's loop from ``kernels/energy_terms.py``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+import scipy.sparse as sp
+
+from . import kernels
+from .model import ClothModel
+from .settings import SolverSettings
+from .state import ContactState
+
+
+@dataclass(eq=False)
+class ContactLookups:
+    """Where each vertex's body distance was last looked up, ``seen`` (n, 3) [m], and how far
+    it may move from there and still be out of contact, ``room`` (n,) [m]
+    (``kernels.contact``). It only spares lookups: an energy computed with it equals one
+    computed with fresh lookups, bit for bit."""
+
+    seen: np.ndarray
+    room: np.ndarray
+
+    @classmethod
+    def fresh(cls, n: int) -> "ContactLookups":
+        """No lookup made yet for ``n`` vertices."""
+        return cls(np.full((n, 3), np.inf), np.zeros(n))
+
+
+def distance(model: ClothModel, x):
+    """Distances (n,) [m] and gradients (n, 3) of the body's field as contact sees it (the
+    field's C1 reading, ``body.sdf.smooth_sdf_query``) at solved positions ``x`` (n, 3) [m]."""
+    body = model.body
+    return kernels.smooth_sdf_query(body.values, body.origin, body.spacing, x)
+
+
+def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSettings,
+           lookups: ContactLookups | None = None) -> tuple[float, np.ndarray]:
+    """Total energy [J] and its gradient (n, 3) [N] at solved positions ``x`` (n, 3) [m]
+    (zero on pinned vertices), with the lagged terms of ``state``.
+
+    Reads ``settings.compression``, ``friction_slip`` and ``self_gap``. ``lookups``: a
+    cache of body distance lookups from earlier calls on the same state (updated here; it
+    never changes the result); None looks every vertex up.
+    """
+    t = model.terms
+    fab = model.fabric
+    if lookups is None and model.body is not None:
+        lookups = ContactLookups.fresh(len(x))
+    grad = np.zeros_like(x)
+    e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, fab.stretch_warp, fab.stretch_weft,
+                         fab.shear, settings.compression, grad)
+    qx = state.quadratic @ x
+    e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", state.forces, x))
+    grad += qx - state.forces
+    if model.body is not None:
+        body = model.body
+        e += kernels.contact(x, body.values, body.origin, body.spacing,
+                             model.reach(settings), state.contact_k, lookups.seen,
+                             lookups.room, grad)
+    if len(state.friction_idx):
+        e += kernels.friction(x, state.friction_idx, state.friction_anchor,
+                              state.friction_normal, state.friction_limit,
+                              settings.friction_slip, grad)
+    if state.seam_limit is not None:
+        e += kernels.seam_springs(x, state.seam_a, state.seam_b, state.seam_k,
+                                  state.seam_limit, grad)
+    gap = model.self_gap(settings)
+    if len(state.pairs):
+        e += kernels.self_repulsion(x, t.tris, state.pairs, state.bary, state.pair_normal,
+                                    gap, state.contact_k, grad)
+    if len(state.edge_pairs):
+        e += kernels.edge_repulsion(x, state.near_edges, state.edge_pairs, state.edge_st,
+                                    state.edge_normal, gap, state.contact_k, grad)
+    grad[~model.free] = 0.0
+    return e, grad
+
+
+class HessianPattern(NamedTuple):
+    """The fixed sparsity of the 3n x 3n Hessian (membrane, bending and every vertex's 3x3
+    block) and each term's slots in it (:func:`hessian_pattern`)."""
+
+    tris: np.ndarray          # (m, 3) the triangles it was made for
+    indptr: np.ndarray        # (3n + 1,) CSR row starts
+    indices: np.ndarray       # CSR column indices
+    membrane_slots: np.ndarray
+    bending_slots: np.ndarray
+    block_slots: np.ndarray
+    rows: np.ndarray
+    cols: np.ndarray
+    #: vertex pairs i * n + j that share a triangle (and each vertex with itself), sorted:
+    #: the pattern the Newton preconditioner keeps
+    near: np.ndarray
+
+
+def hessian_pattern(model: ClothModel) -> HessianPattern:
+    """The Hessian's sparsity for ``model``'s triangles and bending matrix; made once per
+    mesh topology (the solver keeps it while ``fits_pattern`` holds)."""
+    n = model.n
+    n3 = 3 * n
+    tris = model.terms.tris
+    dof = (3 * tris[:, :, None] + np.arange(3)).reshape(-1, 9)  # (m, 9)
+    r_mem = np.repeat(dof, 9, axis=1).ravel()
+    c_mem = np.tile(dof, (1, 9)).ravel()
+    Q = model.terms.bending.tocoo()
+    r_b = (3 * Q.row[:, None] + np.arange(3)).ravel()
+    c_b = (3 * Q.col[:, None] + np.arange(3)).ravel()
+    vd = 3 * np.arange(n)[:, None] + np.arange(3)
+    r_d = np.repeat(vd, 3, axis=1).ravel()
+    c_d = np.tile(vd, (1, 3)).ravel()
+    keys = np.concatenate([r_mem * n3 + c_mem, r_b * n3 + c_b, r_d * n3 + c_d])
+    uniq, slot = np.unique(keys, return_inverse=True)
+    rows, cols = uniq // n3, uniq % n3
+    indptr = np.searchsorted(rows, np.arange(n3 + 1)).astype(np.int32)
+    indices = cols.astype(np.int32)
+    k1, k2 = len(r_mem), len(r_mem) + len(r_b)
+    near = np.unique(np.concatenate([(tris[:, :, None] * n + tris[:, None, :]).ravel(),
+                                     np.arange(n) * (n + 1)]))
+    return HessianPattern(tris.copy(), indptr, indices, slot[:k1], slot[k1:k2], slot[k2:],
+                          rows, cols, near)
+
+
+def fits_pattern(pattern: HessianPattern | None, model: ClothModel) -> bool:
+    """Whether ``pattern`` is the Hessian sparsity of ``model``'s bending matrix."""
+    return pattern is not None and len(pattern.bending_slots) == 3 * model.terms.bending.nnz
+
+
+def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettings,
+            pattern: HessianPattern) -> sp.csr_matrix:
+    """PSD-projected Hessian (3n x 3n CSR) [N/m] of the energy at solved positions ``x``
+    (n, 3) [m] with the lagged terms of ``state``, plus the regulariser m / newton_dt^2;
+    pinned rows and columns are identity. ``pattern``: :func:`hessian_pattern` of
+    ``model``."""
+    s = settings
+    t = model.terms
+    f = model.fabric
+    n = model.n
+    _, indptr, indices, s_mem, s_b, s_d, rows, cols, _ = pattern
+    mem = np.empty((len(t.tris), 81))
+    kernels.membrane_hessian(x, t.tris, t.cu, t.cv, t.area, f.stretch_warp,
+                             f.stretch_weft, f.shear, s.compression, mem)
+    Q = t.bending.tocoo()
+    blocks = np.zeros((n, 3, 3))
+    blocks += (model.mass / s.newton_dt ** 2)[:, None, None] * np.eye(3)
+    if model.body is not None:
+        d, g = distance(model, x)
+        on = np.flatnonzero(d < model.reach(s))
+        blocks[on] += state.contact_k[on, None, None] * g[on, :, None] * g[on, None, :]
+    if len(state.friction_idx):
+        idx, nrm = state.friction_idx, state.friction_normal
+        P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
+        u = np.einsum("kij,kj->ki", P, x[idx] - state.friction_anchor)
+        m = np.linalg.norm(u, axis=1)
+        slip = s.friction_slip
+        stick = m < slip
+        k = np.where(stick, state.friction_limit / slip,
+                     state.friction_limit / np.maximum(m, 1e-300))
+        uh = u / np.maximum(m, 1e-300)[:, None]
+        Hf = P - np.where(stick[:, None, None], 0.0, uh[:, :, None] * uh[:, None, :])
+        np.add.at(blocks, idx, k[:, None, None] * Hf)
+    data = (np.bincount(s_mem, weights=mem.ravel(), minlength=len(indices))
+            + np.bincount(s_b, weights=np.repeat(Q.data, 3), minlength=len(indices))
+            + np.bincount(s_d, weights=blocks.ravel(), minlength=len(indices)))
+    n3 = 3 * n
+    H = sp.csr_matrix((data, indices, indptr), shape=(n3, n3))
+    extra = pair_hessian(model, state, x, settings=s)
+    if extra is not None:
+        H = H + extra
+    if not model.free.all():
+        fd = np.repeat(model.free, 3).astype(float)
+        H = (sp.diags(fd) @ H @ sp.diags(fd) + sp.diags(1.0 - fd)).tocsr()
+    return H
+
+
+def pair_hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettings):
+    """Gauss-Newton Hessian (3n x 3n CSR) [N/m] of the self-repulsion pairs
+    (k w w^T n n^T) at solved positions ``x`` (n, 3) [m], or None when no pair pushes."""
+    parts = []
+    gap = model.self_gap(settings)
+    if len(state.pairs):
+        v, tri = state.pairs[:, 0], state.pairs[:, 1]
+        ids = np.c_[v, model.terms.tris[tri]]
+        w = np.c_[np.ones(len(v)), -state.bary]
+        d = np.einsum("pc,pc->p", state.pair_normal, np.einsum("pj,pjc->pc", w, x[ids]))
+        on = gap - d > 0
+        if on.any():
+            parts.append((ids[on], w[on], state.pair_normal[on], state.contact_k[v[on]]))
+    if len(state.edge_pairs):
+        e, f = state.edge_pairs[:, 0], state.edge_pairs[:, 1]
+        ids = np.c_[state.near_edges[e], state.near_edges[f]]
+        st = state.edge_st
+        w = np.c_[1.0 - st[:, 0], st[:, 0], st[:, 1] - 1.0, -st[:, 1]]
+        d = np.einsum("pc,pc->p", state.edge_normal, np.einsum("pj,pjc->pc", w, x[ids]))
+        on = gap - d > 0
+        if on.any():
+            parts.append((ids[on], w[on], state.edge_normal[on],
+                          state.contact_k[ids[on]].mean(axis=1)))
+    if not parts:
+        return None
+    rows, cols, vals = [], [], []
+    for ids, w, nrm, k in parts:
+        dof = (3 * ids[:, :, None] + np.arange(3)).reshape(len(ids), -1)
+        wn = (w[:, :, None] * nrm[:, None, :]).reshape(len(ids), -1)
+        rows.append(np.repeat(dof, dof.shape[1], axis=1).ravel())
+        cols.append(np.tile(dof, (1, dof.shape[1])).ravel())
+        vals.append((k[:, None, None] * wn[:, :, None] * wn[:, None, :]).ravel())
+    n3 = 3 * model.n
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
+                                                 np.concatenate(cols))), shape=(n3, n3))
