@@ -13,7 +13,7 @@ kit's), then the cantilever's mesh series; then one row per published fabric (me
 drape coefficient, simulated mean (min-max) and simulated / measured at each
 ``--compression``, nodes, area shrunk by more than 1 %, the source's own CLO3D figure) and
 how well the simulated order follows the measured one. The machine and the solver's source state (commit and a hash
-of the working tree's sim/solver.py, kernels/, energies.py) are printed with it, since
+of the working tree's solver sources, ``SOLVER_SOURCES`` and kernels/) are printed with it, since
 the solver changes under the kit (docs/fabrics.md, "Testing a fabric").
 """
 
@@ -32,6 +32,10 @@ from patternfit.sim import fabric_test as kit
 from patternfit.sim.fabrics import FABRICS, published_drapes
 
 ROOT = Path(__file__).resolve().parent.parent
+#: the files of sim/ the solver's numbers depend on (with kernels/)
+SOLVER_SOURCES = ("solver.py", "model.py", "state.py", "total_energy.py", "outer_updates.py",
+                  "preconditioners.py", "lbfgs.py", "stop_rule.py", "settings.py",
+                  "energies.py")
 
 
 def solver_state() -> str:
@@ -43,9 +47,10 @@ def solver_state() -> str:
         rev = "?"
     h = hashlib.sha1()
     sim = ROOT / "src" / "patternfit" / "sim"
-    for path in (sim / "solver.py", *sorted((sim / "kernels").glob("*.py")), sim / "energies.py"):
+    for path in (*(sim / name for name in SOLVER_SOURCES),
+                 *sorted((sim / "kernels").glob("*.py"))):
         h.update(path.read_bytes())
-    return f"commit {rev}, sim/solver.py+kernels/+energies.py sha1 {h.hexdigest()[:10]}"
+    return f"commit {rev}, solver sources sha1 {h.hexdigest()[:10]}"
 
 
 def fmt(value, spec, scale=1.0):

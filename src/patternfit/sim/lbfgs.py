@@ -8,8 +8,8 @@ from . import kernels
 
 
 class LBFGS:
-    """Two-loop recursion with a given initial inverse Hessian (vectors flattened), the
-    pairs kept in a ring of ``size`` rows."""
+    """Two-loop recursion with a given initial inverse Hessian (vectors flattened, (3n,)),
+    the last ``size`` (step [m], gradient change [N]) pairs kept in a ring."""
 
     def __init__(self, size: int):
         self.size = size
@@ -19,9 +19,12 @@ class LBFGS:
         self.rho = np.zeros(size)
 
     def reset(self):
+        """Forget the pairs (the next direction is the initial Hessian's)."""
         self.count = 0
 
     def push(self, s, y):
+        """Keep the step ``s`` (3n,) [m] and gradient change ``y`` (3n,) [N] unless their
+        curvature ``s . y`` is not clearly positive."""
         sy = kernels.dot(s, y)
         if not sy > 1e-12 * np.sqrt(kernels.dot(s, s) * kernels.dot(y, y)):
             return
@@ -36,6 +39,8 @@ class LBFGS:
         self.count = min(self.count + 1, self.size)
 
     def direction(self, g, h0):
+        """Descent direction (3n,) [m] for the gradient ``g`` (3n,) [N]; ``h0(q)`` applies
+        the initial inverse Hessian."""
         q = g.copy()
         if not self.count:
             return -h0(q)

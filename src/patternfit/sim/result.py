@@ -11,7 +11,7 @@ from .checks import DrapeChecks
 
 @dataclass(frozen=True, eq=False)
 class DrapeResult:
-    """Outcome of :meth:`GarmentSolver.solve`.
+    """Outcome of a solve (:func:`patternfit.sim.solver.solve`).
 
     Attributes
     ----------

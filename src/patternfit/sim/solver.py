@@ -108,8 +108,7 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
     # rule) Newton steps, whose Hessian sees the stiff contact and membrane, to the
     # force balance
     newton_on = False
-
-    lookups = ContactLookups.fresh(0)
+    lookups = None  # the body distance lookups of this state (set up below)
 
     def evaluate(x):
         return total_energy.energy(model, state, x, settings=s, lookups=lookups)
@@ -138,6 +137,7 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
         return True
 
     def setup(x_red, keep):
+        nonlocal lookups
         state.forces = model.mass[:, None] * np.asarray(s.gravity)[None, :]
         np.add.at(state.forces, model.group, f_ext)
         state.forces[~model.free] = 0.0
@@ -149,8 +149,7 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
         state.edge_pairs = np.zeros((0, 2), np.int64)
         state.pairs_x = None
         # contact lookups start afresh (the reach may differ from the last solve's)
-        lookups.seen = np.full((model.n, 3), np.inf)
-        lookups.room = np.zeros(model.n)
+        lookups = ContactLookups.fresh(model.n)
         set_springs(k_seam)
         return x_red
 
