@@ -190,3 +190,21 @@ def test_model_refuses_bad_input():
         ClothModel.build(v, t, grain_at(0, len(t)), "denim", seam_pairs=[[0, len(v)]])
     with pytest.raises(ValueError, match="vertex_map"):
         ClothModel.build(v, t, grain_at(0, len(t)), "denim", vertex_map=np.arange(len(v) - 1))
+
+
+def test_a_solve_that_welds_hands_back_the_welded_model(sewing):
+    """``solve`` sews the strips to the weld: the model it hands back is welded (both sides of
+    every pair one vertex), the one it was given is not, nor is the given state written."""
+    solver, _ = sewing
+    model, state = solver.model, ContactState()
+    x0 = np.zeros((model.n3, 3))
+    x0[:, [0, 2]] = model.rest
+    x0[model.n3 // 2:, 2] += 0.09
+    out = solve(model, state, x0, settings=dataclasses.replace(solver.settings,
+                                                               max_iterations=2000),
+                factors=Factors())
+    assert out.result.welded and out.model.welded and not model.welded
+    assert out.model.n == model.n - len(model.seam_pairs)
+    assert out.result.checks.seam_gap_max_mm < 0.5
+    assert state.x is None and len(state.forces) == 0
+    assert out.state.x is not None and len(out.state.forces) == out.model.n

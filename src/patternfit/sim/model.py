@@ -34,21 +34,12 @@ class ClothModel:
 
     Attributes
     ----------
-    rest : (n, 2) float
-        Flat rest positions of the pattern mesh [m], each panel in its own frame.
-    triangles : (m, 3) int
-        Flat triangles (counter-clockwise).
-    grain : (m, 2) float
-        Warp direction of each triangle in its panel frame (need not be unit).
-    fabric : Fabric
-    vertex_map : (n,) int
-        Simulated vertex of each flat vertex (``n3 = vertex_map.max() + 1``).
-    seam_pairs : (k, 2) int
-        Simulated-vertex pairs to sew.
-    body : DistanceField or None
-        Signed distance field of the body [m].
-    pinned : (p,) int
-        Simulated vertices held at their start position.
+    rest, triangles, grain, fabric, vertex_map, seam_pairs, body, pinned
+        The flat mesh (rest ``(n, 2)`` [m], triangles ``(m, 3)``, grain ``(m, 2)``), the
+        fabric, the simulated vertex of each flat vertex ``(n,)``, the seam pairs ``(k, 2)``
+        and pinned vertices ``(p,)`` in simulated vertices, the body's distance field [m] or
+        None: :class:`patternfit.sim.solver.GarmentSolver`'s parameters, checked by
+        :meth:`build`.
     group : (n3,) int
         Solved vertex of each simulated vertex (welding merges entries).
     welded : bool
