@@ -165,7 +165,8 @@ def _on_line(p: np.ndarray, line: np.ndarray) -> bool:
     n = float(np.linalg.norm(d))
     if n < tol.dxf_fit:
         return False
-    return abs(float(np.cross(d / n, p - line[0]))) < tol.dxf_fit
+    q = p - line[0]
+    return abs(float(d[0] * q[1] - d[1] * q[0])) / n < tol.dxf_fit
 
 
 def closed_loops(pieces, folds=()) -> list[np.ndarray]:
