@@ -159,6 +159,11 @@ class _Shape:
         e = self.line(edge)
         return float(e[:, 1].mean()) >= self.hi[1] - TOP_SHARE * self.size[1]
 
+    def reaches_top(self, edge: str) -> bool:
+        """Whether ``edge`` reaches the panel's top (an armhole runs down from it)."""
+        e = self.line(edge)
+        return float(e[:, 1].max()) >= self.hi[1] - TOP_SHARE * self.size[1]
+
     def outer(self, edge: str) -> float:
         """Where ``edge`` lies across the panel: -1 at its left side, +1 at its right; for a
         half, across the whole panel it is half of (0 at the centre line; a half whose centre
@@ -183,6 +188,11 @@ class _Shape:
         mid_y = self.lo[1] + 0.5 * self.size[1]
         widest = p[[int(np.argmin(p[:, 0])), int(np.argmax(p[:, 0]))], 1]
         return bool((widest > mid_y).any()) and bool((widest < self.hi[1] - 0.05).all())
+
+    @property
+    def whole_area(self) -> float:
+        """The area [m^2] of the whole panel this one is (both halves of a half)."""
+        return self.panel.area() * (2 if self.half else 1)
 
     def curved(self, edge: str) -> bool:
         return self.edges[edge].kind != "line"
@@ -241,14 +251,15 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
                 and any(
                 sh.curved(e) and sh.at_top(e) and o != n and shapes[o].size[1] >= LEG_LENGTH
                 and shapes[o].curved(oe) and kinds[o] in (None, "leg")
-                and abs(sh.outer(e)) > 0.3 for e, o, oe in links[n]):
-            kinds[n], why[n] = "leg", "long, sewn to another long panel along a curve (crotch)"
+                and _mirror_twins(sh, shapes[o]) and abs(sh.outer(e)) > 0.3
+                for e, o, oe in links[n]):
+            kinds[n], why[n] = "leg", "long, sewn to its mirror image along a curve (crotch)"
     for n in open_:  # sleeves: sewn by their top into another panel's top outer corner
         sh = shapes[n]
         if kinds[n] is None and any(
-                o != n and kinds[o] in (None, "bodice") and shapes[o].at_top(oe)
+                o != n and kinds[o] in (None, "bodice") and shapes[o].reaches_top(oe)
                 and abs(shapes[o].outer(oe)) > 0.5 and sh.curved(e)
-                and sh.panel.area() < SLEEVE_AREA * shapes[o].panel.area()
+                and sh.panel.area() < SLEEVE_AREA * shapes[o].whole_area
                 for e, o, oe in links[n]
                 if _is_armhole(shapes[o], oe) and _cap_of(sh, e)):
             kinds[n], why[n] = "sleeve", "sewn by a curved end into an armhole"
@@ -258,11 +269,11 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
             why[n] = "sewn by its lower edges into a neckline and to its twin along a curve"
     for n in open_:  # collars: small pieces sewn at a bodice's top near its centre line
         sh = shapes[n]
-        if kinds[n] is None and sh.length < HOOD_SIZE and any(
-                o != n and kinds[o] in (None, "bodice") and shapes[o].at_top(oe)
-                and abs(shapes[o].outer(oe)) < 0.5 and not shapes[o].across(oe)
-                and sh.panel.area() < COLLAR_AREA * shapes[o].panel.area()
-                and _shoulders(o, shapes, links) for e, o, oe in links[n]):
+        if kinds[n] is None and sh.length < HOOD_SIZE and not _shoulders(n, shapes, links) \
+                and any(o != n and kinds[o] in (None, "bodice") and shapes[o].at_top(oe)
+                        and abs(shapes[o].outer(oe)) < 0.5
+                        and sh.panel.area() < COLLAR_AREA * shapes[o].whole_area
+                        and _shoulders(o, shapes, links) for e, o, oe in links[n]):
             kinds[n], why[n] = "collar", "a small piece sewn into a bodice's neckline"
     for n in open_:
         if kinds[n] is None:
@@ -284,13 +295,13 @@ def _shoulders(n: str, shapes, links) -> bool:
 
 
 def _mirror_twins(a: _Shape, b: _Shape) -> bool:
-    """Whether two panels are mirror images: the same edge lengths (within 1 mm) and area
-    (within 0.5 %)."""
-    la = sorted(e.length for e in a.edges.values())
-    lb = sorted(e.length for e in b.edges.values())
-    area = a.panel.area()
-    return len(la) == len(lb) and bool(np.all(np.abs(np.subtract(la, lb)) < 1e-3)) \
-        and abs(area - b.panel.area()) < 0.005 * area
+    """Whether two panels are mirror images: the same size across and up (within 5 mm),
+    area and outline length (within 0.5 %; GarmentCode splits the halves' edges differently
+    where other panels join them)."""
+    area, length = a.panel.area(), a.panel.outline.length
+    return bool(np.all(np.abs(a.size - b.size) < 5e-3)) \
+        and abs(area - b.panel.area()) < 0.005 * area \
+        and abs(length - b.panel.outline.length) < 0.005 * length
 
 
 def _mark_halves(pattern, shapes, links) -> None:
