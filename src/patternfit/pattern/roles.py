@@ -147,6 +147,8 @@ class _Shape:
         self.edges = panel.edges()
         #: -1 or +1 when the panel is a half whose centre line is its left or right side
         self.half = 0
+        #: the other half's name, for a half
+        self.twin: str | None = None
 
     def line(self, edge: str) -> np.ndarray:
         """The edge as a polyline (17, 2) [m], turned."""
@@ -170,6 +172,11 @@ class _Shape:
         line is its left side spans 0..1, the other -1..0)."""
         x = self.side_of(edge)
         return 0.5 * (x - self.half) if self.half else x
+
+    def drawn(self, edge: str) -> float:
+        """:meth:`outer` as seen from the panel's outside: a panel drawn clockwise is drawn
+        as seen from inside (GarmentCode's backs, seen from the front), mirrored."""
+        return self.outer(edge) * (1.0 if self.panel.outline.signed_area() > 0 else -1.0)
 
     def side_of(self, edge: str) -> float:
         """Where ``edge`` lies across this panel alone: -1 at its left side, +1 at its right."""
@@ -322,7 +329,7 @@ def _mark_halves(pattern, shapes, links) -> None:
             if all(s.edges[edge].kind == "line" and abs(s.side_of(edge)) > 0.9
                    and not s.across(edge) and s.edges[edge].length >= HALF_SEAM * s.size[1]
                    for s, edge in sides):
-                sh.half = -1 if sh.side_of(e) < 0 else 1
+                sh.half, sh.twin = (-1 if sh.side_of(e) < 0 else 1), o
                 break
 
 
@@ -433,12 +440,18 @@ def _sides(pattern, shapes, links, kinds, prefix) -> dict[str, str]:
         todo = [p.name for p in pattern.panels if sides[p.name] is None]
         grew = False
         for n in todo:
-            # a sleeve in two halves faces as the body panel it shares its longest seam with
-            into = sorted(((shapes[n].edges[e].length, o) for e, o, _ in links[n]
-                           if kinds[n] == "sleeve" and kinds[o] in ("bodice", "skirt")
-                           and sides.get(o) in ("front", "back")), reverse=True)
-            known = [(sides[into[0][1]], True)] if into else []
-            known += [(sides[o], _mirrored_legs(shapes[n], shapes[o], kinds[n]))
+            # a sleeve in two halves, or a collar's piece, faces as the body panel it shares
+            # its longest seam with
+            into = max(((shapes[n].edges[e].length, o) for e, o, _ in links[n]
+                        if kinds[n] in ("sleeve", "collar") and kinds[o] in ("bodice", "skirt")),
+                       default=None)
+            known = [(sides[into[1]], True)] if into and sides.get(into[1]) else []
+            # one of the same kind faces the other way (across a side seam); the other half
+            # of a panel, the other leg of a pair and a tier sewn on across its middle the
+            # same way
+            known += [(sides[o], _mirrored_legs(shapes[n], shapes[o], kinds[n])
+                       or shapes[n].twin == o
+                       or (shapes[n].across(e) and abs(shapes[n].outer(e)) < 0.5))
                       for e, o, _ in links[n] if o != n and sides.get(o) in ("front", "back")
                       and kinds[o] == kinds[n]]
             # a panel sewn across (a waist seam) to one of another kind faces the same way
@@ -470,11 +483,11 @@ def _hand(pattern, panel, shapes, links, kinds, prefix, sides) -> str:
         for e, o, _ in links[n]:
             if o != n and kinds[o] == "leg" and sides.get(o) == sides.get(n):
                 front = sides.get(n) != "back"
-                return "left" if (shapes[n].outer(e) < 0) == front else "right"
+                return "left" if (shapes[n].drawn(e) < 0) == front else "right"
     for e, o, oe in links[n]:
         if o != n and kinds[o] in ("bodice", "skirt"):
             front = sides.get(o) != "back"
-            return "left" if (shapes[o].outer(oe) > 0) == front else "right"
+            return "left" if (shapes[o].drawn(oe) > 0) == front else "right"
     return "left"
 
 
