@@ -197,6 +197,11 @@ class _Shape:
         return bool((widest > mid_y).any()) and bool((widest < self.hi[1] - 0.05).all())
 
     @property
+    def whole_width(self) -> float:
+        """The width [m] of the whole panel this one is (both halves of a half)."""
+        return float(self.size[0]) * (2 if self.half else 1)
+
+    @property
     def whole_area(self) -> float:
         """The area [m^2] of the whole panel this one is (both halves of a half)."""
         return self.panel.area() * (2 if self.half else 1)
@@ -276,11 +281,13 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
             why[n] = "sewn by its lower edges into a neckline and to its twin along a curve"
     for n in open_:  # collars: small pieces sewn at a bodice's top near its centre line
         sh = shapes[n]
-        if kinds[n] is None and sh.length < HOOD_SIZE and not _shoulders(n, shapes, links) \
-                and any(o != n and kinds[o] in (None, "bodice") and shapes[o].at_top(oe)
-                        and abs(shapes[o].outer(oe)) < 0.5
-                        and sh.panel.area() < COLLAR_AREA * shapes[o].whole_area
-                        and _shoulders(o, shapes, links) for e, o, oe in links[n]):
+        # (a yoke is sewn across the whole width of the back, a collar into its neckline)
+        if kinds[n] is None and sh.length < HOOD_SIZE and any(
+                o != n and kinds[o] in (None, "bodice") and shapes[o].at_top(oe)
+                and abs(shapes[o].outer(oe)) < 0.5
+                and sh.panel.area() < COLLAR_AREA * shapes[o].whole_area
+                and shapes[o].edges[oe].length < 0.5 * shapes[o].whole_width
+                and _shoulders(o, shapes, links) for e, o, oe in links[n]):
             kinds[n], why[n] = "collar", "a small piece sewn into a bodice's neckline"
     for n in open_:
         if kinds[n] is None:
