@@ -184,12 +184,12 @@ def circle_skirt(placed=True, tiers=0):
         # hem (outer, curved), side, waist (inner, curved), side: counter-clockwise
         pts = [outer[1], outer[0], inner[1], inner[0]]
         pts = [[float(x), float(y) + r1] for x, y in pts]
-        arc_out = {"type": "circle", "params": [r1, 0, 1]}
-        arc_in = {"type": "circle", "params": [r0, 0, 0]}
-        curved = {0: arc_out, 2: arc_in}
+        # mirrored (clockwise), each arc bulges to the other side of its edge
+        arc_out = {"type": "circle", "params": [r1, 0, 0 if clockwise else 1]}
+        arc_in = {"type": "circle", "params": [r0, 0, 1 if clockwise else 0]}
         if clockwise:
-            pts, curved = [[-x, y] for x, y in pts], curved
-        return pts, curved
+            pts = [[-x, y] for x, y in pts]
+        return pts, {0: arc_out, 2: arc_in}
 
     panels, stitches = {}, []
     r0, r1 = 14.0, 54.0

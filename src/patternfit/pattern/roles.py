@@ -173,6 +173,12 @@ class _Shape:
         x = self.side_of(edge)
         return 0.5 * (x - self.half) if self.half else x
 
+    def reach(self, edge: str) -> float:
+        """How far out across the (whole) panel ``edge`` reaches: 1 at its widest point."""
+        half = max(0.5 * self.size[0], 1e-9)
+        x = (self.line(edge)[:, 0] - 0.5 * (self.lo[0] + self.hi[0])) / half
+        return float(np.max(np.abs(0.5 * (x - self.half) if self.half else x)))
+
     def drawn(self, edge: str) -> float:
         """:meth:`outer` as seen from the panel's outside: a panel drawn clockwise is drawn
         as seen from inside (GarmentCode's backs, seen from the front), mirrored."""
@@ -300,12 +306,14 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
 
 def _shoulders(n: str, shapes, links) -> bool:
     """Whether panel ``n`` has a shoulder: an edge at its top, off its centre line, running
-    across it and shorter than :data:`HALF_SEAM` of its height, sewn to the top of another
-    panel that is not a band."""
+    across it, shorter than :data:`HALF_SEAM` of its height and not out to its widest point
+    (an armhole lies beyond; a flared skirt's or tier's side seams run out to it), sewn to the
+    top of another panel that is not a band."""
     sh = shapes[n]
     return any(o != n and sh.at_top(e) and shapes[o].at_top(oe) and abs(sh.outer(e)) > 0.2
                and sh.across(e) and sh.edges[e].length <= HALF_SEAM * sh.size[1]
-               and shapes[o].aspect < BAND_ASPECT for e, o, oe in links[n])
+               and sh.reach(e) < 0.95 and shapes[o].aspect < BAND_ASPECT
+               for e, o, oe in links[n])
 
 
 def _mirror_twins(a: _Shape, b: _Shape) -> bool:
