@@ -10,24 +10,15 @@ from __future__ import annotations
 
 import pytest
 
-from patternfit.pattern.garmentcode import garmentcode_from_dict
 from patternfit.pattern.roles import garment_anchor, panel_roles
+from scenes import gc_circle_skirt as circle_skirt
+from scenes import gc_panel as _panel
+from scenes import gc_pattern as _garment
 
 ARMHOLE = {"type": "cubic", "params": [[0.3, 0.25], [0.7, 0.1]]}
 NECK = {"type": "quadratic", "params": [[0.5, 0.3]]}
 CAP = {"type": "quadratic", "params": [[0.5, 0.25]]}      # bulging left of the edge
 CAP_CCW = {"type": "quadratic", "params": [[0.5, -0.25]]}  # bulging right of it
-
-
-def _panel(points, curved=None, at=(0.0, 0.0, 0.0), rot=0.0):
-    edges = []
-    for k in range(len(points)):
-        e = {"endpoints": [k, (k + 1) % len(points)]}
-        if curved and k in curved:
-            e["curvature"] = curved[k]
-        edges.append(e)
-    return {"translation": list(at), "rotation": [0.0, 0.0, rot], "vertices": points,
-            "edges": edges}
 
 
 def _mirror(points, curved):
@@ -111,17 +102,6 @@ def _collar(panels, stitches, necks, names):
                  ((cb0, 3), (cb1, 1)), ((cf0, 2), (cb0, 2)), ((cf1, 2), (cb1, 2))]
 
 
-def _garment(panels, stitches, placed=True):
-    if not placed:
-        for p in panels.values():
-            p["translation"], p["rotation"] = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
-    return garmentcode_from_dict({
-        "pattern": {"panels": panels, "stitches": [
-            [{"panel": a, "edge": i}, {"panel": b, "edge": j}] for (a, i), (b, j) in stitches]},
-        "parameters": {}, "properties": {"curvature_coords": "relative",
-                                         "units_in_meter": 100}}, name="nameless")
-
-
 def shirt(placed=True, dart=False):
     names = {"bodice": ["p0", "p1", "p2", "p3"], "sleeve": ["p4", "p5", "p6", "p7"]}
     panels, stitches, arms, _ = _renamed_halves(dart)
@@ -169,49 +149,6 @@ def test_a_collar_in_small_pieces_without_names(placed):
         "p4": "collar", "p5": "collar", "p6": "collar", "p7": "collar"}
     assert [roles[n][2] for n in ("p0", "p2", "p4", "p6")] == ["front", "back", "front",
                                                                "back"]
-
-
-def circle_skirt(placed=True, tiers=0):
-    """A flared skirt: front and back drawn as annulus sectors (the back clockwise), sewn at
-    their slanted sides, a waistband in a front and a back band; ``tiers`` more sectors
-    stacked below, each sewn across the hem of the one above."""
-    import numpy as np
-
-    def sector(r0, r1, half_angle, clockwise):
-        a = np.linspace(-half_angle, half_angle, 2)
-        inner = [[r0 * np.sin(t), -r0 * np.cos(t)] for t in a]
-        outer = [[r1 * np.sin(t), -r1 * np.cos(t)] for t in a[::-1]]
-        # hem (outer, curved), side, waist (inner, curved), side: counter-clockwise
-        pts = [outer[1], outer[0], inner[1], inner[0]]
-        pts = [[float(x), float(y) + r1] for x, y in pts]
-        # mirrored (clockwise), each arc bulges to the other side of its edge
-        arc_out = {"type": "circle", "params": [r1, 0, 0 if clockwise else 1]}
-        arc_in = {"type": "circle", "params": [r0, 0, 1 if clockwise else 0]}
-        if clockwise:
-            pts = [[-x, y] for x, y in pts]
-        return pts, {0: arc_out, 2: arc_in}
-
-    panels, stitches = {}, []
-    r0, r1 = 14.0, 54.0
-    for k, (z, cw) in enumerate(((20.0, False), (-15.0, True))):
-        pts, curved = sector(r0, r1, 1.2, cw)
-        panels[f"p{k}"] = _panel(pts, curved, (0.0, 100.0, z))
-    stitches += [(("p0", 1), ("p1", 3)), (("p0", 3), ("p1", 1))]
-    panels["p2"] = _panel([[0, 0], [45, 0], [45, 4], [0, 4]], at=(0.0, 105.0, 20.0))
-    panels["p3"] = _panel([[0, 0], [45, 0], [45, 4], [0, 4]], at=(0.0, 105.0, -15.0))
-    stitches += [(("p2", 0), ("p0", 2)), (("p3", 0), ("p1", 2)), (("p2", 1), ("p3", 3)),
-                 (("p2", 3), ("p3", 1))]
-    above = ("p0", "p1")
-    for t in range(tiers):
-        r0, r1 = r1, r1 + 30.0
-        names = (f"p{4 + 2 * t}", f"p{5 + 2 * t}")
-        for k, (name, cw) in enumerate(zip(names, (False, True))):
-            pts, curved = sector(r0, r1, 1.2, cw)
-            panels[name] = _panel(pts, curved, (0.0, 60.0 - 30 * t, (20.0, -15.0)[k]))
-        stitches += [((names[0], 1), (names[1], 3)), ((names[0], 3), (names[1], 1)),
-                     ((names[0], 2), (above[0], 0)), ((names[1], 2), (above[1], 0))]
-        above = names
-    return _garment(panels, stitches, placed)
 
 
 @pytest.mark.parametrize("placed", [True, False])
