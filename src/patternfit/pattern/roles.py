@@ -22,10 +22,13 @@ this order of trust:
    along two long edges is a tube; along short ones, a dart.
 
 Front and back come from the stated side where the panels do not all say "front", the name,
-the sign of an explicit placement's z, or the deeper neckline (the front's). Left and right
-from the name, an explicit placement's x, or the side of the panel it is sewn to (a sleeve
-sewn to the front's +x armhole is on the body's left: panels are drafted as seen from
-outside). Lengths in metres, in each panel's flat frame.
+the sign of an explicit placement's z, or the deeper neckline (the front's); then from the
+panels sewn on: across a side seam the other way, the other half of a panel, the other leg
+of a pair and a tier sewn across its middle the same way, a sleeve's half or a collar's piece
+as the body panel it shares its longest seam with. Left and right from the name, an explicit
+placement's x, or the side of the panel it is sewn to (a sleeve sewn to the front's +x
+armhole is on the body's left: panels are drafted as seen from outside, and one drawn
+clockwise, as seen from inside, is mirrored). Lengths in metres, in each panel's flat frame.
 """
 
 from __future__ import annotations
@@ -167,9 +170,9 @@ class _Shape:
         return float(e[:, 1].max()) >= self.hi[1] - TOP_SHARE * self.size[1]
 
     def outer(self, edge: str) -> float:
-        """Where ``edge`` lies across the panel: -1 at its left side, +1 at its right; for a
-        half, across the whole panel it is half of (0 at the centre line; a half whose centre
-        line is its left side spans 0..1, the other -1..0)."""
+        """Where ``edge`` lies across the panel: -1 at its left side, +1 at its right. For a
+        half, across the whole panel it is one half of: 0 at the centre line, and a half whose
+        centre line is its left side spans 0..1, the other -1..0."""
         x = self.side_of(edge)
         return 0.5 * (x - self.half) if self.half else x
 
