@@ -17,7 +17,11 @@ from ..constants import limits, tol
 from .dxf_curves import dedupe
 from .errors import PatternError
 
-__all__ = ["closed_loops", "entity_name", "entity_points", "layer_of", "why", "within_extent"]
+__all__ = ["LINE_KINDS", "closed_loops", "entity_name", "entity_points", "layer_of", "why",
+           "within_extent"]
+
+#: the entities that draw a line (the others are points and text)
+LINE_KINDS = ("LINE", "POLYLINE", "LWPOLYLINE", "ARC", "CIRCLE", "SPLINE", "ELLIPSE")
 
 
 def layer_of(entity) -> int | None:
@@ -59,7 +63,7 @@ def entity_points(entity, scale: float, budget: int, where: dict
     if kind == "LINE":
         pts = np.array([tuple(entity.dxf.start)[:2], tuple(entity.dxf.end)[:2]]) * scale
         return within_extent(pts, entity, where), False
-    if kind not in ("POLYLINE", "LWPOLYLINE", "ARC", "CIRCLE", "SPLINE", "ELLIPSE"):
+    if kind not in LINE_KINDS:
         return None
     try:
         pth = dxfpath.make_path(entity)

@@ -22,7 +22,7 @@ from ezdxf.lldxf.tagger import binary_tags_loader
 from ezdxf.lldxf.validator import is_dxf_stream
 
 from ..constants import limits
-from .dxf_entities import (closed_loops, entity_name, entity_points, layer_of, why,
+from .dxf_entities import (LINE_KINDS, closed_loops, entity_name, entity_points, layer_of, why,
                            within_extent)
 from ..geometry import polygon_area
 from .errors import PatternError
@@ -196,7 +196,8 @@ def read_piece(block, scale: float) -> RawPiece | None:
     by_layer: dict[int, list] = {}
     points: dict[int, list] = {}
     budget = limits.segments_per_panel
-    drawn = {layer_of(e) for e in block if e.dxftype() != "POINT"}
+    # the layers a line is drawn on (piece text sits on layer 1 in either variant)
+    drawn = {layer_of(e) for e in block if e.dxftype() in LINE_KINDS}
     astm = {k: v for k, v in ASTM_LAYERS.items() if v not in drawn}
     for e in block:
         try:
