@@ -134,3 +134,81 @@ def welded(d):
     x = np.zeros((vmap.max() + 1, 3))
     x[vmap] = d.positions
     return x
+
+
+# ------------------------------------------------------------ GarmentCode-built patterns
+
+
+def gc_panel(points, curved=None, at=(0.0, 0.0, 0.0), rot=0.0):
+    """A GarmentCode panel entry: ``points`` [cm], ``curved`` {edge index: curvature},
+    translation ``at`` [cm] and a rotation ``rot`` [deg] about z."""
+    edges = []
+    for k in range(len(points)):
+        e = {"endpoints": [k, (k + 1) % len(points)]}
+        if curved and k in curved:
+            e["curvature"] = curved[k]
+        edges.append(e)
+    return {"translation": list(at), "rotation": [0.0, 0.0, rot], "vertices": points,
+            "edges": edges}
+
+
+def gc_pattern(panels, stitches, placed=True):
+    """The pattern GarmentCode's reader makes of ``panels`` (name -> :func:`gc_panel`) and
+    ``stitches`` (((panel, edge), (panel, edge)), ...), in centimetres with relative
+    curvature; without ``placed``, every panel at the origin unrotated."""
+    from patternfit.pattern.garmentcode import garmentcode_from_dict
+
+    if not placed:
+        for p in panels.values():
+            p["translation"], p["rotation"] = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+    return garmentcode_from_dict({
+        "pattern": {"panels": panels, "stitches": [
+            [{"panel": a, "edge": i}, {"panel": b, "edge": j}] for (a, i), (b, j) in stitches]},
+        "parameters": {}, "properties": {"curvature_coords": "relative",
+                                         "units_in_meter": 100}}, name="nameless")
+
+
+def gc_circle_skirt(placed=True, tiers=0, *, waist=0.672, length=0.40, band=0.04):
+    """A flared skirt as GarmentCode drafts one, panels numbered ``p0``...: front and back
+    drawn as annulus sectors (the back clockwise, as seen from the front), sewn at their
+    slanted sides, ``length`` [m] long with a ``waist`` [m] round; a waistband in a front and a
+    back band ``band`` [m] high; ``tiers`` more sectors 0.30 m long stacked below, each sewn
+    across the hem of the one above."""
+
+    def sector(r0, r1, half_angle, clockwise):
+        a = np.linspace(-half_angle, half_angle, 2)
+        inner = [[r0 * np.sin(t), -r0 * np.cos(t)] for t in a]
+        outer = [[r1 * np.sin(t), -r1 * np.cos(t)] for t in a[::-1]]
+        # hem (outer, curved), side, waist (inner, curved), side: counter-clockwise
+        pts = [outer[1], outer[0], inner[1], inner[0]]
+        pts = [[float(x), float(y) + r1] for x, y in pts]
+        # mirrored (clockwise), each arc bulges to the other side of its edge
+        arc_out = {"type": "circle", "params": [r1, 0, 0 if clockwise else 1]}
+        arc_in = {"type": "circle", "params": [r0, 0, 1 if clockwise else 0]}
+        if clockwise:
+            pts = [[-x, y] for x, y in pts]
+        return pts, {0: arc_out, 2: arc_in}
+
+    panels, stitches = {}, []
+    r0 = waist * 100 / (4 * 1.2)
+    r1 = r0 + length * 100
+    for k, (z, cw) in enumerate(((20.0, False), (-15.0, True))):
+        pts, curved = sector(r0, r1, 1.2, cw)
+        panels[f"p{k}"] = gc_panel(pts, curved, (0.0, 100.0, z))
+    stitches += [(("p0", 1), ("p1", 3)), (("p0", 3), ("p1", 1))]
+    w, h = waist * 50, band * 100
+    panels["p2"] = gc_panel([[0, 0], [w, 0], [w, h], [0, h]], at=(0.0, 105.0, 20.0))
+    panels["p3"] = gc_panel([[0, 0], [w, 0], [w, h], [0, h]], at=(0.0, 105.0, -15.0))
+    stitches += [(("p2", 0), ("p0", 2)), (("p3", 0), ("p1", 2)), (("p2", 1), ("p3", 3)),
+                 (("p2", 3), ("p3", 1))]
+    above = ("p0", "p1")
+    for t in range(tiers):
+        r0, r1 = r1, r1 + 30.0
+        names = (f"p{4 + 2 * t}", f"p{5 + 2 * t}")
+        for k, (name, cw) in enumerate(zip(names, (False, True))):
+            pts, curved = sector(r0, r1, 1.2, cw)
+            panels[name] = gc_panel(pts, curved, (0.0, 60.0 - 30 * t, (20.0, -15.0)[k]))
+        stitches += [((names[0], 1), (names[1], 3)), ((names[0], 3), (names[1], 1)),
+                     ((names[0], 2), (above[0], 0)), ((names[1], 2), (above[1], 0))]
+        above = names
+    return gc_pattern(panels, stitches, placed)

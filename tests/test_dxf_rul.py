@@ -193,3 +193,84 @@ def test_any_rule_offsets_move_the_grade_points_exactly(tmp_path_factory, offset
         return  # an offset that folds the outline over itself is refused, not read wrong
     for c, off in zip(CORNERS, offsets):
         assert off_outline(p, c + off) < 0.05
+
+
+def test_a_rule_that_moves_the_sample_size_is_refused(tmp_path):
+    """A table of size-to-size steps (or misaligned columns) moves the sample: refused."""
+    steps = dict(DELTAS)
+    steps[2] = [(-10, 0), (10, 0), (10, 0), (10, 0)]
+    dxf = sample_dxf(tmp_path / "skirt.dxf")
+    (tmp_path / "skirt.rul").write_bytes(rul_text(steps).encode("latin-1"))
+    with pytest.raises(PatternError, match="rule 2 moves the sample size M") as err:
+        load_dxf(dxf)
+    assert "skirt.rul" in str(err.value)
+
+
+#: one rule over six sizes, the sample third, in inches, as an Optitex table lays it out:
+#: a blank first line, two pairs to a line, six decimals (offsets from the sample, growing
+#: away from it: the shape of the real tables quoted in docs/interchange.md)
+OPTITEX = """
+ANSI/AAMA VERSION: 1.0.0
+AUTHOR: Optitex
+UNITS: ENGLISH
+GRADE RULE TABLE: TOPS
+NUMBER OF SIZES: 6
+SIZE LIST: XXS XS S M L XL
+SAMPLE SIZE: S
+RULE: DELTA 1
+       0.000000,      0.000000       0.000000,      0.000000
+       0.000000,      0.000000       0.000000,      0.000000
+       0.000000,      0.000000       0.000000,      0.000000
+RULE: DELTA 2
+       0.500006,      0.000404       0.250003,      0.000193
+       0.000000,      0.000000      -0.250010,     -0.000560
+      -0.625012,     -0.001611      -1.000014,     -0.000776
+END
+"""
+
+#: the same shape as AccuMark writes an ASTM table: one pair to a line
+ACCUMARK = """ASTM/D13Proposal 1 Version: D 6673-04
+UNITS: ENGLISH
+NUMBER OF SIZES: 4
+SIZE LIST:  XS S M L
+SAMPLE SIZE: M
+RULE: DELTA 1
+      0.1800,   0.0120
+      0.0900,   0.0030
+      0.0000,   0.0000
+     -0.1800,  -0.0070
+END
+"""
+
+
+def test_real_table_layouts_are_offsets_from_the_sample():
+    t = parse_rules(OPTITEX)
+    assert t.sizes == ("XXS", "XS", "S", "M", "L", "XL") and t.sample == "S"
+    inch = 0.0254
+    # XL is one inch in from the sample, not the sum of the steps (1.875 inches)
+    assert t.rules[2][5] == pytest.approx([-1.000014 * inch, -0.000776 * inch])
+    assert t.rules[2][0] == pytest.approx([0.500006 * inch, 0.000404 * inch])
+    a = parse_rules(ACCUMARK.replace("\n", "\r\n"))
+    assert a.sample == "M" and a.rules[1][0] == pytest.approx([0.18 * inch, 0.012 * inch])
+    assert not a.rules[1][2].any()
+
+
+def test_the_optitex_layout_grades_a_point_by_its_offset(tmp_path):
+    dxf = sample_dxf(tmp_path / "skirt.dxf", notch=False)
+    inch = 25.4
+    table = OPTITEX.replace("SIZE LIST: XXS XS S M L XL", "SIZE LIST: XXS XS M L XL XXL") \
+        .replace("SAMPLE SIZE: S", "SAMPLE SIZE: M")
+    rules = table.split("RULE: DELTA 1")[0]
+    zero = "RULE: DELTA {}\n" + ("       0.000000,      0.000000       0.000000,      0.000000\n"
+                                 * 3)
+    body = "".join(zero.format(r) for r in (1, 3, 4, 5))
+    body += table[table.index("RULE: DELTA 2"):table.index("END")]
+    (tmp_path / "skirt.rul").write_text(rules + body + "END\n")
+    p = load_dxf(dxf, size="XXL")
+    # rule 2 (the side's hem corner) in the sixth size: 1.000014 inches in, not 1.875
+    starts = np.array([e.start for e in p.panels[0].outline.edges]) / MM
+    near = np.min(np.linalg.norm(starts - (CORNERS[1] + np.array([-1.000014, -0.000776]) * inch),
+                                 axis=1))
+    as_steps = np.min(np.linalg.norm(starts - (CORNERS[1] + np.array([-1.875, -0.003]) * inch),
+                                     axis=1))
+    assert near < 0.01 and as_steps > 20

@@ -51,17 +51,6 @@ def _edge_breaks(pattern: Pattern) -> dict[tuple[str, str], list[tuple[float, fl
     return pieces
 
 
-#: a boundary segment may be this much longer than the one before it along a loop, where a
-#: short edge (GarmentCode's 0.9 mm stitched edges) meets a long one: Triangle may not split
-#: boundary segments (``Y``, to keep seam sides paired), so an abrupt change makes slivers
-#: (0.7 degrees at 25 asked) [-]
-_GROWTH = 0.3
-#: a neighbour's segments shorter than this share of a piece's own make it grade (Triangle
-#: copes with less abrupt changes; the built-in garments' meshes at 1,500 triangles stay as
-#: they were) [-]
-_GRADE = 0.4
-
-
 def _uniform_counts(pattern: Pattern, pieces, h: float) -> dict:
     """Number of boundary segments for every edge piece at even spacing ``h`` [m]; both
     sides of a seam share one."""
@@ -91,16 +80,17 @@ def _uniform_counts(pattern: Pattern, pieces, h: float) -> dict:
 def _spacing(length: float, n: int, s0: float, s1: float) -> np.ndarray:
     """(m + 1,) fractions 0..1 of ``m >= n`` segments along a piece of ``length`` [m]: even
     (``n`` segments) unless a neighbour's segment at the start (``s0``) or end (``s1``) [m]
-    is much shorter, then growing from that size by at most ``_GROWTH`` per segment."""
+    is much shorter, then growing from that size by at most ``tol.mesh_growth`` per segment."""
     own = length / n
-    if min(s0, s1) >= _GRADE * own:
+    if min(s0, s1) >= tol.mesh_grade * own:
         return np.arange(n + 1) / n
-    # the size grows by (1 + _GROWTH) per segment: quarter steps of that near both ends
-    k = np.arange(4 * math.ceil(math.log(own / min(s0, s1)) / math.log(1 + _GROWTH)) + 8)
-    steps = ((1 + _GROWTH) ** (k / 4) - 1) / _GROWTH
+    # the size grows by (1 + g) per segment: quarter steps of that near both ends
+    g = tol.mesh_growth
+    k = np.arange(4 * math.ceil(math.log(own / min(s0, s1)) / math.log(1 + g)) + 8)
+    steps = ((1 + g) ** (k / 4) - 1) / g
     x = np.unique(np.clip(np.concatenate([np.linspace(0.0, length, 257), s0 * steps,
                                           length - s1 * steps]), 0.0, length))
-    size = np.minimum(own, np.minimum(s0 + _GROWTH * x, s1 + _GROWTH * (length - x)))
+    size = np.minimum(own, np.minimum(s0 + g * x, s1 + g * (length - x)))
     phi = np.concatenate([[0.0], np.cumsum(0.5 * (1 / size[1:] + 1 / size[:-1]) * np.diff(x))])
     m = max(n, round(phi[-1]))
     u = np.interp(np.arange(m + 1) / m * phi[-1], phi, x) / length

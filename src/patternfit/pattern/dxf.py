@@ -48,6 +48,9 @@ SIDE_FORMAT = "patternfit-dxf-sidecar"
 #: sizes across (largest side of the bounding box) a garment piece plausibly has; outside
 #: them the file's units are probably misread and the reader warns [m]
 PLAUSIBLE = (0.01, 3.0)
+#: the least size across the largest piece of a garment plausibly has [m]: below it the whole
+#: pattern is probably read in too small a unit (CLO writes ``UNITS: METRIC`` over centimetres)
+PLAUSIBLE_LARGEST = 0.1
 
 
 def sidecar_path(path) -> Path:
@@ -180,21 +183,34 @@ _UNIT_NAMES = {0.001: "mm", 0.01: "cm", 0.0254: "in", 0.3048: "ft", 1.0: "m"}
 
 def _size_warnings(panels, scale: float, unit_says: str) -> list[str]:
     """A warning for every piece whose size is implausible for a garment piece in the unit
-    read (``PLAUSIBLE``), naming the units that would make it plausible."""
+    read (``PLAUSIBLE``), naming the units that would make it plausible; and one when every
+    piece is plausible but even the largest is smaller than ``PLAUSIBLE_LARGEST``."""
     out = []
     lo, hi = PLAUSIBLE
+    unit = _UNIT_NAMES.get(scale, f"{scale:g} m")
+    sizes = []
     for panel in panels:
         poly = panel.outline.polygon(8)
         size = float(np.max(poly.max(axis=0) - poly.min(axis=0)))
+        sizes.append(size)
         if lo <= size <= hi:
             continue
         fits = [u for u, m in UNITS.items() if lo <= size / scale * m <= hi]
-        unit = _UNIT_NAMES.get(scale, f"{scale:g} m")
         out.append(f"panel '{panel.name}' is {size:.3g} m across, read in {unit} ({unit_says}):"
                    f" implausible for a garment piece (expected {lo:g} to {hi:g} m); "
                    + (f"as {' or '.join(fits)} it would be {size / scale * UNITS[fits[0]]:.3g}"
                       f" m (load_dxf(..., units={fits[0]!r}))" if fits else
                       "check the file's units"))
+    largest = max(sizes, default=PLAUSIBLE_LARGEST)
+    if not out and largest < PLAUSIBLE_LARGEST:
+        fits = [u for u, m in UNITS.items()
+                if PLAUSIBLE_LARGEST <= largest / scale * m <= hi]
+        out.append(f"the largest piece is {largest * 100:.3g} cm across, read in {unit} "
+                   f"({unit_says}): small for a garment (at least {PLAUSIBLE_LARGEST * 100:g}"
+                   " cm expected); " + (f"as {fits[0]} it would be "
+                                        f"{largest / scale * UNITS[fits[0]]:.3g} m "
+                                        f"(load_dxf(..., units={fits[0]!r}))" if fits else
+                                        "check the file's units"))
     return out
 
 

@@ -17,7 +17,11 @@ from ..constants import limits, tol
 from .dxf_curves import dedupe
 from .errors import PatternError
 
-__all__ = ["closed_loops", "entity_name", "entity_points", "layer_of", "why", "within_extent"]
+__all__ = ["LINE_KINDS", "closed_loops", "entity_name", "entity_points", "layer_of", "why",
+           "within_extent"]
+
+#: the entities that draw a line (the others are points and text)
+LINE_KINDS = ("LINE", "POLYLINE", "LWPOLYLINE", "ARC", "CIRCLE", "SPLINE", "ELLIPSE")
 
 
 def layer_of(entity) -> int | None:
@@ -59,7 +63,7 @@ def entity_points(entity, scale: float, budget: int, where: dict
     if kind == "LINE":
         pts = np.array([tuple(entity.dxf.start)[:2], tuple(entity.dxf.end)[:2]]) * scale
         return within_extent(pts, entity, where), False
-    if kind not in ("POLYLINE", "LWPOLYLINE", "ARC", "CIRCLE", "SPLINE", "ELLIPSE"):
+    if kind not in LINE_KINDS:
         return None
     try:
         pth = dxfpath.make_path(entity)
@@ -111,16 +115,19 @@ def _clusters(points: np.ndarray) -> np.ndarray:
     return np.array([root(k) for k in index], dtype=np.int64)
 
 
-def _chain(pieces: list[tuple[np.ndarray, bool]]) -> list[np.ndarray]:
-    """Closed loops from closed entities and from open ones joined end to end.
+def _chain(pieces: list[tuple[np.ndarray, bool]]
+           ) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Closed loops from closed entities and from open ones joined end to end; and the
+    chains that did not close.
 
     Open pieces are taken in file order; each grows at its end by the first free piece
     (in file order) that starts or ends there, until it closes or nothing fits.
     """
     loops = [p for p, closed in pieces if closed and len(p) >= 3]
     open_ = [p for p, closed in pieces if not closed]
+    ends: list[np.ndarray] = []
     if not open_:
-        return loops
+        return loops, ends
     node = _clusters(np.array([[p[0], p[-1]] for p in open_]).reshape(-1, 2))
     at: dict[int, list[int]] = {}  # cluster -> piece ends there (2k: start, 2k + 1: end)
     for end, c in enumerate(node.tolist()):
@@ -146,17 +153,33 @@ def _chain(pieces: list[tuple[np.ndarray, bool]]) -> list[np.ndarray]:
                 break
             end = first_free(int(tip))
             if end is None:
+                ends.append(np.concatenate(parts))
                 break
             q = open_[end // 2]
             free[end // 2] = False
             parts.append(q[1:] if end % 2 == 0 else q[::-1][1:])
             tip = node[end + 1] if end % 2 == 0 else node[end - 1]
             count += len(q) - 1
-    return loops
+    return loops, ends
 
 
-def closed_loops(pieces) -> list[np.ndarray]:
+def _on_line(p: np.ndarray, line: np.ndarray) -> bool:
+    """Whether the point ``p`` (2,) [m] lies on the straight line through ``line`` (2, 2)."""
+    d = line[1] - line[0]
+    n = float(np.linalg.norm(d))
+    if n < tol.dxf_fit:
+        return False
+    q = p - line[0]
+    return abs(float(d[0] * q[1] - d[1] * q[0])) / n < tol.dxf_fit
+
+
+def closed_loops(pieces, folds=()) -> list[np.ndarray]:
     """:func:`_chain`'s loops without repeated points (where pieces join, and the closing
-    point), those with fewer than three points left out."""
-    loops = [dedupe(q, closed=True) for q in _chain(pieces)]
+    point), those with fewer than three points left out. A chain that does not close but
+    ends with both ends on one of the mirror lines ``folds`` ((2, 2) each) [m] is closed
+    along it: a half piece's line drawn up to its fold."""
+    loops, ends = _chain(pieces)
+    loops += [q for q in ends if len(q) >= 3
+              and any(_on_line(q[0], f) and _on_line(q[-1], f) for f in folds)]
+    loops = [dedupe(q, closed=True) for q in loops]
     return [q for q in loops if len(q) >= 3]

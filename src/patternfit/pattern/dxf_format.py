@@ -3,8 +3,10 @@ read into a :class:`RawPiece`, the file's points by meaning, in metres, nothing 
 
 A DXF-AAMA file is DXF R12 with one block per piece and size; inside a block, layers carry
 the meaning (ASTM D6673 numbering, :data:`LAYERS`). Piece text reads ``Piece Name: front``,
-``Size: M``, ``Quantity: 2`` (the ASTM variant's layers 84 and 85, boundary and internal
-lines, are read as 1 and 8); the style text in the entities section carries ``Units:
+``Size: M``, ``Quantity: 2`` (the ASTM variant's layers 84, 85 and 87, boundary, internal and
+sew lines, are read as 1, 8 and 14 in a block that has nothing on those: Gerber's ASTM export
+draws every line twice, on both layers, and CLO's layer 84 is the curves' control polygon); the
+style text in the entities section carries ``Units:
 METRIC`` (millimetres) or ``Units: ENGLISH`` (inches) and ``Sample Size:`` (the base size).
 """
 
@@ -20,7 +22,7 @@ from ezdxf.lldxf.tagger import binary_tags_loader
 from ezdxf.lldxf.validator import is_dxf_stream
 
 from ..constants import limits
-from .dxf_entities import (closed_loops, entity_name, entity_points, layer_of, why,
+from .dxf_entities import (LINE_KINDS, closed_loops, entity_name, entity_points, layer_of, why,
                            within_extent)
 from ..geometry import polygon_area
 from .errors import PatternError
@@ -32,10 +34,12 @@ __all__ = ["ASTM_LAYERS", "LAYERS", "PIECE_LAYERS", "RawPiece", "field", "file_s
 LAYERS = {"boundary": 1, "turn_points": 2, "curve_points": 3, "notches": 4,
           "grade_reference": 5, "mirror": 6, "grain": 7, "internal": 8, "stripe": 9,
           "plaid": 10, "cutout": 11, "drill_holes": 13, "sew": 14, "annotation": 15}
-#: the ASTM D6673 variant's layers for the boundary and internal lines, read as AAMA's
-ASTM_LAYERS = {84: LAYERS["boundary"], 85: LAYERS["internal"]}
+#: the ASTM D6673 variant's layers for the boundary, internal and sew lines, read as AAMA's
+#: only in a block without any entity on that AAMA layer (Gerber's ASTM export draws each line
+#: on both, more densely sampled on the ASTM one; CLO draws its curves' control polygon on 84)
+ASTM_LAYERS = {84: LAYERS["boundary"], 85: LAYERS["internal"], 87: LAYERS["sew"]}
 #: layers whose closed loop makes a block a piece
-PIECE_LAYERS = (LAYERS["boundary"], LAYERS["sew"], 84)
+PIECE_LAYERS = (LAYERS["boundary"], LAYERS["sew"], 84, 87)
 _BINARY_DXF = b"AutoCAD Binary DXF\r\n\x1a\x00"
 _UNIT = {"METRIC": 0.001, "ENGLISH": 0.0254}
 _INSUNITS = {1: 0.0254, 2: 0.3048, 4: 0.001, 5: 0.01, 6: 1.0}
@@ -192,10 +196,16 @@ def read_piece(block, scale: float) -> RawPiece | None:
     by_layer: dict[int, list] = {}
     points: dict[int, list] = {}
     budget = limits.segments_per_panel
+    # the layers a line is drawn on (piece text sits on layer 1 in either variant)
+    drawn = {layer_of(e) for e in block if e.dxftype() in LINE_KINDS}
+    astm = {k: v for k, v in ASTM_LAYERS.items() if v not in drawn}
     for e in block:
         try:
             layer = layer_of(e)
-            layer = ASTM_LAYERS.get(layer, layer)
+            if layer in ASTM_LAYERS:
+                if layer not in astm:
+                    continue
+                layer = astm[layer]
             if e.dxftype() == "POINT":
                 at = np.array(tuple(e.dxf.location)[:2]).reshape(1, 2) * scale
                 points.setdefault(layer, []).append(within_extent(at, e, where)[0])
@@ -209,8 +219,10 @@ def read_piece(block, scale: float) -> RawPiece | None:
         if got is not None:
             by_layer.setdefault(layer, []).append(got)
             budget -= len(got[0])
-    cut = closed_loops(by_layer.get(LAYERS["boundary"], []))
-    sew = closed_loops(by_layer.get(LAYERS["sew"], []))
+    folds = [p[[0, -1]] for p, _ in by_layer.get(LAYERS["mirror"], [])]
+    # a half piece's lines may end on its mirror line (Gerber: the sew line of a half)
+    cut = closed_loops(by_layer.get(LAYERS["boundary"], []), folds)
+    sew = closed_loops(by_layer.get(LAYERS["sew"], []), folds)
     if not (cut or sew):
         return None
     words = texts(block)
@@ -229,7 +241,7 @@ def read_piece(block, scale: float) -> RawPiece | None:
     drills = list(points.get(LAYERS["drill_holes"], []))
     drills += [p.mean(axis=0) for p, closed in by_layer.get(LAYERS["drill_holes"], []) if closed]
     piece.drills = _array(drills)
-    piece.folds = [p[[0, -1]] for p, _ in by_layer.get(LAYERS["mirror"], [])]
+    piece.folds = folds
     for p, _ in by_layer.get(LAYERS["grain"], []):
         d = p[-1] - p[0]
         if np.linalg.norm(d) > 0:

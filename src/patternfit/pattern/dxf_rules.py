@@ -21,9 +21,14 @@ plain text::
     END
 
 one (dx, dy) pair per size in the size list's order, any number of pairs per line. Each pair
-is read as that size's offset of the point from where the sample size draws it (the sample's
-own pair is zero), as the readers of real exports we found do; the layout was learnt from
-public readers and writers of Gerber, Lectra and Optitex files, not from the standard's text.
+is that size's offset of the point from where the sample size draws it, in the table's units,
+added to the sample's coordinates: cumulative from the sample size, not size-to-size steps.
+Real tables show it (quoted by public readers of real exports, docs/interchange.md): an
+Optitex rule over six sizes with the sample third reads 0.50, 0.25, 0, -0.25, -0.625, -1.0
+inch (zero at the sample, growing away from it), an AccuMark one 0.1817, 0.0905, 0, -0.1802
+(XS twice S); as steps, the sample's own pair would mean nothing. So the sample size's pair
+must be zero: a rule that moves the sample is refused (the columns disagree with ``SAMPLE
+SIZE``, or the values are steps).
 A point between two grade points of a line moves by the two offsets interpolated along the
 line's length; other marks (turn points, notches, drill holes, internal lines, the sew line)
 move with the nearest point of the cut line.
@@ -38,7 +43,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..constants import limits
+from ..constants import limits, tol
 from ..files import read_bytes_capped
 from .errors import PatternError
 
@@ -88,7 +93,8 @@ def _header(lines: list[str], key: str) -> str | None:
 def parse_rules(text: str) -> RuleTable:
     """The :class:`RuleTable` of a ``.rul`` file's text; a :class:`PatternError` saying
     which header or rule is wrong (no size list, a count that disagrees with it, a sample
-    size not in it, a rule without one pair per size, a value that is not finite)."""
+    size not in it, a rule without one pair per size, a value that is not finite, a rule
+    that moves the sample size)."""
     lines = [ln.strip() for ln in text.replace("\r\n", "\n").replace("\r", "\n").split("\n")]
     first = next((i for i, ln in enumerate(lines) if _RULE.match(ln)), len(lines))
     head = lines[:first]
@@ -140,6 +146,13 @@ def parse_rules(text: str) -> RuleTable:
         values = np.array(pairs) * scale
         if not np.isfinite(values).all() or np.abs(values).max(initial=0.0) > limits.extent:
             raise PatternError(f"rule {number} has a value that is not a length")
+        at_sample = values[sizes.index(sample)]
+        if np.abs(at_sample).max() > tol.dxf_repeat:
+            raise PatternError(
+                f"rule {number} moves the sample size {sample} by ({pairs[sizes.index(sample)][0]:g}"
+                f", {pairs[sizes.index(sample)][1]:g}) {units.lower()} units: a rule gives each "
+                "size's offset from the sample size, zero at the sample (the pairs are not in "
+                "the size list's order, or they are size-to-size steps)")
         rules[number] = values
     return RuleTable(_header(head, "GRADE RULE TABLE"), sizes, sample, rules)
 

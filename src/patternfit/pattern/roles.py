@@ -14,13 +14,21 @@ this order of trust:
    bodice, else a waistband; a panel sewn at the top outer corner of a bodice (an armhole)
    is a sleeve; two long panels sewn along a curved edge at their top (a crotch) are legs;
    two alike panels sewn to each other along a curve and otherwise only by their lower edges
-   into the top of body panels (the necklines) are a hood's halves.
+   into the top of body panels (the necklines) are a hood's halves; a small panel sewn at a
+   bodice's top near its centre line is a collar's piece.
+   A panel sewn along a straight side edge (its centre line) to its mirror image is one half
+   of a panel cut at the centre (GarmentCode's bodices, cut at centre front and back): its
+   edges are then placed across the whole panel (:meth:`_Shape.outer`). A panel sewn to itself
+   along two long edges is a tube; along short ones, a dart.
 
 Front and back come from the stated side where the panels do not all say "front", the name,
-the sign of an explicit placement's z, or the deeper neckline (the front's). Left and right
-from the name, an explicit placement's x, or the side of the panel it is sewn to (a sleeve
-sewn to the front's +x armhole is on the body's left: panels are drafted as seen from
-outside). Lengths in metres, in each panel's flat frame.
+the sign of an explicit placement's z, or the deeper neckline (the front's); then from the
+panels sewn on: across a side seam the other way, the other half of a panel, the other leg
+of a pair and a tier sewn across its middle the same way, a sleeve's half or a collar's piece
+as the body panel it shares its longest seam with. Left and right from the name, an explicit
+placement's x, or the side of the panel it is sewn to (a sleeve sewn to the front's +x
+armhole is on the body's left: panels are drafted as seen from outside, and one drawn
+clockwise, as seen from inside, is mirrored). Lengths in metres, in each panel's flat frame.
 """
 
 from __future__ import annotations
@@ -43,6 +51,13 @@ TOP_SHARE = 0.30
 HOOD_SIZE = 0.30
 #: the two halves of a hood have the same area within this share [-]
 TWIN_AREA = 0.03
+
+#: a centre seam (between a panel's two halves) is at least this share of a half's height,
+#: and a shoulder at most this share of its panel's height (a flared skirt's side seams run
+#: across its top too, but over most of its height) [-]
+HALF_SEAM = 0.4
+#: a collar's piece has less than this share of the area of the bodice it is sewn to [-]
+COLLAR_AREA = 0.25
 
 #: what a panel is, by kind: the body part it goes on is "torso" unless the kind is
 #: sleeve/cuff (an arm) or leg
@@ -133,6 +148,10 @@ class _Shape:
         self.size = self.hi - self.lo
         self.centre = self.points.mean(axis=0)
         self.edges = panel.edges()
+        #: -1 or +1 when the panel is a half whose centre line is its left or right side
+        self.half = 0
+        #: the other half's name, for a half
+        self.twin: str | None = None
 
     def line(self, edge: str) -> np.ndarray:
         """The edge as a polyline (17, 2) [m], turned."""
@@ -145,8 +164,31 @@ class _Shape:
         e = self.line(edge)
         return float(e[:, 1].mean()) >= self.hi[1] - TOP_SHARE * self.size[1]
 
+    def reaches_top(self, edge: str) -> bool:
+        """Whether ``edge`` reaches the panel's top (an armhole runs down from it)."""
+        e = self.line(edge)
+        return float(e[:, 1].max()) >= self.hi[1] - TOP_SHARE * self.size[1]
+
     def outer(self, edge: str) -> float:
-        """Where ``edge`` lies across the panel: -1 at its left side, +1 at its right."""
+        """Where ``edge`` lies across the panel: -1 at its left side, +1 at its right. For a
+        half, across the whole panel it is one half of: 0 at the centre line, and a half whose
+        centre line is its left side spans 0..1, the other -1..0."""
+        x = self.side_of(edge)
+        return 0.5 * (x - self.half) if self.half else x
+
+    def reach(self, edge: str) -> float:
+        """How far out across the (whole) panel ``edge`` reaches: 1 at its widest point."""
+        half = max(0.5 * self.size[0], 1e-9)
+        x = (self.line(edge)[:, 0] - 0.5 * (self.lo[0] + self.hi[0])) / half
+        return float(np.max(np.abs(0.5 * (x - self.half) if self.half else x)))
+
+    def drawn(self, edge: str) -> float:
+        """:meth:`outer` as seen from the panel's outside: a panel drawn clockwise is drawn
+        as seen from inside (GarmentCode's backs, seen from the front), mirrored."""
+        return self.outer(edge) * (1.0 if self.panel.outline.signed_area() > 0 else -1.0)
+
+    def side_of(self, edge: str) -> float:
+        """Where ``edge`` lies across this panel alone: -1 at its left side, +1 at its right."""
         half = max(0.5 * self.size[0], 1e-9)
         return float((self.mid(edge)[0] - 0.5 * (self.lo[0] + self.hi[0])) / half)
 
@@ -163,6 +205,16 @@ class _Shape:
         widest = p[[int(np.argmin(p[:, 0])), int(np.argmax(p[:, 0]))], 1]
         return bool((widest > mid_y).any()) and bool((widest < self.hi[1] - 0.05).all())
 
+    @property
+    def whole_width(self) -> float:
+        """The width [m] of the whole panel this one is (both halves of a half)."""
+        return float(self.size[0]) * (2 if self.half else 1)
+
+    @property
+    def whole_area(self) -> float:
+        """The area [m^2] of the whole panel this one is (both halves of a half)."""
+        return self.panel.area() * (2 if self.half else 1)
+
     def curved(self, edge: str) -> bool:
         return self.edges[edge].kind != "line"
 
@@ -178,7 +230,8 @@ class _Shape:
         """How far the middle of the top falls below the top's two highest points [m]
         (a neckline's depth)."""
         p = self.points
-        mid = np.abs(p[:, 0] - self.centre[0]) < 0.1 * self.size[0]
+        middle = {0: self.centre[0], -1: self.lo[0], 1: self.hi[0]}[self.half]
+        mid = np.abs(p[:, 0] - middle) < 0.1 * self.size[0]
         return float(self.hi[1] - p[mid, 1].max()) if mid.any() else 0.0
 
 
@@ -197,9 +250,10 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
     open_ = [p.name for p in pattern.panels if kinds[p.name] is None]
     for n in open_:
         sh = shapes[n]
-        if any(other == n for _, other, _ in links[n]):
+        if any(other == n and min(sh.edges[e].length, sh.edges[oe].length) >= 0.5 * sh.length
+               for e, other, oe in links[n]):
             kinds[n] = "leg" if sh.length >= LEG_LENGTH + 0.2 else "sleeve"
-            why[n] = "sewn to itself (a tube)"
+            why[n] = "sewn to itself along two long edges (a tube)"
     for n in open_:
         sh = shapes[n]
         if kinds[n] is None and sh.aspect >= BAND_ASPECT:
@@ -207,7 +261,7 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
             if any(kinds.get(o) == "sleeve" for o, _ in others):
                 kinds[n], why[n] = "cuff", "a band sewn to a sleeve"
             elif any(shapes[o].at_top(oe) and abs(shapes[o].outer(oe)) < 0.5
-                     and shapes[o].top_dip() > 0.03 for o, oe in others):
+                     and _shoulders(o, shapes, links) for o, oe in others):
                 kinds[n], why[n] = "collar", "a band sewn at the top of a bodice"
             else:
                 kinds[n], why[n] = "waistband", "a long narrow band"
@@ -218,14 +272,15 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
                 and any(
                 sh.curved(e) and sh.at_top(e) and o != n and shapes[o].size[1] >= LEG_LENGTH
                 and shapes[o].curved(oe) and kinds[o] in (None, "leg")
-                and abs(sh.outer(e)) > 0.3 for e, o, oe in links[n]):
-            kinds[n], why[n] = "leg", "long, sewn to another long panel along a curve (crotch)"
+                and _mirror_twins(sh, shapes[o]) and abs(sh.outer(e)) > 0.3
+                for e, o, oe in links[n]):
+            kinds[n], why[n] = "leg", "long, sewn to its mirror image along a curve (crotch)"
     for n in open_:  # sleeves: sewn by their top into another panel's top outer corner
         sh = shapes[n]
         if kinds[n] is None and any(
-                o != n and kinds[o] in (None, "bodice") and shapes[o].at_top(oe)
+                o != n and kinds[o] in (None, "bodice") and shapes[o].reaches_top(oe)
                 and abs(shapes[o].outer(oe)) > 0.5 and sh.curved(e)
-                and sh.panel.area() < SLEEVE_AREA * shapes[o].panel.area()
+                and sh.panel.area() < SLEEVE_AREA * shapes[o].whole_area
                 for e, o, oe in links[n]
                 if _is_armhole(shapes[o], oe) and _cap_of(sh, e)):
             kinds[n], why[n] = "sleeve", "sewn by a curved end into an armhole"
@@ -233,15 +288,67 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
         if kinds[n] is None and _is_hood(n, shapes, links, kinds):
             kinds[n] = "hood"
             why[n] = "sewn by its lower edges into a neckline and to its twin along a curve"
+    for n in open_:  # collars: small pieces sewn at a bodice's top near its centre line
+        sh = shapes[n]
+        # (a yoke is sewn across the whole width of the back, a collar into its neckline)
+        if kinds[n] is None and sh.length < HOOD_SIZE and any(
+                o != n and kinds[o] in (None, "bodice") and shapes[o].at_top(oe)
+                and abs(shapes[o].outer(oe)) < 0.5
+                and sh.panel.area() < COLLAR_AREA * shapes[o].whole_area
+                and shapes[o].edges[oe].length < 0.5 * shapes[o].whole_width
+                and _shoulders(o, shapes, links) for e, o, oe in links[n]):
+            kinds[n], why[n] = "collar", "a small piece sewn into a bodice's neckline"
     for n in open_:
         if kinds[n] is None:
             sewn_up = any(o != n and kinds[o] in ("bodice",) for _, o, _ in links[n])
-            shoulders = any(o != n and shapes[n].at_top(e) and shapes[o].at_top(oe)
-                            and abs(shapes[n].outer(e)) > 0.2 and shapes[n].across(e)
-                            for e, o, oe in links[n])
+            shoulders = _shoulders(n, shapes, links)
             kinds[n] = "bodice" if shoulders else "skirt"
             why[n] = "sewn at its top to another panel's top (shoulders)" if shoulders \
                 else ("sewn below a bodice" if sewn_up else "a body panel without shoulders")
+
+
+def _shoulders(n: str, shapes, links) -> bool:
+    """Whether panel ``n`` has a shoulder: an edge at its top, off its centre line, running
+    across it, shorter than :data:`HALF_SEAM` of its height and not out to its widest point
+    (an armhole lies beyond; a flared skirt's or tier's side seams run out to it), sewn to the
+    top of another panel that is not a band."""
+    sh = shapes[n]
+    return any(o != n and sh.at_top(e) and shapes[o].at_top(oe) and abs(sh.outer(e)) > 0.2
+               and sh.across(e) and sh.edges[e].length <= HALF_SEAM * sh.size[1]
+               and sh.reach(e) < 0.95 and shapes[o].aspect < BAND_ASPECT
+               for e, o, oe in links[n])
+
+
+def _mirror_twins(a: _Shape, b: _Shape) -> bool:
+    """Whether two panels are mirror images: the same size across and up (within 5 mm),
+    area and outline length (within 0.5 %; GarmentCode splits the halves' edges differently
+    where other panels join them)."""
+    area, length = a.panel.area(), a.panel.outline.length
+    return bool(np.all(np.abs(a.size - b.size) < 5e-3)) \
+        and abs(area - b.panel.area()) < 0.005 * area \
+        and abs(length - b.panel.outline.length) < 0.005 * length
+
+
+def _mark_halves(pattern, shapes, links) -> None:
+    """Set ``half`` on each panel that is one half of a panel cut at its centre line: sewn
+    to its mirror twin along one straight edge only, at a side of both (running up them, at
+    least :data:`HALF_SEAM` of their height)."""
+    for p in pattern.panels:
+        n, sh = p.name, shapes[p.name]
+        by_other: dict[str, list] = {}
+        for e, o, oe in links[n]:
+            if o != n:
+                by_other.setdefault(o, []).append((e, oe))
+        for o, pairs in by_other.items():
+            if len(pairs) != 1 or not _mirror_twins(sh, shapes[o]):
+                continue
+            e, oe = pairs[0]
+            sides = [(shapes[k], edge) for k, edge in ((n, e), (o, oe))]
+            if all(s.edges[edge].kind == "line" and abs(s.side_of(edge)) > 0.9
+                   and not s.across(edge) and s.edges[edge].length >= HALF_SEAM * s.size[1]
+                   for s, edge in sides):
+                sh.half, sh.twin = (-1 if sh.side_of(e) < 0 else 1), o
+                break
 
 
 def _is_hood(n: str, shapes, links, kinds) -> bool:
@@ -294,6 +401,7 @@ def panel_roles(pattern) -> dict[str, PanelRole]:
     """Every panel's :class:`PanelRole`, by panel name (see the module's docstring)."""
     shapes = {p.name: _Shape(p) for p in pattern.panels}
     links = _links(pattern)
+    _mark_halves(pattern, shapes, links)
     kinds: dict[str, str | None] = {}
     why: dict[str, str] = {}
     prefix: dict[str, str] = {}
@@ -350,9 +458,20 @@ def _sides(pattern, shapes, links, kinds, prefix) -> dict[str, str]:
         todo = [p.name for p in pattern.panels if sides[p.name] is None]
         grew = False
         for n in todo:
-            known = [(sides[o], _mirrored_legs(shapes[n], shapes[o], kinds[n]))
-                     for e, o, _ in links[n] if o != n and sides.get(o) in ("front", "back")
-                     and kinds[o] == kinds[n]]
+            # a sleeve in two halves, or a collar's piece, faces as the body panel it shares
+            # its longest seam with
+            into = max(((shapes[n].edges[e].length, o) for e, o, _ in links[n]
+                        if kinds[n] in ("sleeve", "collar") and kinds[o] in ("bodice", "skirt")),
+                       default=None)
+            known = [(sides[into[1]], True)] if into and sides.get(into[1]) else []
+            # one of the same kind faces the other way (across a side seam); the other half
+            # of a panel, the other leg of a pair and a tier sewn on across its middle the
+            # same way
+            known += [(sides[o], _mirrored_legs(shapes[n], shapes[o], kinds[n])
+                       or shapes[n].twin == o
+                       or (shapes[n].across(e) and abs(shapes[n].outer(e)) < 0.5))
+                      for e, o, _ in links[n] if o != n and sides.get(o) in ("front", "back")
+                      and kinds[o] == kinds[n]]
             # a panel sewn across (a waist seam) to one of another kind faces the same way
             known += [(sides[o], True) for e, o, oe in links[n]
                       if o != n and sides.get(o) in ("front", "back") and kinds[o] != kinds[n]
@@ -382,11 +501,11 @@ def _hand(pattern, panel, shapes, links, kinds, prefix, sides) -> str:
         for e, o, _ in links[n]:
             if o != n and kinds[o] == "leg" and sides.get(o) == sides.get(n):
                 front = sides.get(n) != "back"
-                return "left" if (shapes[n].outer(e) < 0) == front else "right"
+                return "left" if (shapes[n].drawn(e) < 0) == front else "right"
     for e, o, oe in links[n]:
         if o != n and kinds[o] in ("bodice", "skirt"):
             front = sides.get(o) != "back"
-            return "left" if (shapes[o].outer(oe) > 0) == front else "right"
+            return "left" if (shapes[o].drawn(oe) > 0) == front else "right"
     return "left"
 
 

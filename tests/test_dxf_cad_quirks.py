@@ -1,0 +1,275 @@
+"""What real Gerber AccuMark and CLO exports do, reproduced in small files of our own.
+
+Each quirk was found reading real exports (public test data of an ASTM/AAMA parser, listed in
+docs/interchange.md); the files here are ours, written as plain DXF text in those tools' layout
+(R12, an empty HEADER for Gerber, group codes as they write them):
+- Gerber's ASTM export draws every boundary segment twice, as an open POLYLINE on layer 1 and a
+  more densely sampled copy on layer 84; internal lines on 8 and 85, the sew line on 14 and 87;
+  a half piece's sew line runs up to its mirror line (layer 6) and stops there.
+- Gerber's AAMA export draws the boundary as one open POLYLINE per run between turn points, a
+  POINT and a ``# N`` TEXT (grade rule) on layer 2 after each, in the sample size only; the
+  grain line twice (layers 7 and 5); ``Quantity:`` only in the sample size's block.
+- CLO draws a closed boundary on layer 1 and its curves' control polygon on layer 84, and
+  writes ``UNITS: METRIC`` over coordinates in centimetres.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from patternfit.geometry import polygon_area
+from patternfit.mesh.quality import min_angle
+from patternfit.mesh.triangulate import mesh_pattern
+from patternfit.pattern.dxf import load_dxf
+
+
+class _Dxf:
+    """DXF text in the layout Gerber AccuMark writes (R12 group codes, 4 decimals)."""
+
+    def __init__(self):
+        self.out = ["  0", "SECTION", "  2", "HEADER", "  0", "ENDSEC",
+                    "  0", "SECTION", "  2", "BLOCKS"]
+        self.blocks: list[str] = []
+
+    def block(self, name):
+        self.blocks.append(name)
+        self.out += ["  0", "BLOCK", "  8", "0", "  2", name, " 70", "64",
+                     " 10", "0.0000", " 20", "0.0000"]
+
+    def end_block(self):
+        self.out += ["  0", "ENDBLK"]
+
+    def text(self, layer, s, at=(0.0, 0.0)):
+        self.out += ["  0", "TEXT", "  8", str(layer), " 10", f"{at[0]:.4f}", " 20",
+                     f"{at[1]:.4f}", " 40", "0.250", " 50", "0.0000", "  1", s, "  7", "STANDARD"]
+
+    def polyline(self, layer, pts, closed=False):
+        self.out += ["  0", "POLYLINE", "  8", str(layer), " 66", "1", " 70", "1" if closed else "0"]
+        for x, y in pts:
+            self.out += ["  0", "VERTEX", "  8", str(layer), " 10", f"{x:.4f}", " 20", f"{y:.4f}"]
+        self.out += ["  0", "SEQEND", "  8", str(layer)]
+
+    def line(self, layer, a, b):
+        self.out += ["  0", "LINE", "  8", str(layer), " 10", f"{a[0]:.4f}", " 20", f"{a[1]:.4f}",
+                     " 11", f"{b[0]:.4f}", " 21", f"{b[1]:.4f}"]
+
+    def point(self, layer, p):
+        self.out += ["  0", "POINT", "  8", str(layer), " 10", f"{p[0]:.4f}", " 20", f"{p[1]:.4f}"]
+
+    def save(self, path, style=()):
+        self.out += ["  0", "ENDSEC", "  0", "SECTION", "  2", "ENTITIES"]
+        for k, s in enumerate(style):
+            self.text(1, s, (0.0, 0.14 * k))
+        for name in self.blocks:
+            self.out += ["  0", "INSERT", "  8", "1", "  2", name, " 10", "0.0000", " 20", "0.0000"]
+        self.out += ["  0", "ENDSEC", "  0", "EOF", ""]
+        path.write_text("\n".join(self.out))
+        return path
+
+
+def _arc(a, b, bulge, n):
+    """Points from ``a`` to ``b`` on a circular-looking curve bowed ``bulge`` to the left."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    d = b - a
+    left = np.array([-d[1], d[0]]) / np.linalg.norm(d)
+    return a + t * d + (4 * bulge * t * (1 - t)) * left
+
+
+def _area_mm2(pts) -> float:
+    return abs(polygon_area(np.asarray(pts, float)))
+
+
+def _half_front(allowance=10.0):
+    """A half front [mm]: the fold (centre front) along the top edge y = 600, the hem at
+    y = 0, an armhole curve; its cut line, and its sew line ``allowance`` inside everywhere but
+    along the fold. Runs between turn points, each from one turn point to the next."""
+    def runs(inset):
+        top = 600.0
+        return [_arc((300 - inset, top), (380 - inset, 420 + inset), -25.0, 9),   # armhole
+                np.array([(380 - inset, 420 + inset), (360 - inset, inset)]),     # side
+                np.array([(360 - inset, inset), (0.0 + inset, inset)]),           # hem
+                np.array([(0.0 + inset, inset), (0.0 + inset, top)])]             # front edge
+    cut = runs(0.0)
+    cut.append(np.array([(0.0, 600.0), (300.0, 600.0)]))                          # on the fold
+    return cut, runs(allowance)  # the sew line stops at the fold: no last run
+
+
+def _gerber_astm(path, *, with_astm_copies=True):
+    d = _Dxf()
+    d.block("FRONT_42")
+    d.text(1, "Piece Name: FRONT", (100, 300))
+    d.text(1, "SIZE: 42", (100, 310))
+    cut, sew = _half_front()
+    for run in cut:
+        d.polyline(1, run)
+        if with_astm_copies:  # the same run, sampled twice as densely
+            dense = np.vstack([np.linspace(p, q, 3)[:-1] for p, q in zip(run[:-1], run[1:])]
+                              + [run[-1:]])
+            d.polyline(84, dense)
+    d.line(7, (50, 300), (250, 300))
+    d.line(5, (50, 300), (250, 300))
+    d.line(8, (100, 50), (100, 550))  # a placement line, twice
+    if with_astm_copies:
+        d.polyline(85, [(100, 50), (100, 550)])
+    for run in sew:
+        d.polyline(14, run)
+        if with_astm_copies:
+            d.polyline(87, run)
+    d.line(6, (0.0, 600.0), (300.0, 600.0))
+    d.end_block()
+    return d.save(path, ["Units: METRIC"]), cut, sew
+
+
+@pytest.mark.parametrize("with_astm_copies", [True, False])
+def test_gerber_astm_half_piece_drawn_on_both_layer_sets(tmp_path, with_astm_copies):
+    path, cut, sew = _gerber_astm(tmp_path / "astm.dxf", with_astm_copies=with_astm_copies)
+    pattern = load_dxf(path)
+    assert [p.name for p in pattern.panels] == ["FRONT"]
+    panel = pattern.panels[0]
+    half_sew = _area_mm2(np.vstack([r[:-1] for r in sew] + [sew[-1][-1:]])) * 1e-6
+    half_cut = _area_mm2(np.vstack([r[:-1] for r in cut])) * 1e-6
+    # unfolded about the fold: both lines twice their half, the sew line is the outline
+    assert panel.area() == pytest.approx(2 * half_sew, rel=2e-3)
+    assert _area_mm2(panel.cut_line) == pytest.approx(2 * half_cut, rel=2e-3)
+    poly = panel.outline.polygon(16)
+    # hem to hem across the fold, the sew line 10 mm inside each hem
+    assert poly[:, 1].max() - poly[:, 1].min() == pytest.approx(1.2 - 0.02, abs=1e-4)
+    assert len(panel.lines) == 2  # the placement line and its mirror image, not four
+    mesh = mesh_pattern(pattern, triangles=600, min_angle=25.0)
+    assert min_angle(mesh.vertices, mesh.triangles) >= 24.5
+
+
+def test_a_half_line_not_ending_on_the_fold_is_not_closed(tmp_path):
+    """Only a chain with both ends on the mirror line is closed along it."""
+    d = _Dxf()
+    d.block("P")
+    d.text(1, "Piece Name: P")
+    d.polyline(1, [(0, 0), (100, 0), (100, 100), (0, 100)], closed=True)
+    d.polyline(14, [(10, 10), (90, 10), (90, 90)])  # open, not on the fold
+    d.line(6, (0, 100), (100, 100))
+    d.end_block()
+    panel = load_dxf(d.save(tmp_path / "p.dxf", ["Units: METRIC"])).panels[0]
+    assert len(panel.cut_line) == 0  # no sew line: the cut line is the outline
+    assert panel.area() == pytest.approx(2 * 0.1 * 0.1, rel=1e-6)
+
+
+def _clo(path, *, units="METRIC", scale=1.0):
+    """A CLO export: a sleeve-head-like piece whose top is a convex curve; layer 84 draws the
+    curve's control polygon, which lies outside the curve (its area is larger)."""
+    d = _Dxf()
+    d.block("11_M")
+    d.text(1, "PIECE NAME: 11")
+    d.text(1, "SIZE: M")
+    d.text(1, "ANNOTATION: ")
+    d.text(1, "QUANTITY: 1")
+    curve = _arc((400, 300), (0, 300), 120.0, 41)
+    ring = np.vstack([[(0, 0), (400, 0)], curve[:-1]]) * scale
+    d.polyline(1, ring, closed=True)
+    for p in ring[[0, 1, 2]]:
+        d.point(2, p)
+    for p in ring[3:]:
+        d.point(3, p)
+    control = np.array([(0, 0), (400, 0), (400, 300), (300, 480), (100, 480), (0, 300)]) * scale
+    d.polyline(84, control, closed=True)
+    d.end_block()
+    return d.save(path, ["STYLE NAME: clo", "SAMPLE SIZE: M", f"UNITS: {units}"]), ring
+
+
+def test_clo_control_polygon_on_layer_84_is_not_the_boundary(tmp_path):
+    path, ring = _clo(tmp_path / "clo.dxf")
+    pattern = load_dxf(path)
+    assert pattern.meta.get("size") == "M"
+    (panel,) = pattern.panels
+    assert panel.area() == pytest.approx(_area_mm2(ring) * 1e-6, rel=1e-3)
+    assert "warnings" not in pattern.meta
+
+
+def test_clo_metric_over_centimetres_is_warned(tmp_path):
+    path, _ = _clo(tmp_path / "clo_cm.dxf", scale=0.1)  # 40 x 42 "mm": the file is in cm
+    pattern = load_dxf(path)
+    (warning,) = pattern.meta["warnings"]
+    assert "largest piece" in warning and "units='cm'" in warning
+    assert load_dxf(path, units="cm").panels[0].area() == pytest.approx(
+        pattern.panels[0].area() * 100, rel=1e-9)
+
+
+SIZES = ("26", "28", "30", "32", "34", "36", "38")
+
+
+def _gerber_aama(path):
+    """A binding strip in seven sizes as AccuMark writes AAMA: four open POLYLINEs per block;
+    in the sample size (36) a POINT and a ``# N`` TEXT on layer 2 at each run's ends, the
+    grain line on 7 and again on 5 with POINTs at its ends, and the only ``Quantity:``."""
+    d = _Dxf()
+    for k, size in enumerate(SIZES):
+        grow = (k - SIZES.index("36")) * 0.12  # inches per size
+        bottom, top, top2 = 5.1119 - grow, 33.4508 + grow, 31.4823 + grow
+        d.block(f"BINDING_{size}")
+        d.text(1, "Piece Name: BINDING")
+        sample = size == "36"
+        if sample:
+            d.text(1, "Quantity: 1")
+            d.text(1, "ANNOTATION: 10X1")
+            d.text(1, "CATEGORY: BINDING NECKHOLE")
+        d.text(1, f"SIZE: {size}")
+        c = [(-89.681, bottom), (-89.681, top), (-88.185, top2), (-88.185, bottom)]
+        for j in range(4):
+            a, b = c[j], c[(j + 1) % 4]
+            d.polyline(1, [a, b])
+            if sample:
+                for p, rule in ((a, j + 1), (b, (j + 1) % 4 + 1)):
+                    d.point(2, p)
+                    d.text(2, f"# {rule}", p)
+        d.line(7, (-89.5208, 21.39), (-88.5, 21.39))
+        d.line(5, (-89.5208, 21.39), (-88.5, 21.39))
+        if sample:
+            d.point(2, (-89.5208, 21.39))
+            d.point(2, (-88.5, 21.39))
+        d.end_block()
+    return d.save(path, ["Style Name: BINDING", "Author: GERBER TECHNOLOGY", "PRODUCT: ACCUMARK",
+                         "Sample Size: 36", "Units: ENGLISH", "TOLERANCE: .006"])
+
+
+def test_gerber_aama_runs_rule_labels_and_sizes(tmp_path):
+    path = _gerber_aama(tmp_path / "aama.dxf")
+    pattern = load_dxf(path)
+    assert pattern.meta["size"] == "36" and pattern.meta["sizes"] == list(SIZES)
+    (panel,) = pattern.panels
+    assert len(panel.edges()) == 4  # the grain line's POINTs do not split the outline
+    width = 1.496 * 0.0254
+    expected = width * ((33.4508 - 5.1119) + (31.4823 - 5.1119)) / 2 * 0.0254
+    assert panel.area() == pytest.approx(expected, rel=1e-4)
+    areas = [load_dxf(path, size=s).panels[0].area() for s in SIZES]
+    assert np.all(np.diff(areas) > 0)  # every size read from its own block, growing
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(n=st.integers(5, 12), cuts=st.integers(2, 6), radius=st.floats(80.0, 400.0),
+       seed=st.integers(0, 2**16))
+def test_outline_split_into_runs_and_doubled_on_84_keeps_its_area(tmp_path, n, cuts, radius,
+                                                                  seed):
+    """Any star-shaped outline drawn as open runs on layer 1, each again on 84, reads with
+    the area of the layer-1 polygon."""
+    rng = np.random.default_rng(seed)
+    ang = np.sort(rng.uniform(0, 2 * np.pi, n))
+    if np.min(np.diff(np.r_[ang, ang[0] + 2 * np.pi])) < 0.15:
+        return
+    r = radius * rng.uniform(0.6, 1.0, n)
+    ring = np.c_[r * np.cos(ang), r * np.sin(ang)] + 500.0
+    d = _Dxf()
+    d.block("S")
+    d.text(1, "Piece Name: S")
+    bounds = np.unique(np.r_[0, np.sort(rng.choice(np.arange(1, n), min(cuts, n - 1) - 1,
+                                                   replace=False)), n])
+    closed = np.vstack([ring, ring[:1]])
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        d.polyline(1, closed[a:b + 1])
+        d.polyline(84, closed[a:b + 1] * 1.001)  # a copy that is not quite the same
+    d.end_block()
+    path = d.save(tmp_path / f"s{seed}_{n}.dxf", ["Units: METRIC"])
+    panel = load_dxf(path).panels[0]
+    assert panel.area() == pytest.approx(_area_mm2(ring) * 1e-6, rel=2e-3)
