@@ -24,6 +24,7 @@ from ..arguments import array
 from ..constants import GRAVITY, limits, tol
 from ..geometry import unique_edges
 from . import kernels
+from .bending_friction import BendingFriction
 from .energies import MeshTerms, build_terms, spring_matrix
 from .crossings import wrong_sides
 from .fabrics import Fabric, get_fabric
@@ -349,6 +350,7 @@ class GarmentSolver:
             bend_warp=f.bending_warp, bend_weft=f.bending_weft, k_warp=f.stretch_warp,
             k_weft=f.stretch_weft, k_shear=f.shear)
         self._mass = f.density * self.terms.vertex_area
+        self._bend_friction = BendingFriction.of(self.terms, f)
         self._pinned = np.unique(self._group[self.pinned])
         self._root = (np.arange(self._n) if self._welded or not len(self.seam_pairs)
                       else self._seam_roots())
@@ -422,6 +424,8 @@ class GarmentSolver:
         qx = self._Q @ x
         e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", self._f, x))
         grad += qx - self._f
+        if self._bend_friction is not None:
+            e += self._bend_friction.energy(x, grad)
         if self.body is not None:
             e += kernels.contact(x, self.body.values, self.body.origin, self.body.spacing,
                                  self._reach, self._kc, self._seen, self._room, grad)
@@ -504,6 +508,8 @@ class GarmentSolver:
                 + np.bincount(s_d, weights=blocks.ravel(), minlength=len(indices)))
         n3 = 3 * self._n
         H = sp.csr_matrix((data, indices, indptr), shape=(n3, n3))
+        if self._bend_friction is not None:
+            H = H + self._bend_friction.hessian(x, self._n)
         extra = self._pair_hessian(x)
         if extra is not None:
             H = H + extra
