@@ -6,7 +6,8 @@ is a JSON object with the same fields and units, e.g.::
     {"name": "my poplin", "density": 0.115, "stretch_warp": 6000, "stretch_weft": 4000,
      "shear": 40, "bending": 6e-6, "friction": 0.4, "thickness": 0.00025}
 
-``bending`` may be one value or ``bending_warp`` and ``bending_weft`` separately. Every
+``bending`` may be one value or ``bending_warp`` and ``bending_weft`` separately;
+``bending_hysteresis`` (KES-F 2HB [N]) may be left out (0). Every
 value must lie in its plausible range (:data:`RANGES`); errors are :class:`FabricError`
 naming the file (``file``) and the field (``place``).
 """
