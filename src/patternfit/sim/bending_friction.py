@@ -31,6 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .energies import MeshTerms
+from .fabrics import Fabric
 
 #: stick band of the frictional couple in units of HB / B (the curvature at which the
 #: elastic moment equals the frictional one): below ``STICK_BAND HB / B`` the couple rises
@@ -66,10 +67,10 @@ class BendingFriction:
     eps: float
 
     @classmethod
-    def of(cls, terms: MeshTerms, fabric) -> BendingFriction | None:
+    def of(cls, terms: MeshTerms, fabric: Fabric) -> BendingFriction | None:
         """The couple of ``fabric`` (its ``bending_hysteresis`` 2HB [N]) on ``terms``; None
         when the fabric has none."""
-        two_hb = float(getattr(fabric, "bending_hysteresis", 0.0))
+        two_hb = float(fabric.bending_hysteresis)
         if two_hb <= 0.0:
             return None
         rigidity = float(np.sqrt(fabric.bending_warp * fabric.bending_weft))
@@ -96,7 +97,8 @@ class BendingFriction:
         return float(self.moment * np.sum(self.area * (s - self.eps)))
 
     def hessian(self, x, n: int) -> sp.csr_matrix:
-        """A positive semi-definite bound of its Hessian (3n x 3n) [N/m] at ``x``: the
+        """A positive semi-definite bound of its Hessian (3n x 3n, ``n`` vertices, dofs
+        ordered x0 y0 z0 x1 ...) [N/m] at ``x`` (n, 3) [m]: the
         weighted bending shares ``HB / (B_geo s_t) L_t`` per coordinate (the exact Hessian
         subtracts a rank-one part per triangle, so this one is at least as stiff)."""
         _, s = self._stretch(x)
