@@ -121,3 +121,20 @@ def test_no_hysteresis_no_term_and_files_may_give_it(tmp_path):
     path.write_text(json.dumps({**good, "bending_hysteresis": 5.0}))  # grams-force, not N
     with pytest.raises(FabricError, match="'bending_hysteresis'"):
         load_fabric(path)
+
+
+def test_the_drape_test_feels_the_couple():
+    """The solver adds the term (sim/solver.py): a stiff woven with the broadcloth's 2HB / B
+    stands further out on the Cusick disc, at rest (docs/fabrics.md: M6 0.331 -> 0.428 at
+    8K; here a coarse 1K specimen of 24 on 18 cm)."""
+    from patternfit.sim.fabric_test import cusick_test
+
+    base = get_fabric("petrak_m6")
+    two_hb = 105.0 * np.sqrt(base.bending_warp * base.bending_weft)
+    dc = {}
+    for h in (0.0, two_hb):
+        res = cusick_test(dataclasses.replace(base, bending_hysteresis=h), specimen=0.24,
+                          triangles=1000, seeds=(0,))
+        assert all(r.solve.at_rest for r in res.runs)
+        dc[h] = res.drape_coefficient
+    assert dc[two_hb] > dc[0.0] + 0.03
