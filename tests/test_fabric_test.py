@@ -15,6 +15,7 @@ from patternfit.cli.main import app
 from patternfit.files import dumps_finite_json
 from patternfit.geometry import triangle_areas
 from patternfit.sim import fabric_test as kit
+from patternfit.sim.fabric_test import cusick as cusick_kit
 from patternfit.sim.fabrics import FABRICS, KIT_READINGS, get_fabric, published_drapes
 
 #: two published fabrics whose simulated drape coefficients keep their measured order (0.286
@@ -94,7 +95,7 @@ def test_cantilever_weft_uses_the_weft_rigidity():
 
 
 def test_shadow_area_of_a_flat_disc_and_nodes_of_a_wavy_hem():
-    v, t, _ = kit._disc_mesh(0.15, 0.09, 600)
+    v, t, _ = cusick_kit._disc_mesh(0.15, 0.09, 600)
     area, _, _ = kit.shadow_area(v, t, 5e-4)
     flat = float(triangle_areas(v, t).sum())
     assert area == pytest.approx(flat, rel=2e-3)  # a flat specimen reads DC = 1

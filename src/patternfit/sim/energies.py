@@ -41,6 +41,13 @@ class MeshTerms:
         Interior edges: (edge start, edge end, opposite in triangle 1, opposite in triangle 2).
     bending : (n3, n3) sparse
         Bending Hessian Q (energy ``x^T Q x / 2`` per coordinate) [N/m].
+    bend_local : (m, 6, 6) float
+        Each triangle's share of Q over its six bending vertices [N/m]:
+        ``x_t^T bend_local[t] x_t`` per coordinate is twice its bending energy, i.e.
+        ``A_t (B_warp K_uu^2 + B_weft K_vv^2 + 2 B_twist K_uv^2)``.
+    bend_ids : (m, 6) int
+        Those six vertices (its corners, then the opposite corner across each edge; a free
+        edge repeats corner 0 with zero weight).
     membrane_pd : (n3, n3) sparse
         Rest-state membrane stiffness for the preconditioner [N/m].
     edge_length : float
@@ -56,6 +63,8 @@ class MeshTerms:
     bending: sp.csr_matrix
     membrane_pd: sp.csr_matrix
     edge_length: float
+    bend_local: np.ndarray
+    bend_ids: np.ndarray
 
 
 def _grain_frames(rest, tris, grain):
@@ -115,14 +124,16 @@ def build_terms(rest, tris, grain, vertex_map, n3, *, bend_warp, bend_weft,
                           sim_tris[faces[:, 0], (corners[:, 0] + 1) % 3],
                           sim_tris[faces[:, 0], (corners[:, 0] + 2) % 3],
                           sim_tris[faces[:, 1], (corners[:, 1] + 2) % 3]], axis=1)
-    bending = _bending_matrix(rest, tris, corners_g, vertex_map, n3, faces, corners, area,
-                              bend_warp=bend_warp, bend_weft=bend_weft)
+    bending, bend_local, bend_ids = _bending_matrix(rest, tris, corners_g, vertex_map, n3,
+                                                    faces, corners, area,
+                                                    bend_warp=bend_warp, bend_weft=bend_weft)
 
     edge_length = float(np.mean(np.linalg.norm(e1, axis=1)))
     return MeshTerms(tris=np.ascontiguousarray(sim_tris, dtype=np.int64),
                      cu=np.ascontiguousarray(cu), cv=np.ascontiguousarray(cv),
                      area=area, vertex_area=vertex_area, hinges=hinge_sim,
-                     bending=bending, membrane_pd=membrane_pd, edge_length=edge_length)
+                     bending=bending, membrane_pd=membrane_pd, edge_length=edge_length,
+                     bend_local=bend_local, bend_ids=bend_ids)
 
 
 #: eigenvalues of a triangle's fold matrix below this share of its largest are left free
@@ -131,8 +142,10 @@ _FOLD_CUTOFF = 1e-3
 
 
 def _bending_matrix(rest, tris, corners_g, vertex_map, n3, faces, corners, area, *,
-                    bend_warp, bend_weft) -> sp.csr_matrix:
-    """Bending Hessian Q [N/m] (energy ``x^T Q x / 2`` per coordinate) of a flat rest mesh.
+                    bend_warp, bend_weft):
+    """Bending Hessian Q [N/m] (energy ``x^T Q x / 2`` per coordinate) of a flat rest mesh,
+    with each triangle's 6 x 6 share of it and its six vertices (``MeshTerms.bend_local``,
+    ``bend_ids``).
 
     Every side of an interior edge, seen from triangle ``t``, gives a hinge vector
     ``k . x`` over (edge start, edge end, t's opposite corner, the other triangle's opposite
@@ -217,7 +230,7 @@ def _bending_matrix(rest, tris, corners_g, vertex_map, n3, faces, corners, area,
     cols = np.tile(ids, (1, 6)).ravel()
     Q = sp.coo_matrix((local.ravel(), (rows, cols)), shape=(n3, n3)).tocsr()
     Q.eliminate_zeros()
-    return Q
+    return Q, local, np.ascontiguousarray(ids, dtype=np.int64)
 
 
 def spring_matrix(pairs, stiffness: float, n3: int) -> sp.csr_matrix:

@@ -6,7 +6,8 @@ is a JSON object with the same fields and units, e.g.::
     {"name": "my poplin", "density": 0.115, "stretch_warp": 6000, "stretch_weft": 4000,
      "shear": 40, "bending": 6e-6, "friction": 0.4, "thickness": 0.00025}
 
-``bending`` may be one value or ``bending_warp`` and ``bending_weft`` separately. Every
+``bending`` may be one value or ``bending_warp`` and ``bending_weft`` separately;
+``bending_hysteresis`` (KES-F 2HB [N]) may be left out (0). Every
 value must lie in its plausible range (:data:`RANGES`); errors are :class:`FabricError`
 naming the file (``file``) and the field (``place``).
 """
@@ -50,6 +51,10 @@ class Fabric:
         Coulomb friction coefficient against the body [-].
     thickness : float
         Fabric thickness [m]; also the contact distance kept from the body.
+    bending_hysteresis : float
+        KES-F 2HB, the width of the bending moment's hysteresis loop [N m/m = N]: the
+        frictional couple 2HB / 2 a fold from flat carries on top of ``B kappa``
+        (``sim.bending_friction``); 0 (the default) leaves it out.
     """
 
     name: str
@@ -61,6 +66,7 @@ class Fabric:
     bending_weft: float
     friction: float
     thickness: float
+    bending_hysteresis: float = 0.0
 
     def __post_init__(self):
         _check_values(asdict(self), source=None)
@@ -90,7 +96,10 @@ RANGES = {
     "bending_warp": (1e-9, 1e-2, "N m"), "bending_weft": (1e-9, 1e-2, "N m"),
     "friction": (0.0, 2.0, "-"),
     "thickness": (1e-5, 0.02, "m"),
+    "bending_hysteresis": (0.0, 0.1, "N"),
 }
+#: fields a fabric file may leave out, with the value they then take
+OPTIONAL = {"bending_hysteresis": 0.0}
 #: the longest fabric name [characters]
 _NAME_LENGTH = 200
 
@@ -124,6 +133,8 @@ ARCSIM_BENDING_FACTOR = 0.25
 
 #: KES-F bending rigidity B: gf cm^2/cm = gf cm = 9.80665e-3 N x 0.01 m [N m per gf cm^2/cm]
 KES_BENDING = 9.80665e-5
+#: KES-F bending hysteresis 2HB: gf cm/cm = gf = 9.80665e-3 N [N per gf cm/cm]
+KES_BENDING_HYSTERESIS = 9.80665e-3
 
 #: Built-in fabrics (sources in docs/fabrics.md). The knits take Wang et al. 2011's
 #: zero-curvature bending samples: row 0 (hinges along the weft / course, i.e. curvature
@@ -187,6 +198,8 @@ def load_fabric(path) -> Fabric:
         raise FabricError(f"expected a JSON object, got {type(data).__name__}", file=path)
     data = dict(data)
     data.setdefault("name", path.stem)
+    for key, value in OPTIONAL.items():
+        data.setdefault(key, value)
     if "bending" in data:
         if "bending_warp" in data or "bending_weft" in data:
             raise FabricError("give it or bending_warp/bending_weft, not both", file=path,

@@ -23,6 +23,7 @@ import numpy as np
 from ..arguments import array
 from ..body.sdf import DistanceField
 from ..geometry import unique_edges
+from .bending_friction import BendingFriction
 from .energies import MeshTerms, build_terms
 from .fabrics import Fabric, get_fabric
 from .settings import SolverSettings
@@ -51,6 +52,8 @@ class ClothModel:
         Rest-shape energy terms over the solved vertices.
     mass : (n_solved,) float
         Lumped vertex masses [kg].
+    bend_friction : BendingFriction or None
+        The fabric's bending friction (KES 2HB), None when it has none.
     pinned_solved : (q,) int
         Solved vertices that are pinned.
     root : (n_solved,) int
@@ -74,6 +77,7 @@ class ClothModel:
     welded: bool
     terms: MeshTerms = field(init=False)
     mass: np.ndarray = field(init=False)
+    bend_friction: BendingFriction | None = field(init=False)
     pinned_solved: np.ndarray = field(init=False)
     root: np.ndarray = field(init=False)
     free: np.ndarray = field(init=False)
@@ -91,6 +95,7 @@ class ClothModel:
         free[pinned] = False
         object.__setattr__(self, "terms", terms)
         object.__setattr__(self, "mass", f.density * terms.vertex_area)
+        object.__setattr__(self, "bend_friction", BendingFriction.of(terms, f))
         object.__setattr__(self, "pinned_solved", pinned)
         object.__setattr__(self, "root", np.arange(n) if self.welded or not len(self.seam_pairs)
                            else self.seam_roots())

@@ -63,6 +63,8 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
     qx = state.quadratic @ x
     e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", state.forces, x))
     grad += qx - state.forces
+    if model.bend_friction is not None:
+        e += model.bend_friction.energy(x, grad)
     if model.body is not None:
         body = model.body
         e += kernels.contact(x, body.values, body.origin, body.spacing,
@@ -173,6 +175,8 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
             + np.bincount(s_d, weights=blocks.ravel(), minlength=len(indices)))
     n3 = 3 * n
     H = sp.csr_matrix((data, indices, indptr), shape=(n3, n3))
+    if model.bend_friction is not None:
+        H = H + model.bend_friction.hessian(x, n)
     extra = pair_hessian(model, state, x, settings=s)
     if extra is not None:
         H = H + extra

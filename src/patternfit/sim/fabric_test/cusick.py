@@ -1,0 +1,333 @@
+"""The Cusick drape test (BS 5058 / ISO 9073-9): a circular specimen clamped on a smaller
+disc, its drape coefficient and its number of nodes (folds), from several slightly perturbed
+flat starts (``patternfit fabric-test cusick``; docs/fabrics.md).
+
+Units: metres, kilograms, seconds, newtons; ``y`` is up.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+from ...arguments import number
+from ...geometry import polygon_area, triangle_areas
+from ..fabrics import Fabric, get_fabric
+from ..settings import SolverSettings
+from ..solver import GarmentSolver
+from .common import (Progress, SolveInfo, _grain, _loop_segments, _plain, _quality_mesh, _ring,
+                     _save, _say, _solver_settings)
+
+#: Cusick drape tester: specimen and support disc diameters of BS 5058 / ISO 9073-9 [m]
+CUSICK_SPECIMEN = 0.30
+CUSICK_DISC = 0.18
+
+
+def _disc_mesh(r_specimen: float, r_disc: float, triangles: int):
+    """A disc of radius ``r_specimen`` with the support circle ``r_disc`` as a mesh line,
+    meshed to about ``triangles`` triangles: (vertices (n, 2), triangles (m, 3), disc outline
+    (k, 2))."""
+    area = math.pi * r_specimen ** 2
+    h = math.sqrt(4 * area / (math.sqrt(3) * triangles))
+    for _ in range(4):
+        n_out = max(12, round(2 * math.pi * r_specimen / h))
+        n_in = max(8, round(2 * math.pi * r_disc / h))
+        outer, inner = _ring(r_specimen, n_out), _ring(r_disc, n_in)
+        pts = np.r_[outer, inner]
+        seg = np.r_[_loop_segments(0, n_out), _loop_segments(n_out, n_in)]
+        v, t = _quality_mesh(pts, seg, math.sqrt(3) / 4 * h * h)
+        ratio = len(t) / triangles
+        if abs(ratio - 1.0) < 0.05:
+            break
+        h *= math.sqrt(ratio)
+    return v, t, inner
+
+
+def shadow_area(x2: np.ndarray, tris: np.ndarray, pixel: float) -> tuple[float, np.ndarray,
+                                                                          tuple]:
+    """Area [m^2] of the union of the 2D triangles ``x2[tris]`` by sampling pixel centres
+    (side ``pixel`` [m]); also the mask and its (x0, y0) origin."""
+    lo = x2.min(axis=0) - 2 * pixel
+    hi = x2.max(axis=0) + 2 * pixel
+    nx, ny = (np.ceil((hi - lo) / pixel)).astype(int)
+    mask = np.zeros((ny, nx), bool)
+    P = x2[tris]  # (m, 3, 2)
+    # pixel index ranges of each triangle's box
+    i0 = np.floor((P[:, :, 0].min(axis=1) - lo[0]) / pixel).astype(int)
+    i1 = np.ceil((P[:, :, 0].max(axis=1) - lo[0]) / pixel).astype(int)
+    j0 = np.floor((P[:, :, 1].min(axis=1) - lo[1]) / pixel).astype(int)
+    j1 = np.ceil((P[:, :, 1].max(axis=1) - lo[1]) / pixel).astype(int)
+    for k in range(len(tris)):
+        a, b, c = P[k]
+        det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+        if abs(det) < 1e-18:
+            continue
+        xs = lo[0] + (np.arange(i0[k], i1[k]) + 0.5) * pixel
+        ys = lo[1] + (np.arange(j0[k], j1[k]) + 0.5) * pixel
+        X, Y = np.meshgrid(xs, ys)
+        l1 = ((b[1] - c[1]) * (X - c[0]) + (c[0] - b[0]) * (Y - c[1])) / det
+        l2 = ((c[1] - a[1]) * (X - c[0]) + (a[0] - c[0]) * (Y - c[1])) / det
+        inside = (l1 >= 0) & (l2 >= 0) & (l1 + l2 <= 1)
+        mask[j0[k]:j1[k], i0[k]:i1[k]] |= inside
+    return float(mask.sum()) * pixel * pixel, mask, (float(lo[0]), float(lo[1]))
+
+
+def count_nodes(radius: np.ndarray, *, prominence: float) -> int:
+    """Number of folds (nodes) of a drape from the projected radius [m] of its hem, in
+    order around it: peaks of the periodic profile standing at least ``prominence`` [m]
+    above the troughs on both sides."""
+    from scipy.signal import find_peaks
+
+    r = np.asarray(radius, float)
+    if len(r) < 3 or np.ptp(r) < prominence:
+        return 0
+    start = int(np.argmin(r))
+    ring = np.r_[r[start:], r[:start], r[start]]  # starts and ends at the lowest point
+    peaks, _ = find_peaks(ring, prominence=prominence)
+    return len(peaks)
+
+
+@dataclass(frozen=True)
+class CusickRun:
+    """One start (``seed``) of the drape test: ``drape_coefficient`` [-], ``nodes``,
+    ``shadow_area_m2`` [m^2], ``hem_radius_min_m`` / ``hem_radius_max_m`` projected radius of
+    the hem [m], ``hem_drop_m`` mean drop of the hem below the disc [m],
+    ``compressed_share`` share of the free area whose triangles shrank by more than 1 %
+    (cloth that shrinks instead of folding, METHOD.md 5.2), ``crossings`` crossed triangle
+    pairs, ``solve``."""
+
+    seed: int
+    drape_coefficient: float
+    nodes: int
+    shadow_area_m2: float
+    hem_radius_min_m: float
+    hem_radius_max_m: float
+    hem_drop_m: float
+    compressed_share: float
+    crossings: int
+    solve: SolveInfo
+
+    def to_dict(self) -> dict:
+        return _plain({**{f.name: getattr(self, f.name) for f in fields(self)
+                          if f.name != "solve"}, "solve": self.solve.to_dict()})
+
+
+@dataclass(frozen=True, eq=False)
+class CusickResult:
+    """The Cusick drape test (BS 5058 / ISO 9073-9) from several perturbed flat starts.
+
+    Attributes
+    ----------
+    fabric : str
+    specimen_diameter_m, disc_diameter_m : float
+        [m].
+    drape_coefficient : float
+        Mean over the starts of ``DC = (A_shadow - A_disc) / (A_specimen - A_disc)`` [-]
+        (A_shadow: area of the vertical projection; 0 limp, 1 rigid).
+    drape_coefficient_spread : float
+        max - min over the starts [-].
+    drape_coefficient_std : float
+        Standard deviation over the starts [-].
+    nodes : float
+        Mean number of nodes (folds) [-].
+    nodes_min, nodes_max : int
+    runs : tuple of CusickRun
+    triangles, vertices : int
+    perturbation_m : float
+        RMS height of the random perturbation of the flat start at the hem [m].
+    pixel_m : float
+        Pixel of the shadow raster [m].
+    seconds : float
+    positions : list of (n, 3) arrays
+        Final shape of each start [m] (not in ``to_dict``).
+    rest, mesh_triangles : arrays
+        The flat specimen [m] and its triangles (not in ``to_dict``).
+    """
+
+    fabric: str
+    specimen_diameter_m: float
+    disc_diameter_m: float
+    drape_coefficient: float
+    drape_coefficient_spread: float
+    drape_coefficient_std: float
+    nodes: float
+    nodes_min: int
+    nodes_max: int
+    runs: tuple[CusickRun, ...]
+    triangles: int
+    vertices: int
+    perturbation_m: float
+    pixel_m: float
+    seconds: float
+    positions: list = field(default_factory=list, repr=False)
+    rest: np.ndarray | None = field(default=None, repr=False)
+    mesh_triangles: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def converged(self) -> bool:
+        """Every start ended at rest (stop rule met, equilibrium check passed)."""
+        return all(r.solve.at_rest for r in self.runs)
+
+    @property
+    def passed(self) -> bool:
+        """Every start ended at rest without crossings and every DC lies in [0, 1]."""
+        return bool(self.converged and all(r.crossings == 0 and 0.0 <= r.drape_coefficient <= 1.0
+                                           for r in self.runs))
+
+    def to_dict(self) -> dict:
+        skip = {"runs", "positions", "rest", "mesh_triangles"}
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in skip}
+        return _plain({"test": "cusick", **d, "seeds": [r.seed for r in self.runs],
+                       "drape_coefficients": [r.drape_coefficient for r in self.runs],
+                       "nodes_each": [r.nodes for r in self.runs],
+                       "runs": [r.to_dict() for r in self.runs],
+                       "residual": [r.solve.residual for r in self.runs],
+                       "stop_reasons": [r.solve.stop_reason for r in self.runs],
+                       "converged": self.converged, "passed": self.passed})
+
+
+def _perturbation(v: np.ndarray, r_disc: float, r_spec: float, amplitude: float,
+                  seed: int) -> np.ndarray:
+    """Heights [m] of a slightly wavy flat specimen: zero on the disc, growing as
+    ((r - r_disc) / (r_spec - r_disc))^2 towards the hem, random angular waves 2-12 and a
+    little per-vertex noise; RMS ``amplitude`` at the hem."""
+    rng = np.random.default_rng(seed)
+    r = np.hypot(v[:, 0], v[:, 1])
+    th = np.arctan2(v[:, 1], v[:, 0])
+    ks = np.arange(2, 13)
+    a, b = rng.standard_normal((2, len(ks)))
+    wave = (a[None] * np.cos(ks[None] * th[:, None]) + b[None] * np.sin(ks[None] * th[:, None]))
+    wave = wave.sum(axis=1) / math.sqrt(len(ks))  # unit RMS
+    noise = 0.3 * rng.standard_normal(len(v))
+    ramp = np.clip((r - r_disc) / (r_spec - r_disc), 0.0, 1.0) ** 2
+    return amplitude * ramp * (wave + noise) / math.sqrt(1.09)
+
+
+def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = CUSICK_SPECIMEN,
+                disc: float = CUSICK_DISC, triangles: int = 4000, seeds=(0, 1, 2, 3, 4),
+                perturbation: float = 2e-3, pixel: float = 5e-4,
+                settings: SolverSettings | None = None,
+                progress: Progress | None = None) -> CusickResult:
+    """The Cusick drape test of ``fabric``: a circular specimen of diameter ``specimen`` [m]
+    clamped between two discs of diameter ``disc`` [m] (every vertex within the disc radius
+    is pinned; the disc edge is a circle of mesh vertices), draped under gravity to rest by
+    the static solver from each of the flat starts perturbed by ``seeds`` (random waves of
+    RMS ``perturbation`` [m] at the hem), meshed with about ``triangles`` triangles.
+
+    Reads, per start: DC = (A_shadow - A_disc) / (A_specimen - A_disc), the shadow being the
+    vertical projection rasterised at ``pixel`` [m] (pixel centres; A_specimen and A_disc are
+    the areas of the flat mesh and of its disc polygon, so a rigid specimen reads 1 and a limp
+    one 0), and the number of nodes: the peaks of the hem's projected radius that stand
+    above their neighbouring troughs by at least 10 % of its range and 2 mm.
+    """
+    t0 = time.perf_counter()
+    fab = get_fabric(fabric)
+    specimen = number(specimen, "specimen", low=0.02, high=2.0)
+    disc = number(disc, "disc", low=0.005, high=2.0)
+    if not disc < specimen:
+        raise ValueError(f"disc: the disc ({disc} m) must be smaller than the specimen "
+                         f"({specimen} m)")
+    triangles = int(number(triangles, "triangles", low=50, high=200_000))
+    seeds = [int(number(s, "seeds", low=0, high=2**31)) for s in seeds]
+    if not seeds:
+        raise ValueError("seeds: at least one")
+    number(perturbation, "perturbation", low=0.0, high=0.05)
+    number(pixel, "pixel", low=1e-5, high=0.01)
+    r_spec, r_disc = specimen / 2, disc / 2
+    v, t, ring = _disc_mesh(r_spec, r_disc, triangles)
+    r = np.hypot(v[:, 0], v[:, 1])
+    pinned = np.flatnonzero(r <= r_disc + 1e-9)
+    hem = np.flatnonzero(r >= r_spec - 1e-9)
+    hem = hem[np.argsort(np.arctan2(v[hem, 1], v[hem, 0]))]
+    a_spec = float(triangle_areas(v, t).sum())
+    a_disc = abs(polygon_area(ring))
+    rest_area = triangle_areas(v, t)
+    free_tri = (r[t] > r_disc + 1e-9).any(axis=1)
+    solver_settings = _solver_settings(settings)
+    runs, positions = [], []
+    for i, seed in enumerate(seeds):
+        _say(progress, f"cusick: start {i + 1}/{len(seeds)} (seed {seed}), {len(t)} triangles")
+        solver = GarmentSolver(v, t, _grain("warp", len(t)), fab, pinned=pinned,
+                               settings=solver_settings)
+        # flat specimen at y = 0 (the disc's top), x and z in its plane
+        x0 = np.c_[v[:, 0], _perturbation(v, r_disc, r_spec, perturbation, seed), v[:, 1]]
+        res = solver.solve(x0)
+        x = res.x
+        if not np.isfinite(x).all():
+            raise RuntimeError(f"cusick: the solver returned non-finite positions (seed {seed}, "
+                               f"stop reason {res.stop_reason})")
+        shadow, _, _ = shadow_area(x[:, [0, 2]], t, pixel)
+        dc = (shadow - a_disc) / (a_spec - a_disc)
+        hem_r = np.hypot(x[hem, 0], x[hem, 2])
+        prom = max(0.1 * float(np.ptp(hem_r)), 2e-3)
+        area3 = triangle_areas(x, t)
+        shrunk = free_tri & (area3 < 0.99 * rest_area)
+        runs.append(CusickRun(
+            seed=seed, drape_coefficient=float(dc), nodes=count_nodes(hem_r, prominence=prom),
+            shadow_area_m2=shadow, hem_radius_min_m=float(hem_r.min()),
+            hem_radius_max_m=float(hem_r.max()), hem_drop_m=float(-x[hem, 1].mean()),
+            compressed_share=float(rest_area[shrunk].sum() / rest_area[free_tri].sum()),
+            crossings=solver.crossings(x), solve=SolveInfo.of(res, solver_settings)))
+        positions.append(x)
+    dcs = np.array([r.drape_coefficient for r in runs])
+    nodes = np.array([r.nodes for r in runs])
+    return CusickResult(
+        fabric=fab.name, specimen_diameter_m=specimen, disc_diameter_m=disc,
+        drape_coefficient=float(dcs.mean()), drape_coefficient_spread=float(np.ptp(dcs)),
+        drape_coefficient_std=float(dcs.std()), nodes=float(nodes.mean()),
+        nodes_min=int(nodes.min()), nodes_max=int(nodes.max()), runs=tuple(runs),
+        triangles=len(t), vertices=len(v), perturbation_m=perturbation, pixel_m=pixel,
+        seconds=time.perf_counter() - t0, positions=positions, rest=v, mesh_triangles=t)
+
+
+def write_cusick_picture(result: CusickResult, path) -> Path:
+    """Top view of every start of ``result`` (the vertical projection seen from above,
+    coloured by height, the disc and the flat specimen's outline dashed) as one PNG at
+    ``path``; returns the path."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+
+    k = len(result.positions)
+    cols = min(k, 5)
+    rows = math.ceil(k / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(2.9 * cols + 1.0, 3.0 * rows + 0.5),
+                             squeeze=False, layout="constrained")
+    t = result.mesh_triangles
+    r_spec, r_disc = result.specimen_diameter_m / 2, result.disc_diameter_m / 2
+    lim = 1.05 * r_spec
+    circle = np.linspace(0, 2 * np.pi, 200)
+    for ax, x, run in zip(axes.ravel(), result.positions, result.runs):
+        heights = x[t, 1].mean(axis=1)
+        order = np.argsort(heights)  # the highest cloth drawn last: it hides what is below
+        coll = PolyCollection(x[t[order]][:, :, [0, 2]], array=heights[order] * 1e3,
+                              cmap="viridis", edgecolors="face", linewidths=0.2)
+        coll.set_clim(-(r_spec - r_disc) * 1e3, 0.0)
+        ax.add_collection(coll)
+        ax.plot(r_spec * np.cos(circle), r_spec * np.sin(circle), "k--", lw=0.6)
+        ax.plot(r_disc * np.cos(circle), r_disc * np.sin(circle), "w-", lw=0.8)
+        ax.set_xlim(-lim, lim)
+        ax.set_ylim(-lim, lim)
+        ax.set_aspect("equal")
+        ax.set_xticks([])
+        ax.set_yticks([])
+        ax.set_title(f"seed {run.seed}: DC {run.drape_coefficient:.3f}, {run.nodes} nodes",
+                     fontsize=9)
+    for ax in axes.ravel()[k:]:
+        ax.axis("off")
+    parts = (f"Cusick drape, {result.fabric}", f"DC {result.drape_coefficient:.3f} (spread "
+             f"{result.drape_coefficient_spread:.3f}), nodes {result.nodes:.1f}",
+             "top view, colour = height [mm]")
+    # fewer than three panels are too narrow for the title on one line
+    fig.suptitle(("; " if cols >= 3 else "\n").join(parts), fontsize=10)
+    fig.colorbar(coll, ax=axes.ravel().tolist(), shrink=0.8, label="height [mm]")
+    try:
+        return _save(fig, path)
+    finally:
+        plt.close(fig)
+
