@@ -341,3 +341,66 @@ def test_accumark_notch_points_with_elevation_read_once_per_corner(tmp_path, cor
     assert at == sorted(c[k] for k in corners)
     assert all(n.t == pytest.approx(0.0, abs=1e-9) or n.t == pytest.approx(1.0, abs=1e-9)
                for n in panel.notches)
+
+
+def test_accumark_astm_attdef_and_annotation_text_leave_the_piece_as_it_is(tmp_path):
+    """AccuMark's ASTM export puts an ATTDEF (``Link:4``, tag ``Dependency``) with two points
+    on layer 1 and a rotated annotation TEXT on layer 15 into a block: the piece reads the
+    same as without them."""
+    paths = []
+    for extra in (False, True):
+        d = _Dxf()
+        d.block("BK_42")
+        d.text(1, "Piece Name: BK")
+        d.text(1, "SIZE: 42")
+        if extra:
+            d.out += ["  0", "TEXT", "  8", "15", " 10", "755.0201", " 20", "427.6268", " 40",
+                      "5.001", " 50", "269.8881", "  1", "Neckline Full Collar W/stand",
+                      "  7", "STANDARD"]
+        ring = [(59.2, 362.1), (769.2, 362.1), (799.3, 452.3), (748.3, 587.1), (59.2, 596.9)]
+        for a, b in zip(ring, ring[1:] + ring[:1]):
+            d.polyline(1, [a, b])
+            d.polyline(84, [a, b])
+        if extra:
+            d.out += ["  0", "ATTDEF", "  8", "1", " 10", "59.2176", " 20", "596.9305", " 11",
+                      "134.2187", " 21", "596.9331", " 40", ".25", "  1", "Link:4", "  2",
+                      "Dependency", "  3", "", " 70", "2", " 72", "3"]
+        d.end_block()
+        paths.append(d.save(tmp_path / f"a{extra}.dxf", ["Units: METRIC"]))
+    plain, marked = (load_dxf(p).panels[0] for p in paths)
+    assert marked.name == plain.name == "BK"
+    assert len(marked.edges()) == len(plain.edges()) == 5
+    assert marked.area() == pytest.approx(plain.area(), rel=1e-12)
+    assert marked.area() == pytest.approx(_area_mm2(np.array(ring)) * 1e-6, rel=1e-6)
+
+
+def test_clo_2025_layout(tmp_path):
+    """CLO 2025 writes two-space group codes, a closed POLYLINE with a group 250, texts
+    without a height, the piece's texts after its geometry and the style text (``UNITS:
+    METRIC`` in millimetres, ``SAMPLE SIZE:``) after the INSERTs."""
+    ring = [(-201.009308, 1581.072388), (201.005203, 1581.072876), (201.009888, 1541.074097),
+            (-201.004623, 1541.073486)]
+    out = ["  0", "SECTION", "  2", "HEADER", "  9", "$ACADVER", "  1", "AC1009", "  0", "ENDSEC",
+           "  0", "SECTION", "  2", "BLOCKS", "  0", "BLOCK", "  8", "1", "  2", "COLLAR_A36",
+           "  70", "64", "  10", "0", "  20", "0",
+           "  0", "POLYLINE", "  8", "1", "  66", "1", "  70", "1", "  250", "2"]
+    for x, y in ring:
+        out += ["  0", "VERTEX", "  8", "1", "  10", f"{x:.6f}", "  20", f"{y:.6f}"]
+    out += ["  0", "SEQEND"]
+    for key in ("PIECE NAME: COLLAR", "SIZE: A36", "ANNOTATION:  1X FABRIC", "QUANTITY: 1"):
+        out += ["  0", "TEXT", "  8", "1", "  10", "0.000290", "  20", "1561.073242", "  50",
+                "0.000000", "  51", "0.000000", "  71", "0.000000", "  1", key, "  7", "STANDARD"]
+    out += ["  0", "ENDBLK", "  0", "ENDSEC", "  0", "SECTION", "  2", "ENTITIES",
+            "  0", "INSERT", "  8", "1", "  2", "COLLAR_A36", "  10", "0.000000", "  20", "0.000000"]
+    for key in ("STYLE NAME: A232F4ORU001", "SAMPLE SIZE: A36", "UNITS: METRIC"):
+        out += ["  0", "TEXT", "  8", "1", "  10", "0.000000", "  20", "0.000000", "  40",
+                "0.250000", "  50", "0.000000", "  1", key, "  7", "STANDARD"]
+    out += ["  0", "ENDSEC", "  0", "EOF", ""]
+    path = tmp_path / "clo2025.dxf"
+    path.write_text("\n".join(out))
+    pattern = load_dxf(path)
+    (panel,) = pattern.panels
+    assert panel.name == "COLLAR" and pattern.meta["size"] == "A36"
+    assert pattern.name == "A232F4ORU001"
+    assert panel.area() == pytest.approx(_area_mm2(np.array(ring)) * 1e-6, rel=1e-6)
+    assert not pattern.meta.get("warnings")
