@@ -24,6 +24,7 @@ from patternfit.geometry import polygon_area
 from patternfit.mesh.quality import min_angle
 from patternfit.mesh.triangulate import mesh_pattern
 from patternfit.pattern.dxf import load_dxf
+from patternfit.pattern.errors import PatternError
 
 
 class _Dxf:
@@ -273,3 +274,133 @@ def test_outline_split_into_runs_and_doubled_on_84_keeps_its_area(tmp_path, n, c
     path = d.save(tmp_path / f"s{seed}_{n}.dxf", ["Units: METRIC"])
     panel = load_dxf(path).panels[0]
     assert panel.area() == pytest.approx(_area_mm2(ring) * 1e-6, rel=2e-3)
+
+
+def _accumark_style(path, pieces, sizes=("26", "36"), sample="36", notch_points=()):
+    """AccuMark AAMA blocks, a rectangle per piece and size (inches) with ``Quantity:``,
+    ``ANNOTATION:``, ``CATEGORY:`` and ``Fabric:`` only in the sample size's block, as it
+    writes them; ``notch_points`` are written in the sample block as it writes notches: a
+    POINT on layer 4 with an elevation (group 30) and a thickness (39), once per run that
+    ends there."""
+    d = _Dxf()
+    for name, quantity in pieces:
+        for size in sizes:
+            grow = 0.2 * sizes.index(size)
+            c = [(0.0, 0.0), (8.0 + grow, 0.0), (8.0 + grow, 20.0), (0.0, 20.0)]
+            d.block(f"{name}_{size}")
+            d.text(1, f"Piece Name: {name}")
+            if size == sample:
+                d.text(1, f"Quantity: {quantity}")
+                d.text(1, "ANNOTATION: 1X FABRIC")
+                d.text(1, "CATEGORY: FRONT")
+                d.text(1, "Fabric: 1")
+            d.text(1, f"SIZE: {size}")
+            for j in range(4):
+                a, b = c[j], c[(j + 1) % 4]
+                d.polyline(1, [a, b])
+                for p in (a, b):
+                    if size == sample and p in notch_points:
+                        d.out += ["  0", "POINT", "  8", "4", " 10", f"{p[0]:.4f}", " 20",
+                                  f"{p[1]:.4f}", " 30", "0.1574", " 39", "0.0000"]
+            d.end_block()
+    return d.save(path, ["Sample Size: " + sample, "Units: ENGLISH"])
+
+
+@pytest.mark.parametrize("size", ["36", "26"])
+def test_accumark_quantity_stated_in_the_sample_block_counts_in_every_size(tmp_path, size):
+    """AccuMark writes ``Quantity:`` in the sample size's block only: a pair read in another
+    size is still a pair; ``Quantity: 0`` (a piece the marker does not cut) is read as one
+    panel with a warning, and ``1,0`` as one (before: the whole file was refused)."""
+    path = _accumark_style(tmp_path / "q.dxf", [("SLEEVE", "2"), ("FACING", "0"),
+                                                 ("WAISTBAND", "1,0")])
+    pattern = load_dxf(path, size=size)
+    assert sorted(p.name for p in pattern.panels) == ["FACING", "SLEEVE_L", "SLEEVE_R",
+                                                      "WAISTBAND"]
+    assert pattern.meta["pairs"] == {"SLEEVE": ["SLEEVE_L", "SLEEVE_R"]}
+    assert [w for w in pattern.meta["warnings"] if "Quantity: 0" in w] == [
+        "piece 'FACING' says 'Quantity: 0' (the marker cuts none of it): read as one panel"]
+
+
+def test_a_negative_quantity_is_still_refused(tmp_path):
+    path = _accumark_style(tmp_path / "q.dxf", [("SLEEVE", "-1")])
+    with pytest.raises(PatternError, match=r"'Quantity: -1' is not a piece count \(0 to 64\)"):
+        load_dxf(path)
+
+
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(corners=st.sets(st.integers(0, 3), min_size=1, max_size=4))
+def test_accumark_notch_points_with_elevation_read_once_per_corner(tmp_path, corners):
+    """A notch POINT with an elevation and a thickness, written at both runs that meet at a
+    corner, is one notch at the start of the edge from that corner."""
+    c = [(0.0, 0.0), (8.2, 0.0), (8.2, 20.0), (0.0, 20.0)]  # the sample size's block
+    path = _accumark_style(tmp_path / f"n{sorted(corners)}.dxf", [("FRONT", "1")],
+                           notch_points=[c[k] for k in corners])
+    (panel,) = load_dxf(path).panels
+    at = sorted(tuple(np.round(np.reshape(panel.edge(n.edge).point_at(n.t), 2) / 0.0254, 4).tolist())
+                for n in panel.notches)
+    assert at == sorted(c[k] for k in corners)
+    assert all(n.t == pytest.approx(0.0, abs=1e-9) or n.t == pytest.approx(1.0, abs=1e-9)
+               for n in panel.notches)
+
+
+def test_accumark_astm_attdef_and_annotation_text_leave_the_piece_as_it_is(tmp_path):
+    """AccuMark's ASTM export puts an ATTDEF (``Link:4``, tag ``Dependency``) with two points
+    on layer 1 and a rotated annotation TEXT on layer 15 into a block: the piece reads the
+    same as without them."""
+    paths = []
+    for extra in (False, True):
+        d = _Dxf()
+        d.block("BK_42")
+        d.text(1, "Piece Name: BK")
+        d.text(1, "SIZE: 42")
+        if extra:
+            d.out += ["  0", "TEXT", "  8", "15", " 10", "755.0201", " 20", "427.6268", " 40",
+                      "5.001", " 50", "269.8881", "  1", "Neckline Full Collar W/stand",
+                      "  7", "STANDARD"]
+        ring = [(59.2, 362.1), (769.2, 362.1), (799.3, 452.3), (748.3, 587.1), (59.2, 596.9)]
+        for a, b in zip(ring, ring[1:] + ring[:1]):
+            d.polyline(1, [a, b])
+            d.polyline(84, [a, b])
+        if extra:
+            d.out += ["  0", "ATTDEF", "  8", "1", " 10", "59.2176", " 20", "596.9305", " 11",
+                      "134.2187", " 21", "596.9331", " 40", ".25", "  1", "Link:4", "  2",
+                      "Dependency", "  3", "", " 70", "2", " 72", "3"]
+        d.end_block()
+        paths.append(d.save(tmp_path / f"a{extra}.dxf", ["Units: METRIC"]))
+    plain, marked = (load_dxf(p).panels[0] for p in paths)
+    assert marked.name == plain.name == "BK"
+    assert len(marked.edges()) == len(plain.edges()) == 5
+    assert marked.area() == pytest.approx(plain.area(), rel=1e-12)
+    assert marked.area() == pytest.approx(_area_mm2(np.array(ring)) * 1e-6, rel=1e-6)
+
+
+def test_clo_2025_layout(tmp_path):
+    """CLO 2025 writes two-space group codes, a closed POLYLINE with a group 250, texts
+    without a height, the piece's texts after its geometry and the style text (``UNITS:
+    METRIC`` in millimetres, ``SAMPLE SIZE:``) after the INSERTs."""
+    ring = [(-201.009308, 1581.072388), (201.005203, 1581.072876), (201.009888, 1541.074097),
+            (-201.004623, 1541.073486)]
+    out = ["  0", "SECTION", "  2", "HEADER", "  9", "$ACADVER", "  1", "AC1009", "  0", "ENDSEC",
+           "  0", "SECTION", "  2", "BLOCKS", "  0", "BLOCK", "  8", "1", "  2", "COLLAR_A36",
+           "  70", "64", "  10", "0", "  20", "0",
+           "  0", "POLYLINE", "  8", "1", "  66", "1", "  70", "1", "  250", "2"]
+    for x, y in ring:
+        out += ["  0", "VERTEX", "  8", "1", "  10", f"{x:.6f}", "  20", f"{y:.6f}"]
+    out += ["  0", "SEQEND"]
+    for key in ("PIECE NAME: COLLAR", "SIZE: A36", "ANNOTATION:  1X FABRIC", "QUANTITY: 1"):
+        out += ["  0", "TEXT", "  8", "1", "  10", "0.000290", "  20", "1561.073242", "  50",
+                "0.000000", "  51", "0.000000", "  71", "0.000000", "  1", key, "  7", "STANDARD"]
+    out += ["  0", "ENDBLK", "  0", "ENDSEC", "  0", "SECTION", "  2", "ENTITIES",
+            "  0", "INSERT", "  8", "1", "  2", "COLLAR_A36", "  10", "0.000000", "  20", "0.000000"]
+    for key in ("STYLE NAME: A232F4ORU001", "SAMPLE SIZE: A36", "UNITS: METRIC"):
+        out += ["  0", "TEXT", "  8", "1", "  10", "0.000000", "  20", "0.000000", "  40",
+                "0.250000", "  50", "0.000000", "  1", key, "  7", "STANDARD"]
+    out += ["  0", "ENDSEC", "  0", "EOF", ""]
+    path = tmp_path / "clo2025.dxf"
+    path.write_text("\n".join(out))
+    pattern = load_dxf(path)
+    (panel,) = pattern.panels
+    assert panel.name == "COLLAR" and pattern.meta["size"] == "A36"
+    assert pattern.name == "A232F4ORU001"
+    assert panel.area() == pytest.approx(_area_mm2(np.array(ring)) * 1e-6, rel=1e-6)
+    assert not pattern.meta.get("warnings")

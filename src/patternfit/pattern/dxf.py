@@ -30,7 +30,7 @@ from ..constants import UNITS, limits
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
 from .dxf_entities import layer_of, why
 from .dxf_format import LAYERS, PIECE_LAYERS, field, file_scale, read_document, read_piece, texts
-from .dxf_grades import graded_meta, pick_size, pieces_in_size, sizes_of
+from .dxf_grades import graded_meta, pick_size, pieces_in_size, share_quantities, sizes_of
 from .dxf_notches import notch_marks
 from .dxf_pieces import copy_names, panels_from_piece
 from .dxf_rules import RuleTable, graded_by_rules, read_rules, rule_points, rules_path
@@ -138,6 +138,7 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     if not pieces:
         raise PatternError("the DXF has no pattern pieces (no block with a closed boundary "
                            "on layer 1)")
+    share_quantities(pieces)
     marked = any(p.ours for p in pieces)
     sample = field(msp_texts, "Sample Size") or None
     if rules is not None and len(sizes_of(pieces)) <= 1:
@@ -171,6 +172,9 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     if table:
         meta["grade_rule_table"] = table
     warnings = _size_warnings(panels, scale, unit_says)
+    warnings += [f"piece '{p.name or p.block}' says 'Quantity: 0' (the marker cuts none of "
+                 "it): read as one panel" for p in pieces_in_size(pieces, chosen)
+                 if p.quantity == 0]
     if warnings:
         meta["warnings"] = warnings
     pattern = Pattern(field(msp_texts, "Style Name") or path.stem, tuple(panels), (), meta)

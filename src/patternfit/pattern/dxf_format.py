@@ -113,7 +113,9 @@ class RawPiece:
         its two ends (the same point twice for a POINT). lines : internal lines (layer 8),
         open polylines (a closed one ends where it starts). drills : drill holes (layer 13).
         folds : mirror lines (layer 6), (2, 2) each. grain : the grain line's direction.
-        name, size, quantity : the block's ``Piece Name:``, ``Size:``, ``Quantity:`` text.
+        name, size, quantity : the block's ``Piece Name:``, ``Size:``, ``Quantity:`` text
+        (quantity None where the block has none: AccuMark states it in the sample size's
+        block only, :func:`dxf_grades.share_quantities` gives it to the other sizes).
         ours : the block says ``Source: patternfit`` (drawn by our writer from a panel: its
         edges end at its turn points and are not merged on reading).
     """
@@ -121,7 +123,7 @@ class RawPiece:
     block: str
     name: str | None = None
     size: str | None = None
-    quantity: int = 1
+    quantity: int | None = 1
     cut: list = dc_field(default_factory=list)
     sew: list = dc_field(default_factory=list)
     cutouts: list = dc_field(default_factory=list)
@@ -168,17 +170,18 @@ class RawPiece:
         return piece
 
 
-def _quantity(text: str | None, where: dict) -> int:
+def _quantity(text: str | None, where: dict) -> int | None:
     """The piece count of a ``Quantity:`` text: ``2``, or ``1,1`` (Optitex: one left and one
-    right, a mirrored pair like 2)."""
+    right, a mirrored pair like 2), ``1,0`` (AccuMark), ``0`` (AccuMark: a piece the marker
+    does not cut, still a piece of the style); None without a text."""
     if text is None or not text.strip():
-        return 1
+        return None
     try:
         q = sum(int(float(part)) for part in text.strip().split(","))
     except ValueError:
         raise PatternError(f"'Quantity: {text}' is not a number", **where) from None
-    if not 1 <= q <= 64:
-        raise PatternError(f"'Quantity: {text}' is not a piece count (1 to 64)", **where)
+    if not 0 <= q <= 64:
+        raise PatternError(f"'Quantity: {text}' is not a piece count (0 to 64)", **where)
     return q
 
 

@@ -15,7 +15,8 @@ from typing import Any
 from .dxf_format import RawPiece
 from .errors import PatternError
 
-__all__ = ["graded_meta", "graded_pieces", "pick_size", "pieces_in_size", "sizes_of"]
+__all__ = ["graded_meta", "graded_pieces", "pick_size", "pieces_in_size", "share_quantities",
+           "sizes_of"]
 
 
 def sizes_of(pieces: list[RawPiece]) -> list[str]:
@@ -25,6 +26,19 @@ def sizes_of(pieces: list[RawPiece]) -> list[str]:
         if p.size and p.size not in out:
             out.append(p.size)
     return out
+
+
+def share_quantities(pieces: list[RawPiece]) -> None:
+    """Give every block without a ``Quantity:`` text (quantity None) the quantity another
+    block of the same piece states, else 1, in place: Gerber AccuMark writes it in the
+    sample size's block only, so a pair read in another size would lose its second panel."""
+    stated: dict[str | None, int] = {}
+    for p in pieces:
+        if p.quantity is not None:
+            stated.setdefault(p.name or p.block, p.quantity)
+    for p in pieces:
+        if p.quantity is None:
+            p.quantity = stated.get(p.name or p.block, 1)
 
 
 def pick_size(sizes: list[str], requested: str | None, sample: str | None) -> str | None:
