@@ -31,6 +31,7 @@ from ..mesh.garment import GarmentMesh
 from ..pattern.errors import PatternError
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
+from .ease_limit import cap_moves
 from .regions import find_regions
 from .symmetry import mirrored_triangles, symmetric_moves
 from .widen import edge_moves, let_out_moves
@@ -439,7 +440,8 @@ def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdic
             found = let_out_moves(session.pattern, mesh, session.state.positions, tris,
                                   target, least=max(tight))
         elif settings.take_in and loose:
-            lo, hi = ease_range(verdict.style, loose[0][0]) or (None, None)
+            body = {k: sec.body_cm for k, sec in measures.sections.items()}
+            lo, hi = ease_range(verdict.style, loose[0][0], body) or (None, None)
             if hi is None:
                 continue
             middle = hi if lo is None else 0.5 * (lo + hi)
@@ -495,6 +497,9 @@ def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
     else:
         moves = finish_moves(session.pattern, session.mesh, extra,
                              replace(settings, max_move=settings.max_let_out))
+    if verdict.style is not None:
+        # a let-out stops at the style's ease range (a take-in only narrows: never held)
+        moves = cap_moves(session.pattern, session.mesh, measures, verdict, moves)
     for _ in range(4):
         if not moves:
             return []
