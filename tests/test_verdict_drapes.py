@@ -122,6 +122,43 @@ def test_the_loop_stops_only_when_no_region_is_too_tight():
     assert set(CLI_GOALS) == set(GOALS)
 
 
+def test_a_too_tight_region_is_let_out_until_it_is_no_longer_too_tight():
+    from patternfit.body.builtin import load_body
+    from patternfit.loop.correct import correct
+    from patternfit.loop.session import DesignSession
+
+    # measured (1K triangles, 2-core CPU, 4 s): a size S skirt on the heavy woman in
+    # shirting reads ϖ 99.8 % (the paper's fit) with its waist pressed at 2.63 kPa (too
+    # tight); two let-outs of its side seams (0.3 cm a corner each) bring it to 2.01 and
+    # 1.52 kPa: tight, no longer too tight
+    pattern = build("skirt", "S")
+    session = DesignSession(pattern, load_body("female_heavy"), "cotton_shirting", 1000)
+    out = correct(session, settings=CorrectionSettings(max_iterations=4))
+    first, last = out.iterations[0], out.iterations[-1]
+    assert first.fitting_ratio >= 0.9 and first.verdict.regions["waist"].verdict == "too tight"
+    assert out.reached and len(out.iterations) > 1
+    assert not last.verdict.worst("too tight")
+    waist = [it.verdict.regions["waist"].pressure_kpa_p95 for it in out.iterations]
+    assert all(b < a for a, b in zip(waist, waist[1:]))  # each let-out eases it
+    assert all(it.checks["passed"] for it in out.iterations)
+    # every round one recorded, undoable edit of the side seams, both panels alike
+    assert len(session.history) == len(out.iterations)
+    for it, state in zip(out.iterations[:-1], session.history[1:]):
+        assert state.edit["op"] == "correct" and it.edits
+        assert {m.panel for m in it.edits} == {"front", "back"}
+    new = session.pattern
+    for seam in new.seams:
+        assert new.seam_side_length(seam.a) == pytest.approx(new.seam_side_length(seam.b),
+                                                             abs=1e-5)
+    for name in ("front", "back"):
+        poly = new.panel(name).outline.polygon()
+        axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
+        mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
+        assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4
+    session.undo()
+    assert session.pattern == session.history[-2].pattern != new
+
+
 @pytest.mark.slow
 def test_table2_coat_is_too_tight_first_and_none_too_tight_after_correction():
     from patternfit.loop.table2 import ROWS, run_row
