@@ -159,6 +159,39 @@ def test_a_too_tight_region_is_let_out_until_it_is_no_longer_too_tight():
     assert session.pattern == session.history[-2].pattern != new
 
 
+def test_a_re_drape_that_fails_after_an_edit_steps_back_to_half_the_edit():
+    from patternfit.body.builtin import load_body
+    from patternfit.loop.correct import correct
+    from patternfit.loop.session import DesignSession
+
+    def run(fail_once: bool):
+        session = DesignSession(build("skirt", "S"), load_body("female_heavy"),
+                                "cotton_shirting", 1000)
+        real, drapes = session.redrape, []
+
+        def redrape(**kw):
+            result = real(**kw)
+            drapes.append(session.position)
+            if fail_once and len(drapes) == 2:  # the first re-drape after an edit
+                session.state.checks = {**session.state.checks, "passed": False,
+                                        "reasons": ["3 crossed triangle pairs (limit 0)"]}
+            return result
+
+        session.redrape = redrape
+        return session, correct(session, settings=CorrectionSettings(max_iterations=1))
+
+    _, plain = run(False)
+    session, out = run(True)
+    assert out.iterations[1].stepped_back == ["3 crossed triangle pairs (limit 0)"]
+    # the failed state was undone: the history holds the start and the halved edit only
+    assert len(session.history) == 2 and "stepped back" in session.history[1].label
+    assert all(s.checks["passed"] for s in session.history)
+    for half, full in zip(out.iterations[0].edits, plain.iterations[0].edits):
+        assert (half.panel, half.edge) == (full.panel, full.edge)
+        assert np.allclose(half.offset, 0.5 * np.asarray(full.offset))
+    assert out.to_dict()["iterations"][1]["stepped_back"]
+
+
 @pytest.mark.slow
 def test_table2_coat_is_too_tight_first_and_none_too_tight_after_correction():
     from patternfit.loop.table2 import ROWS, run_row

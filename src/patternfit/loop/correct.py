@@ -65,6 +65,9 @@ class CorrectionSettings:
     min_angle : float     the mesh follows the edits without re-meshing down to this
                           smallest triangle angle [degrees]: a re-meshed panel loses the
                           warm start, and the corrected 22K coat draped cold crossed itself.
+    step_backs : int      a re-drape that fails its checks after an edit from a drape that
+                          passed them is undone and the edit made again at half its size,
+                          this many times at most.
     """
 
     threshold: float = DEFAULTS.threshold
@@ -79,6 +82,7 @@ class CorrectionSettings:
     min_move: float = 1e-3
     warp_min: float = 0.02
     min_angle: float = 10.0
+    step_backs: int = 2
 
     def __post_init__(self):
         if self.goal not in GOALS:
@@ -113,11 +117,13 @@ class Iteration:
     verdict: Verdict | None = None
     measures: dict | None = None  # FitMeasures.report(): gap_mm, ease_cm, pressure_kpa
     measured: FitMeasures | None = field(default=None, repr=False)  # for the pictures
+    stepped_back: list = field(default_factory=list)  # why each undone re-drape failed
 
     def to_dict(self) -> dict:
         return {"iteration": self.index, "fitting_ratio": self.fitting_ratio,
                 "regions": [r.to_dict() for r in self.regions],
                 "edits": [e.to_dict() for e in self.edits], "seconds": self.seconds,
+                "stepped_back": self.stepped_back,
                 "checks": self.checks, **(self.measures or {}),
                 **(self.verdict.report() if self.verdict is not None else {})}
 
@@ -359,8 +365,11 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
 
     ``progress(iteration: Iteration)`` is called after each drape is evaluated;
     ``drape_progress`` goes to the solver. Returns the :class:`Correction`; the session
-    holds every state (one per round) for undo. A drape that is no fit at all
-    (:func:`refusal`) stops the loop without an edit, ``Correction.failed`` saying why.
+    holds every state (one per round) for undo. A re-drape that fails its checks after an
+    edit from a drape that passed them steps back: the edit is undone and made again at
+    half its size (:func:`_step_back`; ``Iteration.stepped_back`` says why). A drape that
+    is no fit at all (:func:`refusal`) stops the loop without an edit,
+    ``Correction.failed`` saying why.
     """
     out = Correction()
     t_all = time.perf_counter()
@@ -368,11 +377,13 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
         t0 = time.perf_counter()
         if index > 0 or session.state.positions is None or session.state.fitting_ratio is None:
             session.redrape(progress=drape_progress)
+        stepped = _step_back(session, out.iterations[-1], settings, drape_progress) \
+            if index > 0 else []
         fit, measures, verdict = measure_state(session, settings.rules)
         regions = find_regions(session.mesh, fit)
         reached = fit_reached(fit, verdict, settings)
         it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks,
-                       verdict, measures.report(), measures)
+                       verdict, measures.report(), measures, stepped)
         out.failed = refusal(session.state.checks, fit.fitting_ratio)
         if out.failed:
             reached = False
@@ -500,17 +511,23 @@ def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
     if verdict.style is not None:
         # a let-out stops at the style's ease range (a take-in only narrows: never held)
         moves = cap_moves(session.pattern, session.mesh, measures, verdict, moves)
+    return _make(session, moves, "edge translations (corner moves)" if extra
+                 else "corner moves", settings)
+
+
+def _make(session, moves: list, what: str, settings: CorrectionSettings) -> list:
+    """Apply ``moves`` as one recorded edit (``correct: N <what>, X cm in all``) of the
+    session's pattern; halve them while the result is refused (4 times at most). Returns
+    the moves made (none when every try was refused)."""
     for _ in range(4):
         if not moves:
             return []
         try:
             new = apply_moves(session.pattern, moves)
         except PatternError:
-            moves = [replace(m, offset=(0.5 * m.offset[0], 0.5 * m.offset[1]))
-                     for m in moves]
+            moves = _halved(moves)
             continue
         total = sum(np.hypot(*m.offset) for m in moves) * 100
-        what = "edge translations (corner moves)" if extra else "corner moves"
         session.apply_pattern(new, label=f"correct: {len(moves)} {what}, "
                               f"{total:.1f} cm in all",
                               edit={"op": "correct", "args": {"moves": [m.to_dict()
@@ -518,3 +535,29 @@ def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
                               min_angle=settings.min_angle)
         return moves
     return []
+
+
+def _halved(moves: list) -> list:
+    return [replace(m, offset=(0.5 * m.offset[0], 0.5 * m.offset[1])) for m in moves]
+
+
+def _step_back(session, last: Iteration, settings: CorrectionSettings,
+               drape_progress: Callable | None) -> list[str]:
+    """When the re-drape after ``last``'s edits failed its checks and ``last``'s drape had
+    passed them, undo the edit and make it again at half its size, re-draped, up to
+    ``settings.step_backs`` times: a failed drape is no fit to edit from, and the edit is
+    what changed. ``last.edits`` become the moves finally made. Returns why each undone
+    re-drape failed (its checks' reasons)."""
+    why: list[str] = []
+    while (last.edits and (last.checks or {}).get("passed")
+           and (session.state.checks or {}).get("passed") is False
+           and len(why) < settings.step_backs):
+        reasons = session.state.checks.get("reasons") or ["its checks failed"]
+        why.append("; ".join(str(r) for r in reasons))
+        session.undo()
+        last.edits = _make(session, _halved(last.edits), "moves (stepped back: halved)",
+                           settings)
+        if not last.edits:
+            break
+        session.redrape(progress=drape_progress)
+    return why
