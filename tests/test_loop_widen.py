@@ -8,7 +8,7 @@ import pytest
 
 from patternfit.loop.correct import apply_moves, finish_moves
 from patternfit.loop.symmetry import mirrored_triangles
-from patternfit.loop.widen import let_out_moves
+from patternfit.loop.widen import let_out_moves, opening_moves
 from patternfit.mesh.triangulate import mesh_pattern
 from patternfit.pattern.library import build
 from patternfit.pattern.validate import check_pattern
@@ -30,9 +30,9 @@ def _stretch(mesh, panel, inside, factor, about):
     return x, np.flatnonzero(on[mesh.triangles].all(axis=1))
 
 
-def _let_out(pattern, mesh, x, region):
+def _let_out(pattern, mesh, x, region, tool=let_out_moves):
     tris = mirrored_triangles(pattern, mesh, region)
-    new = apply_moves(pattern, finish_moves(pattern, mesh, let_out_moves(
+    new = apply_moves(pattern, finish_moves(pattern, mesh, tool(
         pattern, mesh, x, tris, target=0.0)))
     check_pattern(new)
     for seam in new.seams:
@@ -86,3 +86,27 @@ def test_tight_shoulders_are_let_out_at_the_shoulder_points(coat):
     assert moved[0] > 0.01  # the shoulder point goes out...
     assert np.allclose(_corner(new, "front", "neckline"), _corner(pattern, "front", "neckline"),
                        atol=2e-3)  # ... and the neck stays
+
+
+def test_a_neck_opening_too_small_is_widened_at_the_neck_points(coat):
+    pattern, mesh = coat
+    # the front stretched 15 % across around its neckline, 12 cm each side, 15 cm down
+    neck = _corner(pattern, "front", "neckline")  # the left neck point
+    x, region = _stretch(mesh, "front", lambda v: (np.abs(v[:, 0]) < 0.12)
+                         & (v[:, 1] > neck[1] - 0.15), 1.15, 0.0)
+    assert not opening_moves(pattern, mesh, x, region, target=0.2)  # within the target
+    new = _let_out(pattern, mesh, x, region, tool=opening_moves)
+
+    def moved(panel, corner):
+        return _corner(new, panel, corner) - _corner(pattern, panel, corner)
+
+    left, right = moved("front", "neckline"), moved("front", "shoulder_r")
+    # both neck points go out across the grain, alike: 15 % of the band's 24 cm less
+    # the neck hole's share, split in two
+    assert 0.005 < left[0] < 0.02 and right[0] == pytest.approx(-left[0], abs=1e-4)
+    assert abs(left[1]) < 1e-3
+    # the back's neck points follow, so the shoulder seams still match (checked above)
+    assert abs(moved("back", "neckline")[0]) > 0.002
+    # the shoulder points stay
+    for corner in ("shoulder_l", "overarm_r"):
+        assert np.allclose(moved("front", corner), 0.0, atol=1e-3)

@@ -34,7 +34,7 @@ from ..pattern.validate import check_pattern
 from .ease_limit import cap_moves
 from .regions import find_regions
 from .symmetry import mirrored_triangles, symmetric_moves
-from .widen import edge_moves, let_out_moves
+from .widen import edge_moves, let_out_moves, opening_moves
 
 
 #: the region verdicts the loop may stop at, and the words it lets out regions for
@@ -450,6 +450,9 @@ def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdic
         if tight:
             found = let_out_moves(session.pattern, mesh, session.state.positions, tris,
                                   target, least=max(tight))
+            for key, d in opening_moves(session.pattern, mesh, session.state.positions, tris,
+                                        target).items():
+                found[key] = found.get(key, 0.0) + d
         elif settings.take_in and loose:
             body = {k: sec.body_cm for k, sec in measures.sections.items()}
             lo, hi = ease_range(verdict.style, loose[0][0], body) or (None, None)

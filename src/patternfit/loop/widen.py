@@ -194,3 +194,66 @@ def let_out_moves(pattern, mesh: GarmentMesh, positions, triangles, target: floa
         for key, d in edge_moves(pattern, mesh, pi, part, across, amount).items():
             moves[key] = moves.get(key, 0.0) + d
     return moves
+
+
+def _stretch(mesh: GarmentMesh, positions, triangles) -> np.ndarray:
+    """max(warp, weft) stretch (k,) [-] of ``triangles`` (k,) at ``positions`` (n, 3) [m]
+    (1.1 = 10 % longer than flat along one yarn)."""
+    v, t = mesh.vertices, mesh.triangles[triangles]
+    x = np.asanyarray(positions, dtype=np.float64)
+    dm = np.stack([v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]], axis=2)
+    ds = np.stack([x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]], axis=2)
+    f = ds @ np.linalg.inv(dm)
+    g = mesh.grain[mesh.triangle_panel[triangles]]
+    c = np.stack([-g[:, 1], g[:, 0]], axis=1)
+    return np.maximum(np.linalg.norm(np.einsum("mij,mj->mi", f, g), axis=1),
+                      np.linalg.norm(np.einsum("mij,mj->mi", f, c), axis=1))
+
+
+def opening_moves(pattern, mesh: GarmentMesh, positions, triangles, target: float) -> dict:
+    """Corner offsets ``{(panel, edge): (2,) [m]}`` that widen a free edge running across
+    the grain — one no seam sews, a neckline — where the cloth next to it is stretched
+    beyond ``target`` [-]: the pattern maker's "widen the neckline" when the neck opening
+    is too small and the cloth around it is pulled (the 3K Table 2 coat's yoke, stretched
+    10–24 % at the front and back neck after its shoulders and sleeves were let out).
+
+    The patches of ``triangles`` (k,) stretched beyond ``target`` (max of warp and weft)
+    that reach the edge (:data:`RING` rings of triangles from it) lack ``Σ a_t (s_t − 1 −
+    target) / (1 + target) / H`` of width (a_t their flat areas, s_t their stretch, H their
+    extent along the grain: the lack over the band's height); the edge's two end corners
+    move apart across the grain by half of it each."""
+    sewn = {(side.panel, side.edge) for s in pattern.seams for side in (s.a, s.b)}
+    tris = np.asanyarray(triangles)
+    out: dict = {}
+    for pi in np.unique(mesh.triangle_panel[tris]):
+        pname = mesh.panel_names[int(pi)]
+        mine = tris[mesh.triangle_panel[tris] == pi]
+        hot = mine[_stretch(mesh, positions, mine) > 1.0 + target]
+        if len(hot) < MIN_PART:
+            continue
+        g = mesh.grain[pi]
+        c = np.array([-g[1], g[0]])
+        edges = pattern.panel(pname).outline.edges
+        for k, edge in enumerate(edges):
+            if (pname, edge.name) in sewn:
+                continue
+            ids, _ = mesh.edge_vertices(pname, edge.name)
+            if abs(float(_outward_normal(mesh, ids) @ g)) < MIN_FACING:
+                continue  # runs along the grain: not an opening across it
+            ring = np.zeros(mesh.n_vertices, dtype=bool)
+            ring[ids] = True
+            for _ in range(RING):
+                ring[mesh.triangles[ring[mesh.triangles].any(axis=1)]] = True
+            near = [p for p in _parts(mesh, hot) if ring[mesh.triangles[p]].any(axis=1).any()]
+            if not near:
+                continue
+            at = np.concatenate(near)
+            excess = np.clip(_stretch(mesh, positions, at) - 1.0 - target, 0.0, None)
+            height = float(np.ptp(mesh.vertices[np.unique(mesh.triangles[at])] @ g))
+            lack = float(mesh.triangle_areas()[at] @ excess) / (1.0 + target) / max(
+                height, 1e-3)
+            start, end = np.asarray(edge.start), np.asarray(edge.end)
+            side = np.sign((start - end) @ c)
+            out[(pname, edge.name)] = 0.5 * lack * side * c
+            out[(pname, edges[(k + 1) % len(edges)].name)] = -0.5 * lack * side * c
+    return out
