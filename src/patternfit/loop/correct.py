@@ -451,7 +451,7 @@ def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdic
             found = let_out_moves(session.pattern, mesh, session.state.positions, tris,
                                   target, least=max(tight))
             for key, d in opening_moves(session.pattern, mesh, session.state.positions, tris,
-                                        target).items():
+                                        target, least=max(tight)).items():
                 found[key] = found.get(key, 0.0) + d
         elif settings.take_in and loose:
             body = {k: sec.body_cm for k, sec in measures.sections.items()}

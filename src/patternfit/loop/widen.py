@@ -210,7 +210,8 @@ def _stretch(mesh: GarmentMesh, positions, triangles) -> np.ndarray:
                       np.linalg.norm(np.einsum("mij,mj->mi", f, c), axis=1))
 
 
-def opening_moves(pattern, mesh: GarmentMesh, positions, triangles, target: float) -> dict:
+def opening_moves(pattern, mesh: GarmentMesh, positions, triangles, target: float, *,
+                  least: float = 0.0) -> dict:
     """Corner offsets ``{(panel, edge): (2,) [m]}`` that widen a free edge running across
     the grain — one no seam sews, a neckline — where the cloth next to it is stretched
     beyond ``target`` [-]: the pattern maker's "widen the neckline" when the neck opening
@@ -248,7 +249,7 @@ def opening_moves(pattern, mesh: GarmentMesh, positions, triangles, target: floa
             if not near:
                 continue
             at = np.concatenate(near)
-            excess = np.clip(_stretch(mesh, positions, at) - 1.0 - target, 0.0, None)
+            excess = np.maximum(_stretch(mesh, positions, at), 1.0 + least) - 1.0 - target
             height = float(np.ptp(mesh.vertices[np.unique(mesh.triangles[at])] @ g))
             lack = float(mesh.triangle_areas()[at] @ excess) / (1.0 + target) / max(
                 height, 1e-3)
