@@ -45,16 +45,22 @@ MIN_FACING = 0.5
 PIN = 1.0
 
 
-def region_strain(mesh: GarmentMesh, positions, triangles) -> tuple[np.ndarray, float]:
-    """The area-weighted mean Green strain of ``triangles`` (k,) of ``mesh`` at
-    ``positions`` (n, 3) [m]: its principal direction (2,) in the flat pattern and the
-    stretch along it [-] (1.1 = 10 % longer than flat)."""
+def _gradients(mesh: GarmentMesh, positions, triangles) -> np.ndarray:
+    """Deformation gradients (k, 3, 2) [-] of ``triangles`` (k,) of ``mesh`` from the flat
+    pattern to ``positions`` (n, 3) [m]."""
     v, t = mesh.vertices, mesh.triangles[triangles]
     x = np.asanyarray(positions, dtype=np.float64)
     dm = np.stack([v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]], axis=2)
     ds = np.stack([x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]], axis=2)
-    f = ds @ np.linalg.inv(dm)
-    area = 0.5 * np.abs(np.linalg.det(dm))
+    return ds @ np.linalg.inv(dm)
+
+
+def region_strain(mesh: GarmentMesh, positions, triangles) -> tuple[np.ndarray, float]:
+    """The area-weighted mean Green strain of ``triangles`` (k,) of ``mesh`` at
+    ``positions`` (n, 3) [m]: its principal direction (2,) in the flat pattern and the
+    stretch along it [-] (1.1 = 10 % longer than flat)."""
+    f = _gradients(mesh, positions, triangles)
+    area = mesh.triangle_areas()[triangles]
     green = 0.5 * (np.einsum("mki,mkj->mij", f, f) - np.eye(2))
     mean = np.einsum("m,mij->ij", area, green) / area.sum()
     w, vec = np.linalg.eigh(mean)
@@ -199,11 +205,7 @@ def let_out_moves(pattern, mesh: GarmentMesh, positions, triangles, target: floa
 def _stretch(mesh: GarmentMesh, positions, triangles) -> np.ndarray:
     """max(warp, weft) stretch (k,) [-] of ``triangles`` (k,) at ``positions`` (n, 3) [m]
     (1.1 = 10 % longer than flat along one yarn)."""
-    v, t = mesh.vertices, mesh.triangles[triangles]
-    x = np.asanyarray(positions, dtype=np.float64)
-    dm = np.stack([v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]], axis=2)
-    ds = np.stack([x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]], axis=2)
-    f = ds @ np.linalg.inv(dm)
+    f = _gradients(mesh, positions, triangles)
     g = mesh.grain[mesh.triangle_panel[triangles]]
     c = np.stack([-g[:, 1], g[:, 0]], axis=1)
     return np.maximum(np.linalg.norm(np.einsum("mij,mj->mi", f, g), axis=1),
