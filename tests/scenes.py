@@ -134,3 +134,18 @@ def welded(d):
     x = np.zeros((vmap.max() + 1, 3))
     x[vmap] = d.positions
     return x
+
+
+def assert_matched_and_mirrored(pattern, panels):
+    """Every seam of ``pattern`` has sides of equal length (1e-5 m) and each of ``panels``
+    is mirror-symmetric about its vertical middle (0.1 mm): a correction's edit kept both."""
+    import pytest
+
+    for seam in pattern.seams:
+        assert pattern.seam_side_length(seam.a) == pytest.approx(
+            pattern.seam_side_length(seam.b), abs=1e-5)
+    for name in panels:
+        poly = pattern.panel(name).outline.polygon()
+        axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
+        mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
+        assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4

@@ -5,6 +5,7 @@ both sides alike, seams matched (flat panels stretched as a drape would: no drap
 
 import numpy as np
 import pytest
+from scenes import assert_matched_and_mirrored
 
 from patternfit.loop.correct import apply_moves, finish_moves
 from patternfit.loop.symmetry import mirrored_triangles
@@ -35,14 +36,7 @@ def _let_out(pattern, mesh, x, region, tool=let_out_moves):
     new = apply_moves(pattern, finish_moves(pattern, mesh, tool(
         pattern, mesh, x, tris, target=0.0)))
     check_pattern(new)
-    for seam in new.seams:
-        assert new.seam_side_length(seam.a) == pytest.approx(new.seam_side_length(seam.b),
-                                                             abs=1e-5)
-    for name in ("front", "back"):
-        poly = new.panel(name).outline.polygon()
-        axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
-        mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
-        assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4
+    assert_matched_and_mirrored(new, ("front", "back"))
     return new
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scenes import assert_matched_and_mirrored
 
 import patternfit as pf
 from patternfit.fit.metrics import FitEvaluator
@@ -147,14 +148,7 @@ def test_a_too_tight_region_is_let_out_until_it_is_no_longer_too_tight():
         assert state.edit["op"] == "correct" and it.edits
         assert {m.panel for m in it.edits} == {"front", "back"}
     new = session.pattern
-    for seam in new.seams:
-        assert new.seam_side_length(seam.a) == pytest.approx(new.seam_side_length(seam.b),
-                                                             abs=1e-5)
-    for name in ("front", "back"):
-        poly = new.panel(name).outline.polygon()
-        axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
-        mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
-        assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4
+    assert_matched_and_mirrored(new, ("front", "back"))
     session.undo()
     assert session.pattern == session.history[-2].pattern != new
 
