@@ -153,6 +153,28 @@ def test_a_too_tight_region_is_let_out_until_it_is_no_longer_too_tight():
     assert session.pattern == session.history[-2].pattern != new
 
 
+def test_a_re_drape_is_worse_when_it_fails_or_a_region_turns_too_tight():
+    from types import SimpleNamespace
+
+    from patternfit.loop.correct import Iteration, _worse
+
+    def verdict(*words):
+        return Verdict("fits", {f"r{k}": SimpleNamespace(verdict=w) for k, w in enumerate(words)},
+                       f"{words}")
+
+    ok = {"passed": True}
+    bad = {"passed": False, "reasons": ["no equilibrium (stopped: time)"]}
+    tight = Iteration(1, 0.95, [], [], 0.0, ok, verdict("tight", "fits"))
+    assert _worse(tight, ok, verdict("tight", "tight")) is None
+    assert _worse(tight, bad, verdict("fits")) == "no equilibrium (stopped: time)"
+    assert _worse(tight, ok, verdict("too tight", "fits")) == "('too tight', 'fits')"
+    # from a drape that was too tight or failed already, nothing is worse
+    worse_already = Iteration(1, 0.95, [], [], 0.0, ok, verdict("too tight"))
+    assert _worse(worse_already, ok, verdict("too tight")) is None
+    failed = Iteration(1, 0.95, [], [], 0.0, bad, Verdict("failed"))
+    assert _worse(failed, bad, verdict("too tight")) is None
+
+
 def test_a_re_drape_that_fails_after_an_edit_steps_back_to_half_the_edit():
     from patternfit.body.builtin import load_body
     from patternfit.loop.correct import correct

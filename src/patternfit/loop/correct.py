@@ -65,9 +65,10 @@ class CorrectionSettings:
     min_angle : float     the mesh follows the edits without re-meshing down to this
                           smallest triangle angle [degrees]: a re-meshed panel loses the
                           warm start, and the corrected 22K coat draped cold crossed itself.
-    step_backs : int      a re-drape that fails its checks after an edit from a drape that
-                          passed them is undone and the edit made again at half its size,
-                          this many times at most.
+    step_backs : int      a re-drape worse than the drape its edit was made from (failed
+                          its checks where that one passed, or a region turned too tight)
+                          is undone and the edit made again at half its size, this many
+                          times at most.
     """
 
     threshold: float = DEFAULTS.threshold
@@ -117,7 +118,7 @@ class Iteration:
     verdict: Verdict | None = None
     measures: dict | None = None  # FitMeasures.report(): gap_mm, ease_cm, pressure_kpa
     measured: FitMeasures | None = field(default=None, repr=False)  # for the pictures
-    stepped_back: list = field(default_factory=list)  # why each undone re-drape failed
+    stepped_back: list = field(default_factory=list)  # why each undone re-drape was worse
 
     def to_dict(self) -> dict:
         return {"iteration": self.index, "fitting_ratio": self.fitting_ratio,
@@ -365,9 +366,10 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
 
     ``progress(iteration: Iteration)`` is called after each drape is evaluated;
     ``drape_progress`` goes to the solver. Returns the :class:`Correction`; the session
-    holds every state (one per round) for undo. A re-drape that fails its checks after an
-    edit from a drape that passed them steps back: the edit is undone and made again at
-    half its size (:func:`_step_back`; ``Iteration.stepped_back`` says why). A drape that
+    holds every state (one per round) for undo. A re-drape worse than the drape its edit
+    was made from (failed its checks where that one passed, or a region turned too tight)
+    steps back: the edit is undone and made again at half its size (:func:`_step_back`;
+    ``Iteration.stepped_back`` says why). A drape that
     is no fit at all (:func:`refusal`) stops the loop without an edit,
     ``Correction.failed`` saying why.
     """
@@ -377,9 +379,12 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
         t0 = time.perf_counter()
         if index > 0 or session.state.positions is None or session.state.fitting_ratio is None:
             session.redrape(progress=drape_progress)
-        stepped = _step_back(session, out.iterations[-1], settings, drape_progress) \
-            if index > 0 else []
         fit, measures, verdict = measure_state(session, settings.rules)
+        stepped: list[str] = []
+        if index > 0:
+            stepped, (fit, measures, verdict) = _step_back(
+                session, out.iterations[-1], (fit, measures, verdict), settings,
+                drape_progress)
         regions = find_regions(session.mesh, fit)
         reached = fit_reached(fit, verdict, settings)
         it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks,
@@ -544,23 +549,39 @@ def _halved(moves: list) -> list:
     return [replace(m, offset=(0.5 * m.offset[0], 0.5 * m.offset[1])) for m in moves]
 
 
-def _step_back(session, last: Iteration, settings: CorrectionSettings,
-               drape_progress: Callable | None) -> list[str]:
-    """When the re-drape after ``last``'s edits failed its checks and ``last``'s drape had
-    passed them, undo the edit and make it again at half its size, re-draped, up to
-    ``settings.step_backs`` times: a failed drape is no fit to edit from, and the edit is
-    what changed. ``last.edits`` become the moves finally made. Returns why each undone
-    re-drape failed (its checks' reasons)."""
+def _worse(last: Iteration, checks: dict | None, verdict: Verdict) -> str | None:
+    """Why the drape with ``checks`` and ``verdict``, made from ``last``'s drape by its
+    edits, is worse than that one, or None: it failed its checks where ``last``'s passed,
+    or a region reads too tight where none did."""
+    if (last.checks or {}).get("passed") and (checks or {}).get("passed") is False:
+        return "; ".join(str(r) for r in checks.get("reasons") or ["its checks failed"])
+    before = last.verdict
+    if before is not None and before.overall != "failed" and not before.worst("too tight") \
+            and verdict.worst("too tight"):
+        return verdict.reason
+    return None
+
+
+def _step_back(session, last: Iteration, measured: tuple, settings: CorrectionSettings,
+               drape_progress: Callable | None) -> tuple[list[str], tuple]:
+    """When the re-drape after ``last``'s edits (its fit, measures and verdict:
+    ``measured``) is worse than ``last``'s drape (:func:`_worse`: failed its checks, or a
+    region turned too tight), undo the edit and make it again at half its size, re-draped,
+    up to ``settings.step_backs`` times: the edit is what changed. (The 22K Table 2 coat's
+    fourth let-out left a panel's triangles too thin, the re-meshed coat draped cold
+    pressed its forearms at 12 kPa.) ``last.edits`` become the moves finally made. Returns
+    why each undone re-drape was worse, and the fit, measures and verdict of the drape
+    kept."""
     why: list[str] = []
-    while (last.edits and (last.checks or {}).get("passed")
-           and (session.state.checks or {}).get("passed") is False
-           and len(why) < settings.step_backs):
-        reasons = session.state.checks.get("reasons") or ["its checks failed"]
-        why.append("; ".join(str(r) for r in reasons))
+    while last.edits and len(why) < settings.step_backs:
+        reason = _worse(last, session.state.checks, measured[2])
+        if reason is None:
+            break
+        why.append(reason)
         session.undo()
         last.edits = _make(session, _halved(last.edits), "moves (stepped back: halved)",
                            settings)
-        if not last.edits:
-            break
-        session.redrape(progress=drape_progress)
-    return why
+        if last.edits:
+            session.redrape(progress=drape_progress)
+        measured = measure_state(session, settings.rules)
+    return why, measured
