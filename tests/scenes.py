@@ -212,3 +212,18 @@ def gc_circle_skirt(placed=True, tiers=0, *, waist=0.672, length=0.40, band=0.04
                      ((names[0], 2), (above[0], 0)), ((names[1], 2), (above[1], 0))]
         above = names
     return gc_pattern(panels, stitches, placed)
+
+
+def assert_matched_and_mirrored(pattern, panels):
+    """Every seam of ``pattern`` has sides of equal length (1e-5 m) and each of ``panels``
+    is mirror-symmetric about its vertical middle (0.1 mm): a correction's edit kept both."""
+    import pytest
+
+    for seam in pattern.seams:
+        assert pattern.seam_side_length(seam.a) == pytest.approx(
+            pattern.seam_side_length(seam.b), abs=1e-5)
+    for name in panels:
+        poly = pattern.panel(name).outline.polygon()
+        axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
+        mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
+        assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4

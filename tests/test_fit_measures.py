@@ -65,6 +65,25 @@ def test_ease_needs_the_garment_all_around():
     assert above.ease_cm is None  # the garment ends below that height
 
 
+@pytest.mark.parametrize("out", [0.24, 0.30])
+def test_a_sleeve_hanging_beside_the_torso_is_not_in_its_girth(out):
+    # a loose kimono sleeve at waist height, 24-30 cm from the body's axis (within the
+    # section's reach of the torso, no arm inside it): a tape measure goes around the
+    # torso's cloth only
+    r, e = 0.15, 0.02
+    bv, bt = _cylinder(r, closed=True)
+    gv, gt = _cylinder(r + e, 0.1, 0.9, rows=9)
+    tube, tt = _cylinder(0.05, 0.1, 0.9, n=24, rows=9)
+    for side in (1.0, -1.0):
+        gt = np.vstack([gt, tt + len(gv)])
+        gv = np.vstack([gv, tube + [side * out, 0.0, 0.0]])
+    s = girth_section("waist", gt, gv, bv, bt, np.array([0.0, 0.5, 0.0]),
+                      np.array([0.0, 1.0, 0.0]), "torso")
+    assert s.covered
+    assert s.ease_cm == pytest.approx(100 * 2 * np.pi * e, rel=0.02)
+    assert np.abs(s.garment[:, 0]).max() < r + e + 1e-3
+
+
 def test_oblique_plane_section_of_a_cylinder_is_its_ellipse():
     v, t = _cylinder(0.1, -1, 1, rows=41)
     loops = plane_section(v, t, np.zeros(3), np.array([0.0, 1.0, 0.0]))

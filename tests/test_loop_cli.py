@@ -60,3 +60,15 @@ def test_demo_runs_the_loop(tmp_path):
     for f in ("pattern.json", "report.json", "regions_before.png", "regions_after.png",
               "before/fit_3d.png", "after/fit_2d.png", "after/garment.glb"):
         assert (out / f).stat().st_size > 500, f
+
+
+def test_an_iteration_that_stepped_back_says_why(capsys):
+    from patternfit.cli.show import show_iteration
+    from patternfit.fit.verdict import Verdict
+    from patternfit.loop.correct import Iteration
+
+    show_iteration(Iteration(2, 0.95, [], [], 1.0, {"passed": True},
+                             Verdict("tight", {}, "tight at hip"),
+                             stepped_back=["too tight at forearm_left"]))
+    out = " ".join(capsys.readouterr().err.split())  # the console writes to stderr
+    assert "stepped back (the edit halved)" in out and "too tight at forearm_left" in out

@@ -5,10 +5,11 @@ both sides alike, seams matched (flat panels stretched as a drape would: no drap
 
 import numpy as np
 import pytest
+from scenes import assert_matched_and_mirrored
 
 from patternfit.loop.correct import apply_moves, finish_moves
 from patternfit.loop.symmetry import mirrored_triangles
-from patternfit.loop.widen import let_out_moves
+from patternfit.loop.widen import let_out_moves, opening_moves
 from patternfit.mesh.triangulate import mesh_pattern
 from patternfit.pattern.library import build
 from patternfit.pattern.validate import check_pattern
@@ -30,19 +31,12 @@ def _stretch(mesh, panel, inside, factor, about):
     return x, np.flatnonzero(on[mesh.triangles].all(axis=1))
 
 
-def _let_out(pattern, mesh, x, region):
+def _let_out(pattern, mesh, x, region, tool=let_out_moves):
     tris = mirrored_triangles(pattern, mesh, region)
-    new = apply_moves(pattern, finish_moves(pattern, mesh, let_out_moves(
+    new = apply_moves(pattern, finish_moves(pattern, mesh, tool(
         pattern, mesh, x, tris, target=0.0)))
     check_pattern(new)
-    for seam in new.seams:
-        assert new.seam_side_length(seam.a) == pytest.approx(new.seam_side_length(seam.b),
-                                                             abs=1e-5)
-    for name in ("front", "back"):
-        poly = new.panel(name).outline.polygon()
-        axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
-        mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
-        assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4
+    assert_matched_and_mirrored(new, ("front", "back"))
     return new
 
 
@@ -50,18 +44,27 @@ def _corner(pattern, panel, edge):
     return np.asarray(pattern.panel(panel).edge(edge).start)
 
 
-def test_a_tight_sleeve_root_is_let_out_at_the_overarm_and_shoulder_point(coat):
+def test_a_tight_sleeve_root_is_let_out_at_the_overarm_and_underarm(coat):
     pattern, mesh = coat
     # the front's left sleeve root (beyond the armpit, above its height) 25 % too wide
     armpit = _corner(pattern, "front", "underarm_l")
     x, region = _stretch(mesh, "front", lambda v: (v[:, 0] > armpit[0])
                          & (v[:, 1] > armpit[1] - 0.1), 1.25, armpit[0])
     new = _let_out(pattern, mesh, x, region)
-    for corner in ("shoulder_l", "overarm_l"):  # the overarm seam's two ends, outward
-        assert (_corner(new, "front", corner) - _corner(pattern, "front", corner))[0] > 0.01
+
+    def moved(corner):
+        return _corner(new, "front", corner) - _corner(pattern, "front", corner)
+
+    # the overarm seam's two ends go out along its normal (up and out: the shoulder
+    # raised and extended), the armpit down (the underarm deepened) ...
+    for corner in ("shoulder_l", "overarm_l"):
+        assert moved(corner)[0] > 0.007 and moved(corner)[1] > 0.007
+    assert moved("underarm_l")[1] < -0.005
+    # ... the body below the armpit stays (no let-out at the hem for a sleeve)
+    for corner in ("side_l", "hem"):
+        assert np.allclose(moved(corner), 0.0, atol=1e-3)
     # the right sleeve alike, and the back sewn to them
-    assert (_corner(new, "front", "overarm_r") - _corner(pattern, "front", "overarm_r"))[0] \
-        < -0.01
+    assert moved("overarm_r")[0] < -0.007
     assert not np.allclose(new.panel("back").outline.polygon(),
                            pattern.panel("back").outline.polygon())
 
@@ -77,3 +80,27 @@ def test_tight_shoulders_are_let_out_at_the_shoulder_points(coat):
     assert moved[0] > 0.01  # the shoulder point goes out...
     assert np.allclose(_corner(new, "front", "neckline"), _corner(pattern, "front", "neckline"),
                        atol=2e-3)  # ... and the neck stays
+
+
+def test_a_neck_opening_too_small_is_widened_at_the_neck_points(coat):
+    pattern, mesh = coat
+    # the front stretched 15 % across around its neckline, 12 cm each side, 15 cm down
+    neck = _corner(pattern, "front", "neckline")  # the left neck point
+    x, region = _stretch(mesh, "front", lambda v: (np.abs(v[:, 0]) < 0.12)
+                         & (v[:, 1] > neck[1] - 0.15), 1.15, 0.0)
+    assert not opening_moves(pattern, mesh, x, region, target=0.2)  # within the target
+    new = _let_out(pattern, mesh, x, region, tool=opening_moves)
+
+    def moved(panel, corner):
+        return _corner(new, panel, corner) - _corner(pattern, panel, corner)
+
+    left, right = moved("front", "neckline"), moved("front", "shoulder_r")
+    # both neck points go out across the grain, alike: 15 % of the band's 24 cm less
+    # the neck hole's share, split in two
+    assert 0.005 < left[0] < 0.02 and right[0] == pytest.approx(-left[0], abs=1e-4)
+    assert abs(left[1]) < 1e-3
+    # the back's neck points follow, so the shoulder seams still match (checked above)
+    assert abs(moved("back", "neckline")[0]) > 0.002
+    # the shoulder points stay
+    for corner in ("shoulder_l", "overarm_r"):
+        assert np.allclose(moved("front", corner), 0.0, atol=1e-3)

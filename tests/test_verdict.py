@@ -17,7 +17,7 @@ from patternfit.fit.metrics import FitResult
 from patternfit.fit.pressure import force_balance_pressure, grain_coefficients
 from patternfit.fit.verdict import judge, judge_region, slid_off
 from patternfit.fit.verdict_rules import (EASE_RANGES, STRETCH_LIMITS, VERDICTS, VerdictRules,
-                                          garment_style, stretch_limit)
+                                          ease_range, garment_style, stretch_limit)
 
 RULES = VerdictRules()
 
@@ -117,6 +117,26 @@ def test_more_pressure_or_stretch_never_reads_looser_and_more_ease_never_tighter
 def test_region_rules_on_a_skirt_hip(ease, p, s, word):
     assert judge_region(ease, p, s, style="skirt", girth="hip", limit=0.05,
                         rules=RULES)[0] == word
+
+
+# the Table 2 body (male_heavy): bust 101.8, waist 90.4, hip 104.2 cm
+_HEAVY = {"bust": 101.8, "waist": 90.4, "hip": 104.2}
+
+
+@pytest.mark.parametrize("girth,most", [("waist", 25.4 + 101.8 - 90.4), ("hip", 25.4)])
+def test_a_straight_coat_is_bounded_below_the_chest_by_its_chest(girth, most):
+    assert ease_range("coat", girth) == (EASE_RANGES["coat"][girth][0], None)
+    assert ease_range("coat", girth, _HEAVY) == pytest.approx(
+        (EASE_RANGES["coat"][girth][0], most))
+    assert ease_range("coat", "bust", _HEAVY) == EASE_RANGES["coat"]["bust"]
+    assert ease_range("dress", girth, _HEAVY) == EASE_RANGES["dress"][girth]
+
+
+@pytest.mark.parametrize("ease,word", [(15.0, "fits"), (27.0, "loose"), (84.3, "too loose")])
+def test_a_coat_let_out_to_84_cm_of_hip_ease_reads_too_loose(ease, word):
+    # +84.3 cm was the 3K Table 2 coat's hip after `--goal fits`: no rule bounded it
+    assert judge_region(ease, 0.1, 0.02, style="coat", girth="hip", limit=0.2, rules=RULES,
+                        body_cm=_HEAVY["hip"], body_girths=_HEAVY)[0] == word
 
 
 def _synthetic(stretch_by_region: dict, pressure_by_region: dict, ease=None):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scenes import assert_matched_and_mirrored
 
 import patternfit as pf
 from patternfit.fit.metrics import FitEvaluator
@@ -122,6 +123,91 @@ def test_the_loop_stops_only_when_no_region_is_too_tight():
     assert set(CLI_GOALS) == set(GOALS)
 
 
+def test_a_too_tight_region_is_let_out_until_it_is_no_longer_too_tight():
+    from patternfit.body.builtin import load_body
+    from patternfit.loop.correct import correct
+    from patternfit.loop.session import DesignSession
+
+    # measured (1K triangles, 2-core CPU, 4 s): a size S skirt on the heavy woman in
+    # shirting reads ϖ 99.8 % (the paper's fit) with its waist pressed at 2.63 kPa (too
+    # tight); two let-outs of its side seams (0.3 cm a corner each) bring it to 2.01 and
+    # 1.52 kPa: tight, no longer too tight
+    pattern = build("skirt", "S")
+    session = DesignSession(pattern, load_body("female_heavy"), "cotton_shirting", 1000)
+    out = correct(session, settings=CorrectionSettings(max_iterations=4))
+    first, last = out.iterations[0], out.iterations[-1]
+    assert first.fitting_ratio >= 0.9 and first.verdict.regions["waist"].verdict == "too tight"
+    assert out.reached and len(out.iterations) > 1
+    assert not last.verdict.worst("too tight")
+    waist = [it.verdict.regions["waist"].pressure_kpa_p95 for it in out.iterations]
+    assert all(b < a for a, b in zip(waist, waist[1:]))  # each let-out eases it
+    assert all(it.checks["passed"] for it in out.iterations)
+    # every round one recorded, undoable edit of the side seams, both panels alike
+    assert len(session.history) == len(out.iterations)
+    for it, state in zip(out.iterations[:-1], session.history[1:]):
+        assert state.edit["op"] == "correct" and it.edits
+        assert {m.panel for m in it.edits} == {"front", "back"}
+    new = session.pattern
+    assert_matched_and_mirrored(new, ("front", "back"))
+    session.undo()
+    assert session.pattern == session.history[-2].pattern != new
+
+
+def test_a_re_drape_is_worse_when_it_fails_or_a_region_turns_too_tight():
+    from types import SimpleNamespace
+
+    from patternfit.loop.correct import Iteration, _worse
+
+    def verdict(*words):
+        return Verdict("fits", {f"r{k}": SimpleNamespace(verdict=w) for k, w in enumerate(words)},
+                       f"{words}")
+
+    ok = {"passed": True}
+    bad = {"passed": False, "reasons": ["no equilibrium (stopped: time)"]}
+    tight = Iteration(1, 0.95, [], [], 0.0, ok, verdict("tight", "fits"))
+    assert _worse(tight, ok, verdict("tight", "tight")) is None
+    assert _worse(tight, bad, verdict("fits")) == "no equilibrium (stopped: time)"
+    assert _worse(tight, ok, verdict("too tight", "fits")) == "('too tight', 'fits')"
+    # from a drape that was too tight or failed already, nothing is worse
+    worse_already = Iteration(1, 0.95, [], [], 0.0, ok, verdict("too tight"))
+    assert _worse(worse_already, ok, verdict("too tight")) is None
+    failed = Iteration(1, 0.95, [], [], 0.0, bad, Verdict("failed"))
+    assert _worse(failed, bad, verdict("too tight")) is None
+
+
+def test_a_re_drape_that_fails_after_an_edit_steps_back_to_half_the_edit():
+    from patternfit.body.builtin import load_body
+    from patternfit.loop.correct import correct
+    from patternfit.loop.session import DesignSession
+
+    def run(fail_once: bool):
+        session = DesignSession(build("skirt", "S"), load_body("female_heavy"),
+                                "cotton_shirting", 1000)
+        real, drapes = session.redrape, []
+
+        def redrape(**kw):
+            result = real(**kw)
+            drapes.append(session.position)
+            if fail_once and len(drapes) == 2:  # the first re-drape after an edit
+                session.state.checks = {**session.state.checks, "passed": False,
+                                        "reasons": ["3 crossed triangle pairs (limit 0)"]}
+            return result
+
+        session.redrape = redrape
+        return session, correct(session, settings=CorrectionSettings(max_iterations=1))
+
+    _, plain = run(False)
+    session, out = run(True)
+    assert out.iterations[1].stepped_back == ["3 crossed triangle pairs (limit 0)"]
+    # the failed state was undone: the history holds the start and the halved edit only
+    assert len(session.history) == 2 and "stepped back" in session.history[1].label
+    assert all(s.checks["passed"] for s in session.history)
+    for half, full in zip(out.iterations[0].edits, plain.iterations[0].edits):
+        assert (half.panel, half.edge) == (full.panel, full.edge)
+        assert np.allclose(half.offset, 0.5 * np.asarray(full.offset))
+    assert out.to_dict()["iterations"][1]["stepped_back"]
+
+
 @pytest.mark.slow
 def test_table2_coat_is_too_tight_first_and_none_too_tight_after_correction():
     from patternfit.loop.table2 import ROWS, run_row
@@ -129,12 +215,30 @@ def test_table2_coat_is_too_tight_first_and_none_too_tight_after_correction():
     coat = {r.garment: r for r in ROWS}["coat"]
     row = run_row(coat)  # 22K triangles, as benchmarks/table2.py: 7 minutes loaded
     assert row["verdicts"][0] == "too tight"
-    # measured: too tight → too tight (ϖ 92.98%) → tight (96.25%, p99 0.57 kPa): the
-    # stretch knit still over half its comfortable stretch at shoulders and biceps
+    # measured (force stop, loaded 2-core CPU, 8 min): too tight (p99 2.19 kPa) → too
+    # tight (ϖ 92.09%) → tight (95.70%, p99 0.43 kPa): the stretch knit still over half
+    # its comfortable stretch at shoulders, bust and biceps (11–16%)
     assert row["verdicts"][-1] in ("tight", "fits") and row["reached"]
     assert all(v["verdict"] != "too tight" for v in row["region_verdicts"].values())
     assert row["final"] >= 0.90 and row["pressure_kpa_p99"][-1] <= 2.0
     assert all(row["checks_passed"])
+
+
+@pytest.mark.slow
+def test_table2_coat_3k_is_too_tight_first_and_fits_after_correction():
+    from patternfit.loop.table2 import ROWS, run_row
+
+    coat = {r.garment: r for r in ROWS}["coat"]
+    # measured (2-core CPU, loaded, 60 s): 68.47 → 92.32 → 96.15 → 97.66 → 97.87 %, too
+    # tight → too tight → too tight → tight → fits, pressure p99 1.98 → 0.41 kPa
+    row = run_row(coat, triangles=3000,
+                  settings=CorrectionSettings(goal="fits", max_iterations=5))
+    assert row["verdicts"][0] == "too tight" and row["verdicts"][-1] == "fits"
+    assert row["reached"] and row["final"] >= 0.90
+    assert row["pressure_kpa_p99"][-1] <= 2.0 and all(row["checks_passed"])
+    assert all(v["verdict"] == "fits" for v in row["region_verdicts"].values())
+    ease = row["ease_cm"]
+    assert ease["hip"] <= 25.4 and ease["waist"] <= 25.4 + 101.8 - 90.4  # the coat's ranges
 
 
 def test_take_in_a_too_loose_dress_is_a_recorded_symmetric_edit():

@@ -157,6 +157,9 @@ def show_iteration(it) -> None:
         f"  verdict {verdict_text(it.verdict.overall)} ({escape(it.verdict.reason)})"
     console.print(f"[bold]{what}[/]: ϖ = {it.fitting_ratio * 100:.2f}%{verdict}  "
                   f"({it.seconds:.1f} s){ok}", highlight=False)
+    for why in it.stepped_back:
+        console.print(f"   [yellow]stepped back (the edit halved): the re-drape was worse: "
+                      f"{escape(why)}[/]", highlight=False)
     for r in it.regions[:6]:
         console.print(f"   {'▲' if r.kind == 'tight' else '▽'} {r.describe()}", highlight=False)
     if len(it.regions) > 6:

@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
+from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from ..body.measure import Loop, cross_section
 from ..body.sdf import DistanceField
@@ -36,6 +36,12 @@ MAX_GAP_DEG = 30.0
 SECTION_REACH = 0.25
 #: a garment point this much nearer another body loop still belongs to the girth's [m]
 SHARED_REACH = 0.03
+#: a chain of the garment's section (one per panel and tube) takes part in a girth when it
+#: spans at least this angle around the body section's centre [deg]: a tape measure goes
+#: around the torso's chains, not around a sleeve hanging beside the waist (the 3K Table 2
+#: coat's let-out sleeves, 30 cm out, read as +58 cm of waist ease; they span 4–8°, a
+#: panel's chain around the torso 160–190°)
+MIN_CHAIN_SPAN_DEG = 45.0
 #: a vertex this much farther from the body than the solver's contact distance still rests
 #: on it (the penalty lets it sit a little inside; the distance field is interpolated) [m]
 CONTACT_SLACK = 0.001
@@ -233,6 +239,29 @@ def _belongs(points, body_points, mine) -> np.ndarray:
     return (to_mine < SECTION_REACH) & (to_mine <= dist.min(axis=1) + SHARED_REACH)
 
 
+def _around(chains: list[Loop], centre) -> list[Loop]:
+    """The garment section's ``chains`` that go around the body: the angles of each one's
+    points around ``centre`` (2,) [m] spanning at least :data:`MIN_CHAIN_SPAN_DEG` (all of
+    the chains when none does)."""
+    def span(lp: Loop) -> float:
+        rel = lp.points[:, [0, 2]] - centre
+        a = np.sort(np.degrees(np.arctan2(rel[:, 1], rel[:, 0])))
+        return 360.0 - float(np.diff(np.append(a, a[0] + 360.0)).max())
+
+    kept = [lp for lp in chains if len(lp.points) > 1 and span(lp) >= MIN_CHAIN_SPAN_DEG]
+    return kept or chains
+
+
+def _on_chains(segments, chains: list[Loop], kept: list[Loop]) -> np.ndarray:
+    """Which ``segments`` (k, 2, 2) [m] of the section belong to the ``kept`` ones of its
+    ``chains``: the chain point nearest each segment's midpoint is one of theirs."""
+    pts = np.concatenate([lp.points[:, [0, 2]] for lp in chains])
+    mine = np.concatenate([np.full(len(lp.points), any(lp is k for k in kept))
+                           for lp in chains])
+    _, nearest = cKDTree(pts).query(np.asanyarray(segments).mean(axis=1))
+    return mine[nearest]
+
+
 def section_segments(vertices, triangles, origin, normal) -> np.ndarray:
     """The segments (k, 2, 2) where the plane through ``origin`` (3,) [m] with ``normal``
     cuts the triangles, in the plane's 2D frame (:func:`_frame`; x and z columns)."""
@@ -286,7 +315,8 @@ def girth_section(name, triangles, positions, body_vertices, body_faces, origin,
     bhull, bper = _hull(bp)
     if bper <= 0:
         return None
-    g_loops = plane_section(positions, triangles, origin, normal)
+    chains = plane_section(positions, triangles, origin, normal)
+    g_loops = _around(chains, bp.mean(axis=0))
     gp = (np.concatenate([lp.points[:, [0, 2]] for lp in g_loops]) if g_loops
           else np.zeros((0, 2)))
     if len(gp):
@@ -301,7 +331,7 @@ def girth_section(name, triangles, positions, body_vertices, body_faces, origin,
     if gper > 0:
         # the same choice for the segments, by their midpoints
         seg = section_segments(positions, triangles, origin, normal)
-        seg = seg[_belongs(seg.mean(axis=1), allb, mine)]
+        seg = seg[_belongs(seg.mean(axis=1), allb, mine) & _on_chains(seg, chains, g_loops)]
         covered = largest_gap_deg(seg, bp.mean(axis=0)) <= MAX_GAP_DEG
     ease_cm = 100.0 * (gper - bper) if covered else None
     return Section(name, np.asanyarray(origin, dtype=np.float64), np.asanyarray(normal, float),

@@ -92,12 +92,15 @@ def slid_off(checks: dict | None) -> str | None:
 
 
 def judge_region(ease_cm, pressure, stretch, *, style: str, girth: str, limit: float,
-                 rules: VerdictRules, body_cm: float | None = None) -> tuple[str, str]:
+                 rules: VerdictRules, body_cm: float | None = None,
+                 body_girths: dict | None = None) -> tuple[str, str]:
     """The verdict word and its reason for one region from its ease [cm], pressure [kPa]
     and stretch [-] (each may be None: not measured). The style's least ease is lowered by
     the stretch the rules still call fitting (``tight_share × limit`` of the body's girth
-    ``body_cm`` [cm]): a knit's negative ease is what its stretch gives back."""
-    rng = ease_range(style, girth)
+    ``body_cm`` [cm]): a knit's negative ease is what its stretch gives back.
+    ``body_girths`` (girth name → body girth [cm]) bounds the ease of a style cut straight
+    below a girth (:func:`~patternfit.fit.verdict_rules.ease_range`)."""
+    rng = ease_range(style, girth, body_girths)
     lo, hi = rng if rng is not None else (None, None)
     if lo is not None and body_cm is not None:
         lo = lo - rules.tight_share * limit * body_cm
@@ -136,6 +139,7 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
     stretch = np.maximum(fit.warp, fit.weft) - 1.0
     total = float(fit.area_2d.sum())
     sections = measures.sections
+    body_girths = {k: sec.body_cm for k, sec in sections.items()}
     regions = {}
     for k, name in enumerate(measures.regions):
         tris = measures.triangle_region == k
@@ -150,7 +154,8 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
         sec = sections.get(name)
         e = sec.ease_cm if sec is not None else None
         word, why = judge_region(e, p, s, style=style, girth=name, limit=limit, rules=rules,
-                                 body_cm=sec.body_cm if e is not None else None)
+                                 body_cm=sec.body_cm if e is not None else None,
+                                 body_girths=body_girths)
         regions[name] = RegionVerdict(word, e, p, s, area, why)
     words = [v.verdict for v in regions.values()]
     if slid:

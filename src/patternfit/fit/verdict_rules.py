@@ -83,6 +83,13 @@ EASE_RANGES: dict[str, dict[str, tuple[float | None, float | None]]] = {
     "dress": {"bust": (6.4, 20.3), "waist": (2.5, None), "hip": (5.1, 20.3)},
     "shirt": {"bust": (9.0, 20.0), "waist": (5.0, None), "bicep": (2.5, 15.0)},
 }
+#: garment types cut straight below a girth (name → that girth): their most ease at a girth
+#: below it with no bound of its own is that girth's most ease plus what the body lacks
+#: there against it (:func:`ease_range`): a straight coat hangs from the chest, so its
+#: waist and hip are as wide as its chest (men's jackets: hip girth within −3.8 to +1.3 cm
+#: of the chest girth; docs/fit-correction.md, "Ease ranges")
+STRAIGHT_BELOW = {"coat": "bust"}
+
 #: the type of a garment not named in :data:`EASE_RANGES`, by the pattern's anchor
 _BY_ANCHOR = {"waist": "skirt", "neck": "dress"}
 
@@ -120,8 +127,19 @@ def garment_style(pattern) -> str:
     return _BY_ANCHOR.get(pattern.anchor, "dress")
 
 
-def ease_range(style: str, girth: str) -> tuple[float | None, float | None] | None:
+def ease_range(style: str, girth: str, body_cm: dict | None = None
+               ) -> tuple[float | None, float | None] | None:
     """(least, most) ease [cm] of ``girth`` (``"thigh_left"`` reads ``"thigh"``) in a
-    garment of type ``style``; None where the style sets none."""
+    garment of type ``style``; None where the style sets none. ``body_cm`` (girth name →
+    the body's girth [cm]) gives a style cut straight below a girth
+    (:data:`STRAIGHT_BELOW`) its most ease there: the upper girth's most ease plus how much
+    smaller the body is here, (body there − body here)⁺."""
     base = girth.rsplit("_", 1)[0] if girth.endswith(("_left", "_right")) else girth
-    return EASE_RANGES.get(style, {}).get(base)
+    rng = EASE_RANGES.get(style, {}).get(base)
+    top = STRAIGHT_BELOW.get(style)
+    if rng is None or rng[1] is not None or top is None or base == top or not body_cm:
+        return rng
+    most = EASE_RANGES[style][top][1]
+    if most is None or body_cm.get(top) is None or body_cm.get(girth) is None:
+        return rng
+    return rng[0], most + max(body_cm[top] - body_cm[girth], 0.0)

@@ -31,9 +31,10 @@ from ..mesh.garment import GarmentMesh
 from ..pattern.errors import PatternError
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
+from .ease_limit import cap_moves
 from .regions import find_regions
 from .symmetry import mirrored_triangles, symmetric_moves
-from .widen import edge_moves, let_out_moves
+from .widen import edge_moves, let_out_moves, opening_moves
 
 
 #: the region verdicts the loop may stop at, and the words it lets out regions for
@@ -64,6 +65,10 @@ class CorrectionSettings:
     min_angle : float     the mesh follows the edits without re-meshing down to this
                           smallest triangle angle [degrees]: a re-meshed panel loses the
                           warm start, and the corrected 22K coat draped cold crossed itself.
+    step_backs : int      a re-drape worse than the drape its edit was made from (failed
+                          its checks where that one passed, or a region turned too tight)
+                          is undone and the edit made again at half its size, this many
+                          times at most.
     """
 
     threshold: float = DEFAULTS.threshold
@@ -78,6 +83,7 @@ class CorrectionSettings:
     min_move: float = 1e-3
     warp_min: float = 0.02
     min_angle: float = 10.0
+    step_backs: int = 2
 
     def __post_init__(self):
         if self.goal not in GOALS:
@@ -112,11 +118,13 @@ class Iteration:
     verdict: Verdict | None = None
     measures: dict | None = None  # FitMeasures.report(): gap_mm, ease_cm, pressure_kpa
     measured: FitMeasures | None = field(default=None, repr=False)  # for the pictures
+    stepped_back: list = field(default_factory=list)  # why each undone re-drape was worse
 
     def to_dict(self) -> dict:
         return {"iteration": self.index, "fitting_ratio": self.fitting_ratio,
                 "regions": [r.to_dict() for r in self.regions],
                 "edits": [e.to_dict() for e in self.edits], "seconds": self.seconds,
+                "stepped_back": self.stepped_back,
                 "checks": self.checks, **(self.measures or {}),
                 **(self.verdict.report() if self.verdict is not None else {})}
 
@@ -358,8 +366,12 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
 
     ``progress(iteration: Iteration)`` is called after each drape is evaluated;
     ``drape_progress`` goes to the solver. Returns the :class:`Correction`; the session
-    holds every state (one per round) for undo. A drape that is no fit at all
-    (:func:`refusal`) stops the loop without an edit, ``Correction.failed`` saying why.
+    holds every state (one per round) for undo. A re-drape worse than the drape its edit
+    was made from (failed its checks where that one passed, or a region turned too tight)
+    steps back: the edit is undone and made again at half its size (:func:`_step_back`;
+    ``Iteration.stepped_back`` says why). A drape that
+    is no fit at all (:func:`refusal`) stops the loop without an edit,
+    ``Correction.failed`` saying why.
     """
     out = Correction()
     t_all = time.perf_counter()
@@ -368,10 +380,15 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
         if index > 0 or session.state.positions is None or session.state.fitting_ratio is None:
             session.redrape(progress=drape_progress)
         fit, measures, verdict = measure_state(session, settings.rules)
+        stepped: list[str] = []
+        if index > 0:
+            stepped, (fit, measures, verdict) = _step_back(
+                session, out.iterations[-1], (fit, measures, verdict), settings,
+                drape_progress)
         regions = find_regions(session.mesh, fit)
         reached = fit_reached(fit, verdict, settings)
         it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks,
-                       verdict, measures.report(), measures)
+                       verdict, measures.report(), measures, stepped)
         out.failed = refusal(session.state.checks, fit.fitting_ratio)
         if out.failed:
             reached = False
@@ -438,8 +455,12 @@ def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdic
         if tight:
             found = let_out_moves(session.pattern, mesh, session.state.positions, tris,
                                   target, least=max(tight))
+            for key, d in opening_moves(session.pattern, mesh, session.state.positions, tris,
+                                        target, least=max(tight)).items():
+                found[key] = found.get(key, 0.0) + d
         elif settings.take_in and loose:
-            lo, hi = ease_range(verdict.style, loose[0][0]) or (None, None)
+            body = {k: sec.body_cm for k, sec in measures.sections.items()}
+            lo, hi = ease_range(verdict.style, loose[0][0], body) or (None, None)
             if hi is None:
                 continue
             middle = hi if lo is None else 0.5 * (lo + hi)
@@ -495,17 +516,26 @@ def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
     else:
         moves = finish_moves(session.pattern, session.mesh, extra,
                              replace(settings, max_move=settings.max_let_out))
+    if verdict.style is not None:
+        # a let-out stops at the style's ease range (a take-in only narrows: never held)
+        moves = cap_moves(session.pattern, session.mesh, measures, verdict, moves)
+    return _make(session, moves, "edge translations (corner moves)" if extra
+                 else "corner moves", settings)
+
+
+def _make(session, moves: list, what: str, settings: CorrectionSettings) -> list:
+    """Apply ``moves`` as one recorded edit (``correct: N <what>, X cm in all``) of the
+    session's pattern; halve them while the result is refused (4 times at most). Returns
+    the moves made (none when every try was refused)."""
     for _ in range(4):
         if not moves:
             return []
         try:
             new = apply_moves(session.pattern, moves)
         except PatternError:
-            moves = [replace(m, offset=(0.5 * m.offset[0], 0.5 * m.offset[1]))
-                     for m in moves]
+            moves = _halved(moves)
             continue
         total = sum(np.hypot(*m.offset) for m in moves) * 100
-        what = "edge translations (corner moves)" if extra else "corner moves"
         session.apply_pattern(new, label=f"correct: {len(moves)} {what}, "
                               f"{total:.1f} cm in all",
                               edit={"op": "correct", "args": {"moves": [m.to_dict()
@@ -513,3 +543,45 @@ def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
                               min_angle=settings.min_angle)
         return moves
     return []
+
+
+def _halved(moves: list) -> list:
+    return [replace(m, offset=(0.5 * m.offset[0], 0.5 * m.offset[1])) for m in moves]
+
+
+def _worse(last: Iteration, checks: dict | None, verdict: Verdict) -> str | None:
+    """Why the drape with ``checks`` and ``verdict``, made from ``last``'s drape by its
+    edits, is worse than that one, or None: it failed its checks where ``last``'s passed,
+    or a region reads too tight where none did."""
+    if (last.checks or {}).get("passed") and (checks or {}).get("passed") is False:
+        return "; ".join(str(r) for r in checks.get("reasons") or ["its checks failed"])
+    before = last.verdict
+    if before is not None and before.overall != "failed" and not before.worst("too tight") \
+            and verdict.worst("too tight"):
+        return verdict.reason
+    return None
+
+
+def _step_back(session, last: Iteration, measured: tuple, settings: CorrectionSettings,
+               drape_progress: Callable | None) -> tuple[list[str], tuple]:
+    """When the re-drape after ``last``'s edits (its fit, measures and verdict:
+    ``measured``) is worse than ``last``'s drape (:func:`_worse`: failed its checks, or a
+    region turned too tight), undo the edit and make it again at half its size, re-draped,
+    up to ``settings.step_backs`` times: the edit is what changed. (The 22K Table 2 coat's
+    fourth let-out left a panel's triangles too thin, the re-meshed coat draped cold
+    pressed its forearms at 12 kPa.) ``last.edits`` become the moves finally made. Returns
+    why each undone re-drape was worse, and the fit, measures and verdict of the drape
+    kept."""
+    why: list[str] = []
+    while last.edits and len(why) < settings.step_backs:
+        reason = _worse(last, session.state.checks, measured[2])
+        if reason is None:
+            break
+        why.append(reason)
+        session.undo()
+        last.edits = _make(session, _halved(last.edits), "moves (stepped back: halved)",
+                           settings)
+        if last.edits:
+            session.redrape(progress=drape_progress)
+        measured = measure_state(session, settings.rules)
+    return why, measured

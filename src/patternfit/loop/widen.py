@@ -37,18 +37,30 @@ RIDGE = 1e-2
 REACH = 1.2
 #: ... and it faces the stretch direction: |outward normal · direction| at least this
 MIN_FACING = 0.5
+#: weight of the pull to zero of a corner away from the region (its mesh vertex not within
+#: :data:`RING` of it), against :data:`RIDGE` for one at it: a let-out at the armpit of the
+#: 3K Table 2 coat with every corner free moved the hem corners out 2.5–5 cm a round (the
+#: armpit, asked out by the side seam and in by the sleeve's underarm, stayed) and grew the
+#: hip ease to +84 cm; weights 0.1 and 0.3 left the biceps tight and the hip let out
+PIN = 1.0
+
+
+def _gradients(mesh: GarmentMesh, positions, triangles) -> np.ndarray:
+    """Deformation gradients (k, 3, 2) [-] of ``triangles`` (k,) of ``mesh`` from the flat
+    pattern to ``positions`` (n, 3) [m]."""
+    v, t = mesh.vertices, mesh.triangles[triangles]
+    x = np.asanyarray(positions, dtype=np.float64)
+    dm = np.stack([v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]], axis=2)
+    ds = np.stack([x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]], axis=2)
+    return ds @ np.linalg.inv(dm)
 
 
 def region_strain(mesh: GarmentMesh, positions, triangles) -> tuple[np.ndarray, float]:
     """The area-weighted mean Green strain of ``triangles`` (k,) of ``mesh`` at
     ``positions`` (n, 3) [m]: its principal direction (2,) in the flat pattern and the
     stretch along it [-] (1.1 = 10 % longer than flat)."""
-    v, t = mesh.vertices, mesh.triangles[triangles]
-    x = np.asanyarray(positions, dtype=np.float64)
-    dm = np.stack([v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]], axis=2)
-    ds = np.stack([x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]], axis=2)
-    f = ds @ np.linalg.inv(dm)
-    area = 0.5 * np.abs(np.linalg.det(dm))
+    f = _gradients(mesh, positions, triangles)
+    area = mesh.triangle_areas()[triangles]
     green = 0.5 * (np.einsum("mki,mkj->mij", f, f) - np.eye(2))
     mean = np.einsum("m,mij->ij", area, green) / area.sum()
     w, vec = np.linalg.eigh(mean)
@@ -81,18 +93,21 @@ def _seam_ahead(mesh: GarmentMesh, loop, eligible, centre, direction,
 
 def edge_moves(pattern, mesh: GarmentMesh, panel: int, triangles, direction,
                amount: float) -> dict:
-    """Corner offsets ``{(panel, edge): (2,) [m]}`` that move the outline of panel
+    """Corner offsets ``{(panel, edge): (2,) [m]}`` that let out the outline of panel
     ``panel`` (its index) where it borders ``triangles`` (k,) by ``amount`` [m] in all
-    along ``direction`` (2,): the points of edges facing the direction (|outward normal
-    · direction| ≥ :data:`MIN_FACING`) by half of it on each side, outward (all of it
-    where only one side has such points; a negative ``amount`` takes in); a region with
-    none moves the first edges ahead along the direction (:func:`_seam_ahead`).
+    across ``direction`` (2,): the points of edges facing the direction (|outward normal
+    · direction| ≥ :data:`MIN_FACING`) by half of it on each side, along their own edge's
+    outward normal, as a seam is let out (all of it where only one side has such points;
+    a negative ``amount`` takes in); a region with none moves the first edges ahead along
+    the direction (:func:`_seam_ahead`).
 
     The corner moves are fitted to these displacements by least squares (a corner move
-    carries its two edges' points along linearly in their arc-length fraction): an edge
-    the region lies along is translated; a corner between two let-out edges facing
-    opposite ways (a kimono sleeve's underarm and the side seam at the armpit) takes
-    about the mean of their asks. (Asked to keep the rest of a let-out edge in place, so
+    carries its two edges' points along linearly in their arc-length fraction), corners
+    away from the region held by :data:`PIN`: an edge the region lies along is
+    translated, one it touches at an end tapers; a corner between two let-out edges (a
+    kimono sleeve's underarm and the side seam at the armpit) moves by about the mean of
+    their asks: the armpit goes down, the underarm deepened (across the grain only, the
+    two asks cancelled there and the 3K Table 2 coat's biceps stayed tight, 12–14 %). (Asked to keep the rest of a let-out edge in place, so
     that the seam tapered, the 3K Table 2 coat's re-drape crossed itself: 102 pairs
     against 2.)"""
     pname = mesh.panel_names[panel]
@@ -115,7 +130,8 @@ def edge_moves(pattern, mesh: GarmentMesh, panel: int, triangles, direction,
     facing, side = np.abs(cos) >= MIN_FACING, np.sign(cos)
     chosen = {s: np.flatnonzero(near[loop] & facing & (side == s)) for s in (1.0, -1.0)}
     chosen = {s: v for s, v in chosen.items() if len(v) >= MIN_EDGE_VERTICES}
-    if not chosen:  # a region off every seam facing its stretch (across the shoulders)
+    ahead = not chosen
+    if ahead:  # a region off every seam facing its stretch (across the shoulders)
         for s in (1.0, -1.0):
             hit = _seam_ahead(mesh, loop, facing & (side == s), centre, s * d, reach)
             if hit is not None:
@@ -123,14 +139,19 @@ def edge_moves(pattern, mesh: GarmentMesh, panel: int, triangles, direction,
     if not chosen:
         return {}
     idx = np.concatenate(list(chosen.values()))
-    want = np.outer(side[idx] * (amount / len(chosen)), d)
+    # each point moves along its own edge's outward normal, as a seam is let out
+    normal = np.array([_outward_normal(mesh, mesh.edge_vertices(pname, n)[0])
+                       for n in names])[k_edge[idx]]
+    want = normal * (amount / len(chosen))
     A = np.zeros((len(idx), len(names)))
     A[np.arange(len(idx)), k_edge[idx]] += 1.0 - t[idx]
     A[np.arange(len(idx)), (k_edge[idx] + 1) % len(names)] += t[idx]
     used = np.flatnonzero(A.any(axis=0))
     A = A[:, used]
-    # a faint pull to zero keeps a corner with few outline points near it well posed
-    u = np.linalg.solve(A.T @ A + RIDGE * np.eye(len(used)), A.T @ want)
+    corner_vertex = np.array([mesh.edge_vertices(pname, names[c])[0][0] for c in used])
+    # (a seam ahead lies away from the region: its corners are free)
+    ridge = np.where(near[corner_vertex] | ahead, RIDGE, PIN)
+    u = np.linalg.solve(A.T @ A + np.diag(ridge), A.T @ want)
     return {(pname, names[c]): u[j] for j, c in enumerate(used)}
 
 
@@ -179,3 +200,63 @@ def let_out_moves(pattern, mesh: GarmentMesh, positions, triangles, target: floa
         for key, d in edge_moves(pattern, mesh, pi, part, across, amount).items():
             moves[key] = moves.get(key, 0.0) + d
     return moves
+
+
+def _stretch(mesh: GarmentMesh, positions, triangles) -> np.ndarray:
+    """max(warp, weft) stretch (k,) [-] of ``triangles`` (k,) at ``positions`` (n, 3) [m]
+    (1.1 = 10 % longer than flat along one yarn)."""
+    f = _gradients(mesh, positions, triangles)
+    g = mesh.grain[mesh.triangle_panel[triangles]]
+    c = np.stack([-g[:, 1], g[:, 0]], axis=1)
+    return np.maximum(np.linalg.norm(np.einsum("mij,mj->mi", f, g), axis=1),
+                      np.linalg.norm(np.einsum("mij,mj->mi", f, c), axis=1))
+
+
+def opening_moves(pattern, mesh: GarmentMesh, positions, triangles, target: float, *,
+                  least: float = 0.0) -> dict:
+    """Corner offsets ``{(panel, edge): (2,) [m]}`` that widen a free edge running across
+    the grain — one no seam sews, a neckline — where the cloth next to it is stretched
+    beyond ``target`` [-]: the pattern maker's "widen the neckline" when the neck opening
+    is too small and the cloth around it is pulled (the 3K Table 2 coat's yoke, stretched
+    10–24 % at the front and back neck after its shoulders and sleeves were let out).
+
+    The patches of ``triangles`` (k,) stretched beyond ``target`` (max of warp and weft)
+    that reach the edge (:data:`RING` rings of triangles from it) lack ``Σ a_t (s_t − 1 −
+    target) / (1 + target) / H`` of width (a_t their flat areas, s_t their stretch, H their
+    extent along the grain: the lack over the band's height); the edge's two end corners
+    move apart across the grain by half of it each."""
+    sewn = {(side.panel, side.edge) for s in pattern.seams for side in (s.a, s.b)}
+    tris = np.asanyarray(triangles)
+    out: dict = {}
+    for pi in np.unique(mesh.triangle_panel[tris]):
+        pname = mesh.panel_names[int(pi)]
+        mine = tris[mesh.triangle_panel[tris] == pi]
+        hot = mine[_stretch(mesh, positions, mine) > 1.0 + target]
+        if len(hot) < MIN_PART:
+            continue
+        g = mesh.grain[pi]
+        c = np.array([-g[1], g[0]])
+        edges = pattern.panel(pname).outline.edges
+        for k, edge in enumerate(edges):
+            if (pname, edge.name) in sewn:
+                continue
+            ids, _ = mesh.edge_vertices(pname, edge.name)
+            if abs(float(_outward_normal(mesh, ids) @ g)) < MIN_FACING:
+                continue  # runs along the grain: not an opening across it
+            ring = np.zeros(mesh.n_vertices, dtype=bool)
+            ring[ids] = True
+            for _ in range(RING):
+                ring[mesh.triangles[ring[mesh.triangles].any(axis=1)]] = True
+            near = [p for p in _parts(mesh, hot) if ring[mesh.triangles[p]].any(axis=1).any()]
+            if not near:
+                continue
+            at = np.concatenate(near)
+            excess = np.maximum(_stretch(mesh, positions, at), 1.0 + least) - 1.0 - target
+            height = float(np.ptp(mesh.vertices[np.unique(mesh.triangles[at])] @ g))
+            lack = float(mesh.triangle_areas()[at] @ excess) / (1.0 + target) / max(
+                height, 1e-3)
+            start, end = np.asarray(edge.start), np.asarray(edge.end)
+            side = np.sign((start - end) @ c)
+            out[(pname, edge.name)] = 0.5 * lack * side * c
+            out[(pname, edges[(k + 1) % len(edges)].name)] = -0.5 * lack * side * c
+    return out
