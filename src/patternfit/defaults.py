@@ -38,6 +38,10 @@ class Defaults:
         Time limit of one drape [s].
     correction_rounds : int
         Rounds of the automatic correction [-].
+    table2_goal, table2_rounds : str, int
+        Goal and rounds of ``patternfit reproduce table2``: "fits" in at most 5, since the
+        issue judges the corrected coat by "fits", and at full size the goal "tight" stops
+        the coat at "tight" after 3 rounds (docs/fit-correction.md).
     seam_score : float
         Lowest score [0, 1] of a seam suggested for an unsewn pattern
         (:func:`patternfit.pattern.seam_suggest.suggest_seams`).
@@ -57,6 +61,8 @@ class Defaults:
     max_iterations: int = 5000
     time_limit: float = 300.0
     correction_rounds: int = 3
+    table2_goal: str = "fits"
+    table2_rounds: int = 5
     seam_score: float = 0.4
 
 

@@ -25,9 +25,9 @@ def _goal(value: str) -> str:
     return value
 
 
-def goal_option():
+def goal_option(default: str = "tight"):
     """The ``--goal`` option: the worst region verdict the correction may stop at."""
-    return typer.Option("tight", "--goal", callback=_goal,
+    return typer.Option(default, "--goal", callback=_goal,
                         help="Stop when no region is worse than this: 'tight' (none too "
                              "tight) or 'fits' (tight regions are let out too).")
 
@@ -117,9 +117,9 @@ def table2(
                                             "quick run)."),
     garments: str = typer.Option("coat,skirt,trousers", help="Comma-separated rows to run."),
     figures: Path = typer.Option(Path("docs/figures"), help="Where the colour maps go."),
-    max_iterations: int = typer.Option(DEFAULTS.correction_rounds, "--max-iterations", "-k",
+    max_iterations: int = typer.Option(DEFAULTS.table2_rounds, "--max-iterations", "-k",
                                        min=0, help="Correction rounds at most."),
-    goal: str = goal_option(),
+    goal: str = goal_option(DEFAULTS.table2_goal),
     json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
 ) -> None:
     """The paper's Table 2: coat on the heavy male body, skirt on the thin female body,
