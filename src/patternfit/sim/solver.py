@@ -89,6 +89,10 @@ class SolverSettings:
     contact_margin: float = 0.0
     #: contact pressure per metre of penetration into the thickness layer [N/m^3]
     contact_stiffness: float = 1e7
+    #: depth into the layer over which the contact stiffness grows from 0 to its value [m]
+    #: (``kernels.contact_law``: a stiffness that jumps at the layer's edge made Newton's
+    #: steps chatter on vertices lying there)
+    contact_onset: float = 1e-4
     #: share of the contact stiffness put on the preconditioner's diagonal [-]
     contact_precond: float = 0.3
     #: vertices closer than thickness + this get the contact diagonal [m]
@@ -424,7 +428,8 @@ class GarmentSolver:
         grad += qx - self._f
         if self.body is not None:
             e += kernels.contact(x, self.body.values, self.body.origin, self.body.spacing,
-                                 self._reach, self._kc, self._seen, self._room, grad)
+                                 self._reach, self._kc, self.settings.contact_onset, self._seen,
+                                 self._room, grad)
         if len(self._fr_idx):
             e += kernels.friction(x, self._fr_idx, self._fr_anchor, self._fr_normal,
                                   self._fr_limit, self.settings.friction_slip, grad)
@@ -487,7 +492,8 @@ class GarmentSolver:
         if self.body is not None:
             d, g = self._distance(x)
             on = np.flatnonzero(d < self._reach)
-            blocks[on] += self._kc[on, None, None] * g[on, :, None] * g[on, None, :]
+            _, k_on = kernels.contact_forces(self._reach - d[on], self._kc[on], s.contact_onset)
+            blocks[on] += k_on[:, None, None] * g[on, :, None] * g[on, None, :]
         if len(self._fr_idx):
             idx, nrm = self._fr_idx, self._fr_normal
             P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
@@ -665,7 +671,8 @@ class GarmentSolver:
             idx = np.flatnonzero((pen > 0) & self._free)
             nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
             self._fr_normal = np.ascontiguousarray(nrm)
-            self._fr_limit = self.fabric.friction * self._kc[idx] * pen[idx]
+            self._fr_limit = self.fabric.friction * kernels.contact_forces(
+                pen[idx], self._kc[idx], s.contact_onset)[0]
             # the gradient of every other term (friction is off here): what friction holds
             held = self._energy(x)[1][idx] if hold else None
             self._fr_anchor = self._anchors(x, idx, nrm, held)

@@ -78,9 +78,30 @@ SDF_SLOPE = 2.0
 
 
 @njit(cache=True)
-def contact(x, values, origin, spacing, thickness, stiffness, seen, room, grad):
-    """Penalty ``k_i (h - d_i)^2 / 2`` on every vertex whose distance ``d_i`` (the field's C1
-    reading, ``body.sdf.smooth_distance_at``: a continuous contact force) is below ``h``.
+def contact_law(pen, k, onset):
+    """Contact penalty at the penetration ``pen`` [m] (> 0) into the contact layer, with
+    stiffness ``k`` [N/m] reached over the first ``onset`` [m]: (energy [J], normal force
+    [N], stiffness [N/m]).
+
+    The stiffness grows linearly from 0 at the layer's edge to ``k`` at ``onset`` deep
+    (energy ``k pen^3 / (6 onset)``), then stays ``k`` (``k (pen^2 - onset pen) / 2 + k
+    onset^2 / 6``): energy, force and stiffness are continuous, so that Newton's model of a
+    vertex on the layer's edge is the same whichever side it lies (a plain ``k pen^2 / 2``
+    jumps from 0 to ``k`` there, and a vertex on the edge made Newton's steps alternate
+    between full and a 30th: docs/simulation.md). ``onset`` 0: the plain quadratic.
+    """
+    if pen >= onset:
+        return (0.5 * k * pen * (pen - onset) + k * onset * onset / 6.0,
+                k * (pen - 0.5 * onset), k)
+    s = k / onset
+    return s * pen * pen * pen / 6.0, 0.5 * s * pen * pen, s * pen
+
+
+@njit(cache=True)
+def contact(x, values, origin, spacing, thickness, stiffness, onset, seen, room, grad):
+    """Penalty (:func:`contact_law`, stiffness reached over ``onset`` [m]) on every vertex
+    whose distance ``d_i`` (the field's C1 reading, ``body.sdf.smooth_distance_at``: a
+    continuous contact force) is below ``h`` = ``thickness``.
 
     ``stiffness`` (n,) [N/m] is per vertex (area times the contact pressure stiffness).
     ``seen`` (n, 3) [m] and ``room`` (n,) [m] spare the lookups that cannot matter: a vertex
@@ -102,13 +123,25 @@ def contact(x, values, origin, spacing, thickness, stiffness, seen, room, grad):
         seen[i, 2] = x[i, 2]
         room[i] = max(-pen, 0.0) / SDF_SLOPE
         if pen > 0.0:
-            k = stiffness[i]
-            energy += 0.5 * k * pen * pen
-            f = k * pen
+            e, f, _ = contact_law(pen, stiffness[i], onset)
+            energy += e
             grad[i, 0] -= f * gx
             grad[i, 1] -= f * gy
             grad[i, 2] -= f * gz
     return energy
+
+
+def contact_forces(pen, k, onset):
+    """:func:`contact_law`'s normal force [N] and stiffness [N/m] for arrays ``pen`` (> 0)
+    [m] and ``k`` [N/m]: ((p,), (p,))."""
+    pen = np.asarray(pen, dtype=np.float64)
+    k = np.asarray(k, dtype=np.float64)
+    if onset <= 0.0:
+        return k * pen, k.copy()
+    ramp = pen < onset
+    force = np.where(ramp, 0.5 * k * pen * pen / onset, k * (pen - 0.5 * onset))
+    stiff = np.where(ramp, k * pen / onset, k)
+    return force, stiff
 
 
 @njit(cache=True)
