@@ -127,3 +127,29 @@ def test_contact_law_is_smooth_at_the_layer_edge_and_at_the_onset():
     # onset 0 is the plain quadratic penalty k pen^2 / 2
     e, f, s = kernels.contact_law(2e-3, k, 0.0)
     assert (e, f, s) == pytest.approx((0.5 * k * 4e-6, k * 2e-3, k))
+
+
+def test_friction_law_gives_way_smoothly_and_its_inverse_holds():
+    """Friction's force grows to the Coulomb limit at the slip distance with a stiffness that
+    falls continuously to 0 there; the array forms agree with the kernel, and
+    ``friction_offset`` finds the offset at which friction pulls with a given force."""
+    limit, slip = 0.02, 1e-3
+    ms = np.array([0.0, 2e-4, 0.5 * slip, 7e-4, slip * (1 - 1e-9), slip * (1 + 1e-9), 3e-3])
+    law = np.array([kernels.friction_law(m, limit, slip) for m in ms])
+    force = law[:, 1] * ms
+    assert force[-1] == pytest.approx(limit) and force[4] == pytest.approx(limit)
+    assert law[4, 2] == pytest.approx(0.0, abs=1e-6 * law[0, 2]) and law[-1, 2] == 0.0
+    h = 1e-10
+    for m, (e, ratio, k) in zip(ms[1:], law[1:]):
+        ep, rp, _ = kernels.friction_law(m + h, limit, slip)
+        em, rm, _ = kernels.friction_law(m - h, limit, slip)
+        assert abs((ep - em) / (2 * h) - ratio * m) <= 1e-6 * limit
+        assert abs((rp * (m + h) - rm * (m - h)) / (2 * h) - k) <= 1e-5 * law[0, 2]
+    ratio, stiff = kernels.friction_stiffness(ms, np.full(len(ms), limit), slip)
+    np.testing.assert_allclose(ratio, law[:, 1])
+    np.testing.assert_allclose(stiff, law[:, 2], atol=1e-9 * law[0, 2])
+    np.testing.assert_allclose(kernels.friction_offset(force[:5], np.full(5, limit), slip),
+                               ms[:5], rtol=1e-6, atol=1e-12)
+    # a force beyond the limit is held at the slip distance
+    assert kernels.friction_offset(np.array([2 * limit]), np.array([limit]), slip)[0] == \
+        pytest.approx(slip)

@@ -502,12 +502,10 @@ class GarmentSolver:
             P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
             u = np.einsum("kij,kj->ki", P, x[idx] - self._fr_anchor)
             m = np.linalg.norm(u, axis=1)
-            slip = s.friction_slip
-            stick = m < slip
-            k = np.where(stick, self._fr_limit / slip, self._fr_limit / np.maximum(m, 1e-300))
+            ratio, k = kernels.friction_stiffness(m, self._fr_limit, s.friction_slip)
             uh = u / np.maximum(m, 1e-300)[:, None]
-            Hf = P - np.where(stick[:, None, None], 0.0, uh[:, :, None] * uh[:, None, :])
-            np.add.at(blocks, idx, k[:, None, None] * Hf)
+            uu = uh[:, :, None] * uh[:, None, :]
+            np.add.at(blocks, idx, ratio[:, None, None] * (P - uu) + k[:, None, None] * uu)
         data = (np.bincount(s_mem, weights=mem.ravel(), minlength=len(indices))
                 + np.bincount(s_b, weights=np.repeat(Q.data, 3), minlength=len(indices))
                 + np.bincount(s_d, weights=blocks.ravel(), minlength=len(indices)))
@@ -699,13 +697,12 @@ class GarmentSolver:
         held = self._anchor_of[idx]
         new = x[idx].copy()
         if grad is not None:
-            # E = limit |u|^2 / (2 slip), u = P (x - a): its gradient limit u / slip cancels
-            # the tangential gradient when u = -slip g_t / limit (at most slip long)
+            # friction cancels the tangential gradient g_t at the offset -g_t / |g_t| times
+            # the offset where its force is |g_t| (kernels.friction_offset: at most slip)
             gt = grad - np.einsum("ij,ij->i", grad, normal)[:, None] * normal
-            u = -slip * gt / np.maximum(self._fr_limit, 1e-300)[:, None]
-            m = np.linalg.norm(u, axis=1)
-            u *= np.minimum(1.0, slip / np.maximum(m, 1e-300))[:, None]
-            new -= u
+            g = np.linalg.norm(gt, axis=1)
+            m = kernels.friction_offset(g, self._fr_limit, slip)
+            new += (m / np.maximum(g, 1e-300))[:, None] * gt
         has = ~np.isnan(held[:, 0])
         u = x[idx] - held
         u -= np.einsum("ij,ij->i", u, normal)[:, None] * normal

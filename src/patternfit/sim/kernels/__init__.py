@@ -18,7 +18,8 @@ from __future__ import annotations
 from ...body.sdf import sdf_query, smooth_sdf_query
 from .collision import crossed_pairs, intersecting_pairs, near_edge_pairs, near_pairs
 from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge_repulsion,
-                           friction, membrane, membrane_hessian, seam_springs, self_repulsion)
+                           friction, friction_law, friction_offset, friction_stiffness,
+                           membrane, membrane_hessian, seam_springs, self_repulsion)
 from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
 
 __all__ = ["axpy", "contact", "contact_forces", "contact_law", "crossed_pairs", "dot", "edge_repulsion", "friction",
