@@ -743,11 +743,11 @@ class GarmentSolver:
     def _hold_pairs(self, x, pairs, bary, normal):
         """Keep the vertex-triangle pairs of the last search (``pairs``, ``bary``,
         ``normal``) whose vertex the new search paired with nothing while it is still within
-        the detection radius on its side of the pair's normal (Newton phase). A vertex pressed between
-        a fold and the body sat where the search found its pair at one search and lost it at
-        the next (its projection just off the triangle): its repulsion came and went, a
-        residual of 29,000 x its weight at each return (22K coat, hem re-drape: 8 returns,
-        some 60 of its 170 Newton steps)."""
+        the detection radius on its side of the pair's normal (Newton phase). A vertex
+        pressed between a fold and the body had its pair found at one search and lost at the
+        next (its projection just off the triangle): its repulsion came and went, a residual
+        of 29,000 x its weight at each return (22K coat, hem re-drape: 8 returns, each
+        settled in 5-10 Newton steps)."""
         ids = np.c_[pairs[:, 0], self.terms.tris[pairs[:, 1]]]
         w = np.c_[np.ones(len(pairs)), -bary]
         d = np.einsum("pc,pc->p", normal, np.einsum("pj,pjc->pc", w, x[ids]))
