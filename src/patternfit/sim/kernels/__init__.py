@@ -22,7 +22,8 @@ from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge
                            membrane, membrane_hessian, seam_springs, self_repulsion)
 from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
 
-__all__ = ["axpy", "contact", "contact_forces", "contact_law", "crossed_pairs", "dot", "edge_repulsion", "friction",
+__all__ = ["axpy", "contact", "contact_forces", "contact_law", "crossed_pairs", "dot",
+           "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move",
            "max_row_norm", "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs",
            "sdf_query", "SDF_SLOPE", "seam_springs", "self_repulsion", "smooth_sdf_query"]
