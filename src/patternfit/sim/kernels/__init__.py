@@ -1,8 +1,9 @@
 """Numba kernels of the garment solver, by topic (SI units: m, N, J):
 
 - :mod:`.energy_terms`: each energy term's value and gradient (membrane, body contact,
-  friction, seam springs, vertex-triangle and edge-edge repulsion) and the membrane's
-  Hessian;
+  friction, seam springs, vertex-triangle and edge-edge repulsion), the membrane's Hessian,
+  and the contact and friction laws (force and stiffness, also as array functions for the
+  Newton Hessian);
 - :mod:`.collision`: the grid search for the lagged repulsion pairs and the count of
   crossed triangle pairs;
 - :mod:`.optimiser`: the L-BFGS vector loops and the stopping rule's step measures.

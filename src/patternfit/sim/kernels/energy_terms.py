@@ -1,5 +1,6 @@
 """Numba kernels of the garment's energy terms: value and gradient per term, serial and
-deterministic; the membrane's Hessian for the Newton solver.
+deterministic; the membrane's Hessian, and the contact and friction laws' stiffness as
+array functions, for the Newton solver.
 
 All lengths in metres, forces in newtons, energies in joules. Every kernel adds its gradient
 into ``grad`` (n, 3) and returns its energy, so that one pass over each term gives both.
