@@ -94,7 +94,7 @@ def test_the_solver_untangles_a_sheet_poked_through_another():
     # the poked vertices went back above the lower sheet, by the self-collision gap
     lower = res.x[: len(x0) // 2, 1].max()
     assert res.x[poked, 1].min() > lower
-    # the lagged repulsion alone holds the crossing (measured: 48 pairs, not at rest after
-    # 5,000 iterations)
+    # the lagged repulsion alone holds the crossing (measured: 48 pairs; not at rest after
+    # 5,000 iterations before the Newton phase kept its pairs, at rest with them since)
     held = solver(False, max_iterations=2 * res.iterations).solve(x0)
-    assert held.checks.self_intersections > 20 and not held.converged
+    assert held.checks.self_intersections > 20 and not held.checks.passed

@@ -101,8 +101,9 @@ def test_contact_friction_seam_and_repulsion_gradients():
     def contact(y, g):
         seen[:] = np.inf
         room[:] = 0.0
-        return kernels.contact(y, field.values, field.origin, field.spacing, 0.003, k, seen,
-                               room, g)
+        # an onset of 2 mm: the 1.5 mm deep vertices lie on its ramp
+        return kernels.contact(y, field.values, field.origin, field.spacing, 0.003, k, 2e-3,
+                               seen, room, g)
 
     idx = np.arange(0, 30, 2)
     anchor = x[idx] + rng.normal(scale=1e-3, size=(len(idx), 3))

@@ -50,6 +50,9 @@ class SolverSettings:
     newton_refactor: int = 15
     #: Newton: iterations between outer updates (``refresh`` for L-BFGS)
     newton_refresh: int = 4
+    #: Newton: a full step is extended (x2 while the energy falls) only when its energy drop
+    #: exceeds this many times the quadratic model's prediction [-]
+    newton_extend: float = 1.25
     step_tol: float = 5e-5
     energy_tol: float = 1e-5
     patience: int = 5
@@ -65,6 +68,10 @@ class SolverSettings:
     contact_margin: float = 0.0
     #: contact pressure per metre of penetration into the thickness layer [N/m^3]
     contact_stiffness: float = 1e7
+    #: depth into the layer over which the contact stiffness grows from 0 to its value [m]
+    #: (``kernels.contact_law``: a stiffness that jumps at the layer's edge made Newton's
+    #: steps chatter on vertices lying there)
+    contact_onset: float = 1e-4
     #: share of the contact stiffness put on the preconditioner's diagonal [-]
     contact_precond: float = 0.3
     #: vertices closer than thickness + this get the contact diagonal [m]

@@ -68,7 +68,8 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
     if model.body is not None:
         body = model.body
         e += kernels.contact(x, body.values, body.origin, body.spacing,
-                             model.reach(settings), state.contact_k, lookups.seen,
+                             model.reach(settings), state.contact_k, settings.contact_onset,
+                             lookups.seen,
                              lookups.room, grad)
     if len(state.friction_idx):
         e += kernels.friction(x, state.friction_idx, state.friction_anchor,
@@ -157,19 +158,18 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
     if model.body is not None:
         d, g = distance(model, x)
         on = np.flatnonzero(d < model.reach(s))
-        blocks[on] += state.contact_k[on, None, None] * g[on, :, None] * g[on, None, :]
+        _, k_on = kernels.contact_forces(model.reach(s) - d[on], state.contact_k[on],
+                                         s.contact_onset)
+        blocks[on] += k_on[:, None, None] * g[on, :, None] * g[on, None, :]
     if len(state.friction_idx):
         idx, nrm = state.friction_idx, state.friction_normal
         P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
         u = np.einsum("kij,kj->ki", P, x[idx] - state.friction_anchor)
         m = np.linalg.norm(u, axis=1)
-        slip = s.friction_slip
-        stick = m < slip
-        k = np.where(stick, state.friction_limit / slip,
-                     state.friction_limit / np.maximum(m, 1e-300))
+        ratio, k = kernels.friction_stiffness(m, state.friction_limit, s.friction_slip)
         uh = u / np.maximum(m, 1e-300)[:, None]
-        Hf = P - np.where(stick[:, None, None], 0.0, uh[:, :, None] * uh[:, None, :])
-        np.add.at(blocks, idx, k[:, None, None] * Hf)
+        uu = uh[:, :, None] * uh[:, None, :]
+        np.add.at(blocks, idx, ratio[:, None, None] * (P - uu) + k[:, None, None] * uu)
     data = (np.bincount(s_mem, weights=mem.ravel(), minlength=len(indices))
             + np.bincount(s_b, weights=np.repeat(Q.data, 3), minlength=len(indices))
             + np.bincount(s_d, weights=blocks.ravel(), minlength=len(indices)))

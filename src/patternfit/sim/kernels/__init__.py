@@ -1,8 +1,9 @@
 """Numba kernels of the garment solver, by topic (SI units: m, N, J):
 
 - :mod:`.energy_terms`: each energy term's value and gradient (membrane, body contact,
-  friction, seam springs, vertex-triangle and edge-edge repulsion) and the membrane's
-  Hessian;
+  friction, seam springs, vertex-triangle and edge-edge repulsion), the membrane's Hessian,
+  and the contact and friction laws (force and stiffness, also as array functions for the
+  Newton Hessian);
 - :mod:`.collision`: the grid search for the lagged repulsion pairs and the count of
   crossed triangle pairs;
 - :mod:`.optimiser`: the L-BFGS vector loops and the stopping rule's step measures.
@@ -17,11 +18,13 @@ from __future__ import annotations
 # the solver's distance lookups (compiled in body.sdf, where the distance field lives)
 from ...body.sdf import sdf_query, smooth_sdf_query
 from .collision import crossed_pairs, intersecting_pairs, near_edge_pairs, near_pairs
-from .energy_terms import (SDF_SLOPE, contact, edge_repulsion, friction, membrane,
-                           membrane_hessian, seam_springs, self_repulsion)
+from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge_repulsion,
+                           friction, friction_law, friction_offset, friction_stiffness,
+                           membrane, membrane_hessian, seam_springs, self_repulsion)
 from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
 
-__all__ = ["axpy", "contact", "crossed_pairs", "dot", "edge_repulsion", "friction",
+__all__ = ["axpy", "contact", "contact_forces", "contact_law", "crossed_pairs", "dot",
+           "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move",
            "max_row_norm", "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs",
            "sdf_query", "SDF_SLOPE", "seam_springs", "self_repulsion", "smooth_sdf_query"]

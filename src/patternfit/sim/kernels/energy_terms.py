@@ -1,5 +1,6 @@
 """Numba kernels of the garment's energy terms: value and gradient per term, serial and
-deterministic; the membrane's Hessian for the Newton solver.
+deterministic; the membrane's Hessian, and the contact and friction laws' stiffness as
+array functions, for the Newton solver.
 
 All lengths in metres, forces in newtons, energies in joules. Every kernel adds its gradient
 into ``grad`` (n, 3) and returns its energy, so that one pass over each term gives both.
@@ -78,9 +79,30 @@ SDF_SLOPE = 2.0
 
 
 @njit(cache=True)
-def contact(x, values, origin, spacing, thickness, stiffness, seen, room, grad):
-    """Penalty ``k_i (h - d_i)^2 / 2`` on every vertex whose distance ``d_i`` (the field's C1
-    reading, ``body.sdf.smooth_distance_at``: a continuous contact force) is below ``h``.
+def contact_law(pen, k, onset):
+    """Contact penalty at the penetration ``pen`` [m] (> 0) into the contact layer, with
+    stiffness ``k`` [N/m] reached over the first ``onset`` [m]: (energy [J], normal force
+    [N], stiffness [N/m]).
+
+    The stiffness grows linearly from 0 at the layer's edge to ``k`` at ``onset`` deep
+    (energy ``k pen^3 / (6 onset)``), then stays ``k`` (``k (pen^2 - onset pen) / 2 + k
+    onset^2 / 6``): energy, force and stiffness are continuous, so that Newton's model of a
+    vertex on the layer's edge is the same whichever side it lies (a plain ``k pen^2 / 2``
+    jumps from 0 to ``k`` there, and a vertex on the edge made Newton's steps alternate
+    between full and a 30th: docs/simulation.md). ``onset`` 0: the plain quadratic.
+    """
+    if pen >= onset:
+        return (0.5 * k * pen * (pen - onset) + k * onset * onset / 6.0,
+                k * (pen - 0.5 * onset), k)
+    s = k / onset
+    return s * pen * pen * pen / 6.0, 0.5 * s * pen * pen, s * pen
+
+
+@njit(cache=True)
+def contact(x, values, origin, spacing, thickness, stiffness, onset, seen, room, grad):
+    """Penalty (:func:`contact_law`, stiffness reached over ``onset`` [m]) on every vertex
+    whose distance ``d_i`` (the field's C1 reading, ``body.sdf.smooth_distance_at``: a
+    continuous contact force) is below ``h`` = ``thickness``.
 
     ``stiffness`` (n,) [N/m] is per vertex (area times the contact pressure stiffness).
     ``seen`` (n, 3) [m] and ``room`` (n,) [m] spare the lookups that cannot matter: a vertex
@@ -102,13 +124,79 @@ def contact(x, values, origin, spacing, thickness, stiffness, seen, room, grad):
         seen[i, 2] = x[i, 2]
         room[i] = max(-pen, 0.0) / SDF_SLOPE
         if pen > 0.0:
-            k = stiffness[i]
-            energy += 0.5 * k * pen * pen
-            f = k * pen
+            e, f, _ = contact_law(pen, stiffness[i], onset)
+            energy += e
             grad[i, 0] -= f * gx
             grad[i, 1] -= f * gy
             grad[i, 2] -= f * gz
     return energy
+
+
+def contact_forces(pen, k, onset):
+    """:func:`contact_law`'s normal force [N] and stiffness [N/m] for arrays ``pen`` (> 0)
+    [m] and ``k`` [N/m]: ((p,), (p,))."""
+    pen = np.asarray(pen, dtype=np.float64)
+    k = np.asarray(k, dtype=np.float64)
+    if onset <= 0.0:
+        return k * pen, k.copy()
+    ramp = pen < onset
+    force = np.where(ramp, 0.5 * k * pen * pen / onset, k * (pen - 0.5 * onset))
+    stiff = np.where(ramp, k * pen / onset, k)
+    return force, stiff
+
+
+@njit(cache=True)
+def friction_law(m, limit, slip):
+    """Friction at the tangential offset ``m`` [m] (>= 0) from the anchor, Coulomb force
+    ``limit`` [N] reached at ``slip`` [m]: (energy [J], force / m [N/m], stiffness dF/dm
+    [N/m]).
+
+    The force grows with the stiffness ``k0 = 4 limit / (3 slip)`` up to ``slip / 2``; there
+    the stiffness falls linearly to 0 at ``slip``, where the force reaches ``limit`` and stays:
+    energy, force and stiffness are continuous. (A spring up to ``slip`` then a constant
+    force has a stiffness that drops from ``limit / slip`` to 0 at ``slip``, exactly where a
+    sliding vertex is re-anchored: some 50 vertices of the 15K skirt switched between the two
+    sides at every Newton step and its steps chattered; docs/simulation.md.)
+    """
+    a = 0.5 * slip
+    w = slip - a
+    k0 = 2.0 * limit / (a + slip)
+    if m <= a:
+        return 0.5 * k0 * m * m, k0, k0
+    if m < slip:
+        t = m - a
+        f = k0 * (a + t - 0.5 * t * t / w)
+        e = k0 * (0.5 * a * a + a * t + 0.5 * t * t - t * t * t / (6.0 * w))
+        return e, f / m, k0 * (1.0 - t / w)
+    e_slip = k0 * (0.5 * a * a + a * w + w * w / 3.0)
+    return e_slip + limit * (m - slip), limit / m, 0.0
+
+
+def friction_stiffness(m, limit, slip):
+    """:func:`friction_law`'s force / m [N/m] and stiffness [N/m] for arrays ``m`` [m] and
+    ``limit`` [N]: ((k,), (k,))."""
+    m = np.asarray(m, dtype=np.float64)
+    limit = np.asarray(limit, dtype=np.float64)
+    a = 0.5 * slip
+    w = slip - a
+    k0 = 2.0 * limit / (a + slip)
+    t = np.clip(m - a, 0.0, w)
+    force = np.where(m < slip, k0 * (np.minimum(m, a) + t - 0.5 * t * t / w), limit)
+    ratio = np.where(m > 0.0, force / np.maximum(m, 1e-300), k0)
+    return ratio, k0 * (1.0 - t / w)
+
+
+def friction_offset(force, limit, slip):
+    """Inverse of :func:`friction_law`: the offset [m] from the anchor at which friction
+    pulls with ``force`` [N] (arrays; ``force`` is taken at most ``limit``)."""
+    force = np.minimum(np.asarray(force, dtype=np.float64), limit)
+    a = 0.5 * slip
+    w = slip - a
+    k0 = 2.0 * limit / (a + slip)
+    lin = force / np.maximum(k0, 1e-300)
+    # on the softening part: k0 (a + t - t^2 / (2 w)) = force
+    t = w * (1.0 - np.sqrt(np.maximum(1.0 - 2.0 * (lin - a) / w, 0.0)))
+    return np.where(lin <= a, lin, a + t)
 
 
 @njit(cache=True)
@@ -116,9 +204,8 @@ def friction(x, idx, anchor, normal, limit, slip, grad):
     """Lagged Coulomb friction on anchored contact vertices.
 
     Tangential displacement ``u = P (x_i - a_i)`` from the anchor ``a_i`` (``P`` projects out
-    the anchor's normal). Energy ``mu_lambda_i f(|u|)`` with ``f(u) = u^2 / (2 slip)`` below
-    ``slip`` and ``u - slip / 2`` above: a stiff spring that gives way at the Coulomb force
-    ``limit_i = mu * normal force`` [N].
+    the anchor's normal). Energy (:func:`friction_law`): a stiff spring that gives way
+    smoothly and reaches the Coulomb force ``limit_i = mu * normal force`` [N] at ``slip``.
     """
     energy = 0.0
     for k in range(idx.shape[0]):
@@ -130,12 +217,8 @@ def friction(x, idx, anchor, normal, limit, slip, grad):
         for c in range(3):
             u[c] -= un * normal[k, c]
         m = np.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
-        if m < slip:
-            energy += limit[k] * m * m / (2.0 * slip)
-            s = limit[k] / slip
-        else:
-            energy += limit[k] * (m - 0.5 * slip)
-            s = limit[k] / m
+        e, s, _ = friction_law(m, limit[k], slip)
+        energy += e
         for c in range(3):
             grad[i, c] += s * u[c]
     return energy
