@@ -5,8 +5,10 @@ Run ``python benchmarks/dxf.py``; prints a table: file size, pieces x sizes, the
 median of 3 runs after a warm-up that also compiles the kernels).
 
 The files: every piece in 14 sizes (one block per piece and size, graded outward from the
-base), the cut line a closed POLYLINE in inches with every turn point repeated and its curves
-as points about 1.5 mm apart, as real AccuMark exports draw them (docs/interchange.md).
+base), the cut line a closed POLYLINE in inches with every turn point repeated, as real
+AccuMark exports draw them (docs/interchange.md): curves as points 1.5 mm apart ("dense"), or
+as few points 10-40 mm apart on half pieces with a mirror line, as annotation.DXF's back piece
+("sparse, halves").
 """
 
 from __future__ import annotations
@@ -26,10 +28,11 @@ from patternfit.pattern.dxf import load_dxf
 
 SIZES = [str(s) for s in range(32, 60, 2)]  # 14 sizes
 BASE = "44"
-STEP_MM = 1.5  # distance between a curve's points in the file [mm]
+#: distance between a curve's points in the file [mm] and whether pieces are halves
+STYLES = {"dense": (1.5, False), "sparse, halves": (25.0, True)}
 
 
-def _curve(c, step=STEP_MM) -> np.ndarray:
+def _curve(c, step: float) -> np.ndarray:
     """A cubic Bézier c (4, 2) [mm] as points about ``step`` apart."""
     c = np.asarray(c, dtype=float)
     t = np.linspace(0, 1, 400)[:, None]
@@ -41,26 +44,33 @@ def _curve(c, step=STEP_MM) -> np.ndarray:
             + t ** 3 * c[3])
 
 
-def _piece(k: int, grade: float) -> list[np.ndarray]:
-    """Piece ``k``'s cut line [mm] as runs between turn points, graded by ``grade`` [-]:
-    a bodice-like outline whose proportions change with ``k``."""
+def _piece(k: int, grade: float, step: float) -> list[np.ndarray]:
+    """Piece ``k``'s cut line [mm] as runs between turn points, graded by ``grade`` [-],
+    curves as points ``step`` [mm] apart: a bodice-like outline (centre line on x = 0) whose
+    proportions change with ``k``."""
     w, h = (220 + 7 * (k % 9)) * grade, (380 + 11 * (k % 7)) * (1 + 0.5 * (grade - 1))
     a = 0.15 + 0.02 * (k % 5)
     return [np.array([(0, 0), (w, 0)]),                                             # hem
             np.array([(w, 0), (w, 0.7 * h)]),                                       # side
             _curve([(w, 0.7 * h), (w * (1 - a), 0.72 * h), (w * 0.75, 0.85 * h),
-                    (w * 0.78, h)]),                                                # armhole
+                    (w * 0.78, h)], step),                                                # armhole
             np.array([(w * 0.78, h), (w * 0.45, 1.06 * h)]),                        # shoulder
             _curve([(w * 0.45, 1.06 * h), (w * 0.4, 0.95 * h), (w * 0.15, 0.9 * h),
-                    (0, 0.9 * h)]),                                                 # neck
+                    (0, 0.9 * h)], step),                                                 # neck
             np.array([(0, 0.9 * h), (0, 0)])]                                       # centre
 
 
-def write_file(path: Path, pieces: int) -> Path:
-    """An AccuMark-style AAMA file of ``pieces`` pieces in every one of ``SIZES``."""
-    blocks = [{"name": f"P{k:02d}", "size": s, "quantity": 1,
-               "runs": _piece(k, 1 + 0.03 * (j - SIZES.index(BASE)))}
-              for k in range(pieces) for j, s in enumerate(SIZES)]
+def write_file(path: Path, pieces: int, style: str) -> Path:
+    """An AccuMark-style AAMA file of ``pieces`` pieces in every one of ``SIZES``, drawn in
+    ``style`` (one of ``STYLES``)."""
+    step, halves = STYLES[style]
+    blocks = []
+    for k in range(pieces):
+        for j, s in enumerate(SIZES):
+            runs = _piece(k, 1 + 0.03 * (j - SIZES.index(BASE)), step)
+            fold = {"fold": (runs[-1][0], runs[-1][-1])} if halves else {}
+            blocks.append({"name": f"P{k:02d}", "size": s, "quantity": 1, "runs": runs,
+                           **fold})
     return accumark(path, blocks, sample=BASE)
 
 
@@ -88,17 +98,17 @@ class _FitClock:
 def main():
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for pieces in (4, 8):
-            path = write_file(Path(tmp) / f"accumark-{pieces}.dxf", pieces)
+        for style, pieces in (("dense", 4), ("dense", 8), ("sparse, halves", 40)):
+            path = write_file(Path(tmp) / f"accumark-{pieces}.dxf", pieces, style)
             load_dxf(path)  # warm-up: compiles or loads the kernels
             read = median_time(lambda: load_dxf(path), repeat=3, warmup=0)
             with _FitClock() as clock:
                 pattern = load_dxf(path)
-            rows.append((f"{path.stat().st_size / 1e6:.2f} MB", f"{pieces} x {len(SIZES)}",
-                         len(pattern.panels), f"{read:.2f}", f"{clock.total:.2f}",
+            size = f"{path.stat().st_size / 1e6:.2f} MB"
+            rows.append((style, size, f"{pieces} x {len(SIZES)}", len(pattern.panels), f"{read:.2f}", f"{clock.total:.2f}",
                          f"{clock.total / len(pattern.panels):.3f}"))
     print_table("Reading AccuMark-style multi-size DXF-AAMA files (base size)", rows,
-                ("file", "pieces x sizes", "panels", "read [s]", "curve fitting [s]",
+                ("curves", "file", "pieces x sizes", "panels", "read [s]", "curve fitting [s]",
                  "per piece [s]"))
 
 
