@@ -111,6 +111,7 @@ def _fit_cubic(name: str, p: np.ndarray, iterations: int = 100) -> tuple[Edge, f
     the parameters eliminated by a Schur complement): fitting the control points alone and
     re-projecting stalls on curves whose speed varies a lot.
     """
+    p = np.ascontiguousarray(p, dtype=np.float64)
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
     t = s / s[-1]
     u = 1 - t
