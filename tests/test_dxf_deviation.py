@@ -82,3 +82,9 @@ def test_a_fitted_cubic_of_an_accumark_curve_stays_within_the_span_tolerance():
     assert point_error < 1e-6
     assert np.allclose(edge.start, p[0]) and np.allclose(edge.end, p[-1])
     assert slow_deviation(edge, p) < 5e-4
+
+
+def test_a_single_point_polyline_is_measured_to_that_point():
+    edge = Edge.line("e", (0.0, 0.0), (0.3, 0.4))
+    p = np.array([[0.0, 0.0]])
+    assert abs(deviation(edge, p) - 0.5) < 1e-12

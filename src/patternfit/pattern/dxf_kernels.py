@@ -49,6 +49,11 @@ def farthest_from_densified(q, p, step):
     Segments are grouped in bounding boxes; a group is searched only when its box is nearer
     than the nearest point found so far, starting from the group that held the last one."""
     k = p.shape[0] - 1
+    if k == 0:  # a single point
+        worst = 0.0
+        for i in range(q.shape[0]):
+            worst = max(worst, math.hypot(q[i, 0] - p[0, 0], q[i, 1] - p[0, 1]))
+        return worst
     steps = np.empty(k, np.int64)
     for j in range(k):
         length = math.hypot(p[j + 1, 0] - p[j, 0], p[j + 1, 1] - p[j, 1])
