@@ -20,6 +20,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..constants import tol
+from .dxf_kernels import farthest_from_densified, refine_cubic
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop
@@ -63,28 +64,16 @@ def dedupe(p: np.ndarray, closed: bool, reach: float | None = None) -> np.ndarra
     return p
 
 
-def _densified(p: np.ndarray, step: float) -> np.ndarray:
-    """The polyline ``p`` (k, 2) with points added so that none is more than ``step`` from
-    the next."""
-    seg = np.diff(p, axis=0)
-    n = np.maximum(1, np.ceil(np.linalg.norm(seg, axis=1) / step).astype(np.int64))
-    idx = np.repeat(np.arange(len(seg)), n)
-    first = np.cumsum(n) - n  # where each segment's points start
-    f = (np.arange(int(n.sum())) - first[idx]) / n[idx]
-    return np.vstack([p[idx] + f[:, None] * seg[idx], p[-1:]])
-
-
 def deviation(edge: Edge, p: np.ndarray) -> float:
     """Largest distance between ``edge`` and the polyline ``p`` (k, 2) [m], both ways: from
     points along the edge to the polyline and from the polyline's vertices to the edge,
     both measured on points ``_DENSE`` apart (an overestimate by at most half of that)."""
+    p = np.ascontiguousarray(p, dtype=np.float64)
     length = max(edge.length, float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1))))
     n = int(min(20000, max(16, math.ceil(length / _DENSE))))
-    curve = edge.point_at(np.linspace(0.0, 1.0, n + 1))
-    poly = _densified(p, _DENSE)
-    d1, _ = cKDTree(poly).query(curve)
-    d2, _ = cKDTree(_densified(curve, _DENSE)).query(p)
-    return float(max(d1.max(), d2.max()))
+    curve = np.ascontiguousarray(edge.point_at(np.linspace(0.0, 1.0, n + 1)))
+    return max(farthest_from_densified(curve, p, _DENSE),
+               farthest_from_densified(p, curve, _DENSE))
 
 
 def _line_dev(p: np.ndarray) -> float:
@@ -114,15 +103,6 @@ def _fit_arc(name: str, p: np.ndarray) -> tuple[Edge, float] | None:
     return Edge.arc(name, a, c, r, large_arc=abs(span) > math.pi, sweep=span > 0), dev
 
 
-def _bezier(c: np.ndarray, t: np.ndarray):
-    """Points, derivatives and control-point weights of a cubic Bézier c (4, 2) at t (k,)."""
-    u = 1 - t
-    w = np.column_stack([u**3, 3 * u * u * t, 3 * u * t * t, t**3])
-    d = 3 * ((u * u)[:, None] * (c[1] - c[0]) + (2 * u * t)[:, None] * (c[2] - c[1])
-             + (t * t)[:, None] * (c[3] - c[2]))
-    return w @ c, d, w
-
-
 def _fit_cubic(name: str, p: np.ndarray, iterations: int = 100) -> tuple[Edge, float]:
     """Least-squares cubic Bézier through ``p`` (k, 2) [m] with fixed ends; returns it and
     the largest distance from a point of ``p`` to the curve [m].
@@ -131,6 +111,7 @@ def _fit_cubic(name: str, p: np.ndarray, iterations: int = 100) -> tuple[Edge, f
     the parameters eliminated by a Schur complement): fitting the control points alone and
     re-projecting stalls on curves whose speed varies a lot.
     """
+    p = np.ascontiguousarray(p, dtype=np.float64)
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
     t = s / s[-1]
     u = 1 - t
@@ -139,37 +120,7 @@ def _fit_cubic(name: str, p: np.ndarray, iterations: int = 100) -> tuple[Edge, f
                                 rcond=None)
     c = np.array([p[0], inner[0], inner[1], p[-1]])
 
-    def cost(c, t):
-        return float(np.sum((_bezier(c, t)[0] - p) ** 2))
-
-    lam, now = 1e-3 * s[-1] ** 2, cost(c, t)
-    for _ in range(iterations):
-        q, d, w = _bezier(c, t)
-        r = (q - p)[1:-1]
-        d, w = d[1:-1], w[1:-1, 1:3]
-        jc = np.zeros((len(r), 2, 4))  # d residual / d (c1x, c1y, c2x, c2y)
-        jc[:, 0, 0] = jc[:, 1, 1] = w[:, 0]
-        jc[:, 0, 2] = jc[:, 1, 3] = w[:, 1]
-        hcc = np.einsum("kai,kaj->ij", jc, jc) + lam * np.eye(4)
-        gc = np.einsum("kai,ka->i", jc, r)
-        hct = np.einsum("kai,ka->ki", jc, d)
-        ht = np.einsum("ka,ka->k", d, d) + lam
-        gt = np.einsum("ka,ka->k", d, r)
-        schur = hcc - np.einsum("ki,kj,k->ij", hct, hct, 1 / ht)
-        dc = -np.linalg.solve(schur, gc - hct.T @ (gt / ht))
-        dt = -(gt + hct @ dc) / ht
-        c_new = c.copy()
-        c_new[1:3] += dc.reshape(2, 2)
-        t_new = t.copy()
-        t_new[1:-1] = np.clip(t[1:-1] + dt, 0.0, 1.0)
-        new = cost(c_new, t_new)
-        if new < now:
-            done = now - new < _FIT_STALL * max(now, 1e-300) or new < _FIT_EXACT
-            c, t, now, lam = c_new, t_new, new, lam / 3
-            if done:
-                break
-        else:
-            lam *= 4
+    c, t = refine_cubic(c, t, p, 1e-3 * s[-1] ** 2, iterations, _FIT_STALL, _FIT_EXACT)
     edge = Edge.cubic(name, *c)
     return edge, float(np.max(np.linalg.norm(edge.evaluate(t) - p, axis=1)))
 
