@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from scenes import assert_matched_and_mirrored
 
 from patternfit.fit.body_regions import REGIONS
-from patternfit.fit.lengths import MIN_VERTICES, limb_ends, risen
+from patternfit.fit.lengths import MIN_VERTICES, SLICE, limb_ends, risen
 from patternfit.loop.correct import apply_moves, finish_moves
 from patternfit.loop.lengthen import hem_moves
 from patternfit.mesh.triangulate import mesh_pattern
@@ -23,32 +23,56 @@ def _arm(a, b):
     return SimpleNamespace(landmarks={"arm_axis_left": np.array([a, b], dtype=float)})
 
 
-@settings(max_examples=40, deadline=None)
-@given(st.floats(0.3, 0.8), st.floats(0.2, 1.3), st.floats(-1.0, 1.0),
-       st.floats(0.005, 0.08))
-def test_a_sleeve_ends_where_its_farthest_cloth_reaches_along_the_arm(length, end, tilt,
-                                                                      radius):
-    # an arm from the shoulder point, tilted down, and a tube of cloth around it
-    a = np.array([0.2, 1.4, 0.0])
-    d = np.array([np.cos(tilt), -abs(np.sin(tilt)), 0.0])
-    b = a + length * d
-    t = np.linspace(0.0, end, 30)
-    phi = np.linspace(0.0, 2 * np.pi, 12, endpoint=False)
+def _tube(a, d, length, end, radius, arc=2 * np.pi, start=0.0):
+    """A tube of cloth (vertices (n, 3), triangles (m, 3)) around the axis from ``a`` along
+    ``d`` (unit), from ``start`` to ``end`` of the arm's ``length``, over ``arc`` [rad]."""
+    t = np.linspace(start, end, 30)
+    closed = arc >= 2 * np.pi
+    phi = np.linspace(0.0, arc, 12, endpoint=not closed)
     n1 = np.array([0.0, 0.0, 1.0])
     n2 = np.cross(d, n1)
     pts = (a + (length * t)[:, None, None] * d
            + radius * (np.cos(phi)[None, :, None] * n1 + np.sin(phi)[None, :, None] * n2))
-    x = pts.reshape(-1, 3)
+    cols = 12 if closed else 11
+    i, j = np.meshgrid(np.arange(29), np.arange(cols), indexing="ij")
+    v00, v01 = i * 12 + j, i * 12 + (j + 1) % 12
+    v10, v11 = v00 + 12, v01 + 12
+    tri = np.concatenate([np.stack([v00, v10, v11], -1).reshape(-1, 3),
+                          np.stack([v00, v11, v01], -1).reshape(-1, 3)])
+    return pts.reshape(-1, 3), tri
+
+
+def _ends(x, tri, a, b):
     region = np.full(len(x), REGIONS.index("forearm_left"))
-    ends = limb_ends(x, region, _arm(a, b))
+    return limb_ends(x, tri, region, _arm(a, b))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(0.3, 0.8), st.floats(0.2, 1.3), st.floats(-1.0, 1.0),
+       st.floats(0.02, 0.08))
+def test_a_sleeve_ends_where_its_cloth_stops_going_around_the_arm(length, end, tilt,
+                                                                  radius):
+    # an arm from the shoulder point, tilted down, and a tube of cloth around it
+    a = np.array([0.2, 1.4, 0.0])
+    d = np.array([np.cos(tilt), -abs(np.sin(tilt)), 0.0])
+    x, tri = _tube(a, d, length, end, radius)
+    ends = _ends(x, tri, a, a + length * d)
     assert set(ends) == {"sleeve_left"}
-    assert ends["sleeve_left"] == pytest.approx(length * (1.0 - end), abs=1e-9)
+    assert ends["sleeve_left"] == pytest.approx(length * (1.0 - end), abs=SLICE)
+
+
+def test_a_flap_hanging_from_one_side_of_the_arm_is_no_sleeve():
+    a, d, length = np.array([0.2, 1.4, 0.0]), np.array([1.0, 0.0, 0.0]), 0.6
+    x1, t1 = _tube(a, d, length, 0.5, 0.05)
+    x2, t2 = _tube(a, d, length, 1.1, 0.05, arc=np.pi, start=0.5)
+    x, tri = np.concatenate([x1, x2]), np.concatenate([t1, t2 + len(x1)])
+    assert _ends(x, tri, a, a + length * d)["sleeve_left"] == pytest.approx(0.3, abs=SLICE)
 
 
 def test_a_limb_with_a_few_vertices_on_it_is_not_covered():
     x = np.zeros((MIN_VERTICES - 1, 3))
     region = np.full(len(x), REGIONS.index("bicep_left"))
-    assert limb_ends(x, region, _arm([0, 0, 0], [1, 0, 0])) == {}
+    assert limb_ends(x, np.array([[0, 1, 2]]), region, _arm([0, 0, 0], [1, 0, 0])) == {}
 
 
 def test_only_a_rise_beyond_the_tolerance_counts():

@@ -389,4 +389,4 @@ def fit_measures(mesh, positions, body, fabric, body_field: DistanceField | None
     vertex_region = body_regions(x, body)
     return FitMeasures(1000.0 * d, p, contact, a, ease(t, x, body), vertex_region,
                        body_regions(x[t].mean(axis=1), body),
-                       limb_ends=limb_ends(x, vertex_region, body))
+                       limb_ends=limb_ends(x, t, vertex_region, body))
