@@ -30,12 +30,18 @@ def hem_moves(pattern, mesh: GarmentMesh, positions, vertex_region, body,
     on every panel, the free outline edge whose mesh vertices lie mostly on the limb
     (``vertex_region`` (n,), indices into :data:`~patternfit.fit.body_regions.REGIONS`, at
     the drape ``positions`` (n, 3) [m]) and reach farthest along its axis (``body``'s
-    landmark) has both its corners moved out along its outward normal by the rise."""
+    landmark) has both its corners moved out along its outward normal by the rise. Both
+    sides alike: a limb is lengthened with its left/right partner by the larger rise (the
+    symmetry's mean would halve a move asked on one side only)."""
     sewn = {(side.panel, side.edge) for s in pattern.seams for side in (s.a, s.b)}
     x = np.asanyarray(positions, dtype=np.float64)
     region = np.asanyarray(vertex_region)
     out: dict = {}
+    both = {}
     for limb, rise in rises.items():
+        for side in (limb, _partner(limb)):
+            both[side] = max(both.get(side, 0.0), rise)
+    for limb, rise in both.items():
         axis, names = LIMBS[limb]
         on = np.isin(region, [REGIONS.index(n) for n in names])
         a, b = (np.asanyarray(v, dtype=np.float64) for v in body.landmarks[axis])
@@ -59,6 +65,12 @@ def hem_moves(pattern, mesh: GarmentMesh, positions, vertex_region, body,
                         (pname, edges[(best + 1) % len(edges)].name)):
                 out[key] = out.get(key, 0.0) + d
     return out
+
+
+def _partner(limb: str) -> str:
+    """The limb on the other side (``sleeve_left`` → ``sleeve_right``)."""
+    side, other = ("_left", "_right") if limb.endswith("_left") else ("_right", "_left")
+    return limb[: -len(side)] + other
 
 
 __all__ = ["hem_moves"]
