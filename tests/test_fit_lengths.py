@@ -14,7 +14,7 @@ from scenes import assert_matched_and_mirrored
 from patternfit.fit.body_regions import REGIONS
 from patternfit.fit.lengths import MIN_VERTICES, SLICE, limb_ends, risen
 from patternfit.loop.correct import apply_moves, finish_moves
-from patternfit.loop.lengthen import hem_moves
+from patternfit.loop.lengthen import hem_edges, hem_moves
 from patternfit.mesh.triangulate import mesh_pattern
 from patternfit.pattern.library import build
 
@@ -139,3 +139,17 @@ def test_a_risen_sleeve_is_lengthened_at_its_cuff_by_the_rise(coat):
         # the body's corners did not move
         for e in ("hem", "side_l", "neckline"):
             assert np.allclose(new.panel(p).edge(e).start, pattern.panel(p).edge(e).start)
+
+
+def test_a_hem_across_both_legs_is_no_limbs_hem(coat):
+    # the coat's hem hangs over both thighs, half its points on each: its height is
+    # reported (as each leg's end) but it is not lengthened as a trouser leg's would be
+    pattern, mesh = coat
+    x, region, body = _laid_out(mesh)
+    low = x[:, 1] < 0.1
+    region[low & (x[:, 0] >= 0)] = REGIONS.index("thigh_left")
+    region[low & (x[:, 0] < 0)] = REGIONS.index("thigh_right")
+    body.landmarks["leg_axis_left"] = np.array([[0.1, 0.1, 0.0], [0.1, -0.7, 0.0]])
+    assert hem_edges(pattern, mesh, x, region, body, "leg_left") == {}
+    assert hem_edges(pattern, mesh, x, region, body, "sleeve_left") == {
+        "front": "cuff_l", "back": "cuff_l"}

@@ -33,7 +33,7 @@ from ..pattern.errors import PatternError
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
 from .ease_limit import cap_moves
-from .lengthen import hem_moves
+from .lengthen import hem_edges, hem_moves
 from .regions import find_regions
 from .symmetry import mirrored_triangles, symmetric_moves
 from .widen import edge_moves, let_out_moves, opening_moves
@@ -377,9 +377,10 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
     steps back: the edit is undone and made again at half its size (:func:`_step_back`;
     ``Iteration.stepped_back`` says why). A drape that
     is no fit at all (:func:`refusal`) stops the loop without an edit,
-    ``Correction.failed`` saying why. A sleeve or trouser leg whose end rose along the
-    limb by more than ``settings.rules.length_tolerance_cm`` from the first drape is no
-    fit: the next round lengthens it at its hem (:func:`~patternfit.loop.lengthen.
+    ``Correction.failed`` saying why. A sleeve or trouser leg (a limb with a hem of its
+    own, :func:`~patternfit.loop.lengthen.hem_edges`) whose end rose along the limb by
+    more than ``settings.rules.length_tolerance_cm`` from the first drape is no fit: the
+    next round lengthens it at its hem (:func:`~patternfit.loop.lengthen.
     hem_moves`; ``Iteration.risen``).
     """
     out = Correction()
@@ -395,8 +396,11 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
                 session, out.iterations[-1], (fit, measures, verdict), settings,
                 drape_progress)
         regions = find_regions(session.mesh, fit)
-        rises = risen(out.iterations[0].measured.limb_ends, measures.limb_ends,
-                      settings.rules.length_tolerance_cm / 100.0) if index > 0 else {}
+        rises = {k: v for k, v in risen(
+            out.iterations[0].measured.limb_ends, measures.limb_ends,
+            settings.rules.length_tolerance_cm / 100.0).items()
+            if hem_edges(session.pattern, session.mesh, session.state.positions,
+                         measures.vertex_region, session.body, k)} if index > 0 else {}
         reached = fit_reached(fit, verdict, settings, rises)
         it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks,
                        verdict, measures.report(), measures, stepped, rises)
