@@ -157,6 +157,12 @@ def show_iteration(it) -> None:
         f"  verdict {verdict_text(it.verdict.overall)} ({escape(it.verdict.reason)})"
     console.print(f"[bold]{what}[/]: ϖ = {it.fitting_ratio * 100:.2f}%{verdict}  "
                   f"({it.seconds:.1f} s){ok}", highlight=False)
+    ends = (it.measures or {}).get("lengths_cm") or {}
+    if ends:
+        risen = "".join(f"; {k} rose {v * 100:.1f} cm (beyond the length tolerance)"
+                        for k, v in it.risen.items())
+        console.print("   cm short of the wrist/ankle (− beyond): " + ", ".join(
+            f"{k} {v:+.1f}" for k, v in ends.items()) + risen, highlight=False)
     for why in it.stepped_back:
         console.print(f"   [yellow]stepped back (the edit halved): the re-drape was worse: "
                       f"{escape(why)}[/]", highlight=False)

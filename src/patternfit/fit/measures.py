@@ -21,6 +21,7 @@ from ..body.measure import Loop, cross_section
 from ..body.sdf import DistanceField
 from ..geometry import triangle_areas
 from .body_regions import REGIONS, body_regions
+from .lengths import limb_ends
 from .pressure import force_balance_pressure, grain_coefficients
 
 #: the girths measured, with the body's level of each (see :func:`girth_levels`)
@@ -87,6 +88,9 @@ class FitMeasures:
     vertex_region, triangle_region : (n,) and (m,) int
         The body region of each vertex / triangle centroid, an index into
         :data:`~patternfit.fit.body_regions.REGIONS`.
+    limb_ends : dict of str to float
+        How far each covered limb's cloth stops short of the wrist or ankle [m]
+        (:func:`~patternfit.fit.lengths.limb_ends`).
     """
 
     gap_mm: np.ndarray
@@ -97,16 +101,19 @@ class FitMeasures:
     vertex_region: np.ndarray | None = None
     triangle_region: np.ndarray | None = None
     regions: tuple = REGIONS
+    limb_ends: dict = field(default_factory=dict)
 
     def report(self) -> dict:
         """``gap_mm`` (p5, p50, p95, area-weighted over the garment), ``ease_cm`` (girth name
         → cm, only the girths the garment covers all around) and ``pressure_kpa`` (p50, p95,
-        p99, max over the contact area, ``contact_vertices``, ``contact_area_m2``); a value
-        that cannot be measured is None, never NaN."""
+        p99, max over the contact area, ``contact_vertices``, ``contact_area_m2``) and
+        ``lengths_cm`` (limb → cm its cloth stops short of the wrist or ankle, negative
+        beyond it); a value that cannot be measured is None, never NaN."""
         return {"gap_mm": gap_summary(self.gap_mm, self.vertex_area),
                 "ease_cm": {k: s.ease_cm for k, s in self.sections.items() if s.covered},
                 "pressure_kpa": pressure_summary(self.pressure_kpa, self.contact,
-                                                 self.vertex_area)}
+                                                 self.vertex_area),
+                "lengths_cm": {k: round(100.0 * v, 2) for k, v in self.limb_ends.items()}}
 
 
 # --------------------------------------------------------------------------- per vertex
@@ -379,5 +386,7 @@ def fit_measures(mesh, positions, body, fabric, body_field: DistanceField | None
     cu, cv = grain_coefficients(mesh.vertices, t, mesh.grain[mesh.triangle_panel])
     p = force_balance_pressure(x, t, cu, cv, triangle_areas(mesh.vertices, t), fabric,
                                normals, a, contact)
-    return FitMeasures(1000.0 * d, p, contact, a, ease(t, x, body),
-                       body_regions(x, body), body_regions(x[t].mean(axis=1), body))
+    vertex_region = body_regions(x, body)
+    return FitMeasures(1000.0 * d, p, contact, a, ease(t, x, body), vertex_region,
+                       body_regions(x[t].mean(axis=1), body),
+                       limb_ends=limb_ends(x, t, vertex_region, body))

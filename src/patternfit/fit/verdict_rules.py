@@ -38,6 +38,12 @@ class VerdictRules:
     pressure_percentile, stretch_percentile : float
                                   the area-weighted percentiles a region is judged by [%]:
                                   a spot of one vertex does not make a region tight.
+    length_tolerance_cm : float   a sleeve's or trouser leg's end may rise this far along
+                                  the limb from where the first drape had it before the
+                                  correction lengthens it again [cm] (spec sheets allow
+                                  ±1/4–1/2" on a jacket's sleeve length, up to ±1" on
+                                  loose garments; 2.5 cm is that 1": a drape's folds
+                                  move a sleeve's end as well).
     """
 
     pressure_max_kpa: float = 2.0
@@ -49,6 +55,7 @@ class VerdictRules:
     region_share: float = 0.01
     pressure_percentile: float = 95.0
     stretch_percentile: float = 90.0
+    length_tolerance_cm: float = 2.5
 
     def __post_init__(self):
         if not 0 < self.pressure_comfort_kpa <= self.pressure_max_kpa:
@@ -61,6 +68,8 @@ class VerdictRules:
             raise ValueError(f"tight_share: expected a share in (0, 1], got {self.tight_share}")
         if not self.loose_tolerance_cm >= 0:
             raise ValueError(f"loose_tolerance_cm: must be >= 0, got {self.loose_tolerance_cm}")
+        if not self.length_tolerance_cm >= 0:
+            raise ValueError(f"length_tolerance_cm: must be >= 0, got {self.length_tolerance_cm}")
         if self.style is not None and self.style not in EASE_RANGES:
             raise ValueError(f"style: one of {', '.join(EASE_RANGES)}, got {self.style!r}")
         for name in ("pressure_percentile", "stretch_percentile"):

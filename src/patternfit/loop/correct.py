@@ -23,6 +23,7 @@ from scipy.optimize import nnls
 from ..constants import tol
 from ..defaults import DEFAULTS
 from ..edit import close_seams, move_corner
+from ..fit.lengths import risen
 from ..fit.measures import FitMeasures, fit_measures
 from ..fit.metrics import FitResult
 from ..fit.verdict import Verdict, judge_garment
@@ -32,6 +33,7 @@ from ..pattern.errors import PatternError
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
 from .ease_limit import cap_moves
+from .lengthen import hem_edges, hem_moves
 from .regions import find_regions
 from .symmetry import mirrored_triangles, symmetric_moves
 from .widen import edge_moves, let_out_moves, opening_moves
@@ -119,12 +121,14 @@ class Iteration:
     measures: dict | None = None  # FitMeasures.report(): gap_mm, ease_cm, pressure_kpa
     measured: FitMeasures | None = field(default=None, repr=False)  # for the pictures
     stepped_back: list = field(default_factory=list)  # why each undone re-drape was worse
+    risen: dict = field(default_factory=dict)  # limb → how far its end rose since drape 0 [m]
 
     def to_dict(self) -> dict:
         return {"iteration": self.index, "fitting_ratio": self.fitting_ratio,
                 "regions": [r.to_dict() for r in self.regions],
                 "edits": [e.to_dict() for e in self.edits], "seconds": self.seconds,
                 "stepped_back": self.stepped_back,
+                "limbs_risen_cm": {k: round(100.0 * v, 2) for k, v in self.risen.items()},
                 "checks": self.checks, **(self.measures or {}),
                 **(self.verdict.report() if self.verdict is not None else {})}
 
@@ -316,11 +320,13 @@ def apply_moves(pattern: Pattern, moves: list[CornerMove]) -> Pattern:
     return new
 
 
-def fit_reached(fit: FitResult, verdict: Verdict, settings: CorrectionSettings) -> bool:
-    """ϖ at the threshold, the drape not failed and no region too tight by the verdict
-    (with ``settings.goal`` "fits", none tight either; with ``settings.take_in``, none too
-    loose and the garment not slid)."""
-    if fit.fitting_ratio < settings.threshold or verdict.overall == "failed":
+def fit_reached(fit: FitResult, verdict: Verdict, settings: CorrectionSettings,
+                rises: dict | None = None) -> bool:
+    """ϖ at the threshold, the drape not failed, no limb's end risen beyond the length
+    tolerance (``rises``: limb → rise [m], :func:`~patternfit.fit.lengths.risen`) and no
+    region too tight by the verdict (with ``settings.goal`` "fits", none tight either; with
+    ``settings.take_in``, none too loose and the garment not slid)."""
+    if fit.fitting_ratio < settings.threshold or verdict.overall == "failed" or rises:
         return False
     if any(verdict.worst(word) for word in GOALS[settings.goal]):
         return False
@@ -371,7 +377,11 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
     steps back: the edit is undone and made again at half its size (:func:`_step_back`;
     ``Iteration.stepped_back`` says why). A drape that
     is no fit at all (:func:`refusal`) stops the loop without an edit,
-    ``Correction.failed`` saying why.
+    ``Correction.failed`` saying why. A sleeve or trouser leg (a limb with a hem of its
+    own, :func:`~patternfit.loop.lengthen.hem_edges`) whose end rose along the limb by
+    more than ``settings.rules.length_tolerance_cm`` from the first drape is no fit: the
+    next round lengthens it at its hem (:func:`~patternfit.loop.lengthen.
+    hem_moves`; ``Iteration.risen``).
     """
     out = Correction()
     t_all = time.perf_counter()
@@ -386,9 +396,14 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
                 session, out.iterations[-1], (fit, measures, verdict), settings,
                 drape_progress)
         regions = find_regions(session.mesh, fit)
-        reached = fit_reached(fit, verdict, settings)
+        rises = {k: v for k, v in risen(
+            out.iterations[0].measured.limb_ends, measures.limb_ends,
+            settings.rules.length_tolerance_cm / 100.0).items()
+            if hem_edges(session.pattern, session.mesh, session.state.positions,
+                         measures.vertex_region, session.body, k)} if index > 0 else {}
+        reached = fit_reached(fit, verdict, settings, rises)
         it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks,
-                       verdict, measures.report(), measures, stepped)
+                       verdict, measures.report(), measures, stepped, rises)
         out.failed = refusal(session.state.checks, fit.fitting_ratio)
         if out.failed:
             reached = False
@@ -397,7 +412,7 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
             # corner moves always were): its regions judged as if it had passed
             judged = verdict if verdict.overall != "failed" else judge_garment(
                 session.pattern, fit, measures, session.fabric, None, settings.rules)
-            it.edits = _edit(session, fit, measures, judged, settings)
+            it.edits = _edit(session, fit, measures, judged, settings, rises)
         it.seconds = time.perf_counter() - t0
         out.iterations.append(it)
         if progress is not None:
@@ -502,11 +517,11 @@ def finish_moves(pattern: Pattern, mesh: GarmentMesh, offsets: dict,
 
 
 def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
-          settings: CorrectionSettings) -> list[CornerMove]:
+          settings: CorrectionSettings, rises: dict | None = None) -> list[CornerMove]:
     """Propose and apply one round of moves — the corner moves across the grain while ϖ
     is short, else the edge translations where the verdict says a region is too tight (or
-    too loose, taking in) — sewn corners shared and symmetry kept; halve them if the
-    result is refused."""
+    too loose, taking in) — sewn corners shared and symmetry kept, and the limbs whose
+    end rose (``rises``) lengthened at their hems; halve them if the result is refused."""
     # both read the same lack of fabric: the edge translations only once the corner
     # moves have brought ϖ to the threshold (they cannot reach what is left)
     extra = {} if fit.fitting_ratio < settings.threshold else \
@@ -519,8 +534,22 @@ def _edit(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
     if verdict.style is not None:
         # a let-out stops at the style's ease range (a take-in only narrows: never held)
         moves = cap_moves(session.pattern, session.mesh, measures, verdict, moves)
+    if rises:
+        # a cuff moved along the sleeve widens no girth: added after the ease limit
+        hem = hem_moves(session.pattern, session.mesh, session.state.positions,
+                        measures.vertex_region, session.body, rises)
+        moves = _summed(moves, finish_moves(session.pattern, session.mesh, hem,
+                                            replace(settings, max_move=settings.max_let_out)))
     return _make(session, moves, "edge translations (corner moves)" if extra
                  else "corner moves", settings)
+
+
+def _summed(*lists: list) -> list:
+    """One move per corner: the offsets of ``lists`` of corner moves added."""
+    total: dict = {}
+    for mv in (m for moves in lists for m in moves):
+        total[(mv.panel, mv.edge)] = total.get((mv.panel, mv.edge), 0.0) + np.asarray(mv.offset)
+    return [CornerMove(p, e, (float(d[0]), float(d[1]))) for (p, e), d in total.items()]
 
 
 def _make(session, moves: list, what: str, settings: CorrectionSettings) -> list:

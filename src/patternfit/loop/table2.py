@@ -73,7 +73,8 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
     ``figures/table2_<garment>_{before,after}_{2d,3d}.png``, with the girth sections
     (``..._sections.png``) and the gap and pressure maps (``..._{gap,pressure}_{3d,2d}.png``).
     Returns the row's numbers, with the verdict and pressure p99 [kPa] of every drape
-    (``verdicts``, ``pressure_kpa_p99``) and the final ``ease_cm``."""
+    (``verdicts``, ``pressure_kpa_p99``), how far each limb's cloth stops short of the
+    wrist or ankle per drape (``lengths_cm``, cm) and the final ``ease_cm``."""
     t0 = time.perf_counter()
     pattern = row.pattern()
     session = DesignSession(pattern, load_body(row.body), row.fabric,
@@ -121,6 +122,8 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
             "pressure_kpa_p99": [(it.measures or {}).get("pressure_kpa", {}).get("p99")
                                  for it in result.iterations],
             "ease_cm": (result.iterations[-1].measures or {}).get("ease_cm", {}),
+            "lengths_cm": [(it.measures or {}).get("lengths_cm", {})
+                           for it in result.iterations],
             "region_verdicts": result.to_dict()["region_verdicts"],
             "seconds": seconds, "device": device_name(), "paper": row.paper}
 
@@ -159,6 +162,11 @@ def format_table(rows: list[dict]) -> str:
         ease = ", ".join(f"{k} {v:+.1f}" for k, v in (r.get("ease_cm") or {}).items()
                          if v is not None)
         out.append(f"{'  verdict':9} {verdicts} (pressure p99); final ease cm: {ease or 'none'}")
+        ends = " → ".join(" / ".join(f"{v:+.1f}" for v in d.values()) or "—"
+                          for d in r.get("lengths_cm", []))
+        limbs = " / ".join(next((d for d in r.get("lengths_cm", []) if d), {}))
+        if limbs:
+            out.append(f"{'  length':9} cm short of the wrist or ankle ({limbs}): {ends}")
         out.append(f"{'  paper':9} {'':12} {'':17} {100:6.2f}% {p[0] * 100:8.2f}% "
                    f"{p[1] * 100:.2f}% / {p[2] * 100:.2f}%{'':11} {p[3] * 100:6.2f}% "
                    f"{2:6d} {'manual':>9} {p[4]:6.1f}s")
