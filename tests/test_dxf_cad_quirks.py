@@ -276,12 +276,16 @@ def test_outline_split_into_runs_and_doubled_on_84_keeps_its_area(tmp_path, n, c
     assert panel.area() == pytest.approx(_area_mm2(ring) * 1e-6, rel=2e-3)
 
 
-def _accumark_style(path, pieces, sizes=("26", "36"), sample="36", notch_points=()):
+AAMA_NOTCH = (" 30", "0.1574", " 39", "0.0000")
+
+
+def _accumark_style(path, pieces, sizes=("26", "36"), sample="36", notch_points=(),
+                    notch_groups=AAMA_NOTCH):
     """AccuMark AAMA blocks, a rectangle per piece and size (inches) with ``Quantity:``,
     ``ANNOTATION:``, ``CATEGORY:`` and ``Fabric:`` only in the sample size's block, as it
     writes them; ``notch_points`` are written in the sample block as it writes notches: a
     POINT on layer 4 with an elevation (group 30) and a thickness (39), once per run that
-    ends there."""
+    ends there; ``notch_groups`` are those groups (and any more) as written after x and y."""
     d = _Dxf()
     for name, quantity in pieces:
         for size in sizes:
@@ -301,7 +305,7 @@ def _accumark_style(path, pieces, sizes=("26", "36"), sample="36", notch_points=
                 for p in (a, b):
                     if size == sample and p in notch_points:
                         d.out += ["  0", "POINT", "  8", "4", " 10", f"{p[0]:.4f}", " 20",
-                                  f"{p[1]:.4f}", " 30", "0.1574", " 39", "0.0000"]
+                                  f"{p[1]:.4f}", *notch_groups]
             d.end_block()
     return d.save(path, ["Sample Size: " + sample, "Units: ENGLISH"])
 
@@ -341,6 +345,48 @@ def test_accumark_notch_points_with_elevation_read_once_per_corner(tmp_path, cor
     assert at == sorted(c[k] for k in corners)
     assert all(n.t == pytest.approx(0.0, abs=1e-9) or n.t == pytest.approx(1.0, abs=1e-9)
                for n in panel.notches)
+
+
+@pytest.mark.parametrize("groups", [
+    (" 30", "-3.9980", " 39", "2.9998"),
+    (" 30", "-3.9980", " 39", "2.9998", " 50", "103.9459")])
+def test_accumark_aama_file_with_astm_style_notch_points(tmp_path, groups):
+    """AccuMark's AAMA export of GMX732XS17 writes its notches the ASTM way: a POINT on layer
+    4 with elevation -3.998, thickness 2.9998 and sometimes an angle (group 50), twice where
+    two runs meet. Each is one notch at the corner, as with the AAMA groups."""
+    c = [(0.0, 0.0), (8.2, 0.0), (8.2, 20.0), (0.0, 20.0)]
+    path = _accumark_style(tmp_path / "astm_notch.dxf", [("BACK", "1")], notch_points=c[1:3],
+                           notch_groups=groups)
+    (panel,) = load_dxf(path).panels
+    at = sorted(tuple(np.round(np.reshape(panel.edge(n.edge).point_at(n.t), 2) / 0.0254, 4).tolist())
+                for n in panel.notches)
+    assert at == sorted(c[1:3])
+
+
+def test_binding_strip_with_a_sew_line_a_tenth_of_a_millimetre_inside(tmp_path):
+    """GLX0926S16's binding strip (AccuMark AAMA, inches): a 32 x 796 mm cut line in four runs
+    on layer 1 and a sew line 0.0039 in inside it in four runs on 14. The sew line is the
+    outline, the cut line is kept, and the 25:1 strip meshes at the quality asked."""
+    cut = [(55.4613, 3.5675), (55.4613, 34.9143), (56.7289, 34.9143), (56.7289, 3.5675)]
+    sew = [(55.4652, 3.5714), (55.4652, 34.9104), (56.7250, 34.9104), (56.7250, 3.5714)]
+    d = _Dxf()
+    d.block("SBIA_52")
+    d.text(1, "Piece Name: SBIA")
+    d.text(1, "SIZE: 52")
+    for ring, layer in ((cut, 1), (sew, 14)):
+        for a, b in zip(ring, ring[1:] + ring[:1]):
+            d.polyline(layer, [a, b])
+    d.line(7, (55.8589, 11.7013), (56.6463, 11.7013))
+    d.end_block()
+    path = d.save(tmp_path / "strip.dxf", ["Sample Size: 52", "Units: ENGLISH"])
+    pattern = load_dxf(path)
+    (panel,) = pattern.panels
+    inch2 = 0.0254 ** 2
+    assert panel.area() == pytest.approx(_area_mm2(sew) * inch2, rel=1e-6)
+    assert _area_mm2(panel.cut_line) == pytest.approx(_area_mm2(cut) * inch2, rel=1e-6)
+    mesh = mesh_pattern(pattern, triangles=1500, min_angle=25.0)
+    assert min_angle(mesh.vertices, mesh.triangles) >= 25.0
+    assert abs(len(mesh.triangles) - 1500) < 150
 
 
 def test_accumark_astm_attdef_and_annotation_text_leave_the_piece_as_it_is(tmp_path):
