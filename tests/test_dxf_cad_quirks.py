@@ -287,6 +287,12 @@ def test_outline_split_into_runs_and_doubled_on_84_keeps_its_area(tmp_path, n, c
     assert abs(panel.area() - _area_mm2(ring) * 1e-6) < perimeter * tol.dxf_span
 
 
+def _notches_in_inches(panel) -> list[tuple[float, float]]:
+    """Where the panel's notches lie, in the file's inches, sorted."""
+    return sorted(tuple(np.round(np.reshape(panel.edge(n.edge).point_at(n.t), 2) / 0.0254,
+                                 4).tolist()) for n in panel.notches)
+
+
 AAMA_NOTCH = (" 30", "0.1574", " 39", "0.0000")
 
 
@@ -396,8 +402,7 @@ def test_accumark_notch_points_with_elevation_read_once_per_corner(tmp_path, cor
     path = _accumark_style(tmp_path / f"n{sorted(corners)}.dxf", [("FRONT", "1")],
                            notch_points=[c[k] for k in corners])
     (panel,) = load_dxf(path).panels
-    at = sorted(tuple(np.round(np.reshape(panel.edge(n.edge).point_at(n.t), 2) / 0.0254, 4).tolist())
-                for n in panel.notches)
+    at = _notches_in_inches(panel)
     assert at == sorted(c[k] for k in corners)
     assert all(n.t == pytest.approx(0.0, abs=1e-9) or n.t == pytest.approx(1.0, abs=1e-9)
                for n in panel.notches)
@@ -414,8 +419,7 @@ def test_accumark_aama_file_with_astm_style_notch_points(tmp_path, groups):
     path = _accumark_style(tmp_path / "astm_notch.dxf", [("BACK", "1")], notch_points=c[1:3],
                            notch_groups=groups)
     (panel,) = load_dxf(path).panels
-    at = sorted(tuple(np.round(np.reshape(panel.edge(n.edge).point_at(n.t), 2) / 0.0254, 4).tolist())
-                for n in panel.notches)
+    at = _notches_in_inches(panel)
     assert at == sorted(c[1:3])
 
 
