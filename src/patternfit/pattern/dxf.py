@@ -26,10 +26,11 @@ from typing import Any
 
 import numpy as np
 
-from ..constants import UNITS, limits
+from ..constants import UNITS, limits, tol
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
 from .dxf_entities import layer_of, why
-from .dxf_format import LAYERS, PIECE_LAYERS, field, file_scale, read_document, read_piece, texts
+from .dxf_format import (LAYERS, PIECE_LAYERS, curve_tolerance, field, file_scale, read_document,
+                         read_piece, texts)
 from .dxf_grades import graded_meta, pick_size, pieces_in_size, share_quantities, sizes_of
 from .dxf_notches import notch_marks
 from .dxf_pieces import copy_names, panels_from_piece
@@ -111,6 +112,10 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     blocks = [b for b in doc.blocks if not b.name.startswith("*")]
     scale, unit_says = file_scale(doc, said, msp_texts, blocks) if units is None else \
         (UNITS[units], f"units={units!r}")
+    # fitted curves stay as close to the file's polylines as the file says its polylines stay
+    # to its curves (AccuMark: 0.152 mm), never farther than tol.dxf_span
+    stated = curve_tolerance(msp_texts, scale)
+    span = tol.dxf_span if stated is None else min(tol.dxf_span, max(stated, tol.dxf_fit))
     # pieces we drew from panels keep an edge between every two turn points (exact round
     # trip); files written before blocks said so are ours throughout
     author_ours = (field(msp_texts, "Author") or "") == "patternfit"
@@ -153,7 +158,8 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
             name += "_2"
         try:
             ours = piece.ours or (author_ours and not marked)
-            made = panels_from_piece(piece, name, prefer_sew=prefer_sew, foreign=not ours)
+            made = panels_from_piece(piece, name, prefer_sew=prefer_sew, foreign=not ours,
+                                     span=span)
         except PatternError:
             raise
         except Exception as exc:  # a fit that fails on damaged geometry, of whatever kind

@@ -220,17 +220,17 @@ def _tiny(ps: list[Piece], i: int) -> list[int]:
     return [j for j in near if own < SHORT_RATIO * ps[j][0].length]
 
 
-def _merged_run(pieces: list[Piece]) -> list[Piece]:
+def _merged_run(pieces: list[Piece], span: float) -> list[Piece]:
     """Foreign files: pieces of one run between turn points whose union fits as tightly
     merged (a run split in halves more often than needed)."""
-    return _merge_pass(list(pieces), _forward, tol.dxf_fit, tol.dxf_span, cyclic=False)
+    return _merge_pass(list(pieces), _forward, tol.dxf_fit, span, cyclic=False)
 
 
-def _merged(pieces: list[Piece]) -> list[Piece]:
+def _merged(pieces: list[Piece], span: float) -> list[Piece]:
     """Foreign files: lines across turn points merged where collinear (within
-    ``tol.dxf_fit``), then tiny edges merged into a neighbour within ``tol.dxf_span``."""
-    pieces = _merge_pass(list(pieces), _forward, tol.dxf_fit, tol.dxf_span, lines_only=True)
-    return _merge_pass(pieces, _tiny, tol.dxf_span, tol.dxf_span)
+    ``tol.dxf_fit``), then tiny edges merged into a neighbour within ``span`` [m]."""
+    pieces = _merge_pass(list(pieces), _forward, tol.dxf_fit, span, lines_only=True)
+    return _merge_pass(pieces, _tiny, span, span)
 
 
 def _ring(pieces: list[Piece]) -> tuple[np.ndarray, list[int]]:
@@ -243,7 +243,7 @@ def _ring(pieces: list[Piece]) -> tuple[np.ndarray, list[int]]:
     return np.concatenate(pts), owner
 
 
-def _uncrossed(pieces: list[Piece], name: str) -> list[Piece]:
+def _uncrossed(pieces: list[Piece], name: str, span: float) -> list[Piece]:
     """Split (at the last: keep as the file's polyline) every fitted curve that crosses or
     touches its loop; crossings between lines are the file's own, left for the checks."""
     for _ in range(4 * len(pieces) + 16):
@@ -264,7 +264,7 @@ def _uncrossed(pieces: list[Piece], name: str) -> list[Piece]:
         pts = pieces[bad][1]
         if len(pts) > 3:
             mid = len(pts) // 2
-            new = _fit_run(pts[: mid + 1]) + _fit_run(pts[mid:])
+            new = _fit_run(pts[: mid + 1], span_tol=span) + _fit_run(pts[mid:], span_tol=span)
         else:
             new = [(Edge.line("e", a, b), np.array([a, b])) for a, b in zip(pts[:-1], pts[1:])]
         pieces[bad:bad + 1] = new
@@ -272,11 +272,13 @@ def _uncrossed(pieces: list[Piece], name: str) -> list[Piece]:
 
 
 def loop_from_points(p: np.ndarray, turns: np.ndarray, name: str, prefix: str, *,
-                     foreign: bool = False) -> Loop:
+                     foreign: bool = False, span: float = tol.dxf_span) -> Loop:
     """Split a closed polygon (k, 2) at its turn points (t, 2) and fit every run [m].
 
     foreign : the file comes from another tool: merge what fits together and tiny edges
-        (:func:`_merged`); our own files keep an edge between every two turn points."""
+        (:func:`_merged`); our own files keep an edge between every two turn points.
+    span : how far [m] a fitted edge may stray from the run's polyline (at most
+        ``tol.dxf_span``; the file's own curve tolerance where it states one)."""
     p = dedupe(p, closed=True)
     breaks = []
     if len(turns):
@@ -289,13 +291,14 @@ def loop_from_points(p: np.ndarray, turns: np.ndarray, name: str, prefix: str, *
     closed = np.vstack([p, p[:1]])
     pieces: list[Piece] = []
     for b0, b1 in zip(breaks[:-1], breaks[1:]):
-        run = _fit_run(closed[b0:b1 + 1])
-        pieces += _merged_run(run) if foreign else run
+        run = _fit_run(closed[b0:b1 + 1], span_tol=span)
+        pieces += _merged_run(run, span) if foreign else run
     if foreign:
-        pieces = _merged(pieces)
+        pieces = _merged(pieces, span)
     if len(pieces) == 1:  # a loop needs at least two edges: split the single one in halves
         half = len(p) // 2
-        pieces = _fit_run(closed[: half + 1]) + _fit_run(closed[half:])
-    pieces = _uncrossed(pieces, name)
+        pieces = (_fit_run(closed[: half + 1], span_tol=span)
+                  + _fit_run(closed[half:], span_tol=span))
+    pieces = _uncrossed(pieces, name, span)
     return Loop(name, tuple(replace(e, name=f"{prefix}{k}") for k, (e, _) in
                             enumerate(pieces)))

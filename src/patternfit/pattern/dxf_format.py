@@ -27,8 +27,8 @@ from .dxf_entities import (LINE_KINDS, closed_loops, entity_name, entity_points,
 from ..geometry import polygon_area
 from .errors import PatternError
 
-__all__ = ["ASTM_LAYERS", "LAYERS", "PIECE_LAYERS", "RawPiece", "field", "file_scale",
-           "read_document", "read_piece", "texts"]
+__all__ = ["ASTM_LAYERS", "LAYERS", "PIECE_LAYERS", "RawPiece", "curve_tolerance", "field",
+           "file_scale", "read_document", "read_piece", "texts"]
 
 #: ASTM D6673 layer numbers by meaning.
 LAYERS = {"boundary": 1, "turn_points": 2, "curve_points": 3, "notches": 4,
@@ -93,6 +93,22 @@ def file_scale(doc, said: set[str], msp_texts: list[str], blocks) -> tuple[float
         code = doc.header.get("$MEASUREMENT")
         return (0.0254, 0.001)[code], f"$MEASUREMENT = {code}"
     return 0.001, "no unit in the file (millimetres assumed)"
+
+
+def curve_tolerance(msp_texts: list[str], scale: float) -> float | None:
+    """How far [m] the file says its polylines stray from the curves they sample: AccuMark's
+    ``Curve Tolerance: .152`` (ASTM) or ``TOLERANCE: .006`` (AAMA), in the file's units
+    (``scale`` metres each); None where it states none or no positive number."""
+    for key in ("Curve Tolerance", "Tolerance"):
+        text = field(msp_texts, key)
+        if text is None:
+            continue
+        try:
+            value = float(text) * scale
+        except ValueError:
+            return None
+        return value if np.isfinite(value) and value > 0 else None
+    return None
 
 
 def _points(a) -> list:

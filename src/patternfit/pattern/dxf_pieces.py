@@ -149,19 +149,21 @@ def copy_names(name: str, quantity: int) -> list[str]:
 
 
 def panels_from_piece(piece: RawPiece, name: str, *, prefer_sew: bool = True,
-                      foreign: bool = True) -> list[Panel]:
+                      foreign: bool = True, span: float = tol.dxf_span) -> list[Panel]:
     """The panels of one DXF piece: unfolded, fitted on the sew line (``prefer_sew``, when
     there is one) else the cut line, with notches, internal lines, drill holes, the cut line
     (when the outline is the sew line) and the grain line; ``quantity`` panels, the odd ones
     mirrored (:func:`copy_names`).
 
     foreign : the file comes from another tool (see :func:`.dxf_curves.loop_from_points`).
+    span : how far [m] fitted edges may stray from the file's polyline (the same).
     """
     piece = unfolded(piece)
     on_sew = bool(piece.sew and (prefer_sew or not piece.cut))
     ring = piece.sew[0] if on_sew else piece.cut[0]
-    outline = loop_from_points(ring, piece.turns, "outline", "e", foreign=foreign)
-    inner = tuple(loop_from_points(q, piece.turns, f"inner{k}", f"i{k}_e", foreign=foreign)
+    outline = loop_from_points(ring, piece.turns, "outline", "e", foreign=foreign, span=span)
+    inner = tuple(loop_from_points(q, piece.turns, f"inner{k}", f"i{k}_e", foreign=foreign,
+                                   span=span)
                   for k, q in enumerate(piece.cutouts))
     cut = dedupe(piece.cut[0], closed=True) if on_sew and piece.cut else np.zeros((0, 2))
     lines = [dedupe(q, closed=False) for q in piece.lines]
