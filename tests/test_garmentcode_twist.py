@@ -1,13 +1,14 @@
 """A GarmentCode file whose stitches sew the cloth into a twisted (one-sided) surface is read
 with a warning naming the seams (GarmentCode's own ``standing_lapel`` is such a file)."""
 
+import itertools
 import json
 
 import pytest
 
 from patternfit.pattern.formats import load_any_pattern
 from patternfit.pattern.library import build
-from patternfit.pattern.orientation import twisted_seams
+from patternfit.pattern.orientation import twisted_cycles, twisted_seams
 
 GARMENTS = ("skirt", "trousers", "dress", "coat", "shirt", "gathered_skirt")
 
@@ -55,6 +56,34 @@ def test_an_odd_number_of_turns_round_the_ring_is_twisted(tmp_path, tags, twiste
     assert len(w) == int(twisted)
     if twisted:
         assert "right_wrong" in w[0] and any(n in w[0] for n in twisted_seams(p))
+
+
+@pytest.mark.parametrize("turned", list(itertools.product([False, True], repeat=3)))
+def test_every_tagging_of_the_ring_is_twisted_exactly_when_it_turns_an_odd_number_of_times(
+        tmp_path, turned):
+    p = _band(tmp_path, ["right_wrong" if t else None for t in turned])
+    cycles = twisted_cycles(p)
+    assert bool(cycles) == (sum(turned) % 2 == 1)
+    assert all(sorted(c) == ["stitch0", "stitch1", "stitch2"] for c in cycles.values())
+
+
+@pytest.mark.parametrize("tag_at", [0, 1, 2])
+def test_the_warning_names_every_seam_of_the_twisted_cycle_and_corrects_none(tmp_path, tag_at):
+    """Parity says a cycle is twisted, not which of its seams is wrong: re-sewing any one of
+    them untwists the ring, so the reader names all three and keeps the file's stitches."""
+    tags = [None] * 3
+    tags[tag_at] = "right_wrong"
+    p = _band(tmp_path, tags)
+    cycles = twisted_cycles(p)
+    assert len(cycles) == 1
+    (closing, seams), = cycles.items()
+    assert seams[0] == closing and sorted(seams) == ["stitch0", "stitch1", "stitch2"]
+    assert all(n in _warned(p)[0] for n in seams)
+    assert [s.reverse for s in p.seams] == [t is None for t in tags]
+    for k in range(3):
+        fixed = list(tags)
+        fixed[k] = None if tags[k] else "right_wrong"
+        assert twisted_cycles(_band(tmp_path, fixed)) == {}
 
 
 @pytest.mark.parametrize("tags", [[None] * 3, ["right_wrong", None, None],

@@ -54,7 +54,7 @@ from ..geometry import euler_xyz_matrix
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
-from .orientation import twisted_seams
+from .orientation import twisted_cycles
 from .formats import check_imported
 from .io import json_field, json_number, shown
 from .validate import check_size, measured_ease, seam_slack
@@ -319,11 +319,15 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
     pattern, notes = _with_ease(Pattern(name, tuple(panels), tuple(seams)),
                                 data.get(_SEAM_EASE))
     warnings = notes + check_imported(pattern)
-    twisted = twisted_seams(pattern)
+    twisted = twisted_cycles(pattern)
     if twisted:
-        warnings.append("the stitches sew the garment twisted (a cycle of seams turns the "
-                        "cloth over an odd number of times; check the 'right_wrong' tags), closed by "
-                        + ", ".join(twisted))
+        warnings.append(
+            "the stitches sew the garment twisted (a cycle of seams turns the cloth over an "
+            "odd number of times; check the 'right_wrong' tags), closed by "
+            + ", ".join(sorted(twisted)) + "; round each cycle ("
+            + "; ".join(", ".join(twisted[k]) for k in sorted(twisted))
+            + ") one link is sewn the wrong way round; which one the file does not say "
+            "(re-sewing each gives a different garment), so it is read as written")
     keep = {k: data[k] for k in ("parameters", "parameter_order") if k in data}
     meta: dict[str, Any] = {"source_format": "garmentcode", "garmentcode": {
         **keep, "properties": props,

@@ -19,6 +19,15 @@ def twisted_seams(pattern: Pattern) -> list[str]:
     """Names of the seams that close a cycle turning the cloth over an odd number of times
     (empty: the sewn garment has one right side). Only the outlines' directions and the
     seams' ``reverse`` flags count; lengths do not."""
+    return sorted(twisted_cycles(pattern))
+
+
+def twisted_cycles(pattern: Pattern) -> dict[str, list[str]]:
+    """For each seam closing a twisted cycle (as :func:`twisted_seams`), the seams of that
+    cycle in order round it, starting with the closing one. Parity says only that the cycle
+    turns the cloth over; re-sewing any one link of it the other way round untwists it, and
+    each choice is a different garment (GarmentCode's ``standing_lapel`` has three per side),
+    so which seam is wrong is the designer's to say."""
     backwards = {}
     for panel in pattern.panels:
         for k, loop in enumerate(panel.loops):
@@ -31,18 +40,36 @@ def twisted_seams(pattern: Pattern) -> list[str]:
         links.setdefault(s.a.panel, []).append((s.b.panel, turn, s.name))
         links.setdefault(s.b.panel, []).append((s.a.panel, turn, s.name))
     over: dict[str, bool] = {}
-    bad = set()
+    # the seam and panel each panel was reached through, to walk a cycle back round
+    came: dict[str, tuple[str, str] | None] = {}
+    cycles: dict[str, list[str]] = {}
     for panel in pattern.panels:
         if panel.name in over:
             continue
-        over[panel.name] = False
+        over[panel.name], came[panel.name] = False, None
         todo = [panel.name]
         while todo:
             here = todo.pop()
             for there, turn, name in links.get(here, ()):
                 if there not in over:
-                    over[there] = over[here] ^ turn
+                    over[there], came[there] = over[here] ^ turn, (here, name)
                     todo.append(there)
-                elif over[there] != over[here] ^ turn:
-                    bad.add(name)
-    return sorted(bad)
+                elif over[there] != over[here] ^ turn and name not in cycles:
+                    cycles[name] = [name] + _path(came, here, there)
+    return cycles
+
+
+def _path(came: dict, a: str, b: str) -> list[str]:
+    """The seams from panel ``a`` to panel ``b`` along the search tree ``came``."""
+    def up(p):
+        chain = []
+        while came[p] is not None:
+            chain.append((p, came[p][1]))
+            p = came[p][0]
+        return chain + [(p, None)]
+    from_a, from_b = up(a), up(b)
+    above_b = [p for p, _ in from_b]
+    meet = next(p for p, _ in from_a if p in above_b)
+    to_meet = [s for p, s in from_a[:[q for q, _ in from_a].index(meet)]]
+    from_meet = [s for p, s in from_b[:above_b.index(meet)]]
+    return to_meet + from_meet[::-1]
