@@ -74,11 +74,11 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         inside = d < model.floor(s)
         state.contact_scale[inside] = np.minimum(state.contact_scale[inside] * 4.0,
                                                  MAX_CONTACT_SCALE)
-        set_contact(model, state, s)
+        state.contact_k = contact_k(model, state, s)
         near = d < reach + s.contact_band
         diag[near] = s.contact_precond * state.contact_k[near]
     else:
-        set_contact(model, state, s)
+        state.contact_k = contact_k(model, state, s)
     if s.self_collision and (state.pairs_x is None
                              or moved_since_pairs(model, state, x, settings=s)):
         find_pairs(model, state, x, settings=s, newton=newton)
@@ -88,7 +88,7 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
         state.friction_normal = np.ascontiguousarray(nrm)
         state.friction_limit = model.fabric.friction * kernels.contact_forces(
-            pen[idx], state.contact_k[idx], state.contact_onset[idx])[0]
+            pen[idx], state.contact_k[idx], s.contact_onset)[0]
         # the gradient of every other term (friction is off here): what friction holds
         held = energy(model, state, x, settings=s, lookups=lookups)[1][idx] if hold else None
         state.friction_anchor = anchors(state, x, idx, nrm, held, settings=s)
@@ -96,15 +96,10 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
     return diag
 
 
-def set_contact(model: ClothModel, state: ContactState, settings: SolverSettings):
-    """Set ``state.contact_k`` (n,) [N/m], the contact stiffness of every vertex (pressure
-    stiffness x vertex area x the state's scale), and ``state.contact_onset`` (n,) [m], the
-    depth over which it is reached (``settings.contact_onset`` / scale: a contact stiffened
-    xs reaches its stiffness s times sooner, so the force at the ramp's end stays that of an
-    unstiffened contact; with the onset fixed, the coat's 2,066 contacts stiffened up to 4^6
-    rested inside the ramp, where their force is quadratic; docs/simulation.md)."""
-    state.contact_k = settings.contact_stiffness * model.terms.vertex_area * state.contact_scale
-    state.contact_onset = settings.contact_onset / state.contact_scale
+def contact_k(model: ClothModel, state: ContactState, settings: SolverSettings) -> np.ndarray:
+    """Contact stiffness (n,) [N/m] of every vertex: pressure stiffness x vertex area x the
+    state's scale."""
+    return settings.contact_stiffness * model.terms.vertex_area * state.contact_scale
 
 
 def anchors(state: ContactState, x, idx, normal, grad=None, *,

@@ -39,9 +39,6 @@ class ContactState:
         the body, up to ``MAX_CONTACT_SCALE``).
     contact_k : (n,) float
         Contact stiffness per vertex [N/m] (pressure stiffness x vertex area x scale).
-    contact_onset : (n,) float
-        Depth into the contact layer over which each vertex's contact stiffness is reached
-        [m] (``kernels.contact_law``).
     anchor_of : (n, 3) float
         Friction anchor of each vertex [m] (NaN where none).
     friction_idx : (k,) int
@@ -85,7 +82,6 @@ class ContactState:
     forces: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     contact_scale: np.ndarray = field(default_factory=lambda: np.zeros(0))
     contact_k: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    contact_onset: np.ndarray = field(default_factory=lambda: np.zeros(0))
     anchor_of: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     friction_idx: np.ndarray = field(default_factory=lambda: _ints(0))
     friction_anchor: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))

@@ -68,7 +68,7 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
     if model.body is not None:
         body = model.body
         e += kernels.contact(x, body.values, body.origin, body.spacing,
-                             model.reach(settings), state.contact_k, state.contact_onset,
+                             model.reach(settings), state.contact_k, settings.contact_onset,
                              lookups.seen,
                              lookups.room, grad)
     if len(state.friction_idx):
@@ -159,7 +159,7 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         d, g = distance(model, x)
         on = np.flatnonzero(d < model.reach(s))
         _, k_on = kernels.contact_forces(model.reach(s) - d[on], state.contact_k[on],
-                                         state.contact_onset[on])
+                                         s.contact_onset)
         blocks[on] += k_on[:, None, None] * g[on, :, None] * g[on, None, :]
     if len(state.friction_idx):
         idx, nrm = state.friction_idx, state.friction_normal

@@ -100,7 +100,7 @@ def contact_law(pen, k, onset):
 
 @njit(cache=True)
 def contact(x, values, origin, spacing, thickness, stiffness, onset, seen, room, grad):
-    """Penalty (:func:`contact_law`, stiffness reached over ``onset`` (n,) [m]) on every vertex
+    """Penalty (:func:`contact_law`, stiffness reached over ``onset`` [m]) on every vertex
     whose distance ``d_i`` (the field's C1 reading, ``body.sdf.smooth_distance_at``: a
     continuous contact force) is below ``h`` = ``thickness``.
 
@@ -124,7 +124,7 @@ def contact(x, values, origin, spacing, thickness, stiffness, onset, seen, room,
         seen[i, 2] = x[i, 2]
         room[i] = max(-pen, 0.0) / SDF_SLOPE
         if pen > 0.0:
-            e, f, _ = contact_law(pen, stiffness[i], onset[i])
+            e, f, _ = contact_law(pen, stiffness[i], onset)
             energy += e
             grad[i, 0] -= f * gx
             grad[i, 1] -= f * gy
@@ -134,14 +134,14 @@ def contact(x, values, origin, spacing, thickness, stiffness, onset, seen, room,
 
 def contact_forces(pen, k, onset):
     """:func:`contact_law`'s normal force [N] and stiffness [N/m] for arrays ``pen`` (> 0)
-    [m], ``k`` [N/m] and ``onset`` [m] (a number or one per contact): ((p,), (p,))."""
+    [m] and ``k`` [N/m]: ((p,), (p,))."""
     pen = np.asarray(pen, dtype=np.float64)
     k = np.asarray(k, dtype=np.float64)
-    onset = np.broadcast_to(np.asarray(onset, dtype=np.float64), pen.shape)
+    if onset <= 0.0:
+        return k * pen, k.copy()
     ramp = pen < onset
-    span = np.where(ramp, onset, 1.0)
-    force = np.where(ramp, 0.5 * k * pen * pen / span, k * (pen - 0.5 * onset))
-    stiff = np.where(ramp, k * pen / span, k)
+    force = np.where(ramp, 0.5 * k * pen * pen / onset, k * (pen - 0.5 * onset))
+    stiff = np.where(ramp, k * pen / onset, k)
     return force, stiff
 
 
