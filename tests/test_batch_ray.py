@@ -28,8 +28,11 @@ def _batch(out, *extra, workers=2, **kw):
     env = {**os.environ, "PYTHONPATH": f"{SRC}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
     command = [sys.executable, "-m", "patternfit.cli.main", *ARGS, "--workers", str(workers),
                "--out", str(out), *extra]
+    # SIGINT back to its default in the child: a runner started in the background (nohup,
+    # `&` without job control) hands it down ignored, and Python keeps an ignored SIGINT
     return subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            text=True, **kw)
+                            text=True, preexec_fn=lambda: signal.signal(signal.SIGINT,
+                                                                        signal.SIG_DFL), **kw)
 
 
 def _rows_written(csv_path) -> int:
