@@ -35,7 +35,7 @@ from ..pattern.validate import check_pattern
 from .ease_limit import cap_moves
 from .lengthen import hem_edges, hem_moves
 from .regions import find_regions
-from .symmetry import mirrored_triangles, symmetric_moves
+from .symmetry import mirrored_triangles, other_side, symmetric_moves
 from .widen import edge_moves, let_out_moves, opening_moves
 
 
@@ -425,14 +425,6 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
     return out
 
 
-def _partner_region(name: str) -> str | None:
-    """The body region on the other side (``bicep_left`` → ``bicep_right``), or None."""
-    for mine, other in (("_left", "_right"), ("_right", "_left")):
-        if name.endswith(mine):
-            return name[: -len(mine)] + other
-    return None
-
-
 def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdict,
                  settings: CorrectionSettings) -> dict:
     """Corner offsets ``{(panel, edge): (2,) [m]}`` of the edge translations
@@ -457,7 +449,7 @@ def region_moves(session, fit: FitResult, measures: FitMeasures, verdict: Verdic
     for name in verdict.regions:
         if name in done:
             continue
-        pair = [n for n in (name, _partner_region(name)) if n in names]
+        pair = [n for n in (name, other_side(name)) if n in names]
         done.update(pair)
         judged = {n: verdict.regions[n] for n in pair if n in verdict.regions}
         tris = mirrored_triangles(session.pattern, mesh, np.flatnonzero(

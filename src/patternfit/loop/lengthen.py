@@ -17,6 +17,7 @@ import numpy as np
 from ..fit.body_regions import REGIONS
 from ..fit.lengths import LIMBS
 from ..mesh.garment import GarmentMesh
+from .symmetry import other_side
 from .widen import _outward_normal
 
 #: a free edge is a limb's hem when at least this share of its mesh vertices lie on the
@@ -61,7 +62,7 @@ def hem_moves(pattern, mesh: GarmentMesh, positions, vertex_region, body,
     out: dict = {}
     both: dict = {}
     for limb, rise in rises.items():
-        for side in (limb, _partner(limb)):
+        for side in filter(None, (limb, other_side(limb))):
             both[side] = max(both.get(side, 0.0), rise)
     for limb, rise in both.items():
         for pname, ename in hem_edges(pattern, mesh, positions, vertex_region, body,
@@ -73,12 +74,6 @@ def hem_moves(pattern, mesh: GarmentMesh, positions, vertex_region, body,
                         (pname, edges[(edges.index(ename) + 1) % len(edges)])):
                 out[key] = out.get(key, 0.0) + d
     return out
-
-
-def _partner(limb: str) -> str:
-    """The limb on the other side (``sleeve_left`` → ``sleeve_right``)."""
-    side, other = ("_left", "_right") if limb.endswith("_left") else ("_right", "_left")
-    return limb[: -len(side)] + other
 
 
 __all__ = ["hem_edges", "hem_moves"]

@@ -45,6 +45,15 @@ class Mirror:
     shift: np.ndarray
 
 
+def other_side(name: str) -> str | None:
+    """The name on the body's other side (``bicep_left`` → ``bicep_right``, ``sleeve_right``
+    → ``sleeve_left``), or None for a name with no side."""
+    for mine, other in (("_left", "_right"), ("_right", "_left")):
+        if name.endswith(mine):
+            return name[: -len(mine)] + other
+    return None
+
+
 def _partners(pa: Panel, pb: Panel) -> bool:
     """Whether ``pb`` may be ``pa``'s left/right mirror: the same panel, or one facing the
     same side whose body part is the same or its left/right counterpart."""
