@@ -11,11 +11,12 @@ import pytest
 import scipy.sparse as sp
 
 from patternfit.sim.model import ClothModel
-from patternfit.sim.preconditioners import Factors
+from patternfit.sim.preconditioners import Factors, newton_preconditioner
 from patternfit.sim.settings import SolverSettings
 from patternfit.sim.solver import GarmentSolver, solve
 from patternfit.sim.state import ContactState
-from patternfit.sim.total_energy import ContactLookups, energy, hessian, hessian_pattern
+from patternfit.sim.total_energy import (ContactLookups, energy, hessian, hessian_pattern,
+                                         pair_hessian)
 
 from scenes import grain_at, rect_mesh, sphere_field
 
@@ -110,6 +111,33 @@ def test_energy_is_pure(scene, request):
     H2 = hessian(model, state, x, settings=s, pattern=hessian_pattern(model))
     assert (H1 != H2).nnz == 0 and H1.shape == (3 * model.n, 3 * model.n)
     assert not _unchanged(state, snap)
+
+
+def test_newton_preconditioner_is_the_trimmed_hessian(rested):
+    """The Newton preconditioner's matrix (``kernels.trim_to_near``) is, bit for bit, the
+    Hessian kept on the vertex pairs that share a triangle with every other entry's
+    absolute value on its row's diagonal, as SciPy sums it, lower triangle. The
+    self-collision pairs in the scene's folds, their normals turned, all push: their entries
+    are added and dropped."""
+    solver, result = rested
+    model, s = solver.model, solver.settings
+    state = dataclasses.replace(solver.state.copy(), pair_normal=-solver.state.pair_normal,
+                                edge_normal=-solver.state.edge_normal)
+    pattern = hessian_pattern(model)
+    x = model.reduce(result.x)
+    assert pair_hessian(model, state, x, settings=s).nnz > 0
+    H = hessian(model, state, x, settings=s, pattern=pattern)
+    tris = model.terms.tris
+    near = sp.csr_matrix((np.ones(9 * len(tris)), (np.repeat(tris, 3, axis=1).ravel(),
+                                                   np.tile(tris, (1, 3)).ravel())))
+    C = H.tocoo()
+    keep = np.asarray(near[C.row // 3, C.col // 3]).ravel() > 0
+    extra = np.bincount(C.row[~keep], weights=np.abs(C.data[~keep]), minlength=H.shape[0])
+    want = sp.tril(sp.csr_matrix((C.data[keep], (C.row[keep], C.col[keep])), shape=H.shape)
+                   + sp.diags(extra)).tocsr()
+    indptr, indices, data = newton_preconditioner(H, pattern)
+    assert np.array_equal(indptr, want.indptr) and np.array_equal(indices, want.indices)
+    assert np.array_equal(data, want.data)
 
 
 def test_energy_sees_the_state_it_is_given(rested):

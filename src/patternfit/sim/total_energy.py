@@ -99,11 +99,11 @@ class HessianPattern(NamedTuple):
     membrane_slots: np.ndarray
     bending_slots: np.ndarray
     block_slots: np.ndarray
-    rows: np.ndarray
-    cols: np.ndarray
-    #: vertex pairs i * n + j that share a triangle (and each vertex with itself), sorted:
-    #: the pattern the Newton preconditioner keeps
-    near: np.ndarray
+    #: the vertex pairs that share a triangle (and each vertex with itself) as an n x n CSR
+    #: pattern, (n + 1,) row starts and sorted columns: the pattern the Newton
+    #: preconditioner keeps
+    near_indptr: np.ndarray
+    near_indices: np.ndarray
 
 
 def hessian_pattern(model: ClothModel) -> HessianPattern:
@@ -127,10 +127,12 @@ def hessian_pattern(model: ClothModel) -> HessianPattern:
     indptr = np.searchsorted(rows, np.arange(n3 + 1)).astype(np.int32)
     indices = cols.astype(np.int32)
     k1, k2 = len(r_mem), len(r_mem) + len(r_b)
+    slot = slot.astype(np.int32)
     near = np.unique(np.concatenate([(tris[:, :, None] * n + tris[:, None, :]).ravel(),
                                      np.arange(n) * (n + 1)]))
+    near_indptr = np.searchsorted(near // n, np.arange(n + 1)).astype(np.int32)
     return HessianPattern(tris.copy(), indptr, indices, slot[:k1], slot[k1:k2], slot[k2:],
-                          rows, cols, near)
+                          near_indptr, (near % n).astype(np.int32))
 
 
 def fits_pattern(pattern: HessianPattern | None, model: ClothModel) -> bool:
@@ -148,11 +150,10 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
     t = model.terms
     f = model.fabric
     n = model.n
-    _, indptr, indices, s_mem, s_b, s_d, rows, cols, _ = pattern
-    mem = np.empty((len(t.tris), 81))
+    data = np.zeros(len(pattern.indices))
     kernels.membrane_hessian(x, t.tris, t.cu, t.cv, t.area, f.stretch_warp,
-                             f.stretch_weft, f.shear, s.compression, mem)
-    Q = t.bending.tocoo()
+                             f.stretch_weft, f.shear, s.compression, pattern.membrane_slots,
+                             data)
     blocks = np.zeros((n, 3, 3))
     blocks += (model.mass / s.newton_dt ** 2)[:, None, None] * np.eye(3)
     if model.body is not None:
@@ -170,11 +171,10 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         uh = u / np.maximum(m, 1e-300)[:, None]
         uu = uh[:, :, None] * uh[:, None, :]
         np.add.at(blocks, idx, ratio[:, None, None] * (P - uu) + k[:, None, None] * uu)
-    data = (np.bincount(s_mem, weights=mem.ravel(), minlength=len(indices))
-            + np.bincount(s_b, weights=np.repeat(Q.data, 3), minlength=len(indices))
-            + np.bincount(s_d, weights=blocks.ravel(), minlength=len(indices)))
+    kernels.scatter_hessian(t.bending.data, pattern.bending_slots, blocks,
+                            pattern.block_slots, data)
     n3 = 3 * n
-    H = sp.csr_matrix((data, indices, indptr), shape=(n3, n3))
+    H = sp.csr_matrix((data, pattern.indices, pattern.indptr), shape=(n3, n3))
     if model.bend_friction is not None:
         H = H + model.bend_friction.hessian(x, n)
     extra = pair_hessian(model, state, x, settings=s)

@@ -6,7 +6,9 @@
   Newton Hessian);
 - :mod:`.collision`: the grid search for the lagged repulsion pairs and the count of
   crossed triangle pairs;
-- :mod:`.optimiser`: the L-BFGS vector loops and the stopping rule's step measures.
+- :mod:`.optimiser`: the L-BFGS vector loops and the stopping rule's step measures;
+- :mod:`.sparse_assembly`: the Newton Hessian's CSR data and its trimmed preconditioner
+  matrix.
 
 Every kernel is serial numba compiled with ``cache=True`` (a fixed summation order makes two
 runs bit-identical). The solver calls them as ``kernels.NAME``; the names are re-exported
@@ -22,9 +24,11 @@ from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge
                            friction, friction_law, friction_offset, friction_stiffness,
                            membrane, membrane_hessian, seam_springs, self_repulsion)
 from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
+from .sparse_assembly import scatter_hessian, trim_to_near
 
 __all__ = ["axpy", "contact", "contact_forces", "contact_law", "crossed_pairs", "dot",
            "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move",
            "max_row_norm", "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs",
-           "sdf_query", "SDF_SLOPE", "seam_springs", "self_repulsion", "smooth_sdf_query"]
+           "scatter_hessian", "sdf_query", "SDF_SLOPE", "seam_springs", "self_repulsion",
+           "smooth_sdf_query", "trim_to_near"]

@@ -325,9 +325,12 @@ def edge_repulsion(x, edges, pairs, st, normal, radius, stiffness, grad):
 
 
 @njit(cache=True)
-def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, out):
-    """Positive semi-definite Hessian of :func:`membrane`, per triangle: ``out`` (m, 81) holds
-    the 9x9 block over (corner j, coordinate c) x (corner k, coordinate d), row-major.
+def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, slots,
+                     out):
+    """Positive semi-definite Hessian of :func:`membrane`, per triangle: the 9x9 block over
+    (corner j, coordinate c) x (corner k, coordinate d), its row-major entry e of triangle t
+    added to ``out[slots[81 t + e]]`` (``out`` flat; triangle by triangle, entries in order,
+    as ``np.bincount`` would; ``slots = arange(81 m)`` on zeros gives the (m, 81) blocks).
 
     In the images ``w_u``, ``w_v`` of the warp and weft the stretch term
     ``k (|w| - 1)^2 / 2`` has the Hessian ``k (w^ w^T + max(e, 0) / |w| (I - w^ w^T))``: the
@@ -371,6 +374,6 @@ def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression
                 vk = cv[t, k]
                 for c in range(3):
                     for d in range(3):
-                        out[t, (j * 3 + c) * 9 + k * 3 + d] = (
+                        out[slots[t * 81 + (j * 3 + c) * 9 + k * 3 + d]] += (
                             uj * uk * Huu[c, d] + uj * vk * Huv[c, d]
                             + vj * uk * Huv[d, c] + vj * vk * Hvv[c, d])

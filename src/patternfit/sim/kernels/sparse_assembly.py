@@ -1,0 +1,83 @@
+"""Numba kernels that assemble the Newton solver's sparse matrices (SI units: N/m).
+
+- :func:`scatter_hessian`: the fixed-sparsity part of the Hessian, written straight into
+  its CSR data array from the per-term values and their slots
+  (``total_energy.HessianPattern``);
+- :func:`trim_to_near`: the lower triangle of the matrix factored to precondition Newton's
+  conjugate gradients (``preconditioners.newton_preconditioner``), in one pass over the
+  Hessian's CSR rows.
+
+Serial loops in a fixed order, the same order as the NumPy / SciPy operations they replace
+(``np.bincount``, a CSR sum), so that the matrices are bit-identical to theirs.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def scatter_hessian(bend, bend_slots, blocks, block_slots, out):
+    """Add the bending matrix's entries ``bend`` (k,) [N/m] at ``bend_slots`` (3 k,) (entry e
+    on the slots 3 e .. 3 e + 2, one per coordinate), then the per-vertex blocks ``blocks``
+    (n, 3, 3) [N/m] at ``block_slots`` (9 n,), into the Hessian's CSR data ``out`` (nnz,), in
+    that order. Each term's slots are distinct (a ``HessianPattern``'s are), so ``out``
+    becomes ``(out + bincount(bend)) + bincount(blocks)`` bit for bit."""
+    for k in range(bend_slots.shape[0]):
+        out[bend_slots[k]] += bend[k // 3]
+    flat = blocks.reshape(-1)
+    for k in range(flat.shape[0]):
+        out[block_slots[k]] += flat[k]
+
+
+@njit(cache=True)
+def trim_to_near(indptr, indices, data, near_indptr, near_indices):
+    """Lower triangle (CSR ``indptr`` (3n + 1,), ``indices``, ``data`` [N/m]) of a 3n x 3n
+    matrix H (canonical CSR ``indptr``, ``indices``, ``data``, dofs ordered x0 y0 z0 x1 ...)
+    kept on the entries between vertices that are neighbours in the vertex pattern
+    ``near_indptr`` (n + 1,), ``near_indices`` (sorted per row), every other entry's
+    absolute value added to its row's diagonal; off-diagonal entries equal to zero are left
+    out, the diagonal is always there.
+
+    Row i's dropped entries are summed in column order from zero, and the sum then added to
+    H's diagonal entry (or stands alone where H has none): the values of
+    ``csr(H kept) + diags(np.bincount(row, |dropped|))``, bit for bit."""
+    n3 = indptr.shape[0] - 1
+    out_ptr = np.zeros(n3 + 1, np.int32)
+    out_idx = np.empty(indices.shape[0] + n3, np.int32)
+    out_val = np.empty(indices.shape[0] + n3)
+    nnz = 0
+    for i in range(n3):
+        v = i // 3
+        lo, hi = near_indptr[v], near_indptr[v + 1]
+        extra = 0.0
+        at = lo
+        for jj in range(indptr[i], indptr[i + 1]):
+            w = indices[jj] // 3
+            while at < hi and near_indices[at] < w:
+                at += 1
+            if at == hi or near_indices[at] != w:
+                extra += abs(data[jj])
+        diag = extra
+        at = lo
+        for jj in range(indptr[i], indptr[i + 1]):
+            j = indices[jj]
+            if j > i:
+                break
+            w = j // 3
+            while at < hi and near_indices[at] < w:
+                at += 1
+            if at == hi or near_indices[at] != w:
+                continue
+            if j == i:
+                diag = data[jj] + extra
+            elif data[jj] != 0.0:
+                out_idx[nnz] = j
+                out_val[nnz] = data[jj]
+                nnz += 1
+        out_idx[nnz] = i
+        out_val[nnz] = diag
+        nnz += 1
+        out_ptr[i + 1] = nnz
+    return out_ptr, out_idx[:nnz], out_val[:nnz]

@@ -1,0 +1,54 @@
+"""The Newton solver's sparse assembly kernels (patternfit.sim.kernels.sparse_assembly): the
+Hessian's fixed-pattern sum and the trimmed preconditioner matrix."""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from patternfit.sim import kernels
+
+
+def test_scatter_hessian_sums_as_bincount_does():
+    rng = np.random.default_rng(5)
+    nnz, n = 80, 6
+    bend = rng.normal(size=7)
+    bend_slots = rng.choice(nnz, size=21, replace=False).astype(np.int32)
+    # each term's slots distinct, as in a HessianPattern; the two terms share some
+    block_slots = rng.choice(nnz, size=9 * n, replace=False).astype(np.int32)
+    blocks = rng.normal(size=(n, 3, 3))
+    start = rng.normal(size=nnz)  # what the membrane kernel left there
+    out = start.copy()
+    kernels.scatter_hessian(bend, bend_slots, blocks, block_slots, out)
+    want = ((start + np.bincount(bend_slots, weights=np.repeat(bend, 3), minlength=nnz))
+            + np.bincount(block_slots, weights=blocks.ravel(), minlength=nnz))
+    assert np.array_equal(out, want)
+
+
+def test_trim_to_near_keeps_near_pairs_and_moves_the_rest_to_the_diagonal():
+    # three vertices: 0 and 1 near each other, 2 near only itself
+    near_indptr = np.array([0, 2, 4, 5], np.int32)
+    near_indices = np.array([0, 1, 0, 1, 2], np.int32)
+    rng = np.random.default_rng(6)
+    A = rng.normal(size=(9, 9))
+    A = A + A.T
+    A[0, 4] = A[4, 0] = 0.0      # a near pair's zero: left out
+    A[6:, :6] = A[:6, 6:] = 0.0
+    A[7, 7] = 0.0                # vertex 2's y row has no diagonal entry ...
+    A[7, 1] = A[1, 7] = -2.5     # ... but one far entry, which becomes its diagonal
+    H = sp.csr_matrix(A)
+    H.eliminate_zeros()
+    indptr, indices, data = kernels.trim_to_near(H.indptr, H.indices, H.data, near_indptr,
+                                                 near_indices)
+    got = sp.csr_matrix((data, indices, indptr), shape=H.shape).toarray()
+    v = np.arange(9) // 3
+    near = np.zeros((3, 3), bool)
+    near[np.repeat(np.arange(3), np.diff(near_indptr)), near_indices] = True
+    keep = near[v[:, None], v[None, :]]
+    want = np.tril(np.where(keep, A, 0.0) + np.diag(np.where(keep, 0.0, np.abs(A)).sum(1)))
+    np.testing.assert_allclose(got, want, rtol=1e-15, atol=0.0)
+    assert got[7, 7] == 2.5 and got[7, 1] == 0.0
+    # the lower triangle only, each row's columns sorted and its diagonal last, no zeros
+    rows = np.repeat(np.arange(9), np.diff(indptr))
+    assert np.all(indices <= rows) and np.array_equal(indices[indptr[1:] - 1], np.arange(9))
+    assert np.all(np.diff(indices)[np.diff(rows) == 0] > 0) and np.all(data != 0.0)
