@@ -110,6 +110,11 @@ def test_energy_is_pure(scene, request):
     H1 = hessian(model, state, x, settings=s, pattern=hessian_pattern(model))
     H2 = hessian(model, state, x, settings=s, pattern=hessian_pattern(model))
     assert (H1 != H2).nnz == 0 and H1.shape == (3 * model.n, 3 * model.n)
+    # the warm lookups spare distance lookups (on the body), not one entry of the Hessian
+    assert model.body is None or 0 < len(lookups.unspared(x)) < model.n
+    H3 = hessian(model, state, x, settings=s, pattern=hessian_pattern(model), lookups=lookups)
+    assert np.array_equal(H1.indptr, H3.indptr) and np.array_equal(H1.indices, H3.indices)
+    assert np.array_equal(H1.data, H3.data)
     assert not _unchanged(state, snap)
 
 

@@ -22,7 +22,8 @@ from . import kernels
 from .model import ClothModel
 from .settings import SolverSettings
 from .state import ContactState
-from .total_energy import HessianPattern, fits_pattern, hessian, hessian_pattern
+from .total_energy import (ContactLookups, HessianPattern, fits_pattern, hessian,
+                           hessian_pattern)
 
 
 @dataclass(eq=False)
@@ -126,13 +127,15 @@ def newton_preconditioner(H, pattern: HessianPattern):
 
 
 def newton_direction(factors: Factors, model: ClothModel, state: ContactState, x, grad, *,
-                     settings: SolverSettings) -> np.ndarray:
+                     settings: SolverSettings,
+                     lookups: ContactLookups | None = None) -> np.ndarray:
     """Inexact Newton step (3n,) [m] at solved positions ``x`` (n, 3) [m] with gradient
     ``grad`` (n, 3) [N]: conjugate gradients on H d = -grad, preconditioned by the Cholesky
-    factor of this or an earlier Hessian (refactored when CG was slow)."""
+    factor of this or an earlier Hessian (refactored when CG was slow). ``lookups``: the
+    energy's contact lookup cache (``total_energy.hessian``)."""
     s = settings
     pattern = factors.pattern_of(model)
-    H = hessian(model, state, x, settings=s, pattern=pattern)
+    H = hessian(model, state, x, settings=s, pattern=pattern, lookups=lookups)
     if factors.newton is None or factors.cg_last > s.newton_refactor:
         indptr, indices, data = newton_preconditioner(H, pattern)
         factors.newton = CholeskySolverD(H.shape[0], indptr, indices, data, MatrixType.CSR)

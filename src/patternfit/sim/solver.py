@@ -216,8 +216,8 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
             g = grad.ravel()
             newton_now = newton_on
             if newton_now:
-                d = newton_direction(factors, model, state, x, grad,
-                                     settings=s)
+                d = newton_direction(factors, model, state, x, grad, settings=s,
+                                     lookups=lookups)
             else:
                 d = lbfgs.direction(g, lbfgs_precondition)
             gd = kernels.dot(g, d)

@@ -36,6 +36,13 @@ class ContactLookups:
         """No lookup made yet for ``n`` vertices."""
         return cls(np.full((n, 3), np.inf), np.zeros(n))
 
+    def unspared(self, x) -> np.ndarray:
+        """Indices (k,) of the vertices at ``x`` (n, 3) [m] that ``kernels.contact`` would
+        look up (the test in its arithmetic): every other one is out of contact."""
+        m = x - self.seen
+        return np.flatnonzero(~(m[:, 0] * m[:, 0] + m[:, 1] * m[:, 1] + m[:, 2] * m[:, 2]
+                                < self.room * self.room))
+
 
 def distance(model: ClothModel, x):
     """Distances (n,) [m] and gradients (n, 3) of the body's field as contact sees it (the
@@ -141,11 +148,13 @@ def fits_pattern(pattern: HessianPattern | None, model: ClothModel) -> bool:
 
 
 def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettings,
-            pattern: HessianPattern) -> sp.csr_matrix:
+            pattern: HessianPattern, lookups: ContactLookups | None = None) -> sp.csr_matrix:
     """PSD-projected Hessian (3n x 3n CSR) [N/m] of the energy at solved positions ``x``
     (n, 3) [m] with the lagged terms of ``state``, plus the regulariser m / newton_dt^2;
     pinned rows and columns are identity. ``pattern``: :func:`hessian_pattern` of
-    ``model``."""
+    ``model``. ``lookups``: the energy's lookup cache of the same state (read only: the
+    distance is looked up only where it may be in contact; the same matrix, bit for bit);
+    None looks every vertex up."""
     s = settings
     t = model.terms
     f = model.fabric
@@ -157,11 +166,13 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
     blocks = np.zeros((n, 3, 3))
     blocks += (model.mass / s.newton_dt ** 2)[:, None, None] * np.eye(3)
     if model.body is not None:
-        d, g = distance(model, x)
-        on = np.flatnonzero(d < model.reach(s))
-        _, k_on = kernels.contact_forces(model.reach(s) - d[on], state.contact_k[on],
+        near = np.arange(n) if lookups is None else lookups.unspared(x)
+        d, g = distance(model, x[near])
+        hit = d < model.reach(s)
+        on = near[hit]
+        _, k_on = kernels.contact_forces(model.reach(s) - d[hit], state.contact_k[on],
                                          s.contact_onset)
-        blocks[on] += k_on[:, None, None] * g[on, :, None] * g[on, None, :]
+        blocks[on] += k_on[:, None, None] * g[hit, :, None] * g[hit, None, :]
     if len(state.friction_idx):
         idx, nrm = state.friction_idx, state.friction_normal
         P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
