@@ -52,3 +52,8 @@ def test_trim_to_near_keeps_near_pairs_and_moves_the_rest_to_the_diagonal():
     rows = np.repeat(np.arange(9), np.diff(indptr))
     assert np.all(indices <= rows) and np.array_equal(indices[indptr[1:] - 1], np.arange(9))
     assert np.all(np.diff(indices)[np.diff(rows) == 0] > 0) and np.all(data != 0.0)
+    # rows in another order (a pinned Hessian's are not sorted): the same matrix
+    order = np.lexsort((-H.indices, np.repeat(np.arange(9), np.diff(H.indptr))))
+    out = kernels.trim_to_near(H.indptr, H.indices[order], H.data[order], near_indptr,
+                               near_indices)
+    assert np.array_equal(sp.csr_matrix(out[::-1], shape=H.shape).toarray(), got)

@@ -115,7 +115,7 @@ def precondition(factors: Factors, q) -> np.ndarray:
 
 def newton_preconditioner(H, pattern: HessianPattern):
     """Lower triangle, as CSR (row starts (3n + 1,), columns, values [N/m]), of the matrix
-    factored to precondition Newton's CG: ``H`` (3n x 3n canonical CSR) on the entries
+    factored to precondition Newton's CG: ``H`` (3n x 3n CSR) on the entries
     between vertices that share a triangle; every other entry (bending across an edge,
     self-collision pairs) is dropped and its absolute value added to its row's diagonal,
     which keeps the matrix above ``H`` (positive definite). The factor's fill then is the

@@ -32,16 +32,26 @@ def scatter_hessian(bend, bend_slots, blocks, block_slots, out):
 
 
 @njit(cache=True)
+def _is_near(near_indices, lo, hi, w):
+    """Whether vertex ``w`` is in ``near_indices[lo:hi]`` (sorted)."""
+    for k in range(lo, hi):
+        if near_indices[k] >= w:
+            return near_indices[k] == w
+    return False
+
+
+@njit(cache=True)
 def trim_to_near(indptr, indices, data, near_indptr, near_indices):
     """Lower triangle (CSR ``indptr`` (3n + 1,), ``indices``, ``data`` [N/m]) of a 3n x 3n
-    matrix H (canonical CSR ``indptr``, ``indices``, ``data``, dofs ordered x0 y0 z0 x1 ...)
-    kept on the entries between vertices that are neighbours in the vertex pattern
-    ``near_indptr`` (n + 1,), ``near_indices`` (sorted per row), every other entry's
-    absolute value added to its row's diagonal; off-diagonal entries equal to zero are left
-    out, the diagonal is always there.
+    matrix H (CSR ``indptr``, ``indices``, ``data`` without duplicates, each row's entries in
+    any order; dofs ordered x0 y0 z0 x1 ...) kept on the entries between vertices that are
+    neighbours in the vertex pattern ``near_indptr`` (n + 1,), ``near_indices`` (sorted per
+    row), every other entry's absolute value added to its row's diagonal. A row's kept
+    entries come in H's order, off-diagonal zeros left out, its diagonal last and always
+    there (sorted rows when H's are).
 
-    Row i's dropped entries are summed in column order from zero, and the sum then added to
-    H's diagonal entry (or stands alone where H has none): the values of
+    Row i's dropped entries are summed in H's order from zero, and the sum then added to H's
+    diagonal entry (or stands alone where H has none): the values of
     ``csr(H kept) + diags(np.bincount(row, |dropped|))``, bit for bit."""
     n3 = indptr.shape[0] - 1
     out_ptr = np.zeros(n3 + 1, np.int32)
@@ -49,26 +59,15 @@ def trim_to_near(indptr, indices, data, near_indptr, near_indices):
     out_val = np.empty(indices.shape[0] + n3)
     nnz = 0
     for i in range(n3):
-        v = i // 3
-        lo, hi = near_indptr[v], near_indptr[v + 1]
+        lo, hi = near_indptr[i // 3], near_indptr[i // 3 + 1]
         extra = 0.0
-        at = lo
         for jj in range(indptr[i], indptr[i + 1]):
-            w = indices[jj] // 3
-            while at < hi and near_indices[at] < w:
-                at += 1
-            if at == hi or near_indices[at] != w:
+            if not _is_near(near_indices, lo, hi, indices[jj] // 3):
                 extra += abs(data[jj])
         diag = extra
-        at = lo
         for jj in range(indptr[i], indptr[i + 1]):
             j = indices[jj]
-            if j > i:
-                break
-            w = j // 3
-            while at < hi and near_indices[at] < w:
-                at += 1
-            if at == hi or near_indices[at] != w:
+            if j > i or not _is_near(near_indices, lo, hi, j // 3):
                 continue
             if j == i:
                 diag = data[jj] + extra
