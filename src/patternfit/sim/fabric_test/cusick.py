@@ -29,7 +29,7 @@ CUSICK_DISC = 0.18
 #: the kit's mesh: at least this many triangle edges per bending length of the fabric's
 #: softer direction. Linear triangles lock (cannot fold) where a fold is only a few edges
 #: wide, and the folds of a drape are a few bending lengths wide: the light published wovens
-#: (c = 7.4-7.7 mm) read 1.5-1.9 times their drape coefficient at 4K triangles (6.4 mm edges,
+#: (c = 7.4-7.7 mm) read 1.15-1.5 times their drape coefficient at 4K triangles (6.4 mm edges,
 #: 1.2 per c) and settle from 2.3 per c on (petrak_m2: 0.182 at 16K, 0.183 at 24K); the
 #: stiffer ones move by 3 % from 2.5 to 3.6 per c (petrak_m6 0.350 at 8K, 0.359 at 16K);
 #: docs/fabrics.md, "The kit's mesh"
