@@ -3,7 +3,7 @@ Cusick), and the Cusick test of the published fabrics against their measured dra
 coefficients.
 
 Run ``python benchmarks/physics.py [--only presets|published] [--fabrics denim ...]
-[--triangles 4000] [--seeds 5] [--meshes 6,12,24] [--compression 1.0,0.05] [--hysteresis 0]
+[--triangles N] [--seeds 5] [--meshes 6,12,24] [--compression 1.0,0.05] [--hysteresis 0]
 [--figures DIR] [--json FILE]``; prints one table row per preset (strip
 stretch over rho g L^2 / (2 k); cantilever bending length measured / expected, finest mesh,
 and the change between the two finest; Cusick drape coefficient mean (min-max over the
@@ -64,13 +64,11 @@ def presets(args, settings, dump):
     """The strip, cantilever and Cusick tests of every preset in ``args.fabrics``."""
     meshes = tuple(int(m) for m in args.meshes.split(","))
     rows, series = [], []
-    triangles = None
     for name in args.fabrics:
         strip = kit.strip_test(name, settings=settings)
         cant = kit.cantilever_test(name, meshes=meshes, settings=settings)
         cus = kit.cusick_test(name, triangles=args.triangles, seeds=tuple(range(args.seeds)),
                               settings=settings)
-        triangles = cus.triangles
         solves = [strip.solve] + [r.solve for m in cant.meshes for r in m.runs] + \
             [r.solve for r in cus.runs]
         rest = sum(s.at_rest for s in solves)
@@ -81,7 +79,7 @@ def presets(args, settings, dump):
                       f"{cant.bending_length_expected_m * 1e3:.2f}"),
                      fmt(cant.ratio, ".3f"), fmt(cant.mesh_change, ".1f", 100),
                      f"{cus.drape_coefficient:.3f} ({min(dcs):.3f}-{max(dcs):.3f})",
-                     f"{cus.nodes:.1f} ({cus.nodes_min}-{cus.nodes_max})",
+                     cus.triangles, f"{cus.nodes:.1f} ({cus.nodes_min}-{cus.nodes_max})",
                      f"{shrunk * 100:.1f}", f"{rest}/{len(solves)}",
                      f"{strip.seconds:.1f} / {cant.seconds:.1f} / {cus.seconds:.1f}"))
         for m in cant.meshes:
@@ -97,14 +95,20 @@ def presets(args, settings, dump):
         dump[name] = {"strip": strip.to_dict(), "cantilever": cant.to_dict(),
                       "cusick": cus.to_dict()}
     print_table(f"fabric tests (strip 0.5 x 0.05 m; cantilever {args.meshes} edges per "
-                f"bending length, 25 mm strip; Cusick 30/18 cm, {triangles} triangles, "
+                f"bending length, 25 mm strip; Cusick 30/18 cm, {mesh_text(args)}, "
                 f"{args.seeds} starts)", rows,
                 ("fabric", "strip ratio", "bending length mm (meas / exp)", "ratio",
-                 "mesh Δ %", "Cusick DC mean (min-max)", "nodes", "shrunk %",
+                 "mesh Δ %", "Cusick DC mean (min-max)", "triangles", "nodes", "shrunk %",
                  "at rest", "seconds strip / cant / Cusick"))
     print_table("cantilever mesh series (finest last; ratio = reading / expected)", series,
                 ("fabric", "edge mm", "triangles", "solves", "overhang mm", "tip °",
                  "bending length mm", "ratio"))
+
+
+def mesh_text(args) -> str:
+    """The Cusick mesh of a table title."""
+    return (f"{args.triangles} triangles" if args.triangles
+            else "the kit's mesh (2.5 edges per bending length, 4K-40K triangles)")
 
 
 def not_at_rest(name, solves):
@@ -157,7 +161,7 @@ def published(args, settings_text, dump):
             shrunk = max(r.compressed_share for r in cus.runs)
             sims[c].append(cus.drape_coefficient)
             row += [f"{cus.drape_coefficient:.3f} ({min(dcs):.3f}-{max(dcs):.3f})",
-                    f"{cus.drape_coefficient / pub.drape_coefficient:.2f}",
+                    f"{cus.drape_coefficient / pub.drape_coefficient:.2f}", str(cus.triangles),
                     f"{cus.nodes:.1f} ({cus.nodes_min}-{cus.nodes_max})",
                     f"{shrunk * 100:.1f}", f"{cus.seconds:.0f}"]
             not_at_rest(f"{fid} compression {c}", [r.solve for r in cus.runs])
@@ -172,10 +176,11 @@ def published(args, settings_text, dump):
             args.json.write_text(dumps_finite_json(dump, indent=1) + "\n")
     header = ["fabric", "what", "measured DC"]
     for c in comps:
-        header += [f"sim DC c={c:g} mean (min-max)", "sim/meas", "nodes", "shrunk %", "s"]
+        header += [f"sim DC c={c:g} mean (min-max)", "sim/meas", "triangles", "nodes",
+                   "shrunk %", "s"]
     header.append("CLO3D DC (source)")
-    print_table(f"Cusick drape test of published fabrics (30/18 cm, {args.triangles} "
-                f"triangles, {args.seeds} starts; c = stretch stiffness kept in compression; "
+    print_table(f"Cusick drape test of published fabrics (30/18 cm, {mesh_text(args)}, "
+                f"{args.seeds} starts; c = stretch stiffness kept in compression; "
                 f"bending hysteresis 2HB = {args.hysteresis:g} 1/m x B); sources: "
                 f"docs/fabrics.md", rows, tuple(header))
     measured = [p.drape_coefficient for p in table.values()]
@@ -198,7 +203,8 @@ def main():
                     help="run one of the two sections (default both)")
     ap.add_argument("--fabrics", nargs="+", default=list(FABRICS))
     ap.add_argument("--ids", nargs="+", help="published fabrics to run (default all)")
-    ap.add_argument("--triangles", type=int, default=4000, help="Cusick mesh")
+    ap.add_argument("--triangles", type=int, default=None,
+                    help="Cusick mesh (default: the kit's, by each fabric's bending length)")
     ap.add_argument("--seeds", type=int, default=5, help="Cusick starts")
     ap.add_argument("--meshes", default="6,12,24",
                     help="cantilever mesh sizes, edges per bending length")

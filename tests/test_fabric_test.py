@@ -194,7 +194,7 @@ def test_presets_on_the_full_bench(fabric):
 # ------------------------------------------------- stored readings and published drapes
 
 
-def _reading_check(name, triangles=4000, seeds=(0,)):
+def _reading_check(name, triangles=None, seeds=(0,)):
     """Re-run the kit's Cusick test on ``name`` as its stored reading was made (kit
     defaults, the first of its starts) and compare."""
     stored = KIT_READINGS[name]
@@ -204,6 +204,24 @@ def _reading_check(name, triangles=4000, seeds=(0,)):
     assert stored.drape_coefficient_min - 0.01 <= r.drape_coefficient \
         <= stored.drape_coefficient_max + 0.01, name
     return r
+
+
+def test_the_kits_mesh_resolves_the_fabrics_folds():
+    """Default Cusick mesh: edges of at most a 2.5th of the smaller bending length, between
+    4K and 40K triangles, more for a larger specimen."""
+    for name in [*FABRICS, *published_drapes()]:
+        fab = get_fabric(name)
+        n = kit.cusick_triangles(fab)
+        low, high = cusick_kit.CUSICK_TRIANGLES
+        assert low <= n <= high
+        c = min(fab.bending_length, fab.bending_length_weft)
+        edge = math.sqrt(4 * math.pi * 0.15 ** 2 / (math.sqrt(3) * n))
+        assert n == low or n == high or edge <= c / 2.5 * 1.001, name
+    assert kit.cusick_triangles("petrak_m2") > 16000  # c = 7.4 mm: locks at 4K
+    assert kit.cusick_triangles("denim") == 4000
+    assert kit.cusick_triangles("petrak_m2", specimen=0.36) > kit.cusick_triangles("petrak_m2")
+    with pytest.raises(ValueError, match="specimen"):
+        kit.cusick_triangles("denim", specimen=float("nan"))
 
 
 def test_stored_drape_coefficient_agrees_with_a_kit_run():

@@ -129,10 +129,11 @@ def fabric_test(test: str, fabric: Fabric | str | Path = DEFAULTS.fabric, *,
       (B / (rho g))^(1/3); options ``direction``, ``meshes`` (edges per bending length,
       coarse to fine).
     - ``"cusick"``: the Cusick drape coefficient and nodes; options ``specimen``, ``disc``
-      (diameters [m]), ``triangles``, ``seeds`` (the perturbed starts).
+      (diameters [m]), ``triangles`` (default: the kit's mesh for the fabric,
+      ``fabric_test.cusick_triangles``), ``seeds`` (the perturbed starts).
 
-    ``progress(text)`` is called as the test goes. Long (a Cusick test of 4000 triangles
-    and 5 starts takes minutes); KeyboardInterrupt stops it.
+    ``progress(text)`` is called as the test goes. Long (a Cusick test of 4,000-19,000
+    triangles and 5 starts takes minutes); KeyboardInterrupt stops it.
     """
     from .sim import fabric_test as kit
 

@@ -117,7 +117,8 @@ def fabric_test(
                                          "bending length, coarse to fine (default 6,12,24)."),
     triangles: Optional[int] = typer.Option(None, "--triangles", "-n", min=50, max=200_000,
                                             help="cusick: triangles of the specimen "
-                                                 "(default 4000)."),
+                                                 "(default: 2.5 edges per bending length of "
+                                                 "the fabric, 4,000 to 40,000)."),
     seeds: Optional[int] = typer.Option(None, min=1, max=50, help="cusick: perturbed flat "
                                         "starts, seeds 0..N-1 (default 5)."),
     specimen: Optional[float] = typer.Option(None, min=0.02, max=2.0, callback=finite,
@@ -179,7 +180,7 @@ def fabric_test(
             result = kit.cusick_test(
                 fab, specimen=kit.CUSICK_SPECIMEN if specimen is None else specimen,
                 disc=kit.CUSICK_DISC if disc is None else disc,
-                triangles=4000 if triangles is None else triangles,
+                triangles=triangles,
                 seeds=tuple(range(5 if seeds is None else seeds)), settings=settings,
                 progress=progress)
     report = {**result.to_dict(), "fabric_constants": fab.to_dict()}

@@ -26,6 +26,32 @@ from .common import (Progress, SolveInfo, _grain, _loop_segments, _plain, _quali
 CUSICK_SPECIMEN = 0.30
 CUSICK_DISC = 0.18
 
+#: the kit's mesh: at least this many triangle edges per bending length of the fabric's
+#: softer direction. Linear triangles lock (cannot fold) where a fold is only a few edges
+#: wide, and the folds of a drape are a few bending lengths wide: the light published wovens
+#: (c = 7.4-7.7 mm) read 1.15-1.5 times their drape coefficient at 4K triangles (6.4 mm edges,
+#: 1.2 per c) and settle from 2.3 per c on (petrak_m2: 0.182 at 16K, 0.183 at 24K); the
+#: stiffer ones move by 3 % from 2.5 to 3.6 per c (petrak_m6 0.350 at 8K, 0.359 at 16K);
+#: docs/fabrics.md, "The kit's mesh"
+CUSICK_EDGES_PER_BENDING_LENGTH = 2.5
+#: ... but never fewer triangles than this (stiff fabrics: their folds are wide anyway) nor
+#: more (a drape of this size takes some 30 s a start on a 2-core machine)
+CUSICK_TRIANGLES = (4000, 40000)
+
+
+def cusick_triangles(fabric: Fabric | str, specimen: float = CUSICK_SPECIMEN) -> int:
+    """The kit's triangle count for the Cusick test of ``fabric`` on a specimen of diameter
+    ``specimen`` [m]: edges of at most 1 / ``CUSICK_EDGES_PER_BENDING_LENGTH`` of the
+    fabric's smaller bending length (warp or weft) [m], within ``CUSICK_TRIANGLES``."""
+    fab = get_fabric(fabric)
+    specimen = number(specimen, "specimen", low=0.02, high=2.0)
+    c = min(fab.bending_length, fab.bending_length_weft)
+    h = c / CUSICK_EDGES_PER_BENDING_LENGTH
+    area = math.pi * (specimen / 2) ** 2
+    wanted = 4 * area / (math.sqrt(3) * h * h)  # equilateral triangles of edge h
+    low, high = CUSICK_TRIANGLES
+    return int(min(max(math.ceil(wanted), low), high))
+
 
 def _disc_mesh(r_specimen: float, r_disc: float, triangles: int):
     """A disc of radius ``r_specimen`` with the support circle ``r_disc`` as a mesh line,
@@ -208,7 +234,7 @@ def _perturbation(v: np.ndarray, r_disc: float, r_spec: float, amplitude: float,
 
 
 def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = CUSICK_SPECIMEN,
-                disc: float = CUSICK_DISC, triangles: int = 4000, seeds=(0, 1, 2, 3, 4),
+                disc: float = CUSICK_DISC, triangles: int | None = None, seeds=(0, 1, 2, 3, 4),
                 perturbation: float = 2e-3, pixel: float = 5e-4,
                 settings: SolverSettings | None = None,
                 progress: Progress | None = None) -> CusickResult:
@@ -216,7 +242,8 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
     clamped between two discs of diameter ``disc`` [m] (every vertex within the disc radius
     is pinned; the disc edge is a circle of mesh vertices), draped under gravity to rest by
     the static solver from each of the flat starts perturbed by ``seeds`` (random waves of
-    RMS ``perturbation`` [m] at the hem), meshed with about ``triangles`` triangles.
+    RMS ``perturbation`` [m] at the hem), meshed with about ``triangles`` triangles (None:
+    :func:`cusick_triangles`, fine enough for the fabric's folds).
 
     Reads, per start: DC = (A_shadow - A_disc) / (A_specimen - A_disc), the shadow being the
     vertical projection rasterised at ``pixel`` [m] (pixel centres; A_specimen and A_disc are
@@ -231,6 +258,8 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
     if not disc < specimen:
         raise ValueError(f"disc: the disc ({disc} m) must be smaller than the specimen "
                          f"({specimen} m)")
+    if triangles is None:
+        triangles = cusick_triangles(fab, specimen)
     triangles = int(number(triangles, "triangles", low=50, high=200_000))
     seeds = [int(number(s, "seeds", low=0, high=2**31)) for s in seeds]
     if not seeds:
