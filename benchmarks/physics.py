@@ -108,7 +108,7 @@ def presets(args, settings, dump):
 def mesh_text(args) -> str:
     """The Cusick mesh of a table title."""
     return (f"{args.triangles} triangles" if args.triangles
-            else "the kit's mesh (2.5 edges per bending length, 4K-40K triangles)")
+            else "the kit's mesh (2.5 edges per bending length, 4K-24K triangles)")
 
 
 def not_at_rest(name, solves):

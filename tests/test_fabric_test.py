@@ -208,7 +208,7 @@ def _reading_check(name, triangles=None, seeds=(0,)):
 
 def test_the_kits_mesh_resolves_the_fabrics_folds():
     """Default Cusick mesh: edges of at most a 2.5th of the smaller bending length, between
-    4K and 40K triangles, more for a larger specimen."""
+    4K and 24K triangles, more for a larger specimen."""
     for name in [*FABRICS, *published_drapes()]:
         fab = get_fabric(name)
         n = kit.cusick_triangles(fab)

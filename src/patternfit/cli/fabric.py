@@ -118,7 +118,7 @@ def fabric_test(
     triangles: Optional[int] = typer.Option(None, "--triangles", "-n", min=50, max=200_000,
                                             help="cusick: triangles of the specimen "
                                                  "(default: 2.5 edges per bending length of "
-                                                 "the fabric, 4,000 to 40,000)."),
+                                                 "the fabric, 4,000 to 24,000)."),
     seeds: Optional[int] = typer.Option(None, min=1, max=50, help="cusick: perturbed flat "
                                         "starts, seeds 0..N-1 (default 5)."),
     specimen: Optional[float] = typer.Option(None, min=0.02, max=2.0, callback=finite,

@@ -35,8 +35,9 @@ CUSICK_DISC = 0.18
 #: docs/fabrics.md, "The kit's mesh"
 CUSICK_EDGES_PER_BENDING_LENGTH = 2.5
 #: ... but never fewer triangles than this (stiff fabrics: their folds are wide anyway) nor
-#: more (a drape of this size takes some 30 s a start on a 2-core machine)
-CUSICK_TRIANGLES = (4000, 40000)
+#: more (petrak_m2 at 24K: 21 s CPU a start on a 2-core machine, 46 s wall at load 4; the
+#: solver stops at its 300 s wall-clock limit, so a finer default would fail on a busy one)
+CUSICK_TRIANGLES = (4000, 24000)
 
 
 def cusick_triangles(fabric: Fabric | str, specimen: float = CUSICK_SPECIMEN) -> int:
