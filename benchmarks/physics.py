@@ -4,6 +4,7 @@ coefficients.
 
 Run ``python benchmarks/physics.py [--only presets|published] [--fabrics denim ...]
 [--triangles N] [--seeds 5] [--meshes 6,12,24] [--compression 1.0,0.05] [--hysteresis 0]
+[--specimen 0.30 --disc 0.18]
 [--figures DIR] [--json FILE]``; prints one table row per preset (strip
 stretch over rho g L^2 / (2 k); cantilever bending length measured / expected, finest mesh,
 and the change between the two finest; Cusick drape coefficient mean (min-max over the
@@ -155,8 +156,9 @@ def published(args, settings_text, dump):
         row = [fid, pub.description, f"{pub.drape_coefficient:.3f}"]
         for c in comps:
             st = kit.settings_from_pairs([*settings_text, f"compression={c}"])
-            cus = kit.cusick_test(pub.fabric, triangles=args.triangles,
-                                  seeds=tuple(range(args.seeds)), settings=st)
+            cus = kit.cusick_test(pub.fabric, specimen=args.specimen, disc=args.disc,
+                                  triangles=args.triangles, seeds=tuple(range(args.seeds)),
+                                  settings=st)
             dcs = [r.drape_coefficient for r in cus.runs]
             shrunk = max(r.compressed_share for r in cus.runs)
             sims[c].append(cus.drape_coefficient)
@@ -179,7 +181,8 @@ def published(args, settings_text, dump):
         header += [f"sim DC c={c:g} mean (min-max)", "sim/meas", "triangles", "nodes",
                    "shrunk %", "s"]
     header.append("CLO3D DC (source)")
-    print_table(f"Cusick drape test of published fabrics (30/18 cm, {mesh_text(args)}, "
+    print_table(f"Cusick drape test of published fabrics ({args.specimen * 100:g}/"
+                f"{args.disc * 100:g} cm, {mesh_text(args)}, "
                 f"{args.seeds} starts; c = stretch stiffness kept in compression; "
                 f"bending hysteresis 2HB = {args.hysteresis:g} 1/m x B); sources: "
                 f"docs/fabrics.md", rows, tuple(header))
@@ -211,6 +214,11 @@ def main():
     ap.add_argument("--compression", default="1.0,0.05",
                     help="published fabrics: stretch stiffness kept in compression, a share "
                          "per column group")
+    ap.add_argument("--specimen", type=float, default=0.30,
+                    help="published fabrics: Cusick specimen diameter [m] (the transcription "
+                         "of their source gives no tester geometry)")
+    ap.add_argument("--disc", type=float, default=0.18,
+                    help="published fabrics: Cusick disc diameter [m]")
     ap.add_argument("--hysteresis", type=float, default=0.0, metavar="Q",
                     help="published fabrics: bending hysteresis 2HB = Q x sqrt(B_warp B_weft), "
                          "Q in 1/m (their sources give no 2HB; 105 is Matsudaira et al.'s "
