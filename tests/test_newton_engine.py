@@ -8,6 +8,7 @@ compiles Warp's kernels (about a minute and a half on 2 cores, then cached in
 from __future__ import annotations
 
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -254,3 +255,25 @@ def test_rest_needs_both_slow_speed_and_no_drift():
         assert run.at_rest is rests
         assert run.max_speed < scene.settings.speed_tol
         assert (run.drift < scene.settings.rest_drift) is rests
+
+
+def test_a_fabric_with_bending_hysteresis_is_named_when_newton_leaves_it_out(monkeypatch):
+    """Style3D has no frictional bending couple: a Newton drape of a fabric with 2HB warns
+    before any work (checked with the engine stubbed to be missing)."""
+    import dataclasses
+
+    from patternfit.sim import newton_engine
+    from patternfit.sim.fabrics import get_fabric
+
+    def missing():
+        raise newton_engine.NewtonMissingError("stub")
+
+    monkeypatch.setattr(newton_engine, "import_newton", missing)
+    fab = dataclasses.replace(get_fabric("denim"), bending_hysteresis=1e-3)
+    with pytest.warns(newton_engine.EngineWarning, match="denim.*bending hysteresis"):
+        with pytest.raises(newton_engine.NewtonMissingError):
+            newton_engine.newton_drape(None, None, None, fab)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", newton_engine.EngineWarning)
+        with pytest.raises(newton_engine.NewtonMissingError):
+            newton_engine.newton_drape(None, None, None, "denim")

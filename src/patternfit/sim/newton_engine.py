@@ -17,6 +17,7 @@ imported here only when a Newton drape is asked for. Warp compiles its kernels o
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -409,6 +410,10 @@ def _result(solver: GarmentSolver, flat: np.ndarray, vertex_map, run: RunResult)
                        energy=float("nan"), checks=checks)
 
 
+class EngineWarning(UserWarning):
+    """The Newton engine leaves out part of what the fabric asks for."""
+
+
 def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
                  fabric: Fabric | str = DEFAULTS.fabric, *,
                  settings: NewtonSettings | None = None, device: str | None = None,
@@ -423,7 +428,8 @@ def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
     Parameters
     ----------
     pattern, mesh, body, fabric, clearance, spacing, placed, sewing_iterations, relax_iterations
-        As for :func:`patternfit.sim.drape.drape`; the placement and the gravity-free
+        As for :func:`patternfit.sim.drape.drape` (a fabric with a bending hysteresis gets
+        an :class:`EngineWarning`: Style3D drapes it without); the placement and the gravity-free
         sewing and relaxation are the static engine's
         (:meth:`patternfit.sim.schedule.Plan.sewing`, with the static drape's contact
         margin), so both engines start from the same sewn garment.
@@ -440,6 +446,12 @@ def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
     """
     t0 = time.perf_counter()
     fabric = get_fabric(fabric)
+    if fabric.bending_hysteresis:
+        # Style3D has no frictional bending couple: say so rather than drape another fabric
+        warnings.warn(EngineWarning(
+            f"fabric {fabric.name!r}: the Newton engine drapes without its bending hysteresis "
+            f"(2HB = {fabric.bending_hysteresis:g} N); the static engine models it "
+            "(docs/simulation.md, 'Bending hysteresis')"), stacklevel=2)
     s = settings or NewtonSettings()
     import_newton()  # fail before any work when newton is missing
     t = time.perf_counter()
