@@ -38,10 +38,8 @@ class ContactLookups:
 
     def unspared(self, x) -> np.ndarray:
         """Indices (k,) of the vertices at ``x`` (n, 3) [m] that ``kernels.contact`` would
-        look up (the test in its arithmetic): every other one is out of contact."""
-        m = x - self.seen
-        return np.flatnonzero(~(m[:, 0] * m[:, 0] + m[:, 1] * m[:, 1] + m[:, 2] * m[:, 2]
-                                < self.room * self.room))
+        look up (``kernels.unspared``, its own test): every other one is out of contact."""
+        return kernels.unspared(x, self.seen, self.room)
 
 
 def distance(model: ClothModel, x):

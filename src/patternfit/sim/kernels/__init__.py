@@ -22,7 +22,7 @@ from ...body.sdf import sdf_query, smooth_sdf_query
 from .collision import crossed_pairs, intersecting_pairs, near_edge_pairs, near_pairs
 from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge_repulsion,
                            friction, friction_law, friction_offset, friction_stiffness,
-                           membrane, membrane_hessian, seam_springs, self_repulsion)
+                           membrane, membrane_hessian, seam_springs, self_repulsion, unspared)
 from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
 from .sparse_assembly import scatter_hessian, trim_to_near
 
@@ -31,4 +31,4 @@ __all__ = ["axpy", "contact", "contact_forces", "contact_law", "crossed_pairs", 
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move",
            "max_row_norm", "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs",
            "scatter_hessian", "sdf_query", "SDF_SLOPE", "seam_springs", "self_repulsion",
-           "smooth_sdf_query", "trim_to_near"]
+           "smooth_sdf_query", "trim_to_near", "unspared"]

@@ -99,6 +99,29 @@ def contact_law(pen, k, onset):
 
 
 @njit(cache=True)
+def _spared(x, seen, room, i):
+    """Whether vertex ``i`` at ``x[i]`` is less than ``room[i]`` [m] from ``seen[i]``, where
+    its distance was last looked up: still out of contact (:func:`contact`)."""
+    m0 = x[i, 0] - seen[i, 0]
+    m1 = x[i, 1] - seen[i, 1]
+    m2 = x[i, 2] - seen[i, 2]
+    return m0 * m0 + m1 * m1 + m2 * m2 < room[i] * room[i]
+
+
+@njit(cache=True)
+def unspared(x, seen, room):
+    """Indices (k,) of the vertices at ``x`` (n, 3) [m] that :func:`contact` would look up
+    with the same ``seen`` and ``room``: every other one is out of contact."""
+    out = np.empty(x.shape[0], np.int64)
+    k = 0
+    for i in range(x.shape[0]):
+        if not _spared(x, seen, room, i):
+            out[k] = i
+            k += 1
+    return out[:k]
+
+
+@njit(cache=True)
 def contact(x, values, origin, spacing, thickness, stiffness, onset, seen, room, grad):
     """Penalty (:func:`contact_law`, stiffness reached over ``onset`` [m]) on every vertex
     whose distance ``d_i`` (the field's C1 reading, ``body.sdf.smooth_distance_at``: a
@@ -112,10 +135,7 @@ def contact(x, values, origin, spacing, thickness, stiffness, onset, seen, room,
     """
     energy = 0.0
     for i in range(x.shape[0]):
-        m0 = x[i, 0] - seen[i, 0]
-        m1 = x[i, 1] - seen[i, 1]
-        m2 = x[i, 2] - seen[i, 2]
-        if m0 * m0 + m1 * m1 + m2 * m2 < room[i] * room[i]:
+        if _spared(x, seen, room, i):
             continue
         d, gx, gy, gz = smooth_distance_at(values, origin, spacing, x[i])
         pen = thickness - d
