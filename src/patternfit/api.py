@@ -29,7 +29,7 @@ from .body.builtin import list_body_sets
 from .body.anny import anny_body_from_girths
 from .arguments import number
 from .defaults import DEFAULTS, Defaults
-from .errors import InputError
+from .errors import GarmentFileError, InputError
 from .fit.measures import GIRTHS, FitMeasures, fit_measures
 from .fit.metrics import FitEvaluator, FitResult
 from .fit.outputs import write_fit_outputs
@@ -41,7 +41,7 @@ from .loop.outputs import write_correction_outputs
 from .loop.session import DesignSession
 from .loop.table2 import ROWS
 from .mesh.garment import GarmentMesh
-from .mesh.store import load_garment, save_garment
+from .mesh.store import CONTACT, load_contact, load_garment, save_garment
 from .mesh.triangulate import mesh_pattern
 from .pattern.errors import PatternError
 from .pattern.formats import load_any_pattern, save_any_pattern
@@ -57,6 +57,7 @@ from .sim.fabrics import RANGES as FABRIC_RANGES
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
 from .sim.placement import place_on_body, place_on_cylinders
 from .sim.settings import SolverSettings
+from .sim.state import SavedStateError
 
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
            "DesignSession", "FABRIC_RANGES", "FABRIC_TESTS", "Fabric", "FabricError", "FitOutcome",
@@ -438,7 +439,9 @@ class FitOutcome:
             extra["pattern_warnings"] = list(self.pattern.meta["warnings"])
         return write_fit_outputs(folder, self.pattern, self.mesh, self.positions, self.fit,
                                  state=self.state, body=body, pictures=pictures, extra=extra,
-                                 progress=progress, measures=self.measures)
+                                 progress=progress, measures=self.measures,
+                                 contact=None if self.drape is None
+                                 else self.drape.saved_contact())
 
 
 def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMeasures:
@@ -525,8 +528,14 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     if start is not None:
         if engine != "static":
             raise ValueError("start: a saved drape is continued by the static engine only")
-        d = drape(pat, m, b, fab, settings=settings, clearance=clearance,
-                  start=_start_state(start, pat, m), progress=progress)
+        x, contact = _start_state(start, pat, m)
+        try:
+            d = drape(pat, m, b, fab, settings=settings, clearance=clearance, start=x,
+                      start_contact=contact, progress=progress)
+        except SavedStateError as e:
+            raise GarmentFileError(f"does not fit this drape's mesh: {e.reason}",
+                                   file=Path(start) / CONTACT, place=f"array '{e.array}'") \
+                from None
     else:
         d = drape_with(engine, pat, m, b, fab, settings=settings, device=device,
                        from_static=from_static, clearance=clearance, progress=progress)
@@ -543,15 +552,16 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                                               verdict_rules))
 
 
-def _start_state(start, pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:
-    """Positions (n, 3) [m] of ``mesh`` to start a drape from: ``start`` as is, or read
-    from a saved garment folder that must hold a drape of this same pattern and mesh."""
+def _start_state(start, pattern: Pattern, mesh: GarmentMesh):
+    """Positions (n, 3) [m] of ``mesh`` to start a drape from and the contact state saved
+    with them (named arrays, or None): ``start`` as is, or read from a saved garment folder
+    that must hold a drape of this same pattern and mesh."""
     if not isinstance(start, (str, Path)):
         x = np.asanyarray(start, dtype=np.float64)
         if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
             raise ValueError(f"start: expected finite positions ({mesh.n_vertices}, 3) of the "
                              f"mesh, got {x.shape}")
-        return x
+        return x, None
     saved, saved_mesh, x = load_garment(start)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): drape the garment first",
@@ -570,7 +580,7 @@ def _start_state(start, pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:
                          f"({saved_mesh.n_vertices} vertices) that is not this drape's "
                          f"({mesh.n_triangles} triangles): give the triangle count it was "
                          "draped with", file=start)
-    return x
+    return x, load_contact(start)
 
 
 def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,

@@ -22,13 +22,16 @@ from .report import failure, fit_report, write_report
 def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult, *,
                       state: str = "placed", body=None, pictures: bool = True,
                       extra: dict[str, Any] | None = None, progress=None,
-                      measures=None) -> dict[str, Any]:
+                      measures=None, contact=None) -> dict[str, Any]:
     """Write all outputs of one fit evaluation into ``folder`` and return the report.
 
     ``positions`` (n, 3) [m] is the garment's 3D state; ``body`` an optional
     (vertices (k, 3), faces (f, 3)) pair drawn in the 3D picture; ``progress`` an optional
     callable taking a short message per file. The garment folder is written as one step
     (:func:`~patternfit.mesh.store.save_garment`).
+
+    ``contact`` (named arrays, optional): the drape's contact state at ``positions``, saved
+    with them so that a drape started from the folder continues this one.
 
     The report (:func:`~patternfit.fit.report.fit_report`) holds no NaN or infinity: a value
     that is not finite is None and ``report["checks"]["passed"]`` is False, and a front end
@@ -47,7 +50,7 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     say = progress or (lambda msg: None)
     scale = FitScale(band=fit.thresholds[0])
     say("garment state")
-    save_garment(folder / "garment", pattern, mesh, positions)
+    save_garment(folder / "garment", pattern, mesh, positions, contact=contact)
     rgb = scale.colors(vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices,
                                      fit.area_2d))
     files = {"garment": "garment/"}

@@ -1,5 +1,7 @@
 """A saved garment: a folder holding ``pattern.json``, ``mesh.npz`` and, once placed or
-draped, ``positions.npy`` (the 3D state, (n, 3) float [m]).
+draped, ``positions.npy`` (the 3D state, (n, 3) float [m]) and, for a drape, ``contact.npz``
+(the solver's contact state there, which a drape started from the folder continues:
+``patternfit.sim.state.ContactState.saved_arrays``; this module stores it unread).
 
 The files are written as one step (:func:`patternfit.files.atomic_write_group`): after a
 crash a reader sees the old garment or the new one, never a new pattern beside an old mesh.
@@ -18,13 +20,13 @@ import numpy as np
 from ..constants import limits
 from ..errors import GarmentFileError
 from ..arguments import array
-from ..files import atomic_write_group, dumps_finite_json, read_npy
+from ..files import atomic_write_group, dumps_finite_json, read_npy, read_npz
 from ..pattern.io import load_pattern, pattern_to_dict
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
 from .garment import GarmentMesh
 
-PATTERN, MESH, POSITIONS = "pattern.json", "mesh.npz", "positions.npy"
+PATTERN, MESH, POSITIONS, CONTACT = "pattern.json", "mesh.npz", "positions.npy", "contact.npz"
 
 def _pattern_bytes(pattern: Pattern, units: str) -> bytes:
     check_pattern(pattern)
@@ -39,20 +41,38 @@ def _positions_bytes(positions, mesh: GarmentMesh) -> bytes:
     return buf.getvalue()
 
 
-def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None) -> Path:
+def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None, *,
+                 contact: dict[str, np.ndarray] | None = None) -> Path:
     """Write the pattern, its mesh and optionally a 3D state (n, 3) [m] into ``folder``, as
-    one step. Without ``positions`` an older ``positions.npy`` is removed (it belongs to the
-    old mesh)."""
+    one step; ``contact`` (named arrays: a drape's contact state at ``positions``) goes with
+    that state. An older ``positions.npy`` or ``contact.npz`` that is not replaced is removed
+    (it belongs to the old mesh or state)."""
     folder = Path(folder)
     files = {folder / PATTERN: _pattern_bytes(pattern, "m"), folder / MESH: mesh.to_bytes()}
     if positions is not None:
         files[folder / POSITIONS] = _positions_bytes(positions, mesh)
-    else:
-        # removed first: a crash then leaves the old garment without a state, never the new
-        # garment with the old one's
-        (folder / POSITIONS).unlink(missing_ok=True)
+    if positions is not None and contact is not None:
+        buf = io.BytesIO()
+        np.savez_compressed(buf, **{k: np.asarray(v) for k, v in contact.items()})
+        files[folder / CONTACT] = buf.getvalue()
+    # removed first: a crash then leaves the old garment without a state, never the new
+    # garment with the old one's
+    for name in (POSITIONS, CONTACT):
+        if folder / name not in files:
+            (folder / name).unlink(missing_ok=True)
     atomic_write_group(files)
     return folder
+
+
+def load_contact(folder) -> dict[str, np.ndarray] | None:
+    """The contact state saved with a garment folder's positions (:func:`save_garment`), as
+    named arrays, or None when it has none; a damaged or oversized ``contact.npz`` is a
+    :class:`~patternfit.errors.GarmentFileError` naming the file and the array. The arrays
+    are not checked against a model here (the solver does)."""
+    file = Path(folder) / CONTACT
+    if not file.exists() or not (Path(folder) / POSITIONS).exists():
+        return None
+    return read_npz(file, limit=limits.mesh_bytes, error=GarmentFileError)
 
 
 def replace_pattern_and_mesh(pattern_path, pattern: Pattern, mesh_path, mesh: GarmentMesh, *,

@@ -24,6 +24,7 @@ from .schedule import Plan, run_plan
 from .result import DrapeResult
 from .settings import SolverSettings
 from .solver import GarmentSolver
+from .state import ContactState
 
 #: least distance kept from the body by default [m] (see ``drape``'s ``contact_margin``)
 CONTACT_MARGIN = 0.003
@@ -75,6 +76,16 @@ class Drape:
         self.pattern, self.body = pattern, body
         self.onbody = on_body_checks(pattern, mesh, body, self.positions)
         return self.onbody
+
+    def saved_contact(self) -> dict[str, np.ndarray] | None:
+        """The contact state at :attr:`positions` to save beside them
+        (:meth:`ContactState.saved_arrays`, ``save_garment(contact=...)``), or None when the
+        solver did not end at them (another engine's drape)."""
+        held = self.solver.state.x
+        if held is None or held.shape != self.positions.shape \
+                or not np.array_equal(held, self.positions):
+            return None
+        return self.solver.state.saved_arrays()
 
     @property
     def reasons(self) -> list[str]:
@@ -129,7 +140,7 @@ def _grain_per_triangle(mesh: GarmentMesh) -> np.ndarray:
 def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFAULTS.fabric, *,
           settings: SolverSettings | None = None, clearance: float = DEFAULTS.clearance,
           spacing: float = 0.005,
-          placed=None, start=None, sewing_iterations: int = 1500, relax_iterations: int = 300,
+          placed=None, start=None, start_contact=None, sewing_iterations: int = 1500, relax_iterations: int = 300,
           contact_margin: float = CONTACT_MARGIN, sewing_self_collision: bool = False,
           coarse: int | None = 2000, progress=None) -> Drape:
     """Place, sew and drape ``mesh`` on ``body`` to static equilibrium.
@@ -158,7 +169,15 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
         A sewn state of ``mesh`` to continue from (a saved drape's ``positions.npy``): the
         seams are welded at once and the drape under gravity starts there, with friction
         on from the first iteration; no placement, sewing, relaxation or coarse stage.
-        ``timing["start"]`` is then ``"saved"``.
+        ``timing["start"]`` is then ``"saved"``. Without ``start_contact`` the stiffness
+        each contact had grown to is read back from the force balance
+        (``SolverSettings.saved_rest``).
+    start_contact : mapping of str to array, optional
+        The contact state saved with ``start`` (``contact.npz``:
+        :meth:`~patternfit.sim.state.ContactState.saved_arrays` of the drape that ended
+        there): the solve continues that drape, so from its rest it stops at once and
+        moves nothing. :class:`~patternfit.sim.state.SavedStateError` when it does not
+        fit ``mesh``.
     sewing_iterations : int
         Iteration limit of the sewing phase (no gravity), which ends once the seams are
         closed and welded.
@@ -195,7 +214,7 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
     if start is not None:
         d = _drape_from(mesh, fabric, field_, np.asanyarray(start, dtype=np.float64),
                         replace(settings or SolverSettings(), contact_margin=contact_margin),
-                        progress)
+                        progress, start_contact)
         d.seconds = time.perf_counter() - t0
         d.timing["distance_field_seconds"] = t_sdf
         d.check_on_body(pattern, mesh, body)
@@ -229,8 +248,10 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
 
 
 def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settings,
-                progress) -> Drape:
-    """Drape under gravity from a sewn state ``x`` (n, 3) [m] of ``mesh``, seams welded."""
+                progress, contact=None) -> Drape:
+    """Drape under gravity from a sewn state ``x`` (n, 3) [m] of ``mesh``, seams welded, with
+    the contact state saved there (``contact``, :meth:`ContactState.saved_arrays`) when
+    given."""
     if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
         raise ValueError(f"start: expected finite ({mesh.n_vertices}, 3) positions, "
                          f"got {x.shape}")
@@ -238,7 +259,10 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
                            seam_pairs=mesh.seam_pairs, body=field_,
                            settings=replace(settings, friction_delay=0))
     solver.weld()
-    result = run_plan(solver, Plan.settle(), x, progress=progress).result
+    if contact is not None:
+        solver.state = ContactState.from_saved(contact, n=solver.model.n,
+                                               n_triangles=len(solver.model.terms.tris), x=x)
+    result = run_plan(solver, Plan.settle(saved=True), x, progress=progress).result
     return Drape(positions=result.x[solver.model.vertex_map], placed=x, result=result, solver=solver,
                  seconds=0.0, timing={"start": "saved"})
 

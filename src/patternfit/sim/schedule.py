@@ -133,10 +133,12 @@ class Plan:
                                         "to rest", needs_weld=True),))
 
     @classmethod
-    def settle(cls) -> "Plan":
+    def settle(cls, *, saved: bool = False) -> "Plan":
         """Drape under gravity from a sewn state (the seams welded before the plan): a
-        saved drape, or a coarser drape carried over."""
-        return cls((Phase("settling", "drape a sewn state under gravity to rest"),))
+        coarser drape carried over, or (``saved``) a saved rest of this mesh, whose contact
+        stiffness is read back from its force balance (``SolverSettings.saved_rest``)."""
+        return cls((Phase("settling", "drape a sewn state under gravity to rest",
+                          overrides=(("saved_rest", True),) if saved else ()),))
 
     @classmethod
     def redrape(cls, stages: int = 1, *, stage_iterations: int = STAGE_ITERATIONS) -> "Plan":

@@ -87,6 +87,10 @@ class SolverSettings:
     refresh: int = 25
     #: friction is switched on this many iterations after the seams are welded
     friction_delay: int = 100
+    #: the start is a saved rest of this mesh (``drape(start=...)``): each contact's stiffness
+    #: scale (x4 per update found inside, which a saved drape does not keep) is read back as
+    #: the power of 4 that balances its vertex (:func:`outer_updates.saved_contact_scale`)
+    saved_rest: bool = False
     #: tangential slip at which friction reaches the Coulomb limit [m]
     friction_slip: float = 1e-3
     self_collision: bool = True

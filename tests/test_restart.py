@@ -1,0 +1,143 @@
+"""A drape continued from its own rest does not move: in memory (the solver that made it)
+and from its saved garment folder, whose ``contact.npz`` keeps what positions alone cannot
+give back (each contact's stiffening, the friction anchors, the self pairs); a damaged or
+foreign ``contact.npz`` is refused naming the file and the array."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+from hypothesis.extra import numpy as hnp
+
+from patternfit import api
+from patternfit.errors import GarmentFileError
+from patternfit.mesh.store import CONTACT, load_contact, save_garment
+from patternfit.sim.outer_updates import saved_contact_scale
+from patternfit.sim.state import SAVED, ContactState, SavedStateError
+
+#: a heavy man in a coat: contacts at the shoulders stiffened up to x64, self pairs held by
+#: the Newton phase (a restart from the positions alone moved 4.4 mm over 105 iterations)
+GARMENT, BODY, TRIANGLES = "coat", "male_heavy", 1500
+
+
+@pytest.fixture(scope="module")
+def saved(tmp_path_factory):
+    """The coat draped and written as ``patternfit drape --out`` writes it: (outcome,
+    garment folder)."""
+    out = tmp_path_factory.mktemp("coat")
+    outcome = api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES)
+    outcome.write(out, pictures=False)
+    return outcome, out / "garment"
+
+
+def test_the_drape_is_at_rest_with_stiffened_contacts(saved):
+    outcome, folder = saved
+    d = outcome.drape
+    assert d.checks.equilibrium, d.reasons
+    assert (d.solver.state.contact_scale > 1).sum() >= 5
+    assert (folder / CONTACT).is_file()
+
+
+def test_a_warm_start_from_a_reported_rest_does_not_move(saved):
+    outcome, _ = saved
+    d = outcome.drape
+    x = d.result.x.copy()
+    again = d.solver.solve(x)
+    assert again.iterations == 0, again.stop_reason
+    assert np.array_equal(again.x, x)
+    assert again.checks.equilibrium
+
+
+def test_a_drape_started_from_its_folder_continues_it(saved):
+    outcome, folder = saved
+    again = api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES, start=folder)
+    assert again.drape.timing["start"] == "saved"
+    assert again.drape.result.iterations == 0, again.drape.result.stop_reason
+    assert np.abs(again.positions - outcome.positions).max() == 0.0
+    assert again.drape.checks.residual_rms == pytest.approx(
+        outcome.drape.checks.residual_rms, rel=1e-9)
+
+
+def test_contact_scales_are_read_back_away_from_self_pairs(saved):
+    """Without ``contact.npz`` each contact's stiffness is read back from the force balance:
+    exact wherever no self pair couples vertices (their repulsion scales with it too)."""
+    outcome, _ = saved
+    d = outcome.drape
+    model, state = d.solver.model, d.solver.state.copy()
+    got = saved_contact_scale(model, state, model.reduce(d.result.x), settings=d.solver.settings)
+    paired = np.zeros(model.n, bool)
+    paired[state.pairs[:, 0]] = True
+    paired[model.terms.tris[state.pairs[:, 1]].ravel()] = True
+    paired[state.near_edges[state.edge_pairs].ravel()] = True
+    assert np.array_equal(got[~paired], state.contact_scale[~paired])
+    assert (got[~paired] > 1).any()
+
+
+def test_a_new_state_without_contact_replaces_the_old_one(saved, tmp_path):
+    outcome, folder = saved
+    save_garment(tmp_path, outcome.pattern, outcome.mesh, outcome.positions,
+                 contact=outcome.drape.saved_contact())
+    assert load_contact(tmp_path) is not None
+    save_garment(tmp_path, outcome.pattern, outcome.mesh, outcome.positions)
+    assert not (tmp_path / CONTACT).exists() and load_contact(tmp_path) is None
+
+
+def _spoilt(arrays, name, value):
+    out = dict(arrays)
+    if value is None:
+        del out[name]
+    else:
+        out[name] = value(out[name])
+    return out
+
+
+@pytest.mark.parametrize("name, spoil, says", [
+    ("contact_scale", lambda a: a[:-1], "expected shape"),
+    ("contact_scale", lambda a: np.where(np.arange(len(a)) == 0, 1e9, a), "outside 1"),
+    ("pairs", lambda a: a + 10 ** 6, "indices outside"),
+    ("pair_normal", lambda a: np.full_like(a, np.nan), "NaN"),
+    ("edge_pairs", lambda a: a.astype(float) + 0.5, "integers"),
+    ("anchor_of", lambda a: np.where(np.isnan(a), 0.0, a) * np.array([1.0, np.nan, 1.0]),
+     "all NaN"),
+    ("bary", None, "missing"),
+])
+def test_a_foreign_contact_file_is_refused_naming_file_and_array(saved, tmp_path, name,
+                                                                spoil, says):
+    outcome, _ = saved
+    folder = tmp_path / "garment"
+    arrays = _spoilt(outcome.drape.saved_contact(), name, spoil)
+    save_garment(folder, outcome.pattern, outcome.mesh, outcome.positions, contact=arrays)
+    with pytest.raises(GarmentFileError) as e:
+        api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES, start=folder)
+    text = str(e.value)
+    assert CONTACT in text and f"'{name}'" in text and says in text
+
+
+def test_a_damaged_contact_file_is_refused(saved, tmp_path):
+    outcome, _ = saved
+    folder = tmp_path / "garment"
+    save_garment(folder, outcome.pattern, outcome.mesh, outcome.positions,
+                 contact=outcome.drape.saved_contact())
+    data = (folder / CONTACT).read_bytes()
+    (folder / CONTACT).write_bytes(data[: len(data) // 2])
+    with pytest.raises(GarmentFileError, match=CONTACT):
+        api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES, start=folder)
+
+
+_SHAPES = hnp.array_shapes(min_dims=0, max_dims=3, min_side=0, max_side=6)
+_ARRAY = (hnp.arrays(np.float64, _SHAPES, elements=st.floats(-1e3, 1e3) | st.just(np.nan))
+          | hnp.arrays(st.sampled_from([np.int64, np.int32]), _SHAPES,
+                       elements=st.integers(-10, 10)))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.dictionaries(st.sampled_from(SAVED + ("at_rest",)), _ARRAY))
+def test_any_saved_arrays_give_a_state_or_a_named_refusal(arrays):
+    try:
+        state = ContactState.from_saved(arrays, n=6, n_triangles=4, x=np.zeros((6, 3)))
+    except SavedStateError as e:
+        assert e.array in SAVED
+        return
+    assert state.contact_scale.shape == (6,) and state.friction_on
+    assert np.isfinite(state.contact_scale).all()
+    assert ((state.pairs >= 0).all() and (state.pairs[:, 0] < 6).all()
+            and (state.pairs[:, 1] < 4).all())
