@@ -3,7 +3,9 @@
 Run ``python benchmarks/drape.py [--garments coat skirt trousers] [--rules force kinematic]
 [--cold] [--figures DIR]``; prints, per garment (the paper's sizes: coat 22K, skirt 15K,
 trousers 20K triangles) and stopping rule, the first drape (placement, sewing, drape under
-gravity) and a warm re-drape after a 3 cm hem edit: iterations, seconds, peak memory, the
+gravity), the first drape continued from its own saved rest (``restart``: positions and
+contact state, as ``patternfit drape --start DIR``; it must stop at once and move nothing)
+and a warm re-drape after a 3 cm hem edit: iterations, seconds, peak memory, the
 checks (residual rms / p99, equilibrium) and the fitting ratio. The rules side by side:
 ``force`` is the solver's default (L-BFGS, then Newton steps to a force balance, full
 stiffness in compression); ``kinematic`` the earlier one (L-BFGS stopped by small steps,
@@ -27,6 +29,8 @@ import sys
 import tempfile
 import time
 
+import numpy as np
+
 import _path  # noqa: F401  (tests/ on sys.path)
 
 #: garment -> (body, triangles) as in the paper's Table 2
@@ -42,6 +46,11 @@ COMMON = {"time_limit": 3600.0}
 
 #: successive hem moves [m] of ``--edits`` (down is negative: -0.03 lengthens by 3 cm)
 HEM_STEPS = (-0.03, 0.02, -0.01, 0.03, -0.02, 0.01)
+
+
+def _moved_mm(x, before) -> float:
+    """Largest vertex displacement [mm] from ``before`` to ``x`` ((n, 3) [m] each)."""
+    return float(np.linalg.norm(x - before, axis=1).max()) * 1e3
 
 
 def _peak_mb() -> float:
@@ -68,7 +77,16 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
     fit = FitEvaluator(mesh)(first.positions)
     # (read now: a re-drape gives the solver the edited rest shapes)
     rows.append(("first", first, wall, cpu, fit.fitting_ratio,
-                 first.solver.compressed_share(first.result.x)))
+                 first.solver.compressed_share(first.result.x), float("nan")))
+    # continued from its own saved rest (``patternfit drape --start DIR``: positions and
+    # contact.npz): it must stop at once and move nothing (issue 19 item 1)
+    t0, c0 = time.perf_counter(), time.process_time()
+    again = drape(pattern, mesh, body, "cotton", settings=SolverSettings(**(knobs or {})),
+                  start=first.positions, start_contact=first.saved_contact())
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    rows.append(("restart", again, wall, cpu, FitEvaluator(mesh)(again.positions).fitting_ratio,
+                 again.solver.compressed_share(again.result.x),
+                 _moved_mm(again.positions, first.positions)))
     if figures:
         from patternfit.fit.pictures import plot_3d_map
         plot_3d_map(first.positions, mesh, fit, os.path.join(figures, f"drape_{garment}.png"),
@@ -82,13 +100,15 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
         mesh = update_mesh(pattern, pattern_next, mesh)
         pattern = pattern_next
         t0, c0 = time.perf_counter(), time.process_time()
+        previous = last.positions
         last = redrape(last, mesh)
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         name = "re-drape" if edits == 1 else f"hem {step * 100:+.0f}cm"
         rows.append((name, last, wall, cpu, FitEvaluator(mesh)(last.positions).fitting_ratio,
-                     last.solver.compressed_share(last.result.x)))
+                     last.solver.compressed_share(last.result.x),
+                     _moved_mm(last.positions, previous)))
     out = []
-    for name, d, wall, cpu, ratio, compressed in rows:
+    for name, d, wall, cpu, ratio, compressed, moved in rows:
         c = d.checks
         out.append({"garment": garment, "body": body_name, "triangles": len(mesh.triangles),
                     "run": name, "iterations": d.report_extra()["timing"]["iterations"],
@@ -101,7 +121,7 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
                     "crossing": c.self_intersections, "equilibrium": c.equilibrium,
                     "rms": c.residual_rms if c.residual_rms is not None else float("nan"),
                     "p99": c.residual_p99 if c.residual_p99 is not None else float("nan"),
-                    "compressed": compressed,
+                    "compressed": compressed, "moved_mm": moved,
                     "start": str(d.timing.get("start", "-")),
                     "ratio": ratio})
     return out
@@ -142,11 +162,13 @@ def main():
           "fairer measure) of the whole run; coarse: iterations/seconds of the whole "
           "coarse drape (2K triangles: placement, sewing, drape) that starts the fine one; "
           "rms / p99: residual |F_i| / (m_i g) at the end (rest: <= 0.01 / 0.1); compr: share "
-          "of the area compressed by more than 1 %; rule: force (default) or kinematic "
+          "of the area compressed by more than 1 %; moved: largest vertex motion [mm] from "
+          "the rest it started at (restart: the first drape continued from its saved rest, "
+          "positions and contact.npz, as --start does); rule: force (default) or kinematic "
           "(the earlier stop)")
     print(f"{'garment':>8} {'rule':>9} {'tri':>6} {'run':>10} {'iters':>6} {'seconds':>8} {'cpu':>7} {'sdf s':>6} "
           f"{'coarse':>9} {'peak MB':>8} {'inside':>6} {'clear mm':>8} {'seam mm':>7} {'cross':>5} "
-          f"{'equil':>5} {'rms':>7} {'p99':>7} {'compr':>6} {'ratio':>7} {'start':>8}")
+          f"{'equil':>5} {'rms':>7} {'p99':>7} {'compr':>6} {'moved':>7} {'ratio':>7} {'start':>8}")
     for garment, rule in ((g, r) for g in args.garments for r in args.rules):
         runs = [("warm", None)]
         if args.cold:
@@ -173,7 +195,8 @@ def main():
                       f"{r['peak_mb']:>8.0f} "
                       f"{r['inside']:>6} {r['clear_mm']:>8.3f} {r['seam_mm']:>7.3f} "
                       f"{r['crossing']:>5} {str(r['equilibrium']):>5} {r['rms']:>7.4f} "
-                      f"{r['p99']:>7.4f} {r['compressed']:>6.3f} {r['ratio']:>7.4f} "
+                      f"{r['p99']:>7.4f} {r['compressed']:>6.3f} {r['moved_mm']:>7.2f} "
+                      f"{r['ratio']:>7.4f} "
                       f"{r['start']:>8}",
                       flush=True)
 
