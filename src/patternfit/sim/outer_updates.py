@@ -56,17 +56,25 @@ def set_springs(model: ClothModel, state: ContactState, *, settings: SolverSetti
 
 def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettings,
             friction_on: bool, hold: bool = False, newton: bool = False,
-            lookups: ContactLookups | None = None) -> np.ndarray:
+            lookups: ContactLookups | None = None, frozen: bool = False) -> np.ndarray:
     """Contact stiffness, friction anchors and self-collision pairs of ``state`` at solved
     positions ``x`` (n, 3) [m]. ``hold``: new contacts are anchored so that friction balances
     the tangential force on them (up to the Coulomb limit) instead of where they are (see
-    :func:`anchors`); ``newton``: in the Newton phase (:func:`find_pairs`). Returns the
+    :func:`anchors`); ``newton``: in the Newton phase (:func:`find_pairs`); ``frozen``: the
+    lagged terms stay as they are (a solve that continues one at its rest: refreshed there,
+    a sliding contact is anchored again and the force balance reported moves). Returns the
     contact diagonal (n,) [N/m] of the L-BFGS preconditioner."""
     s = settings
     n = model.n
     diag = np.zeros(n)
-    state.friction_idx = np.zeros(0, np.int64)
     reach = model.reach(s)
+    if frozen:
+        state.contact_k = contact_k(model, state, s)
+        if model.body is not None:
+            near = distance(model, x)[0] < reach + s.contact_band
+            diag[near] = s.contact_precond * state.contact_k[near]
+        return diag
+    state.friction_idx = np.zeros(0, np.int64)
     if hold and s.saved_rest and model.body is not None:
         # the repulsion of the self pairs scales with the contact stiffness: find them first
         if s.self_collision:

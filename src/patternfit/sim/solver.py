@@ -118,9 +118,10 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
                                             pull=pull)
         set_base(factors, model, springs, settings=s)
 
-    def outer_refresh(x, friction_on, hold=False):
+    def outer_refresh(x, friction_on, hold=False, frozen=False):
         diag = outer_updates.refresh(model, state, x, settings=s, friction_on=friction_on,
-                                     hold=hold, newton=newton_on, lookups=lookups)
+                                     hold=hold, newton=newton_on, lookups=lookups,
+                                     frozen=frozen)
         if not newton_on:
             ensure_factor(factors, model, diag, settings=s)
 
@@ -136,16 +137,16 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
         newton_on = True
         return True
 
-    def setup(x_red, keep, keep_pairs=False):
+    def setup(x_red, keep, keep_lagged=False):
         nonlocal lookups
         state.forces = model.mass[:, None] * np.asarray(s.gravity)[None, :]
         np.add.at(state.forces, model.group, f_ext)
         state.forces[~model.free] = 0.0
-        state.friction_idx = np.zeros(0, np.int64)
         if not keep:
             state.contact_scale = np.ones(model.n)
             state.anchor_of = np.full((model.n, 3), np.nan)
-        if not keep_pairs:
+        if not keep_lagged:
+            state.friction_idx = np.zeros(0, np.int64)
             state.pairs = np.zeros((0, 2), np.int64)
             state.edge_pairs = np.zeros((0, 2), np.int64)
             state.pairs_x = None
@@ -154,16 +155,20 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
         set_springs(k_seam)
         return x_red
 
-    # a start at the last solve's rest keeps its self pairs too: a search made afresh there
-    # loses the pairs the Newton phase held (a vertex just off its triangle), and the 1.5K
-    # coat on male_heavy restarted from its reported rest moved 4.1 mm over 82 iterations
-    x = setup(model.reduce(x_full), keep=warm, keep_pairs=warm and same and state.at_rest)
+    # a start at the last solve's rest continues it: its lagged terms stay as they were
+    # there (friction anchors, self pairs), so its reported force balance is the one it
+    # starts from. Searched afresh, the pairs the Newton phase held (a vertex just off its
+    # triangle) were lost and the 1.5K coat on male_heavy moved 4.1 mm over 82 iterations;
+    # anchored afresh, the sliding contacts moved it 0.5 mm over 10
+    lagged = warm and same and state.at_rest
+    x = setup(model.reduce(x_full), keep=warm, keep_lagged=lagged)
     if warm and not same:
         # the anchors move with their vertices: friction keeps the force it held
         state.anchor_of += x - model.reduce(held)
     # a cold start with friction on at once (from a saved or coarser rest) is held by
     # static friction where it stands
-    outer_refresh(x, friction_on=friction_from == 0, hold=friction_from == 0 and not warm)
+    outer_refresh(x, friction_on=friction_from == 0, hold=friction_from == 0 and not warm,
+                  frozen=lagged)
     energy, grad = evaluate(x)
     lbfgs = LBFGS(s.history)
     # the work of lifting the garment by 10 cm: the energy scale of a warm start, whose

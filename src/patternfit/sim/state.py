@@ -20,8 +20,9 @@ import scipy.sparse as sp
 #: the contact stiffness of a vertex found inside the body grows x4 per update up to this
 MAX_CONTACT_SCALE = 4.0 ** 6
 #: the fields of a saved drape's state (:meth:`ContactState.saved_arrays`)
-SAVED = ("contact_scale", "anchor_of", "pairs", "bary", "pair_normal", "near_edges",
-         "edge_pairs", "edge_st", "edge_normal", "pairs_x")
+SAVED = ("contact_scale", "anchor_of", "friction_idx", "friction_anchor", "friction_normal",
+         "friction_limit", "pairs", "bary", "pair_normal", "near_edges", "edge_pairs",
+         "edge_st", "edge_normal", "pairs_x")
 
 
 class SavedStateError(ValueError):
@@ -172,7 +173,7 @@ class ContactState:
 
     def saved_arrays(self) -> dict[str, np.ndarray]:
         """What a saved drape keeps of this state besides its positions (``SAVED``: each
-        contact's stiffening, the friction anchors, the self pairs), as named arrays for
+        contact's stiffening, the friction anchors and terms, the self pairs), as named arrays for
         ``np.savez``; :meth:`from_saved` reads them back. A restart from the positions
         alone cannot recompute them: the 1.5K coat on male_heavy, restarted from its saved
         rest without them, moved 4.4 mm over 105 iterations."""
@@ -217,6 +218,11 @@ class ContactState:
         if np.isinf(anchor_of).any() or (np.isnan(anchor_of).any(axis=1)
                                          != np.isnan(anchor_of).all(axis=1)).any():
             raise SavedStateError("anchor_of", "rows must be finite or all NaN (no anchor)")
+        friction_idx = within("friction_idx", get("friction_idx", (None,), "i"), n)
+        k = len(friction_idx)
+        friction_limit = finite("friction_limit", get("friction_limit", (k,)))
+        if len(friction_limit) and friction_limit.min() < 0.0:
+            raise SavedStateError("friction_limit", "negative")
         pairs = get("pairs", (None, 2), "i")
         within("pairs", pairs[:, 0], n, "vertex indices")
         within("pairs", pairs[:, 1], n_triangles, "triangle indices")
@@ -224,7 +230,10 @@ class ContactState:
         near_edges = within("near_edges", get("near_edges", (None, 2), "i"), n)
         edge_pairs = within("edge_pairs", get("edge_pairs", (None, 2), "i"), len(near_edges))
         q = len(edge_pairs)
-        return cls(contact_scale=scale, anchor_of=anchor_of, pairs=pairs,
+        return cls(contact_scale=scale, anchor_of=anchor_of, friction_idx=friction_idx,
+                   friction_anchor=finite("friction_anchor", get("friction_anchor", (k, 3))),
+                   friction_normal=finite("friction_normal", get("friction_normal", (k, 3))),
+                   friction_limit=friction_limit, pairs=pairs,
                    bary=finite("bary", get("bary", (p, 3))),
                    pair_normal=finite("pair_normal", get("pair_normal", (p, 3))),
                    near_edges=near_edges, edge_pairs=edge_pairs,
