@@ -141,3 +141,16 @@ def test_any_saved_arrays_give_a_state_or_a_named_refusal(arrays):
     assert np.isfinite(state.contact_scale).all()
     assert ((state.pairs >= 0).all() and (state.pairs[:, 0] < 6).all()
             and (state.pairs[:, 1] < 4).all())
+
+
+def test_the_saved_state_reads_back_field_for_field(saved):
+    outcome, folder = saved
+    d = outcome.drape
+    model, state = d.solver.model, d.solver.state
+    arrays = load_contact(folder)
+    back = ContactState.from_saved(arrays, n=model.n, n_triangles=len(model.terms.tris),
+                                   x=d.result.x)
+    for name in SAVED:
+        a, b = getattr(state, name), getattr(back, name)
+        assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f"), name
+    assert back.at_rest == state.at_rest is True and back.friction_on

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
@@ -381,8 +382,10 @@ class GarmentSolver:
     def set_rest(self, rest) -> None:
         """New rest shapes ``rest`` (n, 2) [m] (same topology), e.g. after a pattern edit;
         then ``solve`` from the previous state. The factorisation is kept while the matrix
-        is unchanged."""
+        is unchanged. The state is no longer at rest (its balance was of the old shapes): a
+        solve from its end updates the lagged terms first, as after any edit."""
         self._use(self.model.with_rest(rest))
+        self.state = replace(self.state, at_rest=False)
 
     def weld(self) -> None:
         """Join every seam pair into one vertex now, before a solve whose start state has

@@ -177,7 +177,7 @@ class ContactState:
         ``np.savez``; :meth:`from_saved` reads them back. A restart from the positions
         alone cannot recompute them: the 1.5K coat on male_heavy, restarted from its saved
         rest without them, moved 4.4 mm over 105 iterations."""
-        out = {name: np.asarray(getattr(self, name)) for name in SAVED
+        out = {name: np.array(getattr(self, name)) for name in SAVED
                if getattr(self, name) is not None}
         out["at_rest"] = np.asarray(self.at_rest)
         return out
