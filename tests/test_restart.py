@@ -154,3 +154,14 @@ def test_the_saved_state_reads_back_field_for_field(saved):
         a, b = getattr(state, name), getattr(back, name)
         assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f"), name
     assert back.at_rest == state.at_rest is True and back.friction_on
+
+
+def test_a_drape_started_from_an_outcome_continues_it(saved):
+    outcome, _ = saved
+    again = api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES,
+                                   start=outcome)
+    assert again.drape.result.iterations == 0
+    assert np.array_equal(again.positions, outcome.positions)
+    with pytest.raises(ValueError, match="same pattern and mesh"):
+        api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES + 500,
+                               start=outcome)

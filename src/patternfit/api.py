@@ -497,11 +497,15 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
         Gap between body and panels at placement [m].
     tight, loose : float
         Area change beyond which a triangle counts as tight / loose [-].
-    start : path or (n, 3) float, optional
+    start : path, FitOutcome or (n, 3) float, optional
         Continue from a saved drape instead of placing and sewing: a garment folder as the
-        drape writes it (``garment/``: ``pattern.json``, ``mesh.npz``, ``positions.npy``)
-        of this same pattern and mesh (:class:`InputError` otherwise), or positions (n, 3)
-        [m] of this mesh. The solve starts there with the seams welded (static engine).
+        drape writes it (``garment/``: ``pattern.json``, ``mesh.npz``, ``positions.npy``,
+        ``contact.npz``) of this same pattern and mesh (:class:`InputError` otherwise), an
+        earlier outcome of this function for the same pattern and mesh, or positions (n, 3)
+        [m] of this mesh. The solve starts there with the seams welded (static engine). A
+        folder or an outcome carries the drape's contact state, so the solve continues that
+        drape (from its rest it stops at once and moves nothing); bare positions do not,
+        and each contact's stiffness is read back from the force balance instead.
     progress : callable, optional
         ``progress(iteration, energy [J], step [m], elapsed [s])``; raising
         KeyboardInterrupt in it stops cleanly with the last state.
@@ -556,6 +560,11 @@ def _start_state(start, pattern: Pattern, mesh: GarmentMesh):
     """Positions (n, 3) [m] of ``mesh`` to start a drape from and the contact state saved
     with them (named arrays, or None): ``start`` as is, or read from a saved garment folder
     that must hold a drape of this same pattern and mesh."""
+    if isinstance(start, FitOutcome):
+        if start.drape is None or start.mesh.n_vertices != mesh.n_vertices \
+                or not np.array_equal(start.mesh.triangles, mesh.triangles):
+            raise ValueError("start: an outcome of a drape of this same pattern and mesh")
+        return np.array(start.positions), start.drape.saved_contact()
     if not isinstance(start, (str, Path)):
         x = np.asanyarray(start, dtype=np.float64)
         if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
