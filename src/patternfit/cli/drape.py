@@ -45,7 +45,8 @@ def drape(
                                      "equilibrium, slightly perturbed, so that folds form."),
     start: Path = typer.Option(None, "--start", help="Continue from a saved drape of the same "
                                "pattern and mesh: its garment/ folder (pattern.json, mesh.npz, "
-                               "positions.npy), or the drape's output folder holding it."),
+                               "positions.npy, contact.npz), or the drape's output folder "
+                               "holding it. From a drape at rest it stops at once."),
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     pressure_max: float = verdict_options()["pressure_max"],
     stretch_limit: float = verdict_options()["stretch_limit"],
