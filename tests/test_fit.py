@@ -1,3 +1,5 @@
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -122,3 +124,15 @@ def test_colour_scale():
     assert "tight" in scale.describe() and "loose" in scale.describe()
     with pytest.raises(ValueError):
         FitScale(limit=0.01, band=0.02)
+
+
+def test_a_collapsed_state_is_no_fit_and_no_console_warning(coat):
+    """A failed drape that collapsed to a point has no 3D area: ϖ is infinite (the report's
+    checks then refuse it), and numpy prints nothing on the way."""
+    pattern, mesh = coat
+    x = np.zeros((mesh.n_vertices, 3))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fit = FitEvaluator(mesh)(x)
+    assert not np.isfinite(fit.fitting_ratio)
+    assert not np.isfinite(fit.panel_ratio).any()

@@ -104,7 +104,10 @@ class FitEvaluator:
         """The fast path: 3D areas (m,) [m^2] and ϖ, for a state (n, 3) [m]."""
         x = np.asanyarray(positions, dtype=np.float64)
         a3 = triangle_areas(x, self.tri)
-        return a3, float(self.area_2d.sum() / a3.sum())
+        # a state collapsed to a point or a line (a failed drape) has no 3D area: ϖ is then
+        # infinite, which the report's checks refuse, not a warning on the console
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return a3, float(self.area_2d.sum() / a3.sum())
 
     def __call__(self, positions) -> FitResult:
         """Evaluate the fit of the 3D state ``positions`` (n, 3) [m]."""
@@ -122,15 +125,17 @@ class FitEvaluator:
         det = C[:, 0, 0] * C[:, 1, 1] - C[:, 0, 1] * C[:, 1, 0]
         disc = np.sqrt(np.maximum(0.25 * tr * tr - det, 0.0))
         principal = np.sqrt(np.maximum(np.stack([0.5 * tr + disc, 0.5 * tr - disc], 1), 0.0))
-        change = a3 / a2 - 1.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            change = a3 / a2 - 1.0
+            panel_ratio = self.panel_area_2d / np.bincount(self.panel_of, a3,
+                                                           minlength=self.n_panels)
         tight, loose = self.thresholds
         cls = np.where(change > tight, TIGHT, np.where(change < -loose, LOOSE, FIT))
-        p3 = np.bincount(self.panel_of, a3, minlength=self.n_panels)
         return FitResult(
             area_2d=a2, area_3d=a3, gamma=a2 - a3, area_change=change, warp=warp, weft=weft,
             principal=principal, fit_class=cls.astype(np.int8), fitting_ratio=ratio,
             fitting_ratio_symmetric=float(np.minimum(a2, a3).sum() / np.maximum(a2, a3).sum()),
-            panel_ratio=self.panel_area_2d / p3, thresholds=self.thresholds)
+            panel_ratio=panel_ratio, thresholds=self.thresholds)
 
 
 def evaluate_fit(mesh: GarmentMesh, positions, *, tight: float = 0.02,
