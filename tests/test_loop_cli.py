@@ -29,6 +29,17 @@ def test_correct_writes_pattern_and_report(tmp_path):
     assert isinstance(report["regions"], list)
     check_pattern(load_pattern(out / "pattern.json"))
     assert (out / "before" / "report.json").exists() and (out / "after" / "report.json").exists()
+    # the final drape is saved with its contact state: continued, it stops at once
+    assert (out / "after" / "garment" / "contact.npz").exists()
+    again = tmp_path / "again"
+    res = runner.invoke(app, ["drape", "--body", "female_thin",
+                              "--pattern", str(out / "after" / "garment" / "pattern.json"),
+                              "--fabric", "stretch_knit", "--triangles", "900",
+                              "--start", str(out / "after"), "--no-pictures",
+                              "--out", str(again)])
+    assert res.exit_code in (0, 1), res.output
+    timing = json.loads((again / "report.json").read_text())["timing"]
+    assert timing["iterations"] == 0 and timing["start"] == "saved"
 
 
 def test_correct_refuses_to_overwrite_its_input(tmp_path):

@@ -500,9 +500,10 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     start : path, FitOutcome or (n, 3) float, optional
         Continue from a saved drape instead of placing and sewing: a garment folder as the
         drape writes it (``garment/``: ``pattern.json``, ``mesh.npz``, ``positions.npy``,
-        ``contact.npz``) of this same pattern and mesh (:class:`InputError` otherwise), an
-        earlier outcome of this function for the same pattern and mesh, or positions (n, 3)
-        [m] of this mesh. The solve starts there with the seams welded (static engine). A
+        ``contact.npz``) of this same pattern (:class:`InputError` otherwise), or an
+        earlier outcome of this function for the same pattern, each with its own mesh
+        (``triangles`` is then not used), or positions (n, 3) [m] of the pattern meshed
+        with ``triangles``. The solve starts there with the seams welded (static engine). A
         folder or an outcome carries the drape's contact state, so the solve continues that
         drape (from its rest it stops at once and moves nothing); bare positions do not,
         and each contact's stiffness is read back from the force balance instead.
@@ -528,11 +529,10 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                else pattern)
     b = read_body(body, units=units)
     fab = read_fabric(fabric)
-    m = mesh_pattern(pat, triangles=triangles)
     if start is not None:
         if engine != "static":
             raise ValueError("start: a saved drape is continued by the static engine only")
-        x, contact = _start_state(start, pat, m)
+        x, contact, m = _start_state(start, pat, triangles)
         try:
             d = drape(pat, m, b, fab, settings=settings, clearance=clearance, start=x,
                       start_contact=contact, progress=progress)
@@ -541,6 +541,7 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                                    file=Path(start) / CONTACT, place=f"array '{e.array}'") \
                 from None
     else:
+        m = mesh_pattern(pat, triangles=triangles)
         d = drape_with(engine, pat, m, b, fab, settings=settings, device=device,
                        from_static=from_static, clearance=clearance, progress=progress)
     if d.onbody is None:  # an engine that does not run them itself
@@ -556,21 +557,23 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                                               verdict_rules))
 
 
-def _start_state(start, pattern: Pattern, mesh: GarmentMesh):
-    """Positions (n, 3) [m] of ``mesh`` to start a drape from and the contact state saved
-    with them (named arrays, or None): ``start`` as is, or read from a saved garment folder
-    that must hold a drape of this same pattern and mesh."""
+def _start_state(start, pattern: Pattern, triangles: int):
+    """What a drape of ``pattern`` continues from: positions (n, 3) [m], the contact state
+    saved with them (named arrays, or None) and their mesh. ``start`` is a saved garment
+    folder or an earlier outcome, which must hold a drape of this same pattern and bring
+    their own mesh (an edited one included: the correction loop's meshes follow its edits),
+    or positions of the pattern meshed with ``triangles``."""
     if isinstance(start, FitOutcome):
-        if start.drape is None or start.mesh.n_vertices != mesh.n_vertices \
-                or not np.array_equal(start.mesh.triangles, mesh.triangles):
-            raise ValueError("start: an outcome of a drape of this same pattern and mesh")
-        return np.array(start.positions), start.drape.saved_contact()
+        if start.drape is None or start.pattern != pattern:
+            raise ValueError("start: an outcome of a drape of this same pattern")
+        return np.array(start.positions), start.drape.saved_contact(), start.mesh
     if not isinstance(start, (str, Path)):
+        mesh = mesh_pattern(pattern, triangles=triangles)
         x = np.asanyarray(start, dtype=np.float64)
         if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
             raise ValueError(f"start: expected finite positions ({mesh.n_vertices}, 3) of the "
                              f"mesh, got {x.shape}")
-        return x, None
+        return x, None, mesh
     saved, saved_mesh, x = load_garment(start)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): drape the garment first",
@@ -580,16 +583,7 @@ def _start_state(start, pattern: Pattern, mesh: GarmentMesh):
                          f"{', '.join(p.name for p in saved.panels)}), not of this "
                          f"'{pattern.name}': start from a drape of the same pattern",
                          file=start)
-    same = (saved_mesh.vertices.shape == mesh.vertices.shape
-            and np.array_equal(saved_mesh.triangles, mesh.triangles)
-            and np.array_equal(saved_mesh.seam_pairs, mesh.seam_pairs)
-            and np.allclose(saved_mesh.vertices, mesh.vertices, rtol=0.0, atol=1e-9))
-    if not same:
-        raise InputError(f"holds a mesh of {saved_mesh.n_triangles} triangles "
-                         f"({saved_mesh.n_vertices} vertices) that is not this drape's "
-                         f"({mesh.n_triangles} triangles): give the triangle count it was "
-                         "draped with", file=start)
-    return x, load_contact(start)
+    return x, load_contact(start), saved_mesh
 
 
 def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,

@@ -44,9 +44,11 @@ def drape(
     from_static: bool = typer.Option(False, "--from-static", help="newton: start at the static "
                                      "equilibrium, slightly perturbed, so that folds form."),
     start: Path = typer.Option(None, "--start", help="Continue from a saved drape of the same "
-                               "pattern and mesh: its garment/ folder (pattern.json, mesh.npz, "
-                               "positions.npy, contact.npz), or the drape's output folder "
-                               "holding it. From a drape at rest it stops at once."),
+                               "pattern, on its own mesh (--triangles is not used): its "
+                               "garment/ folder (pattern.json, mesh.npz, positions.npy, "
+                               "contact.npz), or the output folder holding it (patternfit "
+                               "drape's, or correct's before/ and after/). From a drape at "
+                               "rest it stops at once."),
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     pressure_max: float = verdict_options()["pressure_max"],
     stretch_limit: float = verdict_options()["stretch_limit"],

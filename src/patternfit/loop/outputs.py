@@ -109,7 +109,7 @@ def write_correction_outputs(folder, session, correction: Correction, *, start: 
                           state="draped", body=body, pictures=pictures,
                           extra={"checks": state.checks, **verdict,
                                  "regions": [r.to_dict() for r in it.regions]},
-                          measures=it.measured)
+                          measures=it.measured, contact=session.saved_contact(state))
         files[name] = f"{name}/"
         if pictures:
             say(f"{name}: regions picture")

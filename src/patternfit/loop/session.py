@@ -203,6 +203,16 @@ class DesignSession:
         st.checks = result.report_extra()["checks"]  # solver and on-body checks, reasons
         return result
 
+    def saved_contact(self, state: State) -> dict | None:
+        """The contact state to save beside ``state``'s positions
+        (:meth:`~patternfit.sim.drape.Drape.saved_contact`), so that a drape started from
+        them continues this one; None unless ``state`` holds the last drape's positions."""
+        d = self._drape
+        if d is None or state.positions is None \
+                or not np.array_equal(state.positions, d.positions):
+            return None
+        return d.saved_contact()
+
     def _staged_redrape(self, mesh: GarmentMesh, start, progress) -> Drape:
         """Warm re-drape to the rest shapes of ``mesh`` in stages
         (:meth:`patternfit.sim.schedule.Plan.staged`: at most ``schedule.STAGE_LENGTH`` of flat-vertex
