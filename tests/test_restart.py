@@ -168,3 +168,12 @@ def test_a_drape_started_from_an_outcome_continues_it(saved):
     assert again.mesh is outcome.mesh and again.drape.result.iterations == 0
     with pytest.raises(ValueError, match="same pattern"):
         api.drape_and_evaluate("skirt", BODY, "cotton", triangles=TRIANGLES, start=outcome)
+
+
+def test_a_redrape_without_an_edit_does_not_move(saved):
+    """The design loop's re-drape of an unchanged pattern continues the rest it has."""
+    from patternfit.sim.drape import redrape
+    outcome, _ = saved
+    again = redrape(outcome.drape, outcome.mesh)
+    assert again.result.iterations == 0
+    assert np.array_equal(again.positions, outcome.positions)

@@ -382,10 +382,12 @@ class GarmentSolver:
     def set_rest(self, rest) -> None:
         """New rest shapes ``rest`` (n, 2) [m] (same topology), e.g. after a pattern edit;
         then ``solve`` from the previous state. The factorisation is kept while the matrix
-        is unchanged. The state is no longer at rest (its balance was of the old shapes): a
-        solve from its end updates the lagged terms first, as after any edit."""
+        is unchanged. Changed shapes leave the state no longer at rest (its balance was of
+        the old ones): a solve from its end updates the lagged terms first, as after any
+        edit."""
+        if not np.array_equal(np.asarray(rest, dtype=np.float64), self.model.rest):
+            self.state = replace(self.state, at_rest=False)
         self._use(self.model.with_rest(rest))
-        self.state = replace(self.state, at_rest=False)
 
     def weld(self) -> None:
         """Join every seam pair into one vertex now, before a solve whose start state has
