@@ -537,6 +537,8 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
             d = drape(pat, m, b, fab, settings=settings, clearance=clearance, start=x,
                       start_contact=contact, progress=progress)
         except SavedStateError as e:
+            if not isinstance(start, (str, Path)):
+                raise
             raise GarmentFileError(f"does not fit this drape's mesh: {e.reason}",
                                    file=Path(start) / CONTACT, place=f"array '{e.array}'") \
                 from None

@@ -140,7 +140,8 @@ def _grain_per_triangle(mesh: GarmentMesh) -> np.ndarray:
 def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFAULTS.fabric, *,
           settings: SolverSettings | None = None, clearance: float = DEFAULTS.clearance,
           spacing: float = 0.005,
-          placed=None, start=None, start_contact=None, sewing_iterations: int = 1500, relax_iterations: int = 300,
+          placed=None, start=None, start_contact=None, sewing_iterations: int = 1500,
+          relax_iterations: int = 300,
           contact_margin: float = CONTACT_MARGIN, sewing_self_collision: bool = False,
           coarse: int | None = 2000, progress=None) -> Drape:
     """Place, sew and drape ``mesh`` on ``body`` to static equilibrium.

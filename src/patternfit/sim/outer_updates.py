@@ -68,30 +68,28 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
     n = model.n
     diag = np.zeros(n)
     reach = model.reach(s)
-    if frozen:
-        state.contact_k = contact_k(model, state, s)
-        if model.body is not None:
-            near = distance(model, x)[0] < reach + s.contact_band
-            diag[near] = s.contact_precond * state.contact_k[near]
-        return diag
-    state.friction_idx = np.zeros(0, np.int64)
-    if hold and s.saved_rest and model.body is not None:
+    if not frozen:
+        state.friction_idx = np.zeros(0, np.int64)
+    if hold and not frozen and s.saved_rest and model.body is not None:
         # the repulsion of the self pairs scales with the contact stiffness: find them first
         if s.self_collision:
             find_pairs(model, state, x, settings=s, newton=newton)
         state.contact_scale = saved_contact_scale(model, state, x, settings=s)
     if model.body is not None:
         d, g = distance(model, x)
-        # a vertex found inside the body (or deeper than half the contact margin, where
-        # the true surface may lie) gets a stiffer contact (x4, up to 4^6)
-        inside = d < model.floor(s)
-        state.contact_scale[inside] = np.minimum(state.contact_scale[inside] * 4.0,
-                                                 MAX_CONTACT_SCALE)
+        if not frozen:
+            # a vertex found inside the body (or deeper than half the contact margin, where
+            # the true surface may lie) gets a stiffer contact (x4, up to 4^6)
+            inside = d < model.floor(s)
+            state.contact_scale[inside] = np.minimum(state.contact_scale[inside] * 4.0,
+                                                     MAX_CONTACT_SCALE)
         state.contact_k = contact_k(model, state, s)
         near = d < reach + s.contact_band
         diag[near] = s.contact_precond * state.contact_k[near]
     else:
         state.contact_k = contact_k(model, state, s)
+    if frozen:
+        return diag
     if s.self_collision and (state.pairs_x is None
                              or moved_since_pairs(model, state, x, settings=s)):
         find_pairs(model, state, x, settings=s, newton=newton)

@@ -173,8 +173,8 @@ class ContactState:
 
     def saved_arrays(self) -> dict[str, np.ndarray]:
         """What a saved drape keeps of this state besides its positions (``SAVED``: each
-        contact's stiffening, the friction anchors and terms, the self pairs), as named arrays for
-        ``np.savez``; :meth:`from_saved` reads them back. A restart from the positions
+        contact's stiffening, the friction anchors and terms, the self pairs), as named
+        arrays for ``np.savez``; :meth:`from_saved` reads them back. A restart from the positions
         alone cannot recompute them: the 1.5K coat on male_heavy, restarted from its saved
         rest without them, moved 4.4 mm over 105 iterations."""
         out = {name: np.array(getattr(self, name)) for name in SAVED
@@ -187,16 +187,17 @@ class ContactState:
         """The state of :meth:`saved_arrays` (a mapping of name -> array, e.g. a checked read
         of its ``.npz``) for a model of ``n`` solved vertices and ``n_triangles``
         triangles, ended at the simulated positions ``x`` (n3, 3) [m] with friction on: a
-        solve from exactly ``x`` continues it. Raises :class:`SavedStateError` naming the array when one
-        is missing or does not fit that model (shape, kind, range, NaN)."""
+        solve from exactly ``x`` continues it. Raises :class:`SavedStateError` naming the
+        array when one is missing or does not fit that model (shape, kind, range, NaN)."""
         def get(name, shape, kind="f"):
             if name not in arrays:
                 raise SavedStateError(name, "missing")
             a = np.asarray(arrays[name])
             if a.dtype.kind not in ("fiu" if kind == "f" else "iu"):
-                raise SavedStateError(name, f"expected {'numbers' if kind == 'f' else 'integers'}, "
-                                            f"got {a.dtype}")
-            if a.ndim != len(shape) or any(w is not None and w != g for w, g in zip(shape, a.shape)):
+                want = "numbers" if kind == "f" else "integers"
+                raise SavedStateError(name, f"expected {want}, got {a.dtype}")
+            if a.ndim != len(shape) or any(w is not None and w != g
+                                           for w, g in zip(shape, a.shape)):
                 want = "(" + ", ".join("k" if w is None else str(w) for w in shape) + ")"
                 raise SavedStateError(name, f"expected shape {want}, got {a.shape}")
             return np.ascontiguousarray(a, dtype=np.float64 if kind == "f" else np.int64)
