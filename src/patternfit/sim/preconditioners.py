@@ -1,11 +1,12 @@
-"""The solver's sparse Cholesky factors (cholespy) and the Newton step (SI units: m, N).
+"""The solver's sparse Cholesky factors and the Newton step (SI units: m, N).
 
 - L-BFGS's initial inverse Hessian: a factor of the constant quadratic part (membrane at
   rest, seam springs) plus a contact-stiffness diagonal and a mass regulariser
   (METHOD.md 5.1), refactored only when that matrix changed enough;
 - Newton's step: conjugate gradients on the PSD-projected Hessian of every term
   (:func:`patternfit.sim.total_energy.hessian`), preconditioned by the factor of a trimmed
-  recent Hessian (METHOD.md 5.2).
+  recent Hessian (METHOD.md 5.2), in 3 x 3 vertex blocks (:mod:`.block_cholesky`: its
+  ordering made once per mesh topology).
 
 :class:`Factors` keeps them between iterations and solves (a re-drape reuses them).
 """
@@ -19,6 +20,7 @@ import scipy.sparse as sp
 from cholespy import CholeskySolverD, MatrixType
 
 from . import kernels
+from .block_cholesky import BlockCholesky
 from .model import ClothModel
 from .settings import SolverSettings
 from .state import ContactState
@@ -40,8 +42,9 @@ class Factors:
         The ``base`` and contact diagonal (n,) [N/m] last factored.
     pattern : HessianPattern or None
         The Hessian's sparsity (kept while the mesh topology is).
-    newton : CholeskySolverD or None
-        Factor of a trimmed recent Hessian (:func:`newton_preconditioner`).
+    newton : BlockCholesky or None
+        Factor of a trimmed recent Hessian (:func:`newton_preconditioner`), ordered for
+        ``pattern``'s vertex graph.
     cg_last : int
         Conjugate-gradient iterations of the last Newton step.
     count : int
@@ -53,7 +56,7 @@ class Factors:
     matrix: sp.csr_matrix | None = None
     diag: np.ndarray | None = None
     pattern: HessianPattern | None = None
-    newton: CholeskySolverD | None = None
+    newton: BlockCholesky | None = None
     cg_last: int = 0
     count: int = 0
 
@@ -68,6 +71,7 @@ class Factors:
         """The Hessian's sparsity of ``model``, made when missing or stale."""
         if not fits_pattern(self.pattern, model):
             self.pattern = hessian_pattern(model)
+            self.newton = None
         return self.pattern
 
 
@@ -136,18 +140,17 @@ def newton_direction(factors: Factors, model: ClothModel, state: ContactState, x
     s = settings
     pattern = factors.pattern_of(model)
     H = hessian(model, state, x, settings=s, pattern=pattern, lookups=lookups)
-    if factors.newton is None or factors.cg_last > s.newton_refactor:
-        indptr, indices, data = newton_preconditioner(H, pattern)
-        factors.newton = CholeskySolverD(H.shape[0], indptr, indices, data, MatrixType.CSR)
+    if factors.newton is None or not factors.newton.factored \
+            or factors.cg_last > s.newton_refactor:
+        if factors.newton is None:
+            factors.newton = BlockCholesky(pattern.near_indptr, pattern.near_indices)
+        factors.newton.factor(*newton_preconditioner(H, pattern))
         factors.count += 1
     b = -grad.ravel()
     b[np.repeat(~model.free, 3)] = 0.0
     factor = factors.newton
 
-    def prec(r):
-        out = np.zeros((len(r), 1))
-        factor.solve(r.reshape(-1, 1), out)
-        return out.ravel()
+    prec = factor.solve
 
     # (the dot products by kernels.dot: BLAS's threads only wait on a busy machine)
     dot = kernels.dot

@@ -48,6 +48,10 @@ class SolverSettings:
     #: some 40 solves: small-garment suite 14.2 -> 11.5 s CPU against 40, 12.5 at 8)
     newton_cg_max: int = 100
     newton_refactor: int = 15
+    #: force rule: L-BFGS hands over to Newton once its steps are small (``step_tol``,
+    #: ``energy_tol``, ``patience``) and no vertex moved more than this over the last
+    #: ``window`` iterations [m] (``drift_tol`` is the kinematic rule's own)
+    newton_switch_drift: float = 1e-3
     #: Newton: iterations between outer updates (``refresh`` for L-BFGS)
     newton_refresh: int = 4
     #: Newton: a full step is extended (x2 while the energy falls) only when its energy drop

@@ -8,7 +8,9 @@
   crossed triangle pairs;
 - :mod:`.optimiser`: the L-BFGS vector loops and the stopping rule's step measures;
 - :mod:`.sparse_assembly`: the Newton Hessian's CSR data and its trimmed preconditioner
-  matrix.
+  matrix;
+- :mod:`.cholesky`: the sparse Cholesky factor of that matrix in 3 x 3 vertex blocks
+  (``sim.block_cholesky``).
 
 Every kernel is serial numba compiled with ``cache=True`` (a fixed summation order makes two
 runs bit-identical). The solver calls them as ``kernels.NAME``; the names are re-exported
@@ -19,6 +21,7 @@ from __future__ import annotations
 
 # the solver's distance lookups (compiled in body.sdf, where the distance field lives)
 from ...body.sdf import sdf_query, smooth_sdf_query
+from .cholesky import block_factor, block_solve, block_symbolic
 from .collision import crossed_pairs, intersecting_pairs, near_edge_pairs, near_pairs
 from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge_repulsion,
                            friction, friction_law, friction_offset, friction_stiffness,
@@ -26,8 +29,8 @@ from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge
 from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
 from .sparse_assembly import scatter_hessian, trim_to_near
 
-__all__ = ["axpy", "contact", "contact_forces", "contact_law", "crossed_pairs", "dot",
-           "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
+__all__ = ["axpy", "block_factor", "block_solve", "block_symbolic", "contact",
+           "contact_forces", "contact_law", "crossed_pairs", "dot", "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move",
            "max_row_norm", "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs",
            "scatter_hessian", "sdf_query", "SDF_SLOPE", "seam_springs", "self_repulsion",
