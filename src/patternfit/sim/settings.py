@@ -44,14 +44,11 @@ class SolverSettings:
     #: Newton: conjugate gradients stop at this residual, relative to the gradient [-] ...
     newton_cg_tol: float = 0.05
     #: ... or after this many iterations; when more than ``newton_refactor`` were needed
-    #: the preconditioner is refactored from the current Hessian (a factorisation costs
-    #: some 40 solves: small-garment suite 14.2 -> 11.5 s CPU against 40, 12.5 at 8)
+    #: the preconditioner is refactored from the current Hessian (a cholespy factorisation
+    #: cost some 40 solves: small-garment suite 14.2 -> 11.5 s CPU against 40, 12.5 at 8;
+    #: the block factor costs some 25: 6, 10 and 25 within the noise on the 22K coat)
     newton_cg_max: int = 100
     newton_refactor: int = 15
-    #: force rule: L-BFGS hands over to Newton once its steps are small (``step_tol``,
-    #: ``energy_tol``, ``patience``) and no vertex moved more than this over the last
-    #: ``window`` iterations [m] (``drift_tol`` is the kinematic rule's own)
-    newton_switch_drift: float = 1e-3
     #: Newton: iterations between outer updates (``refresh`` for L-BFGS)
     newton_refresh: int = 4
     #: Newton: a full step is extended (x2 while the energy falls) only when its energy drop

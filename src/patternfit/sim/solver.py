@@ -109,7 +109,6 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
     # rule) Newton steps, whose Hessian sees the stiff contact and membrane, to the
     # force balance
     newton_on = False
-    switch_drift = s.newton_switch_drift if force_rule else s.drift_tol
     lookups = None  # the body distance lookups of this state (set up below)
 
     def evaluate(x):
@@ -296,7 +295,7 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
             small = step < s.step_tol and drop <= s.energy_tol * max(total_drop, e_scale)
             calm = calm + 1 if small else 0
             if not newton_now and calm >= s.patience and not sewing \
-                    and drift(x, it, marks, s.window) <= switch_drift:
+                    and drift(x, it, marks, s.window) <= s.drift_tol:
                 if can_stiffen(model, state, x, settings=s):
                     last_refresh = it - s.refresh  # stiffen the contact and go on
                     continue
