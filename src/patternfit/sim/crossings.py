@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .kernels.collision import _rows, _segment_hits_triangle
+from .kernels.collision import _rows, _segment_hits
 
 
 @njit(cache=True)
@@ -54,7 +54,7 @@ def wrong_sides(x, tris, crossed):
             a, b, c = tris[u, 0], tris[u, 1], tris[u, 2]
             for (i, j) in ((0, 1), (1, 2), (2, 0)):
                 p, q = tris[t, i], tris[t, j]
-                if not _segment_hits_triangle(x[p], x[q], x[a], x[b], x[c]):
+                if not _segment_hits(x, p, q, a, b, c):
                     continue
                 dp, bp, n = _side(x, p, a, b, c)
                 dq, bq, _ = _side(x, q, a, b, c)

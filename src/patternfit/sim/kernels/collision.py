@@ -253,25 +253,28 @@ def near_edge_pairs(x, edges, radius, cell, root):
 
 
 @njit(cache=True)
-def _segment_hits_triangle(p, q, a, b, c):
-    """Whether the closed segment pq crosses the interior of triangle abc (Möller-Trumbore)."""
-    d = q - p
-    e1 = b - a
-    e2 = c - a
-    h = np.cross(d, e2)
-    det = e1 @ h
+def _segment_hits(x, p, q, a, b, c):
+    """Whether the closed segment from vertex ``p`` to ``q`` crosses the interior of the
+    triangle of vertices ``a``, ``b``, ``c`` (positions ``x`` (n, 3); Möller-Trumbore),
+    in scalars: with 3-vectors (slices and ``np.cross``) the narrow phase allocated at every
+    test and took 23 of the coat's 36 ms a crossing check."""
+    d0, d1, d2 = x[q, 0] - x[p, 0], x[q, 1] - x[p, 1], x[q, 2] - x[p, 2]
+    e10, e11, e12 = x[b, 0] - x[a, 0], x[b, 1] - x[a, 1], x[b, 2] - x[a, 2]
+    e20, e21, e22 = x[c, 0] - x[a, 0], x[c, 1] - x[a, 1], x[c, 2] - x[a, 2]
+    h0, h1, h2 = d1 * e22 - d2 * e21, d2 * e20 - d0 * e22, d0 * e21 - d1 * e20
+    det = e10 * h0 + e11 * h1 + e12 * h2
     if abs(det) < 1e-18:
         return False
     inv = 1.0 / det
-    s = p - a
-    u = inv * (s @ h)
+    s0, s1, s2 = x[p, 0] - x[a, 0], x[p, 1] - x[a, 1], x[p, 2] - x[a, 2]
+    u = inv * (s0 * h0 + s1 * h1 + s2 * h2)
     if u < 0.0 or u > 1.0:
         return False
-    qq = np.cross(s, e1)
-    v = inv * (d @ qq)
+    q0, q1, q2 = s1 * e12 - s2 * e11, s2 * e10 - s0 * e12, s0 * e11 - s1 * e10
+    v = inv * (d0 * q0 + d1 * q1 + d2 * q2)
     if v < 0.0 or u + v > 1.0:
         return False
-    t = inv * (e2 @ qq)
+    t = inv * (e20 * q0 + e21 * q1 + e22 * q2)
     return 0.0 <= t <= 1.0
 
 
@@ -293,10 +296,9 @@ def crossed_pairs(x, tris, cell, root):
             continue
         hit = False
         for (p, q) in ((0, 1), (1, 2), (2, 0)):
-            if _segment_hits_triangle(x[tris[t, p]], x[tris[t, q]], x[tris[u, 0]],
-                                      x[tris[u, 1]], x[tris[u, 2]]) or \
-                    _segment_hits_triangle(x[tris[u, p]], x[tris[u, q]], x[tris[t, 0]],
-                                           x[tris[t, 1]], x[tris[t, 2]]):
+            if _segment_hits(x, tris[t, p], tris[t, q], tris[u, 0], tris[u, 1], tris[u, 2]) \
+                    or _segment_hits(x, tris[u, p], tris[u, q], tris[t, 0], tris[t, 1],
+                                     tris[t, 2]):
                 hit = True
                 break
         if hit:
