@@ -84,7 +84,7 @@ def test_a_matrix_with_a_negative_pivot_is_refused_naming_the_vertex():
     A = _matrix(rng, tri, n).tolil()
     A[3 * 7 + 1, 3 * 7 + 1] = -1.0
     chol = BlockCholesky(graph.indptr, graph.indices)
-    with pytest.raises(np.linalg.LinAlgError, match="not positive definite at vertex"):
+    with pytest.raises(np.linalg.LinAlgError, match="not positive definite at vertex 7$"):
         chol.factor(*_lower(A.tocsr()))
     assert not chol.factored
     with pytest.raises(RuntimeError, match="factor"):

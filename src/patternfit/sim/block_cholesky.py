@@ -85,7 +85,7 @@ class BlockCholesky:
                              f"neighbours in the factor's graph")
         if status == 2:
             raise np.linalg.LinAlgError(f"the matrix is not positive definite at vertex "
-                                        f"{where}")
+                                        f"{self.perm[where]}")
         self._solve_values[:] = self.values
         self.factored = True
 

@@ -140,17 +140,14 @@ def newton_direction(factors: Factors, model: ClothModel, state: ContactState, x
     s = settings
     pattern = factors.pattern_of(model)
     H = hessian(model, state, x, settings=s, pattern=pattern, lookups=lookups)
-    if factors.newton is None or not factors.newton.factored \
-            or factors.cg_last > s.newton_refactor:
-        if factors.newton is None:
-            factors.newton = BlockCholesky(pattern.near_indptr, pattern.near_indices)
+    if factors.newton is None:
+        factors.newton = BlockCholesky(pattern.near_indptr, pattern.near_indices)
+    if not factors.newton.factored or factors.cg_last > s.newton_refactor:
         factors.newton.factor(*newton_preconditioner(H, pattern))
         factors.count += 1
     b = -grad.ravel()
     b[np.repeat(~model.free, 3)] = 0.0
-    factor = factors.newton
-
-    prec = factor.solve
+    prec = factors.newton.solve
 
     # (the dot products by kernels.dot: BLAS's threads only wait on a busy machine)
     dot = kernels.dot

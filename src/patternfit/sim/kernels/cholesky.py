@@ -113,8 +113,8 @@ def block_factor(colptr, rowidx, iperm, indptr, indices, data, values):
     lower triangle (CSR ``indptr`` (3n + 1,), ``indices``, ``data`` [N/m]), in the pattern
     ``colptr``, ``rowidx`` of :func:`block_symbolic` for the ordering whose inverse is
     ``iperm`` (n,). Returns ``(status, where)``: (0, -1) done; (1, scalar row) an entry
-    outside the pattern; (2, vertex) a pivot not positive (the matrix is not positive
-    definite there)."""
+    outside the pattern; (2, block column) a pivot not positive (the matrix is not positive
+    definite there: the vertex ordered at that position)."""
     n = colptr.shape[0] - 1
     values[:] = 0.0
     bad = _scatter(colptr, rowidx, iperm, indptr, indices, data, values)
@@ -124,9 +124,6 @@ def block_factor(colptr, rowidx, iperm, indptr, indices, data, values):
     link = -np.ones(n, np.int64)
     nextpos = colptr[:-1].copy()
     pos = np.empty(n, np.int64)
-    perm_of = np.empty(n, np.int64)
-    for v in range(n):
-        perm_of[iperm[v]] = v
     for j in range(n):
         c0 = colptr[j]
         c1 = colptr[j + 1]
@@ -159,18 +156,18 @@ def block_factor(colptr, rowidx, iperm, indptr, indices, data, values):
         a00, a10, a11 = values[b], values[b + 3], values[b + 4]
         a20, a21, a22 = values[b + 6], values[b + 7], values[b + 8]
         if not a00 > 0.0:
-            return 2, perm_of[j]
+            return 2, j
         l00 = np.sqrt(a00)
         l10 = a10 / l00
         l20 = a20 / l00
         s = a11 - l10 * l10
         if not s > 0.0:
-            return 2, perm_of[j]
+            return 2, j
         l11 = np.sqrt(s)
         l21 = (a21 - l20 * l10) / l11
         s = a22 - l20 * l20 - l21 * l21
         if not s > 0.0:
-            return 2, perm_of[j]
+            return 2, j
         l22 = np.sqrt(s)
         m00 = 1.0 / l00
         m11 = 1.0 / l11
