@@ -104,6 +104,9 @@ class Limits:
     #: ... or more triangle pairs crossing each other than this [-]: GarmentCode's dataset
     #: rejects above 35 body and 300 self intersections; a drape at rest here has none
     self_intersections: int = 0
+    #: ... or a seam still open wider than this [mm]: the solver welds its pairs below
+    #: ``SolverSettings.weld_gap`` (0.5 mm)
+    seam_gap_mm: float = 0.5
 
 
 limits = Limits()

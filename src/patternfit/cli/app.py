@@ -98,7 +98,7 @@ def verdict_options() -> dict:
     return {
         "pressure_max": typer.Option(None, "--pressure-max", callback=finite,
                                      help="Pressure above which a region is too tight "
-                                          "[kPa] (default 2.0, Kawabata's daily-wear "
+                                          "\\[kPa] (default 2.0, Kawabata's daily-wear "
                                           "maximum)."),
         "stretch_limit": typer.Option(None, "--stretch-limit", callback=finite,
                                       help="Comfortable stretch of the fabric along a yarn "

@@ -39,7 +39,7 @@ def bodies(
                                        "XS-XXL; 'all': every set)."),
     json_: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
-    """List the built-in bodies (or a body set) with their measurements [m], or write one
+    """List the built-in bodies (or a body set) with their measurements \\[m], or write one
     as a mesh."""
     from ..body import ALIASES, load_body
     from ..api import list_body_sets
@@ -57,7 +57,7 @@ def bodies(
                                    for b in v], "aliases": ALIASES, "sets": sets})
             return
 
-        table = Table("set", "name", *(f"{k} [m]" for k in _MAIN))
+        table = Table("set", "name", *(f"{k} \\[m]" for k in _MAIN))
         for k, v in loaded.items():
             for b in v:
                 table.add_row(k, b.name, *(f"{b.measurements[m]:.3f}" for m in _MAIN))
@@ -83,21 +83,21 @@ def body(
     gender: float = typer.Option(0.5, help="0 = male, 1 = female.", callback=finite),
     weight: float = typer.Option(0.5, help="0 = thin, 1 = heavy.", callback=finite),
     muscle: float = typer.Option(0.5, help="0 = little, 1 = much muscle.", callback=finite),
-    height: Optional[float] = typer.Option(None, help="Standing height [m]; anny's average "
+    height: Optional[float] = typer.Option(None, help="Standing height \\[m]; anny's average "
                                            "when omitted.", callback=finite),
     from_measurements: bool = typer.Option(False, "--from-measurements", help="Aim at "
                                            "--height, --bust, --waist and --hip instead of "
                                            "--weight and --muscle (about a minute)."),
     bust: Optional[float] = typer.Option(None, help="--from-measurements: bust or chest "
-                                         "girth [m].", callback=finite),
-    waist: Optional[float] = typer.Option(None, help="--from-measurements: waist girth [m].",
+                                         "girth \\[m].", callback=finite),
+    waist: Optional[float] = typer.Option(None, help="--from-measurements: waist girth \\[m].",
                                           callback=finite),
-    hip: Optional[float] = typer.Option(None, help="--from-measurements: hip girth [m].",
+    hip: Optional[float] = typer.Option(None, help="--from-measurements: hip girth \\[m].",
                                         callback=finite),
     json_: bool = typer.Option(False, "--json", help="Print the measurements as JSON."),
 ) -> None:
     """Make a custom body with the anny model and write it with its measurements (needs
-    anny: pip install torch, then pip install "patternfit[anny]"). With --from-measurements
+    anny: pip install torch, then pip install "patternfit\\[anny]"). With --from-measurements
     anny's weight is searched so that bust + waist + hip match, at the height given."""
     girths = dict(height=height, bust=bust, waist=waist, hip=hip)
     if from_measurements and None in girths.values():

@@ -71,7 +71,7 @@ def mesh(
     pattern: str = typer.Argument(..., help="Pattern file (JSON, GarmentCode JSON, DXF) or "
                                             "built-in garment name."),
     triangles: int = triangles_option(DEFAULTS.mesh_triangles),
-    min_angle: float = typer.Option(25.0, help="Minimum triangle angle [degrees].",
+    min_angle: float = typer.Option(25.0, help="Minimum triangle angle \\[degrees].",
                                     callback=finite),
     size: Optional[str] = typer.Option(None, "--size", "-s", help=SIZE_HELP),
     out: Path = Out,

@@ -29,16 +29,16 @@ def drape(
                                help="Fabric preset name or a fabric JSON file."),
     triangles: int = triangles_option(DEFAULTS.triangles),
     clearance: float = typer.Option(DEFAULTS.clearance, help="Gap between body and panels at "
-                                    "placement [m].", callback=finite),
+                                    "placement \\[m].", callback=finite),
     max_iterations: int = typer.Option(DEFAULTS.max_iterations, min=0,
                                        help="Iteration limit of the drape."),
-    time_limit: float = typer.Option(DEFAULTS.time_limit, help="Time limit of the drape [s].",
+    time_limit: float = typer.Option(DEFAULTS.time_limit, help="Time limit of the drape \\[s].",
                                      callback=finite),
     units: str = typer.Option(None, help="Units of a body mesh file (m, cm, mm, in); guessed "
                                          "from its height when not given."),
     engine: str = typer.Option("static", help="static (equilibrium, default) or newton "
                                               "(dynamic, Style3D; pip install "
-                                              "\"patternfit[newton]\")."),
+                                              "\"patternfit\\[newton]\")."),
     device: str = typer.Option(None, help="newton: Warp device (cpu, cuda); default CUDA "
                                           "when present, else cpu."),
     from_static: bool = typer.Option(False, "--from-static", help="newton: start at the static "

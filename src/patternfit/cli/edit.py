@@ -77,21 +77,21 @@ def edit_command(
     panel: Optional[str] = typer.Option(None, help="Panel to edit (grade: all if omitted)."),
     edge: Optional[str] = typer.Option(None, help="Edge name (move-point: the edge that "
                                        "starts at the corner)."),
-    dx: float = typer.Option(0.0, help="Offset in x [m]."),
-    dy: float = typer.Option(0.0, help="Offset in y [m]."),
+    dx: float = typer.Option(0.0, help="Offset in x \\[m]."),
+    dy: float = typer.Option(0.0, help="Offset in y \\[m]."),
     control: int = typer.Option(1, help="edit-curve: Bézier control point number."),
-    a: Optional[str] = typer.Option(None, help="lengthen: first point 'x,y' [m]."),
-    b: Optional[str] = typer.Option(None, help="lengthen: second point 'x,y' [m]."),
-    amount: Optional[float] = typer.Option(None, help="lengthen: added length [m] "
+    a: Optional[str] = typer.Option(None, help="lengthen: first point 'x,y' \\[m]."),
+    b: Optional[str] = typer.Option(None, help="lengthen: second point 'x,y' \\[m]."),
+    amount: Optional[float] = typer.Option(None, help="lengthen: added length \\[m] "
                                            "(negative shortens)."),
     sx: float = typer.Option(1.0, help="grade: scale in x."),
     sy: float = typer.Option(1.0, help="grade: scale in y."),
-    about: Optional[str] = typer.Option(None, help="grade: centre 'x,y' [m] (default: the "
+    about: Optional[str] = typer.Option(None, help="grade: centre 'x,y' \\[m] (default: the "
                                         "panel centroid)."),
     dart: Optional[str] = typer.Option(None, help="Dart (inner loop) name."),
-    centre: Optional[str] = typer.Option(None, help="insert-dart: centre 'x,y' [m]."),
-    length: Optional[float] = typer.Option(None, help="Dart length [m]."),
-    width: Optional[float] = typer.Option(None, help="Dart width [m]."),
+    centre: Optional[str] = typer.Option(None, help="insert-dart: centre 'x,y' \\[m]."),
+    length: Optional[float] = typer.Option(None, help="Dart length \\[m]."),
+    width: Optional[float] = typer.Option(None, help="Dart width \\[m]."),
     axis: Optional[str] = typer.Option(None, help="insert-dart: long axis 'x,y' (default "
                                        "0,1)."),
     shape: str = typer.Option("diamond", help="insert-dart: diamond or triangle."),

@@ -112,7 +112,7 @@ def fabric_test(
     direction: Optional[str] = typer.Option(None, help="strip, cantilever: warp (default) or "
                                             "weft, the yarns along the strip."),
     length: Optional[float] = typer.Option(None, min=0.001, max=10.0, callback=finite,
-                                           help="strip: hanging length [m] (default 0.5)."),
+                                           help="strip: hanging length \\[m] (default 0.5)."),
     meshes: Optional[str] = typer.Option(None, help="cantilever: mesh sizes, edges per "
                                          "bending length, coarse to fine (default 6,12,24)."),
     triangles: Optional[int] = typer.Option(None, "--triangles", "-n", min=50, max=200_000,
@@ -122,10 +122,10 @@ def fabric_test(
     seeds: Optional[int] = typer.Option(None, min=1, max=50, help="cusick: perturbed flat "
                                         "starts, seeds 0..N-1 (default 5)."),
     specimen: Optional[float] = typer.Option(None, min=0.02, max=2.0, callback=finite,
-                                             help="cusick: specimen diameter [m] "
+                                             help="cusick: specimen diameter \\[m] "
                                                   "(default 0.30)."),
     disc: Optional[float] = typer.Option(None, min=0.005, max=2.0, callback=finite,
-                                         help="cusick: support disc diameter [m] "
+                                         help="cusick: support disc diameter \\[m] "
                                               "(default 0.18)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result "
                                        "(fabric_test_<test>.json) and the pictures here "
@@ -231,7 +231,7 @@ def fabrics(
     table = Table(title="fabrics: c = bending length (B/(ρg))^(1/3) warp / weft, and as the "
                         "virtual cantilever read it (warp); DC = Cusick drape coefficient, "
                         "30 cm on 18 cm, simulated (min–max over starts) and measured")
-    for col in ("name", "g/m²", "c [mm]", "c kit", "DC sim", "nodes", "DC meas"):
+    for col in ("name", "g/m²", "c \\[mm]", "c kit", "DC sim", "nodes", "DC meas"):
         table.add_column(col, overflow="fold")
     for r in rows:
         kit = r["kit"] or {}

@@ -24,7 +24,7 @@ def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
     failed = (report.get("checks") or {}).get("passed") is False
     table = Table(title=f"fit of '{report.get('garment')}' ({report['state']})"
                   + (" — FAILED, not a fit" if failed else ""), show_lines=False)
-    for col in ("panel", "area 2D [m²]", "area 3D [m²]", "ϖ"):
+    for col in ("panel", "area 2D \\[m²]", "area 3D \\[m²]", "ϖ"):
         table.add_column(col, justify="right" if col != "panel" else "left")
     for p in report["panels"]:
         table.add_row(p["name"], num(p["area_2d_m2"], ".4f"), num(p["area_3d_m2"], ".4f"),

@@ -16,8 +16,9 @@ warp/weft stretch of :class:`~patternfit.fit.metrics.FitResult`) against the thr
 
 Overall: the first of too tight, too loose, tight, loose that a region reads, else fits.
 A garment that slid off its anchor (its top more than the on-body tolerance below the
-waist or neck it hangs from, :mod:`patternfit.sim.onbody`) is too loose, whatever else it
-failed; any other failed check makes it "failed", with no region verdicts.
+waist or neck it hangs from, :mod:`patternfit.sim.onbody`), still sewn and on the body, is
+too loose, whatever else it failed; any other failed check (fallen below the feet, far from
+the body, collapsed, seams open) makes it "failed", with no region verdicts.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..constants import limits
 from ..sim.onbody import ON_BODY
 from .measures import FitMeasures, _weighted_percentiles
 from .metrics import FitResult
@@ -83,9 +85,19 @@ class Verdict:
 
 def slid_off(checks: dict | None) -> str | None:
     """Why the drape with these ``checks`` slid off its anchor (its top more than the
-    on-body tolerance below it), or None."""
-    offset = (checks or {}).get("anchor_offset_mm")
+    on-body tolerance below it, the garment otherwise on the body: sewn, not fallen below
+    the feet, not far from the body, not collapsed), or None. A garment that fell or
+    never closed its seams is not too loose (a pattern in millimetres read as metres fell
+    25 m): its drape failed."""
+    checks = checks or {}
+    offset = checks.get("anchor_offset_mm")
     if offset is None or offset >= -1000.0 * ON_BODY.anchor_tolerance:
+        return None
+    ratio = checks.get("area_ratio_3d")
+    gap = checks.get("seam_gap_max_mm")
+    if (checks.get("below_feet_vertices") or checks.get("far_vertices")
+            or (ratio is not None and not ratio >= ON_BODY.min_area_ratio)
+            or (gap is not None and not gap < limits.seam_gap_mm)):
         return None
     return (f"slid off its anchor: its top is {-offset / 10:.1f} cm below the "
             f"{checks.get('anchor', 'anchor')}")

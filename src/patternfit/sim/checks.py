@@ -41,9 +41,10 @@ class DrapeChecks:
     @property
     def passed(self) -> bool:
         """Vertices inside the body and crossed triangle pairs within
-        ``constants.limits`` (none), seams closed (< 0.5 mm), equilibrium reached."""
+        ``constants.limits`` (none), seams closed (below ``limits.seam_gap_mm``), equilibrium
+        reached."""
         return (self.inside_vertices <= limits.body_penetrations
-                and self.seam_gap_max_mm < 0.5
+                and self.seam_gap_max_mm < limits.seam_gap_mm
                 and self.self_intersections <= limits.self_intersections and self.equilibrium)
 
     def to_dict(self) -> dict:
