@@ -3,6 +3,7 @@ boundary), never a traceback, an exhausted memory or an accepted garment that is
 
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -68,6 +69,35 @@ def test_absurd_triangle_counts_are_refused_by_every_command(tmp_path, command, 
                       if command[0] != "reproduce" else [*command, "--triangles", value])
     refused(r, "--triangles")
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("args, names", [
+    (["--time-limit", "0"], ["--time-limit", "> 0"]),
+    (["--time-limit", "-5"], ["--time-limit"]),
+    (["--pressure-max", "-1"], ["--pressure-max"]),
+    (["--clearance", "-0.1"], ["clearance", "0.3 m"]),
+    (["--clearance", "100"], ["clearance", "100"]),
+    (["--units", "furlong"], ["units", "furlong"]),
+])
+def test_drape_options_out_of_their_range_are_refused_before_draping(tmp_path, args, names):
+    """Each refused at once with its name (a 0 s time limit used to run no iteration and
+    report the sewing failed; a 100 m clearance draped for a minute with seams 187 m open;
+    an unknown unit was ignored with a built-in body)."""
+    refused(runner.invoke(app, ["drape", "-n", "200", "-o", str(tmp_path / "d"), *args]),
+            *names)
+    assert not (tmp_path / "d" / "report.json").exists()
+
+
+def test_help_texts_and_tables_show_their_units():
+    """Rich reads "[m]" as a style tag and drops it unless escaped."""
+    def shown(*args):  # the words, without the boxes and line breaks
+        return re.sub(r"[\s│]+", " ", runner.invoke(app, list(args)).output)
+
+    text = shown("drape", "--help")
+    for unit in ("placement [m]", "drape [s]", "tight [kPa]", "patternfit[new"):
+        assert unit in text, unit
+    assert "hip [m]" in shown("bodies")
+    assert "Offset in x [m]" in shown("edit", "--help")
 
 
 @pytest.mark.parametrize("args, names", [

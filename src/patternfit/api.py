@@ -13,6 +13,7 @@ Lengths are metres, times seconds inside; pattern files state their own units.
 
 from __future__ import annotations
 
+import math
 import time
 from fnmatch import fnmatchcase
 from dataclasses import dataclass, field
@@ -28,6 +29,7 @@ from .body.sdf import DistanceField
 from .body.builtin import list_body_sets
 from .body.anny import anny_body_from_girths
 from .arguments import number
+from .constants import UNITS
 from .defaults import DEFAULTS, Defaults
 from .errors import GarmentFileError, InputError
 from .fit.measures import GIRTHS, FitMeasures, fit_measures
@@ -55,7 +57,7 @@ from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricE
                           get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
-from .sim.placement import place_on_body, place_on_cylinders
+from .sim.placement import checked_clearance, place_on_body, place_on_cylinders
 from .sim.settings import SolverSettings
 from .sim.state import SavedStateError
 
@@ -254,6 +256,8 @@ def read_body(source: Body | str | Path, *, units: str | None = None) -> Body:
     (OBJ, PLY, STL, GLB, ...; ``units`` m, cm, mm or in, guessed from its height when None).
 
     Raises :class:`BodyMeshError` naming the file."""
+    if units is not None and units not in UNITS:
+        raise ValueError(f"units: expected one of {', '.join(UNITS)}, got {units!r}")
     if isinstance(source, Body):
         return source
     path = Path(str(source))
@@ -459,10 +463,18 @@ def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMea
 def verdict_rules(*, pressure_max: float | None = None, stretch_limit: float | None = None,
                   style: str | None = None) -> VerdictRules:
     """The fit verdict's thresholds with these replaced where not None: ``pressure_max``
-    [kPa] above which a region is too tight, the fabric's comfortable ``stretch_limit``
-    [-], the garment ``style`` whose ease ranges apply; ``ValueError`` naming a bad one."""
-    return VerdictRules().with_options(pressure_max_kpa=pressure_max,
-                                       stretch_limit=stretch_limit, style=style)
+    [kPa] above which a region is too tight (one below the comfort pressure, 1.3 kPa,
+    lowers that to it), the fabric's comfortable ``stretch_limit`` [-], the garment
+    ``style`` whose ease ranges apply; ``ValueError`` naming a bad one."""
+    rules = VerdictRules()
+    comfort = None
+    if pressure_max is not None:
+        if not (isinstance(pressure_max, (int, float)) and 0 < pressure_max < math.inf):
+            raise ValueError(f"pressure_max: expected a pressure > 0 [kPa], got "
+                             f"{pressure_max!r}")
+        comfort = min(rules.pressure_comfort_kpa, pressure_max)
+    return rules.with_options(pressure_max_kpa=pressure_max, pressure_comfort_kpa=comfort,
+                              stretch_limit=stretch_limit, style=style)
 
 
 def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
@@ -524,6 +536,7 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     a one-piece garment is draped as it is.
     """
     t0 = time.perf_counter()
+    checked_clearance(clearance)
     pat = read_pattern(pattern, size=size)
     check_sewn(pat, source=None if isinstance(pattern, Pattern) or str(pattern) in GARMENTS
                else pattern)

@@ -80,6 +80,14 @@ def finite(value):
     return value
 
 
+def positive(value):
+    """Option callback refusing a value that is not a finite number > 0."""
+    finite(value)
+    if value is not None and not value > 0:
+        raise typer.BadParameter(f"expected a number > 0, got {value}")
+    return value
+
+
 #: help of every command's --size (a built-in garment's size, or a graded DXF's)
 SIZE_HELP = ("Size: of a built-in garment (S–XL, default M) or of a graded DXF file (default "
              "its sample size).")
@@ -96,7 +104,7 @@ def verdict_options() -> dict:
     defaults (``--pressure-max``, ``--stretch-limit``, ``--style``); each None means the
     rule's own (``patternfit.fit.verdict_rules``)."""
     return {
-        "pressure_max": typer.Option(None, "--pressure-max", callback=finite,
+        "pressure_max": typer.Option(None, "--pressure-max", callback=positive,
                                      help="Pressure above which a region is too tight "
                                           "\\[kPa] (default 2.0, Kawabata's daily-wear "
                                           "maximum)."),

@@ -9,7 +9,7 @@ from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
                            TimeElapsedColumn, TimeRemainingColumn)
 
 from ..defaults import DEFAULTS
-from .app import app, console, fail, finite, print_json, triangles_option
+from .app import app, console, fail, positive, print_json, triangles_option
 
 # the batch (and through it patternfit.api and Ray) is imported inside the command, when it
 # runs: `patternfit --help` should not wait for them (see commands.py)
@@ -36,7 +36,7 @@ def batch(
     time_limit: float = typer.Option(DEFAULTS.time_limit, help="The solver's time limit per "
                                      "drape, in seconds; a task running far past it is "
                                      "cancelled.",
-                                     callback=finite),
+                                     callback=positive),
     thumbnails: bool = typer.Option(True, help="Draw a thumbnail per drape for the matrix."),
     out: Path = typer.Option(..., "--out", "-o", help="Batch folder: results.csv, "
                              "results.parquet, thumbs/, matrix.png, matrix.html."),

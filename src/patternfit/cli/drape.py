@@ -8,8 +8,8 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import (SIZE_HELP, app, console, fail, finite, print_json, triangles_option,
-                  verdict_options)
+from .app import (SIZE_HELP, app, console, fail, finite, positive, print_json,
+                  triangles_option, verdict_options)
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
                    say_guessed_units)
 
@@ -33,7 +33,7 @@ def drape(
     max_iterations: int = typer.Option(DEFAULTS.max_iterations, min=0,
                                        help="Iteration limit of the drape."),
     time_limit: float = typer.Option(DEFAULTS.time_limit, help="Time limit of the drape \\[s].",
-                                     callback=finite),
+                                     callback=positive),
     units: str = typer.Option(None, help="Units of a body mesh file (m, cm, mm, in); guessed "
                                          "from its height when not given."),
     engine: str = typer.Option("static", help="static (equilibrium, default) or newton "

@@ -116,8 +116,9 @@ def _check_values(values: dict, source) -> None:
             raise FabricError(f"expected a finite number [{unit}], got {v!r:.40}",
                               file=source, place=place) from None
         if not lo <= v <= hi:
-            raise FabricError(f"{v!r} {unit} is outside the plausible range {lo:g} to {hi:g} "
-                              f"{unit}", file=source, place=place)
+            u = "" if unit == "-" else f" {unit}"
+            raise FabricError(f"{v!r}{u} is outside the plausible range {lo:g} to {hi:g}{u}",
+                              file=source, place=place)
     name = values.get("name")
     if not isinstance(name, str) or not name.strip() or len(name) > _NAME_LENGTH:
         raise FabricError(f"expected a non-empty string of at most {_NAME_LENGTH} characters",

@@ -268,6 +268,20 @@ def _leg_radius(d: float, width: float) -> float:
     return r
 
 
+#: the widest gap between body and panels a placement takes [m]: wider, a panel is
+#: rolled round nothing (a 100 m gap left seams 187 m open)
+MAX_CLEARANCE = 0.3
+
+
+def checked_clearance(clearance) -> float:
+    """``clearance`` [m] as a float, refused with a ``ValueError`` naming it unless
+    0 <= clearance <= :data:`MAX_CLEARANCE`."""
+    if not (isinstance(clearance, (int, float)) and 0.0 <= clearance <= MAX_CLEARANCE):
+        raise ValueError(f"clearance: expected a gap between body and panels of 0 to "
+                         f"{MAX_CLEARANCE:g} m, got {clearance!r}")
+    return float(clearance)
+
+
 def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float = 0.03,
                   width_limit: float = 1.6) -> np.ndarray:
     """Place every panel of ``mesh`` around ``body`` (a :class:`patternfit.body.Body`).
@@ -295,6 +309,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     :class:`PlacementWarning` naming the panels. Returns positions (n, 3) [m], one per flat
     vertex.
     """
+    clearance = checked_clearance(clearance)
     bad = implausible_placements(pattern, mesh, body)
     keep = not bad
     if bad:

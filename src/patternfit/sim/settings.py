@@ -125,3 +125,12 @@ class SolverSettings:
     #: drape in a second solve
     stop_at_weld: bool = False
     gravity: tuple = (0.0, -GRAVITY, 0.0)
+
+    def __post_init__(self):
+        # the limits every front end passes through (a time limit of 0 used to run no
+        # iteration and report the sewing as failed)
+        if not self.time_limit > 0:
+            raise ValueError(f"time_limit: expected a time > 0 [s], got {self.time_limit!r}")
+        if not self.max_iterations >= 0:
+            raise ValueError(f"max_iterations: expected a count >= 0, got "
+                             f"{self.max_iterations!r}")
