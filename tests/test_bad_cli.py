@@ -6,6 +6,7 @@ import os
 import re
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -237,3 +238,27 @@ def test_edit_writes_nothing_when_the_write_fails_before_the_journal(tmp_path, m
     assert r.exit_code == 3 and "OSError: disk full" in r.output
     monkeypatch.undo()
     assert (src.read_bytes(), mesh.read_bytes()) == before
+
+
+def test_a_library_warning_is_one_plain_line():
+    """A warning raised inside a command (a placement replaced) reads ``warning: ...``, not
+    Python's ``path.py:223: PlacementWarning: ...``."""
+    import typer
+
+    from patternfit.cli.app import _Boundary
+    from patternfit.sim.panel_frames import PlacementWarning
+
+    tool = typer.Typer(cls=_Boundary)
+
+    @tool.command()
+    def warn():
+        warnings.warn(PlacementWarning("the placement of 'front' was replaced"))
+
+    @tool.command()
+    def other():
+        pass
+
+    r = runner.invoke(tool, ["warn"])
+    assert r.exit_code == 0, r.output
+    assert "warning: the placement of 'front' was replaced" in r.output
+    assert "PlacementWarning" not in r.output and ".py:" not in r.output

@@ -134,6 +134,13 @@ def test_corpus_file_refused_naming_the_file(path, no_triangle, compiled_reader)
     ("pattern/big_integer.json", r"out of range"),
     ("pattern/deep_nesting.json", r"nested deeper than 64"),
     ("pattern/non_utf8.json", r"not UTF-8 text \(byte \d+: 0xe4\)"),
+    ("pattern/placement_part_unknown.json", r"panel 'front': placement: part must be one of "
+                                            r"torso, .*got 'nosuch'"),
+    ("pattern/placement_side_unknown.json", r"panel 'front': placement: side must be one of "
+                                            r".*got 'sideways'"),
+    ("pattern/placement_rotation_huge.json", r"panel 'front': placement: rotation angles must "
+                                             r"lie within ±360 degrees"),
+    ("garmentcode/rotation_huge_specification.json", r"panel 'front'.*rotation angles must"),
     ("garmentcode/spike_specification.json", r"zero-width spike"),
     ("garmentcode/units_tiny_specification.json", r"beyond the limit"),
     ("garmentcode/panel_order_nested_specification.json", r"'panel_order' must be a list"),

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import os
 import sys
+import warnings
 
 import typer
 from rich.console import Console
@@ -31,13 +32,23 @@ REFUSED = 2
 INTERNAL = 3
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """``warnings.showwarning`` of the commands: ``warning: <message>`` in yellow."""
+    console.print(f"[yellow]warning:[/] {escape(str(message))}", highlight=False,
+                  soft_wrap=True)
+
+
 class _Boundary(TyperGroup):
     """The root command group. Every command (sub-groups included) runs inside
     :meth:`invoke`, so ``CliRunner`` and the console script share one error boundary."""
 
     def invoke(self, ctx):
         try:
-            return super().invoke(ctx)
+            with warnings.catch_warnings():
+                # a library warning (a placement replaced, a unit guessed) is one line to
+                # the user, not Python's "file:line: Category: message"
+                warnings.showwarning = _show_warning
+                return super().invoke(ctx)
         except (typer.Exit, typer.Abort, TyperException):
             raise  # exits, usage errors: Typer prints these itself
         except Exception as exc:

@@ -38,9 +38,9 @@ from .dxf_rules import RuleTable, graded_by_rules, read_rules, rule_points, rule
 from .dxf_write import dxf_text
 from .errors import PatternError
 from .formats import check_imported
-from .io import (check_notches, json_field, json_point, json_vec3, notches_from_json,
+from .io import (check_notches, json_field, json_placement, json_point, notches_from_json,
                  notches_to_json, seams_from_json, seams_to_json, shown)
-from .model import Loop, Pattern, Placement
+from .model import Loop, Pattern
 from .validate import check_pattern
 
 __all__ = ["LAYERS", "PLAUSIBLE", "load_dxf", "notch_marks", "save_dxf", "sidecar_path"]
@@ -261,11 +261,8 @@ def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
             loops.append(_renamed(loop, json_field(lp, "name", str, what, loop.name, **where),
                                   json_field(lp, "edges", list, what, None, **where), where))
         pl = json_field(d, "placement", dict, "side file panel", {}, **where)
-        placement = Placement(
-            part=json_field(pl, "part", str, "placement", p.placement.part, **where),
-            side=json_field(pl, "side", str, "placement", p.placement.side, **where),
-            translation=json_vec3(pl.get("translation"), 1.0, "placement translation", **where),
-            rotation=json_vec3(pl.get("rotation"), 1.0, "placement rotation", **where))
+        placement = json_placement(pl, 1.0, part=p.placement.part, side=p.placement.side,
+                                   **where)
         grain = json_point(d.get("grainline", p.grainline), 1.0, "grainline", **where)
         renames = {e.name: f.name for lp, new in zip(p.loops, loops)
                    for e, f in zip(lp.edges, new.edges)}

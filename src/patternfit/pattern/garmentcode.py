@@ -196,11 +196,14 @@ def _panel_from_gc(name: str, p: Any, scale: float, relative: bool):
     part = json_field(hint, "part", str, _HINT, "torso", **where)
     side = json_field(hint, "side", str, _HINT, "back" if t[2] < 0 else "front", **where)
     explicit = json_field(hint, "explicit", bool, _HINT, True, **where)
-    if not explicit and not any(t) and not any(r):
-        placement = Placement(part=part, side=side)  # written by us without a 3D placement
-    else:
-        placement = Placement(part=part, side=side, translation=tuple(c * scale for c in t),
-                              rotation=r)
+    try:
+        if not explicit and not any(t) and not any(r):
+            placement = Placement(part=part, side=side)  # ours, without a 3D placement
+        else:
+            placement = Placement(part=part, side=side,
+                                  translation=tuple(c * scale for c in t), rotation=r)
+    except ValueError as e:
+        raise PatternError(str(e), **where) from None
     grain = hint.get("grainline", [0.0, 1.0])
     panel = Panel(name, Loop("outline", tuple(edges)),
                   grainline=tuple(_pair(grain, "grainline", **where)), placement=placement)

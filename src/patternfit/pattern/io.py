@@ -67,6 +67,24 @@ def json_vec3(value, scale: float, what: str, **where) -> tuple[float, float, fl
     return tuple(json_number(c, what, **where) * scale for c in value)
 
 
+def json_placement(pl, scale: float, *, part: str = "torso", side: str = "front",
+                   **where) -> Placement:
+    """The placement object ``pl`` of a panel (``part``, ``side``: its defaults; an explicit
+    ``translation`` in file units times ``scale``, a ``rotation`` in degrees), refused with
+    a :class:`PatternError` at ``where`` when a value is unknown or absurd."""
+    try:
+        return Placement(
+            part=json_field(pl, "part", str, "placement", part, **where),
+            side=json_field(pl, "side", str, "placement", side, **where),
+            translation=json_vec3(pl.get("translation"), scale, "placement translation",
+                                  **where),
+            rotation=json_vec3(pl.get("rotation"), 1.0, "placement rotation", **where))
+    except ValueError as e:
+        if isinstance(e, PatternError):
+            raise
+        raise PatternError(str(e), **where) from None
+
+
 def json_field(obj, key: str, kind, what: str, default=_MISSING, **where):
     """``obj[key]``, which must be of type ``kind`` (``bool`` must be a real boolean, ``str``
     a real string); ``default`` when the key is missing, an error when there is none."""
@@ -129,12 +147,7 @@ def _panel_from_dict(d: Any, scale: float, index: int) -> Panel:
                   for i, lp in enumerate(json_field(d, "inner", list, "panel", [], panel=name)))
     grain = json_point(d.get("grainline", [0.0, 1.0]), 1.0, "grainline", panel=name)
     pl = json_field(d, "placement", dict, "panel", {}, panel=name)
-    placement = Placement(
-        part=json_field(pl, "part", str, "placement", "torso", panel=name),
-        side=json_field(pl, "side", str, "placement", "front", panel=name),
-        translation=json_vec3(pl.get("translation"), scale, "placement translation",
-                              panel=name),
-        rotation=json_vec3(pl.get("rotation"), 1.0, "placement rotation", panel=name))
+    placement = json_placement(pl, scale, panel=name)
     lines = []
     for i, ln in enumerate(json_field(d, "lines", list, "panel", [], panel=name)):
         what = f"line #{i}"

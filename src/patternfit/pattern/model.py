@@ -8,6 +8,7 @@ oriented counter-clockwise by the mesher.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -46,6 +47,14 @@ class Loop:
         return float(sum(e.length for e in self.edges))
 
 
+#: the body parts a panel may dress, and the sides it may face (docs/pattern-format.md)
+PARTS = ("torso", "arm_left", "arm_right", "leg_left", "leg_right")
+SIDES = ("front", "back", "outer", "left", "right")
+#: the largest Euler angle of an explicit placement [degrees]: a turn and no more (an
+#: angle of 1e20 degrees is no rotation anyone drew)
+MAX_ROTATION = 360.0
+
+
 @dataclass(frozen=True)
 class Placement:
     """Where a panel goes on the body before sewing.
@@ -60,6 +69,20 @@ class Placement:
     side: str = "front"
     translation: tuple[float, float, float] | None = None
     rotation: tuple[float, float, float] | None = None
+
+    def __post_init__(self):
+        if self.part not in PARTS:
+            raise ValueError(f"placement: part must be one of {', '.join(PARTS)}, got "
+                             f"{self.part!r:.40}")
+        if self.side not in SIDES:
+            raise ValueError(f"placement: side must be one of {', '.join(SIDES)}, got "
+                             f"{self.side!r:.40}")
+        for what, v in (("translation", self.translation), ("rotation", self.rotation)):
+            if v is not None and not (len(v) == 3 and all(math.isfinite(c) for c in v)):
+                raise ValueError(f"placement: {what} must be 3 finite numbers, got {v!r:.60}")
+        if self.rotation is not None and max(abs(c) for c in self.rotation) > MAX_ROTATION:
+            raise ValueError(f"placement: rotation angles must lie within ±{MAX_ROTATION:g} "
+                             f"degrees, got {self.rotation!r:.60}")
 
     @property
     def explicit(self) -> bool:
