@@ -9,7 +9,7 @@ from hypothesis import given, settings, strategies as st
 from hypothesis.extra import numpy as hnp
 
 from patternfit import api
-from patternfit.errors import GarmentFileError
+from patternfit.errors import GarmentFileError, InputError
 from patternfit.mesh.store import CONTACT, load_contact, save_garment
 from patternfit.sim.outer_updates import saved_contact_scale
 from patternfit.sim.state import SAVED, ContactState, SavedStateError
@@ -99,6 +99,7 @@ def _spoilt(arrays, name, value):
     ("anchor_of", lambda a: np.where(np.isnan(a), 0.0, a) * np.array([1.0, np.nan, 1.0]),
      "all NaN"),
     ("bary", None, "missing"),
+    ("at_rest", lambda a: np.asarray("yes"), "true or false"),
 ])
 def test_a_foreign_contact_file_is_refused_naming_file_and_array(saved, tmp_path, name,
                                                                 spoil, says):
@@ -110,6 +111,24 @@ def test_a_foreign_contact_file_is_refused_naming_file_and_array(saved, tmp_path
         api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES, start=folder)
     text = str(e.value)
     assert CONTACT in text and f"'{name}'" in text and says in text
+
+
+def test_a_start_that_is_no_drape_is_refused(saved, tmp_path):
+    """A folder that is not there, a drape of the same garment in another size, and a
+    state collapsed to a point (it ran 5,000 iterations into 595 crossings) are each
+    refused before anything is draped, naming the file."""
+    outcome, folder = saved
+    with pytest.raises(InputError, match="does not exist"):
+        api.drape_and_evaluate(GARMENT, BODY, "cotton", start=tmp_path / "nowhere")
+    with pytest.raises(InputError, match=r"size M.*not of this '.*' size XL"):
+        api.drape_and_evaluate(GARMENT, BODY, "cotton", size="XL", start=folder)
+    flat = tmp_path / "garment"
+    save_garment(flat, outcome.pattern, outcome.mesh, np.zeros_like(outcome.positions))
+    with pytest.raises(InputError, match=r"positions\.npy.*collapsed state.*3D area is 0%"):
+        api.drape_and_evaluate(GARMENT, BODY, "cotton", start=flat)
+    with pytest.raises(ValueError, match="collapsed"):
+        api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES,
+                               start=np.zeros_like(outcome.positions))
 
 
 def test_a_damaged_contact_file_is_refused(saved, tmp_path):
@@ -135,7 +154,7 @@ def test_any_saved_arrays_give_a_state_or_a_named_refusal(arrays):
     try:
         state = ContactState.from_saved(arrays, n=6, n_triangles=4, x=np.zeros((6, 3)))
     except SavedStateError as e:
-        assert e.array in SAVED
+        assert e.array in SAVED + ("at_rest",)
         return
     assert state.contact_scale.shape == (6,) and state.friction_on
     assert np.isfinite(state.contact_scale).all()

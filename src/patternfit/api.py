@@ -56,6 +56,7 @@ from .sim.drape import CONTACT_MARGIN, Drape, drape
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
                           get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
+from .sim.onbody import ON_BODY, area_ratio
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
 from .sim.placement import checked_clearance, place_on_body, place_on_cylinders
 from .sim.settings import SolverSettings
@@ -588,17 +589,40 @@ def _start_state(start, pattern: Pattern, triangles: int):
         if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
             raise ValueError(f"start: expected finite positions ({mesh.n_vertices}, 3) of the "
                              f"mesh, got {x.shape}")
+        why = _collapsed(mesh, x)
+        if why:
+            raise ValueError(f"start: {why}")
         return x, None, mesh
+    if not Path(start).exists():
+        raise InputError("does not exist", file=start)
     saved, saved_mesh, x = load_garment(start)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): drape the garment first",
                          file=start)
     if saved != pattern:
-        raise InputError(f"holds a drape of another pattern ('{saved.name}', panels "
+        def named(p: Pattern) -> str:
+            size = p.meta.get("size")
+            return f"'{p.name}'" + (f" size {size}" if size else "")
+
+        raise InputError(f"holds a drape of another pattern ({named(saved)}, panels "
                          f"{', '.join(p.name for p in saved.panels)}), not of this "
-                         f"'{pattern.name}': start from a drape of the same pattern",
+                         f"{named(pattern)}: start from a drape of the same pattern",
                          file=start)
+    why = _collapsed(saved_mesh, x)
+    if why:
+        raise InputError(why, file=Path(start) / "positions.npy")
     return x, load_contact(start), saved_mesh
+
+
+def _collapsed(mesh: GarmentMesh, x) -> str | None:
+    """Why positions ``x`` (n, 3) [m] of ``mesh`` are no state to continue a drape from
+    (their 3D area below the on-body checks' share of the flat area: every vertex at one
+    point, a garment flattened), or None."""
+    ratio = area_ratio(mesh, x)
+    if ratio >= ON_BODY.min_area_ratio:
+        return None
+    return (f"a collapsed state, not a drape to continue: its 3D area is {ratio * 100:.0f}% "
+            f"of the flat pattern's (at least {ON_BODY.min_area_ratio * 100:.0f}%)")
 
 
 def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,

@@ -159,6 +159,13 @@ def anchor_reach(pattern: Pattern, mesh: GarmentMesh, *, band: float = ON_BODY.t
     return dijkstra(graph, directed=False, indices=line, min_only=True)
 
 
+def area_ratio(mesh: GarmentMesh, positions) -> float:
+    """3D area of ``positions`` (n, 3) [m] over the flat area of ``mesh`` [-] (0 for a mesh
+    without area): about 1 for a drape, near 0 for a state collapsed to a point or a line."""
+    flat = float(triangle_areas(mesh.vertices, mesh.triangles).sum())
+    return float(triangle_areas(positions, mesh.triangles).sum()) / flat if flat > 0 else 0.0
+
+
 def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                    settings: OnBodySettings = ON_BODY, spacing: float = 0.005) -> OnBodyChecks:
     """Check that ``positions`` (n, 3) [m], a 3D state of ``mesh`` (made from ``pattern``),
@@ -182,8 +189,7 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
         return OnBodyChecks(0, None, 0, None, anchor, None, landmark * 1e3, None, None,
                             ("positions are not finite",))
     reasons = []
-    flat = float(triangle_areas(mesh.vertices, mesh.triangles).sum())
-    ratio = float(triangle_areas(x, mesh.triangles).sum()) / flat if flat > 0 else 0.0
+    ratio = area_ratio(mesh, x)
     if ratio < s.min_area_ratio:
         reasons.append(f"garment collapsed: its 3D area is {ratio * 100:.0f}% of the flat "
                        f"pattern's (limit {s.min_area_ratio * 100:.0f}%)")

@@ -202,6 +202,13 @@ class ContactState:
                 raise SavedStateError(name, f"expected shape {want}, got {a.shape}")
             return np.ascontiguousarray(a, dtype=np.float64 if kind == "f" else np.int64)
 
+        def flag(name):  # a true/false written by saved_arrays; absent: False
+            a = np.asarray(arrays.get(name, False))
+            if a.dtype.kind != "b" or a.size != 1:
+                raise SavedStateError(name, f"expected one true or false, got {a.dtype} "
+                                            f"{a.shape}")
+            return bool(a.item())
+
         def finite(name, a):
             if not np.isfinite(a).all():
                 raise SavedStateError(name, "holds NaN or infinite values")
@@ -243,7 +250,7 @@ class ContactState:
                    pairs_x=finite("pairs_x", get("pairs_x", (n, 3)))
                    if "pairs_x" in arrays else None,
                    x=np.array(x, dtype=np.float64), friction_on=True,
-                   at_rest=bool(np.asarray(arrays.get("at_rest", False)).any()))
+                   at_rest=flag("at_rest"))
 
 
 def _copied(value):
