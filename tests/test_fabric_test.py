@@ -95,7 +95,7 @@ def test_cantilever_weft_uses_the_weft_rigidity():
 
 
 def test_shadow_area_of_a_flat_disc_and_nodes_of_a_wavy_hem():
-    v, t, _ = cusick_kit._disc_mesh(0.15, 0.09, 600)
+    v, t = cusick_kit._disc_mesh(0.15, 0.09, 600)
     area, _, _ = kit.shadow_area(v, t, 5e-4)
     flat = float(triangle_areas(v, t).sum())
     assert area == pytest.approx(flat, rel=2e-3)  # a flat specimen reads DC = 1
@@ -171,11 +171,49 @@ def test_cli_cusick_writes_the_top_view(tmp_path):
     (["fabric-test", "cantilever", "--meshes", "6,x"], "--meshes"),
     (["fabric-test", "cantilever", "--direction", "bias"], "warp or weft"),
     (["fabric-test", "cusick", "-f", "no_such_fabric"], "unknown preset"),
+    (["fabric-test", "cantilever", "--meshes", "12,6"], "coarse to fine"),
+    (["fabric-test", "cantilever", "--meshes", "6,,12"], "coarse to fine"),
+    (["fabric-test", "strip", "-f", ""], "--fabric: empty"),
+    (["fabric-test", "strip", "--set", "compression=abc"], "compression: expected a number"),
+    (["fabric-test", "strip", "--set", "time_limit=abc"], "time_limit"),
+    (["fabric-test", "strip", "--set", "stop=foo"], "stop: one of force, kinematic"),
+    (["fabric-test", "strip", "--set", "compression=-1"], "compression"),
 ])
 def test_cli_refusals(args, words):
     r = runner.invoke(app, args)
-    assert r.exit_code == 2
+    assert r.exit_code == 2, r.output
     assert words in r.output
+    assert "internal error" not in r.output
+
+
+def test_cli_out_that_is_no_folder_is_refused_before_testing(tmp_path):
+    (tmp_path / "afile").write_text("mine")
+    r = runner.invoke(app, ["fabric-test", "strip", "--out", str(tmp_path / "afile")])
+    assert r.exit_code == 2 and "is a file, not a folder" in r.output, r.output
+    assert (tmp_path / "afile").read_text() == "mine"
+
+
+def test_a_name_with_dollars_is_drawn_as_text(tmp_path):
+    """Matplotlib took ``$...$`` in a fabric's name for maths: a broken formula failed the
+    picture (and lost the result), a sound one was drawn as maths."""
+    fabric = tmp_path / "dollar.json"
+    fabric.write_text(json.dumps({"name": "a $\\frac{1}{$ b", "density": 0.2,
+                                  "stretch_warp": 3000, "stretch_weft": 2500, "shear": 40,
+                                  "bending": 8e-6, "friction": 0.4, "thickness": 5e-4}))
+    r = runner.invoke(app, ["fabric-test", "cusick", "-f", str(fabric), "-n", "300",
+                            "--seeds", "1", "--out", str(tmp_path / "o")])
+    assert r.exit_code in (0, 1), r.output
+    assert (tmp_path / "o" / "cusick_top.png").stat().st_size > 10_000
+    assert json.loads((tmp_path / "o" / "fabric_test_cusick.json").read_text())["fabric"] \
+        == "a $\\frac{1}{$ b"
+
+
+@pytest.mark.parametrize("specimen, disc", [(0.02, 0.005), (0.1, 0.09)])
+def test_a_specimen_too_stiff_to_droop_reads_one_at_most(specimen, disc):
+    """The areas DC compares are rasterised alike: a narrow ring of denim, nearly flat,
+    used to read 1.007 against the exact flat area and fail."""
+    r = kit.cusick_test("denim", specimen=specimen, disc=disc, triangles=500, seeds=(0,))
+    assert 0.97 <= r.drape_coefficient <= 1.0 and r.passed
 
 
 @pytest.mark.slow

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..api import GIRTHS
+from ..figures import literal_text
 from ..files import atomic_write_bytes, atomic_write_text
 
 #: a verdict's colour (the fit-verdict words), a failed drape's, and a cell without a row's
@@ -100,6 +101,7 @@ def write_matrix(folder, rows: list[dict], *, tasks=None) -> dict:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
+    literal_text()  # pattern and body names are the user's
     folder = Path(folder)
     panels, sizes, bodies = _axes(rows, tasks)
     lines = summary_lines(rows)

@@ -45,7 +45,20 @@ def _meshes(text: str) -> tuple[int, ...]:
              f"got {text!r}")
     if not sizes or any(not 2 <= s <= 60 for s in sizes):
         fail(f"--meshes: one to several numbers from 2 to 60, got {text!r}")
+    if "" in text.replace(" ", "").split(",") or list(sizes) != sorted(set(sizes)):
+        # the reading is the finest mesh's and the convergence check the two finest
+        fail(f"--meshes: distinct sizes from coarse to fine, e.g. 6,12,24; got {text!r}")
     return sizes
+
+
+def _out_folder(out: Path) -> None:
+    """Make the folder ``--out`` names before any test runs, or refuse it."""
+    if out.exists() and not out.is_dir():
+        fail(f"--out: {out} is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        fail(f"--out: cannot make the folder {out}: {e.strerror or e}")
 
 
 def _show_strip(r) -> None:
@@ -155,6 +168,10 @@ def fabric_test(
     if direction is not None and direction.strip().lower() not in ("warp", "weft"):
         fail(f"--direction: warp or weft, got {direction!r}")
     sizes = _meshes(meshes) if meshes is not None else None
+    if not fabric.strip():
+        fail("--fabric: empty; a preset name or a fabric JSON file")
+    if out is not None:
+        _out_folder(out)
 
     from .. import api
     from ..sim import fabric_test as kit
@@ -188,14 +205,15 @@ def fabric_test(
     if out is not None:
         from ..files import atomic_write_text, dumps_finite_json
 
-        out.mkdir(parents=True, exist_ok=True)
-        if test == "cusick":
-            files.append(kit.write_cusick_picture(result, out / "cusick_top.png"))
-        elif test == "cantilever":
-            files.append(kit.write_cantilever_picture(result, out / "cantilever_side.png"))
-        report["files"] = [p.name for p in files] + [f"fabric_test_{test}.json"]
+        picture = {"cusick": ("cusick_top.png", kit.write_cusick_picture),
+                   "cantilever": ("cantilever_side.png", kit.write_cantilever_picture)}
+        name, draw = picture.get(test, (None, None))
+        report["files"] = ([name] if name else []) + [f"fabric_test_{test}.json"]
+        # the result first: minutes of solves are not lost to a picture that fails
         files.append(atomic_write_text(out / f"fabric_test_{test}.json",
                                        dumps_finite_json(report, indent=1) + "\n"))
+        if draw is not None:
+            files.insert(0, draw(result, out / name))
     if json_out:
         print_json(report)
     else:
@@ -210,8 +228,10 @@ def fabric_test(
         if files:
             console.print(f"wrote {', '.join(str(p) for p in files)}")
     if not result.passed:
-        fail(f"the {test} test of {fab.name} failed its checks (see 'passed', 'converged' and "
-             "'ratio' in the result)", CHECKS_FAILED)
+        keys = {"strip": "'converged' and 'ratio'", "cantilever": "'converged', 'ratio' and "
+                "'mesh_change'", "cusick": "'converged' and 'drape_coefficient'"}[test]
+        fail(f"the {test} test of {fab.name} failed its checks (see 'passed', {keys} in the "
+             "result)", CHECKS_FAILED)
 
 
 @app.command("fabrics")

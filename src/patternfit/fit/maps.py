@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..figures import pyplot
 from ..mesh.garment import GarmentMesh
 from .pictures import flat_layout, render_views
 
@@ -64,9 +65,7 @@ def plot_measure_maps(mesh: GarmentMesh, positions, values, scale: MeasureScale,
     and back, the body grey) and ``<stem>_2d.png`` (the flat pattern, each triangle the
     mean of its corners). ``positions`` (n, 3) [m]; ``body`` optional (vertices, faces).
     Returns the two paths."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.collections import PolyCollection
 
     v = np.asanyarray(values, dtype=np.float64)

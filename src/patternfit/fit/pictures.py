@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..figures import pyplot
 from ..mesh.garment import GarmentMesh
 from .colormap import FitScale, vertex_values
 from .metrics import FitResult
@@ -72,9 +73,7 @@ def plot_flat_map(mesh: GarmentMesh, fit: FitResult, paths, *, scale: FitScale |
     .pdf). ``failed``: why the drape failed its checks; the title then says
     "FAILED: <failed>" in red instead of ϖ. Returns the paths written.
     """
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.collections import PolyCollection
 
     scale = scale or FitScale(band=fit.thresholds[0])
@@ -158,9 +157,7 @@ def plot_3d_map(positions, mesh: GarmentMesh, fit: FitResult, path, *,
                 failed: str | None = None) -> Path:
     """PNG of the 3D garment coloured by area change, front and back, with the legend;
     ``failed`` (why the drape failed its checks) replaces ϖ in the title, in red."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     scale = scale or FitScale(band=fit.thresholds[0])
     values = vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices, fit.area_2d)
@@ -188,9 +185,7 @@ def plot_sections(sections: dict, path, *, title: str | None = None) -> Path:
     girths the garment does not reach are left out.
 
     ``sections``: name → :class:`~patternfit.fit.measures.Section`. Returns the path."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     path = Path(path)
     # the girths the garment reaches at all (a skirt has no bust to show)

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
+from ..figures import pyplot
 from ..files import atomic_write_text, dumps_finite_json
 from ..fit.colormap import FitScale
 from ..fit.metrics import FitEvaluator, FitResult
@@ -32,9 +33,7 @@ def plot_regions(mesh: GarmentMesh, fit: FitResult, regions: list[Region], path,
                  title: str | None = None) -> Path:
     """The flat pattern coloured by area change with each region outlined and numbered
     (dark red: tight, blue: loose); the numbers are listed with each region's description."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.collections import LineCollection, PolyCollection
 
     scale = FitScale(band=fit.thresholds[0])

@@ -19,6 +19,7 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
+from ..figures import pyplot
 from ..files import atomic_write_bytes, atomic_write_text
 from .dxf import notch_marks
 from .dxf_notches import notch_slits
@@ -300,8 +301,9 @@ def _draw(ax, sheet: Sheet, *, text_scale: float = 1.0) -> None:
                                      linewidths=0.8, linestyles=(0, (4, 2))))
     if holes:
         at = np.array(holes) * _MM
-        ax.plot(at[:, 0], at[:, 1], linestyle="none", marker="$\\oplus$", markersize=9,
-                color="#1f5fa8")
+        for marker in ("o", "+"):  # a drill hole: a circle with a cross
+            ax.plot(at[:, 0], at[:, 1], linestyle="none", marker=marker, markersize=7,
+                    markerfacecolor="none", color="#1f5fa8", markeredgewidth=0.8)
     for at, s in names:
         ax.text(*(at * _MM), s, ha="center", va="center", fontsize=16 * text_scale,
                 weight="bold")
@@ -345,10 +347,7 @@ def write_pdf(pattern: Pattern, path, *, paper: str = "a4", margin: float = 0.01
     piece list; the tiles follow row by row from the top left, named A1, A2, ... B1, ...;
     tiles no piece touches are left out.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.backends.backend_pdf import PdfPages
     from matplotlib.patches import Rectangle
 

@@ -4,9 +4,16 @@ Newton and L-BFGS knobs (SI units: m, s, N). A drape's phases change some of the
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+import numbers
+from dataclasses import dataclass, fields
+
+import numpy as np
 
 from ..constants import GRAVITY
+
+#: the stopping rules (``SolverSettings.stop``)
+STOP_RULES = ("force", "kinematic")
 
 
 @dataclass(frozen=True)
@@ -127,10 +134,32 @@ class SolverSettings:
     gravity: tuple = (0.0, -GRAVITY, 0.0)
 
     def __post_init__(self):
-        # the limits every front end passes through (a time limit of 0 used to run no
-        # iteration and report the sewing as failed)
+        # every front end passes through here (the CLI's --set, the studio, the API): a
+        # value of the wrong kind used to fail deep in a compiled kernel, a time limit of 0
+        # ran no iteration and reported the sewing as failed
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(f.default, bool):
+                if not isinstance(value, (bool, np.bool_)):
+                    raise ValueError(f"{f.name}: expected true or false, got {value!r:.40}")
+            elif isinstance(f.default, int):
+                if isinstance(value, bool) or not isinstance(value, numbers.Integral) \
+                        or value < 0:
+                    raise ValueError(f"{f.name}: expected a whole number >= 0, got "
+                                     f"{value!r:.40}")
+            elif isinstance(f.default, float):
+                if isinstance(value, bool) or not isinstance(value, numbers.Real) \
+                        or not 0 <= value < math.inf and not (f.name == "time_limit"
+                                                             and value == math.inf):
+                    raise ValueError(f"{f.name}: expected a number >= 0, got {value!r:.40}")
+        if self.stop not in STOP_RULES:
+            raise ValueError(f"stop: one of {', '.join(STOP_RULES)}, got {self.stop!r:.40}")
         if not self.time_limit > 0:
             raise ValueError(f"time_limit: expected a time > 0 [s], got {self.time_limit!r}")
-        if not self.max_iterations >= 0:
-            raise ValueError(f"max_iterations: expected a count >= 0, got "
-                             f"{self.max_iterations!r}")
+        if not self.compression <= 1:
+            raise ValueError(f"compression: expected a share of the stretch stiffness from 0 "
+                             f"to 1, got {self.compression!r}")
+        g = self.gravity
+        if not (isinstance(g, tuple) and len(g) == 3
+                and all(isinstance(c, numbers.Real) and math.isfinite(c) for c in g)):
+            raise ValueError(f"gravity: expected 3 finite numbers [m/s^2], got {g!r:.60}")

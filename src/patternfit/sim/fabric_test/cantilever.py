@@ -17,6 +17,7 @@ import numpy as np
 
 from ...arguments import number
 from ...constants import GRAVITY
+from ...figures import pyplot
 from ..fabrics import Fabric, get_fabric
 from ..settings import SolverSettings
 from ..solver import GarmentSolver
@@ -303,9 +304,7 @@ def cantilever_test(fabric: Fabric | str = "cotton_shirting", *, direction: str 
 def write_cantilever_picture(result: CantileverResult, path) -> Path:
     """Side view of the finest mesh's final strip (``cantilever_test(..., keep_shape=True)``)
     with the platform and the 41.5 deg line; returns the path."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     shape = result.shape
     if shape is None:
