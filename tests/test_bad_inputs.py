@@ -206,8 +206,11 @@ def test_fabric_from_a_device_is_refused():
 @pytest.mark.parametrize("field, value, words", [
     ("density", 1e30, "plausible range"), ("density", -1.0, "plausible range"),
     ("density", True, "finite number"), ("thickness", 0.5, "0.02 m"),
-    ("friction", 3.0, "plausible range")])
+    ("friction", 3.0, "plausible range"), ("bending", None, "finite number"),
+    ("bending", 5.0, "plausible range")])
 def test_fabric_errors_carry_file_and_field(tmp_path, field, value, words):
+    """Each error names the field as the file wrote it (one "bending" for both yarns
+    included: its errors used to name bending_warp)."""
     path = tmp_path / "mine.json"
     path.write_text(json.dumps({**GOOD_FABRIC, field: value}))
     exc = _refused(load_fabric, path, FabricError)

@@ -104,21 +104,28 @@ OPTIONAL = {"bending_hysteresis": 0.0}
 _NAME_LENGTH = 200
 
 
+def _check_field(key: str, v, source, name: str | None = None) -> None:
+    """Refuse the value ``v`` of the field ``key`` when it is not a finite number in its
+    plausible range (:data:`RANGES`), with a :class:`FabricError` naming ``source`` (a
+    file, or None) and the field as the file named it (``name``, default ``key``)."""
+    lo, hi, unit = RANGES[key]
+    place = f"field '{name or key}'"
+    try:
+        number(v, key)
+    except ValueError:
+        raise FabricError(f"expected a finite number [{unit}], got {v!r:.40}",
+                          file=source, place=place) from None
+    if not lo <= v <= hi:
+        u = "" if unit == "-" else f" {unit}"
+        raise FabricError(f"{v!r}{u} is outside the plausible range {lo:g} to {hi:g}{u}",
+                          file=source, place=place)
+
+
 def _check_values(values: dict, source) -> None:
     """Refuse a missing, non-numeric, non-finite or implausible field with a
     :class:`FabricError` naming ``source`` (a file, or None) and the field."""
-    for key, (lo, hi, unit) in RANGES.items():
-        v = values.get(key)
-        place = f"field '{key}'"
-        try:
-            number(v, key)
-        except ValueError:
-            raise FabricError(f"expected a finite number [{unit}], got {v!r:.40}",
-                              file=source, place=place) from None
-        if not lo <= v <= hi:
-            u = "" if unit == "-" else f" {unit}"
-            raise FabricError(f"{v!r}{u} is outside the plausible range {lo:g} to {hi:g}{u}",
-                              file=source, place=place)
+    for key in RANGES:
+        _check_field(key, values.get(key), source)
     name = values.get("name")
     if not isinstance(name, str) or not name.strip() or len(name) > _NAME_LENGTH:
         raise FabricError(f"expected a non-empty string of at most {_NAME_LENGTH} characters",
@@ -205,6 +212,7 @@ def load_fabric(path) -> Fabric:
         if "bending_warp" in data or "bending_weft" in data:
             raise FabricError("give it or bending_warp/bending_weft, not both", file=path,
                               place="field 'bending'")
+        _check_field("bending_warp", data["bending"], path, name="bending")
         data["bending_warp"] = data["bending_weft"] = data.pop("bending")
     known = set(Fabric.__dataclass_fields__)
     for key in data:
