@@ -16,6 +16,7 @@ from patternfit.fit import FitEvaluator
 from patternfit.fit.report import failure, fit_report
 from patternfit.loop.correct import correct, refusal
 from patternfit.mesh.store import save_garment
+from patternfit.pattern import save_pattern
 from patternfit.pattern.library import build
 from patternfit.sim.onbody import ON_BODY, anchor_line, on_body_checks
 from patternfit.sim.placement import place_on_body
@@ -199,3 +200,22 @@ def test_a_drape_started_from_a_saved_one_stays_put(skirt, restarted):
     assert d.checks.equilibrium and restarted.drape.checks.equilibrium
     assert restarted.drape.result.iterations <= 5, restarted.drape.result.stop_reason
     assert moved < 1e-3, f"moved {moved * 1e3:.2f} mm"
+
+
+def test_a_garment_below_the_body_stops_falling(tmp_path):
+    """A skirt written in centimetres but labelled millimetres (6 cm wide) slips off the
+    body: once every vertex is below the body's distance field the solve stops ("fell")
+    instead of falling 5 mm an iteration until its limit (it fell 25 m), and the verdict
+    is "failed", not "too loose"."""
+    import json
+
+    written = tmp_path / "skirt.json"
+    save_pattern(build("skirt"), written, units="cm")
+    data = json.loads(written.read_text())
+    data["units"] = "mm"
+    written.write_text(json.dumps(data))
+    outcome = api.drape_and_evaluate(written, BODY, "cotton", triangles=500)
+    result = outcome.drape.result
+    assert result.stop_reason == "fell" and result.iterations < 1000
+    assert outcome.positions[:, 1].max() < outcome.drape.solver.model.body.origin[1]
+    assert not outcome.passed and outcome.verdict == "failed"

@@ -28,8 +28,9 @@ class DrapeResult:
     interrupted : bool
         Stopped by KeyboardInterrupt; ``x`` is the last accepted state.
     stop_reason : str
-        "converged", "iterations", "time", "interrupted", "stalled" or "welded" (with
-        ``SolverSettings.stop_at_weld``).
+        "converged", "iterations", "time", "interrupted", "stalled", "fell" (every vertex
+        below the body's distance field: :func:`~patternfit.sim.stop_rule.fell`) or
+        "welded" (with ``SolverSettings.stop_at_weld``).
     energy : float
         Total energy at ``x`` [J].
     checks : DrapeChecks

@@ -37,7 +37,7 @@ from .preconditioners import Factors, ensure_factor, newton_direction, precondit
 from .result import DrapeResult
 from .settings import SolverSettings
 from .state import ContactState
-from .stop_rule import at_rest, drift, residual, stalled
+from .stop_rule import at_rest, drift, fell, residual, stalled
 from .total_energy import ContactLookups
 
 
@@ -193,6 +193,9 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
             every = s.newton_refresh if newton_on else s.refresh
             if it - last_refresh >= every or (sewing and calm >= s.patience):
                 last_refresh = it
+                if fell(model, x):
+                    reason = "fell"
+                    break
                 if sewing:
                     gap = model.seam_gap(x)
                     if gap < s.weld_gap:
