@@ -139,7 +139,14 @@ def test_a_failed_drape_exits_non_zero_and_says_why(skirt, tmp_path):
     assert (out / "fit_3d.png").exists() and (out / "fit_2d.png").exists()
 
 
-def test_the_correction_refuses_a_failed_drape(skirt):
+def test_the_correction_refuses_a_failed_drape(skirt, tmp_path):
+    """Refused: no edit, and its outputs hold no pattern that could pass for a corrected
+    one, and the regions picture says FAILED (it read "ϖ 99.99 %: 0 regions to modify"
+    over green panels)."""
+    from PIL import Image
+
+    from patternfit.loop.outputs import write_correction_outputs
+
     pattern, mesh, body, d = skirt
     session = api.design_session(pattern, body, "cotton", triangles=1500)
     assert np.array_equal(session.mesh.triangles, mesh.triangles)
@@ -155,6 +162,15 @@ def test_the_correction_refuses_a_failed_drape(skirt):
     assert "below the feet" in result.failed and result.to_dict()["failed"] == result.failed
     assert refusal({"passed": False, "on_body": True}, 0.95) is None  # solver-only failure
     assert "not finite" in refusal(None, float("nan"))
+    report = write_correction_outputs(tmp_path, session, result)
+    assert report["failed"] and "pattern" not in report["files"]
+    assert not (tmp_path / "pattern.json").exists() and not (tmp_path / "after").exists()
+    assert (tmp_path / "before" / "report.json").exists()
+    picture = np.asarray(Image.open(tmp_path / "regions_before.png").convert("RGB"))
+    green = (picture[..., 1] > 150) & (picture[..., 0] < 120) & (picture[..., 2] < 120)
+    assert green.mean() < 0.001  # grey, not the fit colours
+    red_title = (picture[:60, :, 0] > 150) & (picture[:60, :, 1] < 60)
+    assert red_title.any()
 
 
 def test_start_refuses_another_pattern_and_keeps_its_own_mesh(skirt, tmp_path):

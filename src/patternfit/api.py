@@ -712,7 +712,9 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
     tight either, with ``take_in`` none too loose), or ``max_iterations`` rounds) and write the outputs into ``out``:
     ``pattern.json`` (the corrected pattern), ``report.json`` (with ``verdict`` and
     ``region_verdicts`` of the final drape, and of every iteration), ``before/`` and
-    ``after/`` fit outputs and the regions pictures. Returns the report.
+    ``after/`` fit outputs and the regions pictures (a correction refused from a failed
+    drape, ``report["failed"]``, writes no ``pattern.json`` and no ``after/``). Returns the
+    report.
 
     ``progress(iteration)`` is called after each drape is evaluated, ``drape_progress`` goes
     to the solver, ``write_progress(message)`` is called per output written."""

@@ -77,7 +77,8 @@ def correct_command(
     ease), or the round limit. Regions the corner moves cannot reach (shoulders, sleeves)
     are let out by translating their edges; with --take-in, too-loose regions are taken in. Writes
     OUT/pattern.json (the corrected pattern; never the input), OUT/report.json, before/
-    and after/ fit outputs and the regions outlined on the 2D pattern.
+    and after/ fit outputs and the regions outlined on the 2D pattern. From a drape that
+    failed its checks it corrects nothing, writes no pattern and exits with status 1.
     """
     from .. import api
 

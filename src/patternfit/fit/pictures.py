@@ -39,7 +39,7 @@ def _legend(ax, scale: FitScale) -> None:
               title="S3/S2 − 1", title_fontsize=8, frameon=False)
 
 
-def _title(fit: FitResult, title: str | None, failed: str | None = None) -> str:
+def picture_title(fit: FitResult, title: str | None, failed: str | None = None) -> str:
     """The picture's title: ϖ, or "FAILED: <reason>" for a drape that failed its checks
     (whose ϖ is no fit)."""
     head = f"{title} — " if title else ""
@@ -49,7 +49,8 @@ def _title(fit: FitResult, title: str | None, failed: str | None = None) -> str:
             f"(symmetric {fit.fitting_ratio_symmetric * 100:.2f}%)")
 
 
-def _title_colour(failed: str | None) -> str:
+def title_colour(failed: str | None) -> str:
+    """Red for the title of a failed drape's picture, else black."""
     return "#c00000" if failed else "black"
 
 
@@ -57,7 +58,7 @@ def _title_colour(failed: str | None) -> str:
 FAILED_GREY = np.array([0.62, 0.62, 0.62])
 
 
-def _colours(scale: FitScale, values, failed: str | None) -> np.ndarray:
+def fit_colours(scale: FitScale, values, failed: str | None) -> np.ndarray:
     """(k, 3) fit colours of ``values``, or all grey for a failed drape."""
     if failed:
         return np.broadcast_to(FAILED_GREY, (len(values), 3)).copy()
@@ -81,7 +82,7 @@ def plot_flat_map(mesh: GarmentMesh, fit: FitResult, paths, *, scale: FitScale |
     width, height = np.ptp(xy[:, 0]), np.ptp(xy[:, 1])
     fig_w = min(16.0, 3.0 + 10.0 * width / max(width, height))
     fig, ax = plt.subplots(figsize=(fig_w, 8.0 * height / max(width, height) + 1.5))
-    colors = _colours(scale, fit.area_change, failed)
+    colors = fit_colours(scale, fit.area_change, failed)
     ax.add_collection(PolyCollection(xy[mesh.triangles], facecolors=colors,
                                      edgecolors="0.35" if show_mesh else colors,
                                      linewidths=0.15 if show_mesh else 0.3))
@@ -97,7 +98,7 @@ def plot_flat_map(mesh: GarmentMesh, fit: FitResult, paths, *, scale: FitScale |
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.set_xlabel("m")
-    ax.set_title(_title(fit, title, failed), fontsize=10, color=_title_colour(failed))
+    ax.set_title(picture_title(fit, title, failed), fontsize=10, color=title_colour(failed))
     if not failed:
         _legend(ax, scale)
     fig.tight_layout()
@@ -161,14 +162,14 @@ def plot_3d_map(positions, mesh: GarmentMesh, fit: FitResult, path, *,
 
     scale = scale or FitScale(band=fit.thresholds[0])
     values = vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices, fit.area_2d)
-    front, back = render_views(positions, mesh.triangles, _colours(scale, values, failed),
+    front, back = render_views(positions, mesh.triangles, fit_colours(scale, values, failed),
                                body=body)
     fig, axes = plt.subplots(1, 2, figsize=(11, 7.2))
     for ax, img, label in zip(axes, (front, back), ("front", "back")):
         ax.imshow(img)
         ax.set_title(label, fontsize=10)
         ax.axis("off")
-    fig.suptitle(_title(fit, title, failed), fontsize=11, color=_title_colour(failed))
+    fig.suptitle(picture_title(fit, title, failed), fontsize=11, color=title_colour(failed))
     if not failed:  # a legend of fit colours beside a grey, failed garment would mislead
         _legend(axes[1], scale)
     fig.tight_layout(rect=(0, 0, 1, 0.96))  # room for the suptitle above "front"/"back"

@@ -14,7 +14,8 @@ from ..files import atomic_write_text, dumps_finite_json
 from ..fit.colormap import FitScale
 from ..fit.metrics import FitEvaluator, FitResult
 from ..fit.outputs import write_fit_outputs
-from ..fit.pictures import flat_layout
+from ..fit.pictures import fit_colours, flat_layout, picture_title, title_colour
+from ..fit.report import failure
 from ..geometry import boundary_edges
 from ..mesh.garment import GarmentMesh
 from ..pattern.io import save_pattern
@@ -30,9 +31,11 @@ def region_outline(mesh: GarmentMesh, triangles) -> np.ndarray:
 
 
 def plot_regions(mesh: GarmentMesh, fit: FitResult, regions: list[Region], path, *,
-                 title: str | None = None) -> Path:
+                 title: str | None = None, failed: str | None = None) -> Path:
     """The flat pattern coloured by area change with each region outlined and numbered
-    (dark red: tight, blue: loose); the numbers are listed with each region's description."""
+    (dark red: tight, blue: loose); the numbers are listed with each region's description.
+    ``failed``: why the drape failed its checks; the pattern is then grey and the title says
+    "FAILED: <failed>" in red (no region is found on a failed drape)."""
     plt = pyplot()
     from matplotlib.collections import LineCollection, PolyCollection
 
@@ -44,7 +47,7 @@ def plot_regions(mesh: GarmentMesh, fit: FitResult, regions: list[Region], path,
     fig_w = min(16.0, 3.0 + 10.0 * width / max(width, height))
     fig_h = 8.0 * height / max(width, height) + 1.5 + text_h
     fig, ax = plt.subplots(figsize=(fig_w, fig_h))
-    colors = scale.colors(fit.area_change)
+    colors = fit_colours(scale, fit.area_change, failed)
     ax.add_collection(PolyCollection(xy[mesh.triangles], facecolors=colors, edgecolors=colors,
                                      linewidths=0.3))
     for loop in range(len(mesh.loop_panel)):
@@ -64,10 +67,15 @@ def plot_regions(mesh: GarmentMesh, fit: FitResult, regions: list[Region], path,
     ax.autoscale_view()
     ax.set_xlabel("m")
     head = f"{title} — " if title else ""
-    ax.set_title(f"{head}ϖ = {fit.fitting_ratio * 100:.2f}%: {len(regions)} region(s) to "
-                 "modify", fontsize=10)
-    fig.text(0.01, 0.01, "\n".join(legend) or "no region tighter or looser than the band",
-             fontsize=7, va="bottom", ha="left")
+    if failed:
+        ax.set_title(picture_title(fit, title, failed), fontsize=10,
+                     color=title_colour(failed))
+    else:
+        ax.set_title(f"{head}ϖ = {fit.fitting_ratio * 100:.2f}%: {len(regions)} region(s) "
+                     "to modify", fontsize=10)
+    note = ("no region is sought on a drape that failed its checks" if failed else
+            "no region tighter or looser than the band")
+    fig.text(0.01, 0.01, "\n".join(legend) or note, fontsize=7, va="bottom", ha="left")
     fig.tight_layout(rect=(0, text_h / fig_h, 1, 0.97))
     buf = io.BytesIO()
     fig.savefig(buf, dpi=150, format="png")
@@ -92,15 +100,22 @@ def write_correction_outputs(folder, session, correction: Correction, *, start: 
     ``regions_before.png`` / ``regions_after.png`` outline the regions on the 2D pattern;
     ``report.json`` holds ``fitting_ratio`` (final ϖ), ``iterations`` (per iteration: ϖ,
     regions, edits in cm, seconds; 0 = the first drape) and ``regions`` (of the final drape).
+    A correction refused from a drape that is no fit (``correction.failed``, no edit made)
+    writes ``before/`` and the report only: no pattern that could pass for a corrected one.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda msg: None)
-    save_pattern(correction.pattern, folder / "pattern.json")
+    refused = bool(correction.failed) and not any(it.edits for it in correction.iterations)
+    files = {}
+    if not refused:
+        save_pattern(correction.pattern, folder / "pattern.json")
+        files["pattern"] = "pattern.json"
     body = (session.body.vertices, session.body.faces)
-    files = {"pattern": "pattern.json"}
-    for name, state, it in (("before", session.history[start], correction.iterations[0]),
-                            ("after", session.state, correction.iterations[-1])):
+    states = [("before", session.history[start], correction.iterations[0])]
+    if not refused:
+        states.append(("after", session.state, correction.iterations[-1]))
+    for name, state, it in states:
         say(f"{name}: fit outputs")
         fit = FitEvaluator(state.mesh)(state.positions)
         verdict = it.verdict.report() if it.verdict is not None else {}
@@ -113,7 +128,7 @@ def write_correction_outputs(folder, session, correction: Correction, *, start: 
         if pictures:
             say(f"{name}: regions picture")
             plot_regions(state.mesh, fit, it.regions, folder / f"regions_{name}.png",
-                         title=f"{state.pattern.name} ({name})")
+                         title=f"{state.pattern.name} ({name})", failed=failure(state.checks))
             files[f"regions_{name}_png"] = f"regions_{name}.png"
     report = {**correction.to_dict(), "regions": [r.to_dict() for r in
                                                   correction.iterations[-1].regions],
