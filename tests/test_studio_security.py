@@ -91,6 +91,25 @@ def test_bodies_must_be_json_or_multipart(client):
     assert client.get("/api/state").json()["info"]["garment"] == "skirt"
 
 
+def test_a_bodyless_post_needs_no_type():
+    """A POST without a body passes with Content-Length 0 or with no length at all (curl
+    -X POST sends none; it was refused 415); a chunked one without a type does not."""
+    from patternfit.studio.guard import TOKEN_HEADER, Guard
+
+    guard = Guard(None, hosts=("127.0.0.1",), token="t")
+
+    def scope(*headers):
+        raw = [(b"host", b"127.0.0.1:8000"), (TOKEN_HEADER.lower().encode(), b"t"),
+               *((k.encode(), v.encode()) for k, v in headers)]
+        return {"type": "http", "path": "/api/drape/stop", "method": "POST",
+                "server": ("127.0.0.1", 8000), "headers": raw}
+
+    assert guard.refusal(scope()) is None
+    assert guard.refusal(scope(("content-length", "0"))) is None
+    assert guard.refusal(scope(("transfer-encoding", "chunked")))[0] == 415
+    assert guard.refusal(scope(("content-length", "12")))[0] == 415
+
+
 @pytest.mark.parametrize("field, value", [
     ("body", "/etc/passwd"), ("body", "/nonexistent/body.npz"),
     ("body", "../../../../etc/shadow"), ("body", "female_thin/../../x"),

@@ -73,3 +73,36 @@ def test_two_requests_at_once_share_one_making(state):
     for t in threads:
         t.join(10)
     assert calls == [state.key] and len(out) == 2 and out[0] is out[1]
+
+
+def test_the_maps_of_a_failed_drape_are_grey(state):
+    """The page colours a failed drape grey with one "not a fit" swatch, as the CLI's
+    pictures do (its maps read green, "fits ±2 %", under the red "failed")."""
+    from patternfit.fit.pictures import FAILED_GREY
+
+    fine = payload.garment3d(state)
+    assert fine.header["failed"] is None and len(fine.header["maps"]["area_change"]["legend"]) > 1
+    failed = replace(state, checks={"passed": False, "reasons": ["fell below the feet"]})
+    grey = np.round(FAILED_GREY * 255)
+    flat = payload.geometry(failed).arrays["colors"]
+    assert (flat == grey).all()
+    body = payload.garment3d(failed)
+    assert body.header["failed"] == "fell below the feet"
+    for name, m in body.header["maps"].items():
+        assert [row["label"] for row in m["legend"]] == ["the drape failed its checks: not a fit"]
+        assert (body.arrays[f"maps.{name}.colors"] == grey).all()
+
+
+def test_the_report_of_a_failed_drape_says_failed():
+    """The studio's report.json (and so /api/verdict) of a failed drape has the verdict
+    "failed" and why; a passed one gives none here (the studio judges no regions)."""
+    from patternfit.studio import exports
+
+    s = api.design_session("skirt", triangles=400)
+    s.state.positions = np.c_[s.mesh.vertices, np.full(s.mesh.n_vertices, 1.0)]
+    fit = api.evaluate_drape(s.mesh, s.state.positions)
+    s.state.checks = {"passed": True, "reasons": []}
+    assert "verdict" not in exports.report(s, fit)
+    s.state.checks = {"passed": False, "reasons": ["fell below the feet"]}
+    r = exports.report(s, fit)
+    assert r["verdict"] == "failed" and "fell below the feet" in r["verdict_reason"]

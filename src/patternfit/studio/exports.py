@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ..fit.colormap import FitScale, vertex_values
 from ..fit.export import export_garment
-from ..fit.report import fit_report, write_report
+from ..fit.report import failure, fit_report, write_report
 from ..pattern.formats import save_any_pattern
 from .payload import stale_maps
 from .jobs import Refused
@@ -55,9 +55,12 @@ def export(studio: Studio, name: str) -> bytes:
 
 def report(s, fit) -> dict:
     """The fit report of session ``s``'s draped state (what ``report.json`` holds), whose
-    fit evaluation is ``fit``."""
+    fit evaluation is ``fit``; a drape that failed its checks has the verdict "failed" and
+    its reason, as the CLI's report (no fit word may be read from its ϖ)."""
+    why = failure(s.state.checks)
+    verdict = {"verdict": "failed", "verdict_reason": f"the drape failed: {why}"} if why else {}
     return fit_report(s.mesh, fit, state="draped",
-                      extra={"checks": s.state.checks, "history": s.summary()})
+                      extra={"checks": s.state.checks, "history": s.summary(), **verdict})
 
 
 #: the report's keys of a fit verdict, shown by the page when the report has them

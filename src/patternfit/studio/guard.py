@@ -70,9 +70,11 @@ class Guard:
             return None
         kind = headers.get("content-type", "").split(";")[0].strip().lower()
         wanted = "multipart/form-data" if path in MULTIPART_PATHS else "application/json"
-        # a request without a body (POST /api/drape) needs no type
-        if kind != wanted and not (kind == "" and headers.get("content-length") == "0"
-                                   and wanted == "application/json"):
+        # a request without a body (POST /api/drape) needs no type: Content-Length 0, or
+        # neither it nor Transfer-Encoding (curl -X POST sends no length)
+        bodyless = (kind == "" and headers.get("content-length", "0") == "0"
+                    and "transfer-encoding" not in headers)
+        if kind != wanted and not (bodyless and wanted == "application/json"):
             return 415, f"expected a {wanted} body"
         return None
 

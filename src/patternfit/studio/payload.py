@@ -25,6 +25,8 @@ from fastapi.responses import JSONResponse, Response
 
 from .. import api
 from ..fit.colormap import FitScale
+from ..fit.pictures import FAILED_GREY, fit_colours
+from ..fit.report import failure
 
 BINARY = "application/octet-stream"
 #: relative stretch at which the warp/weft colours saturate [-]
@@ -172,7 +174,8 @@ def geometry(s, views: Views | None = None) -> Payload:
     if s.positions is not None:
         fit = (views or Views()).fit(s)
         del header["colors"]
-        arrays["colors"] = rgb(FitScale().colors(fit.area_change))
+        # a failed drape is grey, as in the CLI's pictures: no fit colour may suggest a fit
+        arrays["colors"] = rgb(fit_colours(FitScale(), fit.area_change, failure(s.checks)))
         arrays["area_change"] = f4(fit.area_change)
     return Payload(header, arrays)
 
@@ -183,16 +186,23 @@ def garment3d(s, views: Views | None = None) -> Payload:
     :func:`geometry`, ``views`` too."""
     fit = (views or Views()).fit(s)
     scale = FitScale()
+    failed = failure(s.checks)
     maps = {"area_change": (fit.area_change, scale), "warp": (fit.warp - 1, STRETCH_SCALE),
             "weft": (fit.weft - 1, STRETCH_SCALE)}
-    header = {"fitting_ratio": fit.fitting_ratio, "stale": stale_maps(s),
-              "maps": {k: {"legend": [{"value": val, "rgb": rgb(c).tolist(), "label": label}
-                                      for val, c, label in sc.legend()]}
-                       for k, (_, sc) in maps.items()}}
+
+    def legend(sc):
+        if failed:  # one grey swatch: the maps of a failed drape are no fit
+            return [{"value": None, "rgb": rgb(FAILED_GREY).tolist(),
+                     "label": "the drape failed its checks: not a fit"}]
+        return [{"value": val, "rgb": rgb(c).tolist(), "label": label}
+                for val, c, label in sc.legend()]
+
+    header = {"fitting_ratio": fit.fitting_ratio, "stale": stale_maps(s), "failed": failed,
+              "maps": {k: {"legend": legend(sc)} for k, (_, sc) in maps.items()}}
     arrays = {"positions": f4(s.positions), "triangles": i4(s.mesh.triangles)}
     for k, (v, sc) in maps.items():
         arrays[f"maps.{k}.values"] = f4(v)
-        arrays[f"maps.{k}.colors"] = rgb(sc.colors(v))
+        arrays[f"maps.{k}.colors"] = rgb(fit_colours(sc, v, failed))
     return Payload(header, arrays)
 
 

@@ -32,6 +32,7 @@ from ..defaults import DEFAULTS
 from ..edit import CoordinateCache, update_mesh
 from ..errors import InputError, SessionError
 from ..files import atomic_write_text, dumps_finite_json, read_json_file
+from ..fit.report import failure
 from ..loop.session import holds_session
 from ..pattern.library import GARMENTS
 from ..pattern.sizes import SIZE_NAMES
@@ -369,7 +370,7 @@ class Studio:
                                                           info.get("engine", ENGINES[0])),
                        "triangles": s.triangles},
             "history": [{**{k: r[k] for k in ("index", "label", "fitting_ratio", "current")},
-                         "failed": _failed(s.history[r["index"]].checks),
+                         "failed": failure(s.history[r["index"]].checks),
                          "stopped": self._was_stopped(s.history[r["index"]])}
                         for r in s.summary()],
             "fitting_ratio": s.state.fitting_ratio, "draped": s.positions is not None,
@@ -377,7 +378,7 @@ class Studio:
             "maps_stale": s.positions is not None and s.state.fitting_ratio is None,
             # which drape the 3D state is (the page fetches the garment when it changes)
             "drape_id": None if s.positions is None else _drape_id(s.positions),
-            "checks": s.state.checks, "failed": _failed(s.state.checks),
+            "checks": s.state.checks, "failed": failure(s.state.checks),
             "stopped": self._was_stopped(s.state),
             "can_undo": s.position > 0, "save_error": self.save_error,
             "can_redo": s.position + 1 < len(s.history)}
@@ -626,7 +627,7 @@ class Studio:
         def round_done(it):
             job.rounds.append({"iteration": it.index, "fitting_ratio": it.fitting_ratio,
                                "edits": len(it.edits), "seconds": it.seconds,
-                               "failed": _failed(it.checks)})
+                               "failed": failure(it.checks)})
             job.fraction = max(job.fraction, min(0.99, len(job.rounds) / job.drapes))
             with self.lock:
                 if self.session is session:
@@ -653,15 +654,6 @@ def _drape_id(positions: np.ndarray) -> str:
     """A fingerprint of a drape's positions (n, 3): a sample of rows and the size."""
     sample = np.ascontiguousarray(positions[::max(1, len(positions) // 257)])
     return f"{len(positions)}-{zlib.crc32(sample.tobytes()):08x}"
-
-
-def _failed(checks: dict | None) -> str | None:
-    """Why a state's drape failed its checks, in words (None: passed or not draped): the
-    page shows such a ϖ red, as "failed", never as a fit."""
-    if not checks or checks.get("passed") is not False:
-        return None
-    reasons = [str(r) for r in checks.get("reasons") or [] if r]
-    return "; ".join(reasons) if reasons else "the drape's checks failed"
 
 
 def _read_upload(kind: str, path: Path, stem: str):
