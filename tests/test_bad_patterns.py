@@ -141,6 +141,8 @@ def test_corpus_file_refused_naming_the_file(path, no_triangle, compiled_reader)
     ("pattern/placement_rotation_huge.json", r"panel 'front': placement: rotation angles must "
                                              r"lie within ±360 degrees"),
     ("garmentcode/rotation_huge_specification.json", r"panel 'front'.*rotation angles must"),
+    ("garmentcode/duplicate_panel_specification.json", r"line \d+: the key \"front\" "
+                                                       r"appears twice in one object"),
     ("garmentcode/spike_specification.json", r"zero-width spike"),
     ("garmentcode/units_tiny_specification.json", r"beyond the limit"),
     ("garmentcode/panel_order_nested_specification.json", r"'panel_order' must be a list"),

@@ -256,6 +256,36 @@ def _bounded_int(text: str):
     return int(text)
 
 
+class _Duplicate(ValueError):
+    """A key given twice in one JSON object; ``key`` is it."""
+
+    def __init__(self, key: str):
+        super().__init__(f"the key {json.dumps(key)[:80]} appears twice in one object (the "
+                         "second copy would silently replace the first)")
+        self.key = key
+
+
+def _unique_keys(pairs):
+    """``object_pairs_hook`` refusing a key given twice (another tool's export that repeats
+    a panel lost it without a word)."""
+    out = dict(pairs)
+    if len(out) != len(pairs):
+        seen = set()
+        for k, _ in pairs:
+            if k in seen:
+                raise _Duplicate(k)
+            seen.add(k)
+    return out
+
+
+def _second_key_line(text: str, key: str) -> str:
+    """'line L: ' of the second place the key ``key`` is written, or ''."""
+    found = list(re.finditer(re.escape(json.dumps(key)) + r"\s*:", text))
+    if len(found) < 2:
+        return ""
+    return f"line {text.count(chr(10), 0, found[1].start()) + 1}: "
+
+
 def _line_column(text: str, token: str) -> str:
     """'line L, column C' of the first ``token`` outside a string, or ''."""
     for match in re.finditer(re.escape(token), text):
@@ -270,20 +300,22 @@ def _line_column(text: str, token: str) -> str:
 def parse_json_text(text: str, *, file=None, error=None):
     """The parsed JSON document ``text``, refused with ``error`` (an
     :class:`~patternfit.errors.InputError` class) naming ``file`` and the line and column:
-    invalid JSON, nesting deeper than :data:`MAX_JSON_DEPTH`, ``NaN``/``Infinity`` and numbers
-    beyond float range are all refused."""
+    invalid JSON, nesting deeper than :data:`MAX_JSON_DEPTH`, ``NaN``/``Infinity``, numbers
+    beyond float range and a key given twice in one object are all refused."""
     error = error or InputError
     if len(text) > 2 * MAX_JSON_DEPTH and _depth(text) > MAX_JSON_DEPTH:
         raise error(f"nested deeper than {MAX_JSON_DEPTH} levels", file=file)
     try:
         return json.loads(text, parse_constant=_refuse_constant, parse_float=_finite_float,
-                          parse_int=_bounded_int)
+                          parse_int=_bounded_int, object_pairs_hook=_unique_keys)
     except json.JSONDecodeError as exc:
         raise error(f"not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})",
                     file=file) from None
     except _Refused as exc:
         raise error(f"not valid JSON ({_line_column(text, exc.token)}{exc})",
                     file=file) from None
+    except _Duplicate as exc:
+        raise error(f"{_second_key_line(text, exc.key)}{exc}", file=file) from None
     except (ValueError, RecursionError) as exc:
         raise error(f"not valid JSON: {exc}", file=file) from None
 
