@@ -70,3 +70,27 @@ def test_cli_convert_chain(tmp_path):
         assert (tmp_path / target).stat().st_size > 0
     r = runner.invoke(app, ["convert", str(tmp_path / "missing.json"), str(tmp_path / "x.dxf")])
     assert r.exit_code == 2 and "cannot read file" in r.output
+
+
+def test_from_units_reads_a_dxf_whose_unit_is_not_said(tmp_path):
+    """A DXF drawn in inches with no unit in it reads in millimetres, 25 times too small;
+    the warning offers every plausible reading and the way to pick one on the command
+    line, ``--from-units``, which a JSON file (stating its own units) refuses."""
+    pattern = _pattern()
+    dxf = tmp_path / "p.dxf"
+    save_any_pattern(pattern, dxf)
+    text = dxf.read_text()
+    dxf.write_text(text.replace("Units: METRIC", "Units: none"))  # a file that says nothing
+    runner = CliRunner()
+    r = runner.invoke(app, ["convert", str(dxf), str(tmp_path / "mm.json"), "--json"])
+    assert r.exit_code == 0, r.output
+    plain = load_any_pattern(dxf)
+    r = runner.invoke(app, ["convert", str(dxf), str(tmp_path / "in.json"), "--from-units",
+                            "in"])
+    assert r.exit_code == 0, r.output
+    inches = load_any_pattern(tmp_path / "in.json")
+    assert inches.panels[0].area() == pytest.approx(plain.panels[0].area() * 25.4 ** 2,
+                                                    rel=1e-6)
+    r = runner.invoke(app, ["convert", str(tmp_path / "in.json"), str(tmp_path / "x.json"),
+                            "--from-units", "in"])
+    assert r.exit_code == 2 and "set for a DXF only" in r.output

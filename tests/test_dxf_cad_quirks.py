@@ -510,3 +510,21 @@ def test_clo_2025_layout(tmp_path):
     assert pattern.name == "A232F4ORU001"
     assert panel.area() == pytest.approx(_area_mm2(np.array(ring)) * 1e-6, rel=1e-6)
     assert not pattern.meta.get("warnings")
+
+
+def test_two_pieces_of_one_name_are_read_with_a_warning(tmp_path):
+    """Both blocks say ``Piece Name: FRONT``: the second is read as FRONT_2, and the reader
+    says so, naming the block (it was renamed without a word and draped on the front
+    too)."""
+    d = _Dxf()
+    for block in ("P0_FRONT", "P1_FRONT"):
+        c = [(0.0, 0.0), (10.0, 0.0), (10.0, 20.0), (0.0, 20.0)]
+        d.block(block)
+        d.text(1, "Piece Name: FRONT")
+        for j in range(4):
+            d.polyline(1, [c[j], c[(j + 1) % 4]])
+        d.end_block()
+    pattern = load_dxf(d.save(tmp_path / "dup.dxf", ["Units: ENGLISH"]))
+    assert sorted(p.name for p in pattern.panels) == ["FRONT", "FRONT_2"]
+    (warning,) = [w for w in pattern.meta["warnings"] if "two pieces" in w]
+    assert "'FRONT'" in warning and "block 'P1_FRONT'" in warning and "'FRONT_2'" in warning

@@ -179,14 +179,18 @@ def list_engines() -> dict[str, str | None]:
             else NEWTON_MISSING for name in ENGINES}
 
 
-def read_pattern(source: Pattern | str | Path, *, size: str | None = None) -> Pattern:
+def read_pattern(source: Pattern | str | Path, *, size: str | None = None,
+                 units: str | None = None) -> Pattern:
     """A pattern: a :class:`Pattern` as is, a built-in garment name (in ``size``, default
     ``Defaults.size``), or a file in any format patternfit reads (patternfit JSON,
     GarmentCode JSON, DXF-AAMA; ``size`` picks a size of a graded DXF, default its sample
-    size, see :func:`~patternfit.pattern.formats.load_any_pattern`).
+    size, and ``units`` overrides a DXF's length unit, see
+    :func:`~patternfit.pattern.formats.load_any_pattern`).
 
     Raises :class:`PatternError` naming the file and the place (a size the file does not
     have: naming the sizes it has)."""
+    if units is not None and (isinstance(source, Pattern) or str(source) in GARMENTS):
+        raise ValueError("units: set for a DXF file only")
     if isinstance(source, Pattern):
         return source
     name = str(source)
@@ -196,7 +200,7 @@ def read_pattern(source: Pattern | str | Path, *, size: str | None = None) -> Pa
     if not (path.suffix or path.exists()):
         raise PatternError(f"neither a built-in garment ({', '.join(GARMENTS)}) nor a file",
                            file=name)
-    return load_any_pattern(path, size=size)
+    return load_any_pattern(path, size=size, units=units)
 
 
 def suggest_seams(pattern: Pattern | str | Path, *, size: str = DEFAULTS.size,

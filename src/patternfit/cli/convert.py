@@ -25,6 +25,9 @@ def convert(
                                      "patternfit, garmentcode, dxf, svg or pdf."),
     units: str = typer.Option("m", "--units", help="Length unit of a patternfit JSON output "
                               "(m, cm, mm, in)."),
+    from_units: Optional[str] = typer.Option(None, "--from-units", help="Length unit of a "
+                                             "DXF source (mm, cm, in, m), over what the file "
+                                             "says or the reader guesses."),
     paper: str = typer.Option("a4", "--paper", help="PDF tile paper: a4 or letter."),
     size: Optional[str] = typer.Option(None, "--size", "-s", help=SIZE_HELP),
     json_out: bool = typer.Option(False, "--json", help="Print machine-readable results."),
@@ -32,7 +35,7 @@ def convert(
     """Convert a sewing pattern between formats (lengths keep their true size)."""
     from .. import api
 
-    pattern = api.read_pattern(source, size=size)
+    pattern = api.read_pattern(source, size=size, units=from_units)
     written = api.save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
     # an unsewn import (a DXF without its side file): the seams the user can accept
     suggested = [{"a": {"panel": g.seam.a.panel, "edge": g.seam.a.edge},

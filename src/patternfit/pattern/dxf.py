@@ -19,6 +19,7 @@ Everything inside is metres.
 from __future__ import annotations
 
 import json
+import math
 from collections import Counter
 from dataclasses import replace
 from pathlib import Path
@@ -151,11 +152,16 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
         pieces = graded_by_rules(pieces, marks, rules)
         sample = rules.sample
     chosen = pick_size(sizes_of(pieces), size, sample)
-    panels, names, pairs = [], set(), {}
+    panels, names, pairs, renamed = [], set(), {}, []
     for piece in pieces_in_size(pieces, chosen):
         name = piece.name or piece.block
         while any(n in names for n in copy_names(name, piece.quantity)):
             name += "_2"
+        if name != (piece.name or piece.block):
+            renamed.append(f"two pieces are named '{piece.name or piece.block}': the one in "
+                           f"block '{piece.block}' is read as '{name}', and the name puts both "
+                           "on the same side of the body; rename one, or state its side "
+                           "(placement) in the side file")
         try:
             ours = piece.ours or (author_ours and not marked)
             made = panels_from_piece(piece, name, prefer_sew=prefer_sew, foreign=not ours,
@@ -177,7 +183,7 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     table = field(msp_texts, "Grade Rule Table") or (rules.name if rules else None)
     if table:
         meta["grade_rule_table"] = table
-    warnings = _size_warnings(panels, scale, unit_says)
+    warnings = _size_warnings(panels, scale, unit_says) + renamed
     warnings += [f"piece '{p.name or p.block}' says 'Quantity: 0' (the marker cuts none of "
                  "it): read as one panel" for p in pieces_in_size(pieces, chosen)
                  if p.quantity == 0]
@@ -208,20 +214,27 @@ def _size_warnings(panels, scale: float, unit_says: str) -> list[str]:
         fits = [u for u, m in UNITS.items() if lo <= size / scale * m <= hi]
         out.append(f"panel '{panel.name}' is {size:.3g} m across, read in {unit} ({unit_says}):"
                    f" implausible for a garment piece (expected {lo:g} to {hi:g} m); "
-                   + (f"as {' or '.join(fits)} it would be {size / scale * UNITS[fits[0]]:.3g}"
-                      f" m (load_dxf(..., units={fits[0]!r}))" if fits else
-                      "check the file's units"))
+                   + _as_other_units(size / scale, fits))
     largest = max(sizes, default=PLAUSIBLE_LARGEST)
     if not out and largest < PLAUSIBLE_LARGEST:
         fits = [u for u, m in UNITS.items()
                 if PLAUSIBLE_LARGEST <= largest / scale * m <= hi]
         out.append(f"the largest piece is {largest * 100:.3g} cm across, read in {unit} "
                    f"({unit_says}): small for a garment (at least {PLAUSIBLE_LARGEST * 100:g}"
-                   " cm expected); " + (f"as {fits[0]} it would be "
-                                        f"{largest / scale * UNITS[fits[0]]:.3g} m "
-                                        f"(load_dxf(..., units={fits[0]!r}))" if fits else
-                                        "check the file's units"))
+                   " cm expected); " + _as_other_units(largest / scale, fits))
     return out
+
+
+def _as_other_units(drawn: float, fits: list[str]) -> str:
+    """What a piece ``drawn`` file units across would measure in each unit of ``fits``,
+    and how to read the file so; or to check the units when none fits."""
+    if not fits:
+        return "check the file's units"
+    sizes = ", ".join(f"as {u} {drawn * UNITS[u]:.3g} m" for u in fits)
+    # the reading nearest a typical piece (half a metre) is the one to try first
+    best = min(fits, key=lambda u: abs(math.log(drawn * UNITS[u] / 0.5)))
+    return (f"{sizes} (patternfit convert FILE OUT.json --from-units {best}; "
+            f"load_dxf(..., units={best!r}))")
 
 
 def _renamed(loop: Loop, name: str, names, where: dict) -> Loop:

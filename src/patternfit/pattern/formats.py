@@ -64,12 +64,14 @@ def sniff_format(path) -> str:
                        "{\"panels\": ...})", file=path)
 
 
-def load_any_pattern(path, *, size: str | None = None) -> Pattern:
+def load_any_pattern(path, *, size: str | None = None, units: str | None = None) -> Pattern:
     """Read a pattern from any supported file (see module doc); errors name file, panel, edge.
 
     size : of a graded DXF, the size to read (default its sample size). A JSON file holds
         one size: a ``size`` other than its ``meta["size"]`` is refused, as is a size a DXF
         does not have, naming the file and the sizes it has.
+    units : a DXF's length unit ("mm", "cm", "in", "m"), over what the file says or the
+        reader guesses; refused for a JSON file, which states its own.
 
     ``pattern.meta["source_format"]`` says which reader was used.
     """
@@ -77,7 +79,10 @@ def load_any_pattern(path, *, size: str | None = None) -> Pattern:
     if kind == "dxf":
         from .dxf import load_dxf
 
-        return load_dxf(path, size=size)
+        return load_dxf(path, size=size, units=units)
+    if units is not None:
+        raise PatternError(f"units: set for a DXF only; this {kind} file states its own "
+                           "units", file=path)
     if kind == "garmentcode":
         from .garmentcode import load_garmentcode
 
