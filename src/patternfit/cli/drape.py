@@ -31,7 +31,8 @@ def drape(
     clearance: float = typer.Option(DEFAULTS.clearance, help="Gap between body and panels at "
                                     "placement \\[m].", callback=finite),
     max_iterations: int = typer.Option(DEFAULTS.max_iterations, min=0,
-                                       help="Iteration limit of the drape."),
+                                       help="Iteration limit of the drape under gravity "
+                                            "(sewing and relaxing have their own)."),
     time_limit: float = typer.Option(DEFAULTS.time_limit, help="Time limit of the drape \\[s].",
                                      callback=positive),
     units: str = typer.Option(None, help="Units of a body mesh file (m, cm, mm, in); guessed "
