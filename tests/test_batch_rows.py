@@ -165,3 +165,27 @@ def test_without_ray_the_batch_says_how_to_get_it(monkeypatch):
     with pytest.raises(ImportError, match=r"patternfit\[batch\].*--workers 0") as info:
         start_ray(2, None)
     assert str(info.value) == RAY_MISSING
+
+
+def test_a_failed_drapes_thumbnail_has_no_fit_colours():
+    """A thumbnail is grey where the drape failed its checks, as every failed picture: the
+    fit colours (red to blue) are a passed drape's only."""
+    import io
+    from types import SimpleNamespace
+
+    import numpy as np
+    from PIL import Image
+
+    from patternfit.batch.work import thumbnail_png
+
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.1]], float)
+    mesh = SimpleNamespace(triangles=np.array([[0, 1, 2], [1, 3, 2]]))
+    fit = SimpleNamespace(area_change=np.array([0.1, -0.1]))
+
+    def colourful(passed):
+        png = thumbnail_png(SimpleNamespace(body=None, positions=v, mesh=mesh, fit=fit,
+                                            passed=passed))
+        rgb = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+        return (rgb.max(axis=2) - rgb.min(axis=2) > 40).mean()
+
+    assert colourful(True) > 0.2 and colourful(False) == 0.0

@@ -17,6 +17,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..api import GIRTHS, SolverSettings, drape_and_evaluate
+from ..fit.pictures import FAILED_GREY
 from .rows import Task, failed_row
 
 #: the thumbnails' folder inside a batch folder
@@ -151,8 +152,9 @@ def _shaded(rgba, tri):
 
 def thumbnail_png(outcome, *, pixels: int = 180) -> bytes:
     """A small front view of the drape: the body in grey, the garment coloured by its area
-    change (red stretched, yellow unchanged, blue compressed, ±10%), drawn back to front, lit
-    from the front, framed on the garment: PNG bytes, ``pixels`` high."""
+    change (red stretched, yellow unchanged, blue compressed, ±10%; a drape that failed its
+    checks in the darker grey of every failed picture, no fit colour), drawn back to front,
+    lit from the front, framed on the garment: PNG bytes, ``pixels`` high."""
     # matplotlib without pyplot: no global state, safe in any worker
     from matplotlib import colormaps
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -168,8 +170,11 @@ def thumbnail_png(outcome, *, pixels: int = 180) -> bytes:
     garment = outcome.positions[outcome.mesh.triangles]
     change = np.nan_to_num(outcome.fit.area_change, nan=0.0)
     faces.append(garment)
-    colours.append(_shaded(colormaps["RdYlBu_r"](np.clip(0.5 + 5.0 * change, 0.0, 1.0)),
-                           garment))
+    if outcome.passed:
+        rgba = colormaps["RdYlBu_r"](np.clip(0.5 + 5.0 * change, 0.0, 1.0))
+    else:
+        rgba = np.tile(np.r_[FAILED_GREY, 1.0], (len(garment), 1))
+    colours.append(_shaded(rgba, garment))
     tris = np.concatenate(faces)
     order = np.argsort(tris[:, :, 2].mean(axis=1))  # painter's: far (-z) first
     fig = Figure(figsize=(pixels / 150, pixels / 100), dpi=100)
