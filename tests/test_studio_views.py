@@ -93,16 +93,23 @@ def test_the_maps_of_a_failed_drape_are_grey(state):
         assert (body.arrays[f"maps.{name}.colors"] == grey).all()
 
 
-def test_the_report_of_a_failed_drape_says_failed():
-    """The studio's report.json (and so /api/verdict) of a failed drape has the verdict
-    "failed" and why; a passed one gives none here (the studio judges no regions)."""
+def test_the_report_judges_the_drape_as_the_cli_does():
+    """The studio's report.json (and so /api/verdict) has the fit measures and verdict the
+    CLI's report has (it had none: the page showed ϖ alone), and "failed" with why for a
+    failed drape."""
     from patternfit.studio import exports
 
-    s = api.design_session("skirt", triangles=400)
-    s.state.positions = np.c_[s.mesh.vertices, np.full(s.mesh.n_vertices, 1.0)]
-    fit = api.evaluate_drape(s.mesh, s.state.positions)
-    s.state.checks = {"passed": True, "reasons": []}
-    assert "verdict" not in exports.report(s, fit)
+    s = api.design_session("skirt", triangles=600)
+    s.redrape()
+    fit = api.evaluate_drape(s.mesh, s.positions)
+    assert s.state.checks["passed"]
+    r = exports.report(s, fit)
+    outcome = api.drape_and_evaluate(s.state.pattern, s.body, s.fabric, start=s.positions,
+                                     triangles=600)
+    assert r["verdict"] == outcome.verdict != "failed" and r["region_verdicts"]
+    assert set(r["region_verdicts"]) == set(outcome.region_verdicts)
+    assert "ease_cm" in r and "pressure_kpa" in r
     s.state.checks = {"passed": False, "reasons": ["fell below the feet"]}
     r = exports.report(s, fit)
     assert r["verdict"] == "failed" and "fell below the feet" in r["verdict_reason"]
+    assert r["region_verdicts"] == {}

@@ -6,9 +6,10 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
+from .. import api
 from ..fit.colormap import FitScale, vertex_values
 from ..fit.export import export_garment
-from ..fit.report import failure, fit_report, write_report
+from ..fit.report import fit_report, write_report
 from ..pattern.formats import save_any_pattern
 from .payload import stale_maps
 from .jobs import Refused
@@ -55,16 +56,19 @@ def export(studio: Studio, name: str) -> bytes:
 
 def report(s, fit) -> dict:
     """The fit report of session ``s``'s draped state (what ``report.json`` holds), whose
-    fit evaluation is ``fit``; a drape that failed its checks has the verdict "failed" and
-    its reason, as the CLI's report (no fit word may be read from its ϖ)."""
-    why = failure(s.state.checks)
-    verdict = {"verdict": "failed", "verdict_reason": f"the drape failed: {why}"} if why else {}
+    fit evaluation is ``fit``, with its fit measures and verdict as the CLI's report has
+    them (``api.judge_state``): per region and overall, "failed" for a drape that failed its
+    checks (no fit word may be read from its ϖ)."""
+    st = s.state
+    measures, verdict = api.judge_state(st.pattern, st.mesh, st.positions, fit, s.body,
+                                        s.fabric, checks=st.checks)
     return fit_report(s.mesh, fit, state="draped",
-                      extra={"checks": s.state.checks, "history": s.summary(), **verdict})
+                      extra={"checks": st.checks, "history": s.summary(),
+                             **measures.report(), **verdict.report()})
 
 
 #: the report's keys of a fit verdict, shown by the page when the report has them
-VERDICT_KEYS = ("verdict", "region_verdicts")
+VERDICT_KEYS = ("verdict", "verdict_reason", "region_verdicts")
 
 
 def verdict(studio: Studio) -> dict:

@@ -176,13 +176,17 @@ function showFields(fields) {
   $("triangles").value = fields.triangles;
 }
 
-// the report's fit verdict, where it gives one (overall and per region); else nothing
+// the report's fit verdict, where it gives one: the overall word and why, and the regions
+// that do not fit (with their ease); every region, with its reason, on hover
 function showVerdict(v) {
-  const el = $("verdict"), regions = v.region_verdicts;
-  el.hidden = v.verdict === undefined && regions === undefined;
-  const words = (x) => (typeof x === "string" ? x : JSON.stringify(x));
-  el.textContent = el.hidden ? "" : [v.verdict !== undefined ? `verdict: ${words(v.verdict)}` : "",
-    regions ? Object.entries(regions).map(([k, x]) => `${k}: ${words(x)}`).join(" · ") : ""].filter(Boolean).join("\n");
+  const el = $("verdict"), regions = Object.entries(v.region_verdicts || {});
+  el.hidden = v.verdict === undefined && !regions.length;
+  const word = (x) => (typeof x === "string" ? x : String(x.verdict));
+  const ease = (x) => (x && typeof x.ease_cm === "number" ? ` (${x.ease_cm >= 0 ? "+" : ""}${x.ease_cm.toFixed(1)} cm)` : "");
+  const off = regions.filter(([, x]) => word(x) !== "fits").map(([k, x]) => `${k}: ${word(x)}${ease(x)}`);
+  el.textContent = el.hidden ? "" : [v.verdict !== undefined ? `verdict: ${v.verdict}` : "",
+    v.verdict_reason ? clip(String(v.verdict_reason), 120) : "", off.join(" · ")].filter(Boolean).join("\n");
+  el.title = regions.map(([k, x]) => `${k}: ${word(x)}${ease(x)}${x && x.reason ? " — " + x.reason : ""}`).join("\n");
 }
 
 const FAILED_RED = "#ff6b6b";
