@@ -235,3 +235,20 @@ def test_a_garment_below_the_body_stops_falling(tmp_path):
     assert result.stop_reason == "fell" and result.iterations < 1000
     assert outcome.positions[:, 1].max() < outcome.drape.solver.model.body.origin[1]
     assert not outcome.passed and outcome.verdict == "failed"
+
+
+def test_a_garment_hung_upside_down_fails():
+    """Grain lines drawn pointing down turn a skirt upside down: its hem is put at the
+    waist and drapes there, so the anchor line (the garment's top) passes; the edges named
+    "waist" hang at the thighs and fail it (it passed as "too tight")."""
+    skirt = build("skirt")
+    flipped = replace(skirt, panels=tuple(replace(p, grainline=(0.0, -1.0))
+                                          for p in skirt.panels))
+    outcome = api.drape_and_evaluate(flipped, "female_average", "cotton", triangles=800)
+    checks = outcome.checks
+    assert checks["named_anchor_level"] < 0.1 and not outcome.passed
+    assert any(r.startswith("upside down: the edges named for the waist") for r in
+               checks["reasons"])
+    assert outcome.verdict == "failed"
+    upright = api.drape_and_evaluate(skirt, "female_thin", "cotton", triangles=800)
+    assert upright.checks["named_anchor_level"] > 0.9 and upright.passed

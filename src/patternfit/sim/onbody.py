@@ -53,6 +53,11 @@ class OnBodySettings:
         the anchor height) [m].
     min_area_ratio : float
         A state whose 3D area is below this share of the flat area has collapsed [-].
+    named_anchor_level : float
+        The edges named for the anchor (a "waist" or "neck" edge) must hang above this
+        share of the garment's height from its lowest point, or it is upside down [-]
+        (the built-in garments on their bodies at 1,000 triangles: 0.91 (gathered skirt) to
+        0.99; a skirt, dress or coat drawn with its grain lines pointing down: 0.01–0.03).
     """
 
     below_feet: float = 0.02
@@ -60,6 +65,7 @@ class OnBodySettings:
     anchor_tolerance: float = 0.10
     top_band: float = 0.01
     min_area_ratio: float = 0.5
+    named_anchor_level: float = 0.5
 
 
 #: the thresholds every drape is checked with
@@ -89,6 +95,10 @@ class OnBodyChecks:
     #: 3D area over flat area [-]
     area_ratio: float | None
     reasons: tuple[str, ...] = ()
+    #: where the edges named for the anchor (:func:`named_anchor_edges`: "waist", "neck")
+    #: hang, as a share of the garment's height from its lowest point (1: at its top) [-];
+    #: None without such edges
+    named_anchor_level: float | None = None
 
     @property
     def passed(self) -> bool:
@@ -101,6 +111,7 @@ class OnBodyChecks:
                 "anchor": self.anchor, "anchor_height_mm": self.anchor_height_mm,
                 "landmark_height_mm": self.landmark_height_mm,
                 "anchor_offset_mm": self.anchor_offset_mm, "area_ratio_3d": self.area_ratio,
+                "named_anchor_level": self.named_anchor_level,
                 "on_body": self.passed, "on_body_reasons": list(self.reasons)}
 
 
@@ -157,6 +168,14 @@ def anchor_reach(pattern: Pattern, mesh: GarmentMesh, *, band: float = ON_BODY.t
     if not len(line):
         return np.full(n, np.inf)
     return dijkstra(graph, directed=False, indices=line, min_only=True)
+
+
+def named_anchor_edges(pattern: Pattern, mesh: GarmentMesh) -> list[tuple[str, str]]:
+    """The (panel, edge) outline edges of the mesh whose names say they are the garment's
+    anchor (:attr:`Pattern.anchor`): "waist" in the name for a garment hung from the waist,
+    "neck" for one hung from the neck; empty when the file names none so (a DXF's e1, e2)."""
+    word = "waist" if pattern.anchor == "waist" else "neck"
+    return [(p, e) for p, e in mesh.edge_names if word in e.lower()]
 
 
 def area_ratio(mesh: GarmentMesh, positions) -> float:
@@ -216,9 +235,26 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
         what = "waist" if anchor == "waist" else "neck base"
         reasons.append(f"garment top {_length(abs(offset))} {where} the {what} it hangs from "
                        f"(limit {_length(s.anchor_tolerance)})")
+    # the anchor line is the garment's top in the frames placement turned upright by the
+    # grain lines: a grain arrow drawn downwards hangs the garment upside down, its hem as
+    # its "top" at the waist, and the line check holds; the edges named for the anchor then
+    # hang at the bottom (a skirt's waist edge round the thighs, a dress's neckline at the
+    # knees)
+    named = named_anchor_edges(pattern, mesh)
+    level = None
+    if named:
+        ids = np.unique(np.concatenate([mesh.edge_vertices(p, e)[0] for p, e in named]))
+        span = float(np.ptp(x[:, 1]))
+        level = float((x[ids, 1].mean() - lowest) / span) if span > 0 else 1.0
+        if level < s.named_anchor_level:
+            names = ", ".join(f"{p}/{e}" for p, e in named)
+            reasons.append(f"upside down: the edges named for the {anchor} ({names}) hang "
+                           f"at {level * 100:.0f}% of the garment's height from its hem, "
+                           f"{_length(float(x[ids, 1].mean()))} high (is a grain line drawn "
+                           "pointing down?)")
     mm = (lambda v: None if v is None else v * 1e3)
     return OnBodyChecks(below, lowest * 1e3, far, farthest * 1e3, anchor, mm(height),
-                        landmark * 1e3, mm(offset), ratio, tuple(reasons))
+                        landmark * 1e3, mm(offset), ratio, tuple(reasons), level)
 
 
 def _length(metres: float) -> str:
