@@ -252,3 +252,22 @@ def test_a_garment_hung_upside_down_fails():
     assert outcome.verdict == "failed"
     upright = api.drape_and_evaluate(skirt, "female_thin", "cotton", triangles=800)
     assert upright.checks["named_anchor_level"] > 0.9 and upright.passed
+
+
+def test_a_garment_turned_round_the_body_fails():
+    """A dress whose explicit placement turns it a quarter round drapes with its front at
+    the side (the neckline a notch on the chest) and passed as "too tight"; its front and
+    back panels now hang 84-92 degrees from their sides and fail."""
+    from patternfit.pattern.model import Placement
+
+    dress = build("dress")
+    turned = {"front": Placement("torso", "front", (0.20, 0.42, 0.0), (0.0, 90.0, 0.0)),
+              "back": Placement("torso", "back", (-0.20, 0.42, 0.0), (0.0, -90.0, 0.0))}
+    dress2 = replace(dress, panels=tuple(replace(p, placement=turned[p.name])
+                                         for p in dress.panels))
+    outcome = api.drape_and_evaluate(dress2, "female_average", "cotton", triangles=1000)
+    checks = outcome.checks
+    assert checks["side_angle_max_deg"] > 60 and not outcome.passed
+    assert any(r.startswith("turned round the body: panel 'front'") for r in checks["reasons"])
+    upright = api.drape_and_evaluate(dress, "female_average", "cotton", triangles=1000)
+    assert upright.checks["side_angle_max_deg"] < 10 and upright.passed

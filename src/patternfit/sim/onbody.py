@@ -53,6 +53,10 @@ class OnBodySettings:
         the anchor height) [m].
     min_area_ratio : float
         A state whose 3D area is below this share of the flat area has collapsed [-].
+    side_angle : float
+        A torso panel facing front or back whose centroid hangs more than this far round
+        the body from its side (:func:`side_angles`) is twisted [degrees] (the built-in
+        garments: at most 5; a dress turned a quarter round: 84 and 92).
     named_anchor_level : float
         The edges named for the anchor (a "waist" or "neck" edge) must hang above this
         share of the garment's height from its lowest point, or it is upside down [-]
@@ -65,6 +69,7 @@ class OnBodySettings:
     anchor_tolerance: float = 0.10
     top_band: float = 0.01
     min_area_ratio: float = 0.5
+    side_angle: float = 60.0
     named_anchor_level: float = 0.5
 
 
@@ -99,6 +104,9 @@ class OnBodyChecks:
     #: hang, as a share of the garment's height from its lowest point (1: at its top) [-];
     #: None without such edges
     named_anchor_level: float | None = None
+    #: the largest of :func:`side_angles` [degrees]; None without torso panels facing
+    #: front or back
+    side_angle_max_deg: float | None = None
 
     @property
     def passed(self) -> bool:
@@ -112,6 +120,7 @@ class OnBodyChecks:
                 "landmark_height_mm": self.landmark_height_mm,
                 "anchor_offset_mm": self.anchor_offset_mm, "area_ratio_3d": self.area_ratio,
                 "named_anchor_level": self.named_anchor_level,
+                "side_angle_max_deg": self.side_angle_max_deg,
                 "on_body": self.passed, "on_body_reasons": list(self.reasons)}
 
 
@@ -178,6 +187,33 @@ def named_anchor_edges(pattern: Pattern, mesh: GarmentMesh) -> list[tuple[str, s
     return [(p, e) for p, e in mesh.edge_names if word in e.lower()]
 
 
+def side_angles(pattern: Pattern, mesh: GarmentMesh, body, positions) -> dict[str, float]:
+    """How far round the body each torso panel facing front or back hangs from its side
+    (:func:`~patternfit.pattern.roles.panel_roles`), in degrees: the angle, seen from above,
+    between the direction from the body's torso axis to the panel's area-weighted centroid
+    (``positions`` (n, 3) [m], y up, the body facing +z) and the side's direction. Panels
+    whose centroid lies within 2 cm of the axis (one wrapped all round) are left out."""
+    roles = panel_roles(pattern)
+    axis = np.asarray(body.landmarks["torso_axis"], dtype=np.float64)[:, [0, 2]].mean(axis=0)
+    out = {}
+    for i, name in enumerate(mesh.panel_names):
+        role = roles[name]
+        if role.part != "torso" or role.side not in ("front", "back"):
+            continue
+        tris = mesh.triangles[mesh.triangle_panel == i]
+        area = triangle_areas(positions, tris)
+        if not area.sum() > 0:
+            continue
+        c = (positions[tris].mean(axis=1) * area[:, None]).sum(axis=0) / area.sum()
+        d = c[[0, 2]] - axis
+        n = float(np.hypot(*d))
+        if n < 0.02:
+            continue
+        want = 1.0 if role.side == "front" else -1.0
+        out[name] = float(np.degrees(np.arccos(np.clip(want * d[1] / n, -1.0, 1.0))))
+    return out
+
+
 def area_ratio(mesh: GarmentMesh, positions) -> float:
     """3D area of ``positions`` (n, 3) [m] over the flat area of ``mesh`` [-] (0 for a mesh
     without area): about 1 for a drape, near 0 for a state collapsed to a point or a line."""
@@ -195,7 +231,9 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     surface (the body's distance field with grid step ``spacing`` [m]) by more than both
     ``far`` and the cloth that ties it to the anchor line (:func:`anchor_reach`), or the
     anchor line (:func:`anchor_line`) ends more than ``anchor_tolerance`` from the height of
-    the body's anchor landmark (:attr:`Pattern.anchor`: waist or neck base). See
+    the body's anchor landmark (:attr:`Pattern.anchor`: waist or neck base), the edges
+    named for the anchor hang in the garment's lower half (upside down), or a torso panel
+    hangs far round the body from the side it faces (:func:`side_angles`). See
     :class:`OnBodySettings` for the thresholds.
     """
     s = settings
@@ -252,9 +290,19 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                            f"at {level * 100:.0f}% of the garment's height from its hem, "
                            f"{_length(float(x[ids, 1].mean()))} high (is a grain line drawn "
                            "pointing down?)")
+    # nor does it see a garment turned round the body (an explicit placement turned a
+    # quarter round hung a dress's front at the side, its neckline a notch on the chest)
+    angles = side_angles(pattern, mesh, body, x)
+    twisted = {k: a for k, a in angles.items() if a > s.side_angle}
+    if twisted:
+        roles = panel_roles(pattern)
+        reasons.append("turned round the body: " + ", ".join(
+            f"panel '{k}' hangs {a:.0f}° from the {roles[k].side}" for k, a in twisted.items())
+            + f" (limit {s.side_angle:g}°)")
     mm = (lambda v: None if v is None else v * 1e3)
     return OnBodyChecks(below, lowest * 1e3, far, farthest * 1e3, anchor, mm(height),
-                        landmark * 1e3, mm(offset), ratio, tuple(reasons), level)
+                        landmark * 1e3, mm(offset), ratio, tuple(reasons), level,
+                        max(angles.values()) if angles else None)
 
 
 def _length(metres: float) -> str:
