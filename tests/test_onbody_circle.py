@@ -43,7 +43,9 @@ def circle(tmp_path_factory):
     body = load_body(BODY)
     r = body.measurements["waist"] * 1.04 / (2 * math.pi)
     big = r + LENGTH
-    names = ["skirt_front_l", "skirt_front_r", "skirt_back_r", "skirt_back_l"]
+    # round the body in the order the cone below lays them (from the front through the
+    # body's left, +x, to the back)
+    names = ["skirt_front_l", "skirt_back_l", "skirt_back_r", "skirt_front_r"]
     panels = {n: _quarter(n, r * 100, big * 100, 15.0 if "front" in n else -15.0)
               for n in names}
     stitches = [[{"panel": names[i], "edge": 2}, {"panel": names[(i + 1) % 4], "edge": 0}]
@@ -59,7 +61,9 @@ def circle(tmp_path_factory):
 def _cone(mesh, body, r, slope_deg):
     """The skirt's 3D state as a cone round the waist: each panel's flat point at radius
     rho [m] from its circle's centre lies ``rho - r`` down the cone's side, the side at
-    ``slope_deg`` from the vertical; panel k covers 90 degrees from 90 k."""
+    ``slope_deg`` from the vertical; panel k covers the quarter centred 90 k + 45 degrees
+    round from the front (+z) towards the body's left (+x): front left, back left, back
+    right, front right, each gore on the side its name says."""
     waist = np.asarray(body.landmarks["waist"], dtype=float)
     centre = np.array([waist[0], body.measurements["waist_height"], waist[2]])
     # the body's waist as a circle of the same girth (the skirt's waist is 4 % wider)
@@ -72,7 +76,7 @@ def _cone(mesh, body, r, slope_deg):
         v = v - [0.5 * (v[:, 0].min() + v[:, 0].max()), 0.0]  # the circle's centre on x = 0
         top = v[:, 1].max() + r * math.sqrt(0.5)  # the centre's height in the flat frame
         rho = np.hypot(v[:, 0], v[:, 1] - top)
-        phi = math.radians(90 * k) + np.arctan2(v[:, 0], top - v[:, 1])
+        phi = math.radians(90 * k + 45) + np.arctan2(v[:, 0], top - v[:, 1])
         s = rho - r
         radial = r_body + s * math.sin(a)
         x[ids] = centre + np.stack([radial * np.sin(phi), -s * math.cos(a),
