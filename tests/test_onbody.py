@@ -267,7 +267,7 @@ def test_a_garment_turned_round_the_body_fails():
                                          for p in dress.panels))
     outcome = api.drape_and_evaluate(dress2, "female_average", "cotton", triangles=1000)
     checks = outcome.checks
-    assert checks["side_angle_max_deg"] > 60 and not outcome.passed
+    assert checks["side_angle_max_deg"] > 80 and not outcome.passed
     assert any(r.startswith("turned round the body: panel 'front'") for r in checks["reasons"])
     upright = api.drape_and_evaluate(dress, "female_average", "cotton", triangles=1000)
     assert upright.checks["side_angle_max_deg"] < 10 and upright.passed

@@ -56,7 +56,8 @@ class OnBodySettings:
     side_angle : float
         A torso panel facing front or back whose centroid hangs more than this far round
         the body from its side (:func:`side_angles`) is twisted [degrees] (the built-in
-        garments: at most 5; a dress turned a quarter round: 84 and 92).
+        garments: at most 5; a dress turned a quarter round: 84 and 92; a gore of a
+        four-gore skirt: 45, and a princess seam's side panel may reach some 60-70).
     named_anchor_level : float
         The edges named for the anchor (a "waist" or "neck" edge) must hang above this
         share of the garment's height from its lowest point, or it is upside down [-]
@@ -69,7 +70,7 @@ class OnBodySettings:
     anchor_tolerance: float = 0.10
     top_band: float = 0.01
     min_area_ratio: float = 0.5
-    side_angle: float = 60.0
+    side_angle: float = 75.0
     named_anchor_level: float = 0.5
 
 
