@@ -271,3 +271,27 @@ def test_a_garment_turned_round_the_body_fails():
     assert any(r.startswith("turned round the body: panel 'front'") for r in checks["reasons"])
     upright = api.drape_and_evaluate(dress, "female_average", "cotton", triangles=1000)
     assert upright.checks["side_angle_max_deg"] < 10 and upright.passed
+
+
+def test_only_a_side_the_name_says_is_checked_round_the_body():
+    """The turned-round check trusts a side that a panel's name says; one read from a
+    placement or inferred from the seams (unnamed gores told front and back in turn) is
+    left out, so a file's own placement of such a panel at the side is not failed."""
+    from patternfit.body.builtin import load_body
+    from patternfit.pattern.model import Seam, SeamSide
+    from patternfit.pattern.roles import panel_roles
+    from patternfit.sim.onbody import side_angles
+
+    dress = build("dress")
+    roles = panel_roles(dress)
+    assert roles["front"].side_named and roles["back"].side_named
+    names = {"front": "panel_one", "back": "panel_two"}
+    side = lambda s: SeamSide(names[s.panel], s.edge, s.start, s.end)  # noqa: E731
+    plain = replace(dress, panels=tuple(replace(p, name=names[p.name]) for p in dress.panels),
+                    seams=tuple(replace(sm, a=side(sm.a), b=side(sm.b)) for sm in dress.seams))
+    roles = panel_roles(plain)
+    assert {r.side for r in roles.values()} == {"front", "back"}
+    assert not any(r.side_named for r in roles.values())
+    mesh = api.mesh_garment(plain, triangles=600)
+    turned = np.c_[mesh.vertices[:, 0] * 0 + 0.3, mesh.vertices[:, 1], mesh.vertices[:, 0]]
+    assert side_angles(plain, mesh, load_body(BODY), turned) == {}

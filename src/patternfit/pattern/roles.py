@@ -75,12 +75,15 @@ class PanelRole:
     """A panel's role: ``kind`` (one of :data:`KINDS`), the body ``part`` it dresses
     (``torso``, ``arm_left``, ``arm_right``, ``leg_left``, ``leg_right``), the ``side`` it
     faces (``front``, ``back``, ``outer`` for a one-piece sleeve centred on the top of the
-    arm; ``left`` or ``right`` for a hood's halves) and ``why``: the evidence, in words."""
+    arm; ``left`` or ``right`` for a hood's halves) and ``why``: the evidence, in words;
+    ``side_named``: the side is the one the panel's name says (FRONT, BK...), not one read
+    from its placement or inferred from its seams."""
 
     kind: str
     part: str
     side: str
     why: str
+    side_named: bool = False
 
 
 def _words(name: str) -> list[str]:
@@ -427,7 +430,9 @@ def panel_roles(pattern) -> dict[str, PanelRole]:
             part = f"{limb}_{_hand(pattern, p, shapes, links, kinds, prefix, sides)}"
         elif kind not in ("sleeve", "cuff", "leg"):
             part = "torso"
-        out[p.name] = PanelRole(kind, part, sides[p.name], why[p.name])
+        out[p.name] = PanelRole(kind, part, sides[p.name], why[p.name],
+                                side_named=sides[p.name] == _side_from_name(p.name,
+                                                                            prefix[p.name]))
     return out
 
 

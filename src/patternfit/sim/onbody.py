@@ -189,17 +189,20 @@ def named_anchor_edges(pattern: Pattern, mesh: GarmentMesh) -> list[tuple[str, s
 
 
 def side_angles(pattern: Pattern, mesh: GarmentMesh, body, positions) -> dict[str, float]:
-    """How far round the body each torso panel facing front or back hangs from its side
-    (:func:`~patternfit.pattern.roles.panel_roles`), in degrees: the angle, seen from above,
-    between the direction from the body's torso axis to the panel's area-weighted centroid
-    (``positions`` (n, 3) [m], y up, the body facing +z) and the side's direction. Panels
-    whose centroid lies within 2 cm of the axis (one wrapped all round) are left out."""
+    """How far round the body each torso panel named for the front or back (its role's
+    ``side_named``, :func:`~patternfit.pattern.roles.panel_roles`) hangs from that side, in
+    degrees: the angle, seen from above, between the direction from the body's torso axis
+    to the panel's area-weighted centroid (``positions`` (n, 3) [m], y up, the body facing
+    +z) and the side's direction. A side read from a placement or inferred from the seams
+    is no evidence (a four-gore skirt's unnamed side gores are told front or back in turn,
+    while a file's own placement may hang them at the sides); panels whose centroid lies
+    within 2 cm of the axis (one wrapped all round) are left out too."""
     roles = panel_roles(pattern)
     axis = np.asarray(body.landmarks["torso_axis"], dtype=np.float64)[:, [0, 2]].mean(axis=0)
     out = {}
     for i, name in enumerate(mesh.panel_names):
         role = roles[name]
-        if role.part != "torso" or role.side not in ("front", "back"):
+        if role.part != "torso" or role.side not in ("front", "back") or not role.side_named:
             continue
         tris = mesh.triangles[mesh.triangle_panel == i]
         area = triangle_areas(positions, tris)
