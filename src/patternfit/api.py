@@ -13,7 +13,6 @@ Lengths are metres, times seconds inside; pattern files state their own units.
 
 from __future__ import annotations
 
-import math
 import time
 from fnmatch import fnmatchcase
 from dataclasses import dataclass, field
@@ -474,9 +473,8 @@ def verdict_rules(*, pressure_max: float | None = None, stretch_limit: float | N
     rules = VerdictRules()
     comfort = None
     if pressure_max is not None:
-        if not (isinstance(pressure_max, (int, float)) and 0 < pressure_max < math.inf):
-            raise ValueError(f"pressure_max: expected a pressure > 0 [kPa], got "
-                             f"{pressure_max!r}")
+        pressure_max = number(pressure_max, "pressure_max", low=0.0, low_open=True,
+                              unit="kPa")
         comfort = min(rules.pressure_comfort_kpa, pressure_max)
     return rules.with_options(pressure_max_kpa=pressure_max, pressure_comfort_kpa=comfort,
                               stretch_limit=stretch_limit, style=style)

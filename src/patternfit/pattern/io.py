@@ -72,16 +72,13 @@ def json_placement(pl, scale: float, *, part: str = "torso", side: str = "front"
     """The placement object ``pl`` of a panel (``part``, ``side``: its defaults; an explicit
     ``translation`` in file units times ``scale``, a ``rotation`` in degrees), refused with
     a :class:`PatternError` at ``where`` when a value is unknown or absurd."""
+    part = json_field(pl, "part", str, "placement", part, **where)
+    side = json_field(pl, "side", str, "placement", side, **where)
+    translation = json_vec3(pl.get("translation"), scale, "placement translation", **where)
+    rotation = json_vec3(pl.get("rotation"), 1.0, "placement rotation", **where)
     try:
-        return Placement(
-            part=json_field(pl, "part", str, "placement", part, **where),
-            side=json_field(pl, "side", str, "placement", side, **where),
-            translation=json_vec3(pl.get("translation"), scale, "placement translation",
-                                  **where),
-            rotation=json_vec3(pl.get("rotation"), 1.0, "placement rotation", **where))
+        return Placement(part, side, translation, rotation)
     except ValueError as e:
-        if isinstance(e, PatternError):
-            raise
         raise PatternError(str(e), **where) from None
 
 

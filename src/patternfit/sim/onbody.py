@@ -54,8 +54,8 @@ class OnBodySettings:
     min_area_ratio : float
         A state whose 3D area is below this share of the flat area has collapsed [-].
     side_angle : float
-        A torso panel facing front or back whose centroid hangs more than this far round
-        the body from its side (:func:`side_angles`) is twisted [degrees] (the built-in
+        A torso panel named for the front or back whose centroid hangs more than this far
+        round the body from that side (:func:`side_angles`) is twisted [degrees] (the built-in
         garments: at most 5; a dress turned a quarter round: 84 and 92; a gore of a
         four-gore skirt: 45, and a princess seam's side panel may reach some 60-70).
     named_anchor_level : float
@@ -105,8 +105,8 @@ class OnBodyChecks:
     #: hang, as a share of the garment's height from its lowest point (1: at its top) [-];
     #: None without such edges
     named_anchor_level: float | None = None
-    #: the largest of :func:`side_angles` [degrees]; None without torso panels facing
-    #: front or back
+    #: the largest of :func:`side_angles` [degrees]; None without torso panels named for
+    #: the front or back
     side_angle_max_deg: float | None = None
 
     @property
@@ -181,7 +181,7 @@ def anchor_reach(pattern: Pattern, mesh: GarmentMesh, *, band: float = ON_BODY.t
 
 
 def named_anchor_edges(pattern: Pattern, mesh: GarmentMesh) -> list[tuple[str, str]]:
-    """The (panel, edge) outline edges of the mesh whose names say they are the garment's
+    """The (panel, edge) boundary edges of the mesh whose names say they are the garment's
     anchor (:attr:`Pattern.anchor`): "waist" in the name for a garment hung from the waist,
     "neck" for one hung from the neck; empty when the file names none so (a DXF's e1, e2)."""
     word = "waist" if pattern.anchor == "waist" else "neck"
@@ -299,10 +299,9 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     angles = side_angles(pattern, mesh, body, x)
     twisted = {k: a for k, a in angles.items() if a > s.side_angle}
     if twisted:
-        roles = panel_roles(pattern)
         reasons.append("turned round the body: " + ", ".join(
-            f"panel '{k}' hangs {a:.0f}° from the {roles[k].side}" for k, a in twisted.items())
-            + f" (limit {s.side_angle:g}°)")
+            f"panel '{k}' hangs {a:.0f}° from the side its name says"
+            for k, a in twisted.items()) + f" (limit {s.side_angle:g}°)")
     mm = (lambda v: None if v is None else v * 1e3)
     return OnBodyChecks(below, lowest * 1e3, far, farthest * 1e3, anchor, mm(height),
                         landmark * 1e3, mm(offset), ratio, tuple(reasons), level,

@@ -20,7 +20,7 @@ import warnings
 
 import numpy as np
 
-from ..arguments import array
+from ..arguments import array, number
 from ..geometry import rotation_between
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
@@ -276,10 +276,8 @@ MAX_CLEARANCE = 0.3
 def checked_clearance(clearance) -> float:
     """``clearance`` [m] as a float, refused with a ``ValueError`` naming it unless
     0 <= clearance <= :data:`MAX_CLEARANCE`."""
-    if not (isinstance(clearance, (int, float)) and 0.0 <= clearance <= MAX_CLEARANCE):
-        raise ValueError(f"clearance: expected a gap between body and panels of 0 to "
-                         f"{MAX_CLEARANCE:g} m, got {clearance!r}")
-    return float(clearance)
+    return number(clearance, "clearance", low=0.0, high=MAX_CLEARANCE,
+                  rule=f"expected a gap between body and panels of 0 to {MAX_CLEARANCE:g} m")
 
 
 def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float = 0.03,

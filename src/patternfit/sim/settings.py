@@ -10,10 +10,14 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from ..arguments import number
 from ..constants import GRAVITY
 
 #: the stopping rules (``SolverSettings.stop``)
 STOP_RULES = ("force", "kinematic")
+#: bounds of the numeric settings besides ">= 0": a time limit above 0 (or infinite), a
+#: share of the stretch stiffness at most 1
+_BOUNDS = {"time_limit": {"low_open": True}, "compression": {"high": 1.0}}
 
 
 @dataclass(frozen=True)
@@ -142,23 +146,15 @@ class SolverSettings:
             if isinstance(f.default, bool):
                 if not isinstance(value, (bool, np.bool_)):
                     raise ValueError(f"{f.name}: expected true or false, got {value!r:.40}")
-            elif isinstance(f.default, int):
-                if isinstance(value, bool) or not isinstance(value, numbers.Integral) \
-                        or value < 0:
+            elif isinstance(f.default, (int, float)):
+                whole = isinstance(f.default, int)
+                if whole and not isinstance(value, numbers.Integral):  # 5.0 is no count
                     raise ValueError(f"{f.name}: expected a whole number >= 0, got "
                                      f"{value!r:.40}")
-            elif isinstance(f.default, float):
-                if isinstance(value, bool) or not isinstance(value, numbers.Real) \
-                        or not 0 <= value < math.inf and not (f.name == "time_limit"
-                                                             and value == math.inf):
-                    raise ValueError(f"{f.name}: expected a number >= 0, got {value!r:.40}")
+                if not (f.name == "time_limit" and value == math.inf):  # no limit
+                    number(value, f.name, low=0.0, integer=whole, **_BOUNDS.get(f.name, {}))
         if self.stop not in STOP_RULES:
             raise ValueError(f"stop: one of {', '.join(STOP_RULES)}, got {self.stop!r:.40}")
-        if not self.time_limit > 0:
-            raise ValueError(f"time_limit: expected a time > 0 [s], got {self.time_limit!r}")
-        if not self.compression <= 1:
-            raise ValueError(f"compression: expected a share of the stretch stiffness from 0 "
-                             f"to 1, got {self.compression!r}")
         g = self.gravity
         if not (isinstance(g, tuple) and len(g) == 3
                 and all(isinstance(c, numbers.Real) and math.isfinite(c) for c in g)):
