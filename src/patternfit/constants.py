@@ -99,7 +99,8 @@ class Limits:
     #: side / shorter side - 1); 1.0 is a 2:1 gather [-]
     seam_ease: float = 1.0
     #: a drape fails with more vertices inside the body (deeper than
-    #: :attr:`Tolerances.penetration`) than this [-] ...
+    #: :attr:`Tolerances.penetration`), or more edges through it between their vertices,
+    #: than this [-] ...
     body_penetrations: int = 0
     #: ... or more triangle pairs crossing each other than this [-]: GarmentCode's dataset
     #: rejects above 35 body and 300 self intersections; a drape at rest here has none

@@ -82,7 +82,8 @@ def print_drape_checks(report: dict) -> None:
     c = report["checks"]
     verdict = "[green]passed[/]" if c["passed"] else "[bold red]FAILED[/]"
     console.print(f"checks {verdict}: {c['inside_vertices']} vertices inside the body "
-                  f"(deepest {num(c['max_depth_mm'], '.2f')} mm), seam gap "
+                  f"(deepest {num(c['max_depth_mm'], '.2f')} mm), "
+                  f"{c.get('edges_in_body', 0)} edges through it, seam gap "
                   f"{num(c['seam_gap_max_mm'], '.2f')} mm, {c['self_intersections']} "
                   f"self-intersections, equilibrium {c['equilibrium']} "
                   f"({c['stop_reason']}); {report['timing']['iterations']} iterations in "

@@ -123,6 +123,9 @@ def solver_reasons(checks, stop_reason: str | None = None) -> list[str]:
     if checks.inside_vertices > limits.body_penetrations:
         out.append(f"{checks.inside_vertices} vertices inside the body (deepest "
                    f"{checks.max_depth_mm:.1f} mm; limit {limits.body_penetrations})")
+    if checks.edges_in_body > limits.body_penetrations:
+        out.append(f"{checks.edges_in_body} cloth edges through the body between their "
+                   f"vertices (limit {limits.body_penetrations})")
     if not checks.seam_gap_max_mm < limits.seam_gap_mm:
         out.append(f"seams open by up to {checks.seam_gap_max_mm:.1f} mm")
     if checks.self_intersections > limits.self_intersections:

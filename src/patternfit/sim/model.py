@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..arguments import array
 from ..body.sdf import DistanceField
@@ -27,6 +28,58 @@ from .bending_friction import BendingFriction
 from .energies import MeshTerms, build_terms
 from .fabrics import Fabric, get_fabric
 from .settings import SolverSettings
+
+
+@dataclass(frozen=True, eq=False)
+class EdgePoints:
+    """Body contact points inside the cloth's edges: point ``k`` lies at ``w[k, 0] x[ids[k,
+    0]] + w[k, 1] x[ids[k, 1]]``; its contact force is shared by its two vertices with the
+    same weights.
+
+    Attributes
+    ----------
+    ids : (p, 2) int
+        The two solved vertices of each point's edge.
+    w : (p, 2) float
+        Their weights (positive, summing to 1).
+    matrix : (p, n) sparse CSR
+        Positions (p, 3) [m] = ``matrix @ x``; forces on the vertices = ``matrix.T @ f``.
+    share : (p,) float
+        Each point's share of its vertices' contact stiffness, 1 / (points on its edge +
+        1): an edge's points together are as stiff as one of its vertices at most, so
+        that the vertices keep most of the load where the cloth lies flat on the body.
+    """
+
+    ids: np.ndarray
+    w: np.ndarray
+    matrix: sp.csr_matrix
+    share: np.ndarray
+
+    def stiffness(self, contact_k) -> np.ndarray:
+        """Contact stiffness (p,) [N/m] of the points, from their vertices' ``contact_k``
+        (n,) [N/m]."""
+        return self.share * (self.matrix @ contact_k)
+
+    def to_vertices(self, values) -> np.ndarray:
+        """Each vertex's weighted share (n,) of the points' ``values`` (p,)."""
+        return self.matrix.T @ values
+
+    @classmethod
+    def of(cls, edges, lengths, spacing: float, n: int) -> "EdgePoints":
+        """Points inside each of ``edges`` (e, 2) (over ``n`` vertices) of rest ``lengths``
+        (e,) [m], evenly spaced at most ``spacing`` [m] apart (none for ``spacing`` 0)."""
+        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+        count = (np.zeros(len(edges), np.int64) if spacing <= 0 else
+                 np.maximum(np.ceil(np.asarray(lengths) / spacing).astype(np.int64) - 1, 0))
+        owner = np.repeat(np.arange(len(edges)), count)
+        # j / (count + 1) of the way along, j = 1 ... count
+        j = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count) + 1
+        t = j / (count[owner] + 1.0)
+        ids = edges[owner]
+        w = np.c_[1.0 - t, t]
+        rows = np.repeat(np.arange(len(ids)), 2)
+        matrix = sp.csr_matrix((w.ravel(), (rows, ids.ravel())), shape=(len(ids), n))
+        return cls(ids, w, matrix, 1.0 / (count[owner] + 1.0))
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +117,9 @@ class ClothModel:
     edges : (e, 2) int
         Unique edges in solved vertices.
     """
+
+    #: edge contact points by spacing (:meth:`edge_points`), made on first use
+    _edge_points: dict = field(init=False, default_factory=dict, repr=False)
 
     rest: np.ndarray
     triangles: np.ndarray
@@ -189,6 +245,27 @@ class ClothModel:
         return float(np.linalg.norm(x_red[a] - x_red[b], axis=1).max())
 
     # ------------------------------------------------ distances that depend on the settings
+    def edge_points(self, spacing: float) -> "EdgePoints":
+        """Contact points inside the edges, evenly spaced at most ``spacing`` [m] apart
+        along the edges' rest lengths (:class:`EdgePoints`); made once per spacing."""
+        if spacing not in self._edge_points:
+            self._edge_points[spacing] = EdgePoints.of(self.edges, self.rest_lengths(),
+                                                       spacing, self.n)
+        return self._edge_points[spacing]
+
+    def rest_lengths(self) -> np.ndarray:
+        """Rest length (e,) [m] of each of :attr:`edges` (the flat pattern's; a seam edge
+        sewn from two sides: the longer)."""
+        flat = unique_edges(self.triangles)
+        length = np.linalg.norm(self.rest[flat[:, 0]] - self.rest[flat[:, 1]], axis=1)
+        solved = np.sort(self.group[self.vertex_map][flat], axis=1)
+        n = self.n
+        keys = self.edges[:, 0] * n + self.edges[:, 1]  # sorted (unique_edges)
+        at = np.minimum(np.searchsorted(keys, solved[:, 0] * n + solved[:, 1]), len(keys) - 1)
+        out = np.zeros(len(keys))
+        np.maximum.at(out, at, length)
+        return out
+
     def reach(self, settings: SolverSettings) -> float:
         """Distance kept from the body [m]."""
         return max(self.fabric.thickness, settings.contact_margin)

@@ -20,7 +20,7 @@ from .energies import spring_matrix
 from .model import ClothModel
 from .settings import SolverSettings
 from .state import MAX_CONTACT_SCALE, ContactState
-from .total_energy import ContactLookups, distance, energy
+from .total_energy import ContactLookups, distance, edge_points, energy
 
 
 def set_springs(model: ClothModel, state: ContactState, *, settings: SolverSettings,
@@ -77,15 +77,19 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         state.contact_scale = saved_contact_scale(model, state, x, settings=s)
     if model.body is not None:
         d, g = distance(model, x)
+        pts = edge_points(model, s)
+        d_pts = distance(model, pts.matrix @ x)[0]
         if not frozen:
-            # a vertex found inside the body (or deeper than half the contact margin, where
-            # the true surface may lie) gets a stiffer contact (x4, up to 4^6)
-            inside = d < model.floor(s)
+            inside = too_deep(model, d, d_pts, settings=s)
             state.contact_scale[inside] = np.minimum(state.contact_scale[inside] * 4.0,
                                                      MAX_CONTACT_SCALE)
         state.contact_k = contact_k(model, state, s)
         near = d < reach + s.contact_band
         diag[near] = s.contact_precond * state.contact_k[near]
+        on = d_pts < reach + s.contact_band
+        w = pts.w[on]
+        k = pts.stiffness(state.contact_k)[on]
+        np.add.at(diag, pts.ids[on].ravel(), (s.contact_precond * k[:, None] * w * w).ravel())
     else:
         state.contact_k = contact_k(model, state, s)
     if frozen:
@@ -94,12 +98,24 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
                              or moved_since_pairs(model, state, x, settings=s)):
         find_pairs(model, state, x, settings=s, newton=newton)
     if model.body is not None and friction_on and model.fabric.friction > 0:
+        # the Coulomb limit of a vertex is mu times the normal force it carries: its own
+        # contact's and its share of its edges' points' (with the vertices' alone, a tight
+        # 900-triangle skirt whose edge points took the load slid off the hips)
         pen = reach - d
-        idx = np.flatnonzero((pen > 0) & model.free)
+        normal = np.zeros(n)
+        normal[pen > 0] = kernels.contact_forces(pen[pen > 0], state.contact_k[pen > 0],
+                                                 s.contact_onset)[0]
+        pen_pts = reach - d_pts
+        on = pen_pts > 0
+        if on.any():
+            f_pts = np.zeros(len(pen_pts))
+            f_pts[on] = kernels.contact_forces(pen_pts[on], pts.stiffness(state.contact_k)[on],
+                                               s.contact_onset)[0]
+            normal += pts.to_vertices(f_pts)
+        idx = np.flatnonzero((normal > 0) & model.free)
         nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
         state.friction_normal = np.ascontiguousarray(nrm)
-        state.friction_limit = model.fabric.friction * kernels.contact_forces(
-            pen[idx], state.contact_k[idx], s.contact_onset)[0]
+        state.friction_limit = model.fabric.friction * normal[idx]
         # the gradient of every other term (friction is off here): what friction holds
         held = energy(model, state, x, settings=s, lookups=lookups)[1][idx] if hold else None
         state.friction_anchor = anchors(state, x, idx, nrm, held, settings=s)
@@ -271,10 +287,22 @@ def moved_since_pairs(model: ClothModel, state: ContactState, x, *,
 
 def can_stiffen(model: ClothModel, state: ContactState, x, *,
                 settings: SolverSettings) -> bool:
-    """Whether a vertex is inside the body (or deeper than half the contact margin) at solved
-    positions ``x`` (n, 3) [m] with its contact stiffness not yet at the cap."""
+    """Whether a vertex or edge point is inside the body (or deeper than half the contact
+    margin) at solved positions ``x`` (n, 3) [m] with the contact stiffness of its vertex
+    not yet at the cap (:func:`too_deep`)."""
     if model.body is None:
         return False
-    d, _ = distance(model, x)
-    return bool(((d < model.floor(settings))
+    d_pts = distance(model, edge_points(model, settings).matrix @ x)[0]
+    return bool((too_deep(model, distance(model, x)[0], d_pts, settings=settings)
                  & (state.contact_scale < MAX_CONTACT_SCALE)).any())
+
+
+def too_deep(model: ClothModel, d, d_pts, *, settings: SolverSettings) -> np.ndarray:
+    """Vertices (n,) bool whose contact is to be stiffened (x4, up to 4^6): those inside the
+    body or deeper than half the contact margin, where the true surface may lie (their
+    distances ``d`` (n,) [m]), and the two of every edge contact point found there (``d_pts``
+    (p,) [m])."""
+    floor = model.floor(settings)
+    out = d < floor
+    out[edge_points(model, settings).ids[d_pts < floor].ravel()] = True
+    return out

@@ -146,13 +146,16 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
         if not keep:
             state.contact_scale = np.ones(model.n)
             state.anchor_of = np.full((model.n, 3), np.nan)
+        # at the weld the vertices are numbered anew: the stiffness of the old numbering
+        # would be read until the next refresh (the energy returned at a stop_at_weld was)
+        state.contact_k = outer_updates.contact_k(model, state, s)
         if not keep_lagged:
             state.friction_idx = np.zeros(0, np.int64)
             state.pairs = np.zeros((0, 2), np.int64)
             state.edge_pairs = np.zeros((0, 2), np.int64)
             state.pairs_x = None
         # contact lookups start afresh (the reach may differ from the last solve's)
-        lookups = ContactLookups.fresh(model.n)
+        lookups = ContactLookups.for_model(model, s)
         set_springs(k_seam)
         return x_red
 

@@ -25,21 +25,35 @@ from .state import ContactState
 class ContactLookups:
     """Where each vertex's body distance was last looked up, ``seen`` (n, 3) [m], and how far
     it may move from there and still be out of contact, ``room`` (n,) [m]
-    (``kernels.contact``). It only spares lookups: an energy computed with it equals one
-    computed with fresh lookups, bit for bit."""
+    (``kernels.contact``); ``edge_seen`` (p, 3) and ``edge_room`` (p,) the same for the
+    edge contact points (:meth:`ClothModel.edge_points`). It only spares lookups: an energy
+    computed with it equals one computed with fresh lookups, bit for bit."""
 
     seen: np.ndarray
     room: np.ndarray
+    edge_seen: np.ndarray
+    edge_room: np.ndarray
 
     @classmethod
-    def fresh(cls, n: int) -> "ContactLookups":
-        """No lookup made yet for ``n`` vertices."""
-        return cls(np.full((n, 3), np.inf), np.zeros(n))
+    def fresh(cls, n: int, points: int = 0) -> "ContactLookups":
+        """No lookup made yet for ``n`` vertices and ``points`` edge contact points."""
+        return cls(np.full((n, 3), np.inf), np.zeros(n), np.full((points, 3), np.inf),
+                   np.zeros(points))
+
+    @classmethod
+    def for_model(cls, model: ClothModel, settings: SolverSettings) -> "ContactLookups":
+        """No lookup made yet for ``model``'s vertices and edge contact points."""
+        return cls.fresh(model.n, len(edge_points(model, settings).ids))
 
     def unspared(self, x) -> np.ndarray:
         """Indices (k,) of the vertices at ``x`` (n, 3) [m] that ``kernels.contact`` would
         look up (``kernels.unspared``, its own test): every other one is out of contact."""
         return kernels.unspared(x, self.seen, self.room)
+
+
+def edge_points(model: ClothModel, settings: SolverSettings):
+    """The edge contact points of ``model`` under ``settings.edge_contact``."""
+    return model.edge_points(settings.edge_contact)
 
 
 def distance(model: ClothModel, x):
@@ -61,7 +75,7 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
     t = model.terms
     fab = model.fabric
     if lookups is None and model.body is not None:
-        lookups = ContactLookups.fresh(len(x))
+        lookups = ContactLookups.for_model(model, settings)
     grad = np.zeros_like(x)
     e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, fab.stretch_warp, fab.stretch_weft,
                          fab.shear, settings.compression, grad)
@@ -76,6 +90,15 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
                              model.reach(settings), state.contact_k, settings.contact_onset,
                              lookups.seen,
                              lookups.room, grad)
+        pts = edge_points(model, settings)
+        if len(pts.ids):
+            # a point's stiffness is a share of its vertices', its force theirs (weighted)
+            fp = np.zeros((len(pts.ids), 3))
+            e += kernels.contact(pts.matrix @ x, body.values, body.origin, body.spacing,
+                                 model.reach(settings), pts.stiffness(state.contact_k),
+                                 settings.contact_onset, lookups.edge_seen,
+                                 lookups.edge_room, fp)
+            grad += pts.matrix.T @ fp
     if len(state.friction_idx):
         e += kernels.friction(x, state.friction_idx, state.friction_anchor,
                               state.friction_normal, state.friction_limit,
@@ -171,6 +194,9 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         _, k_on = kernels.contact_forces(model.reach(s) - d[hit], state.contact_k[on],
                                          s.contact_onset)
         blocks[on] += k_on[:, None, None] * g[hit, :, None] * g[hit, None, :]
+        points = edge_contact_hessian(model, state, x, settings=s, lookups=lookups)
+    else:
+        points = None
     if len(state.friction_idx):
         idx, nrm = state.friction_idx, state.friction_normal
         P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
@@ -186,9 +212,9 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
     H = sp.csr_matrix((data, pattern.indices, pattern.indptr), shape=(n3, n3))
     if model.bend_friction is not None:
         H = H + model.bend_friction.hessian(x, n)
-    extra = pair_hessian(model, state, x, settings=s)
-    if extra is not None:
-        H = H + extra
+    for extra in (points, pair_hessian(model, state, x, settings=s)):
+        if extra is not None:
+            H = H + extra
     if not model.free.all():
         fd = np.repeat(model.free, 3).astype(float)
         H = (sp.diags(fd) @ H @ sp.diags(fd) + sp.diags(1.0 - fd)).tocsr()
@@ -218,8 +244,34 @@ def pair_hessian(model: ClothModel, state: ContactState, x, *, settings: SolverS
         if on.any():
             parts.append((ids[on], w[on], state.edge_normal[on],
                           state.contact_k[ids[on]].mean(axis=1)))
-    if not parts:
+    return weighted_blocks(parts, model.n) if parts else None
+
+
+def edge_contact_hessian(model: ClothModel, state: ContactState, x, *,
+                         settings: SolverSettings, lookups: ContactLookups | None = None):
+    """Hessian (3n x 3n CSR) [N/m] of the edge points' body contact (k w w^T g g^T, g the
+    field's gradient) at solved positions ``x`` (n, 3) [m], or None when no point is in
+    contact. ``lookups``: the energy's cache (read only)."""
+    s = settings
+    pts = edge_points(model, s)
+    if not len(pts.ids):
         return None
+    p = pts.matrix @ x
+    near = (np.arange(len(p)) if lookups is None
+            else kernels.unspared(p, lookups.edge_seen, lookups.edge_room))
+    d, g = distance(model, p[near])
+    hit = d < model.reach(s)
+    if not hit.any():
+        return None
+    on = near[hit]
+    k = pts.stiffness(state.contact_k)[on]
+    _, k_on = kernels.contact_forces(model.reach(s) - d[hit], k, s.contact_onset)
+    return weighted_blocks([(pts.ids[on], pts.w[on], g[hit], k_on)], model.n)
+
+
+def weighted_blocks(parts, n: int) -> sp.csr_matrix:
+    """Sum (3n x 3n CSR) of the rank-one terms k (w (x) v)(w (x) v)^T of ``parts``: tuples
+    (ids (p, j) vertices, w (p, j) their weights, v (p, 3) a direction, k (p,) [N/m])."""
     rows, cols, vals = [], [], []
     for ids, w, nrm, k in parts:
         dof = (3 * ids[:, :, None] + np.arange(3)).reshape(len(ids), -1)
@@ -227,6 +279,6 @@ def pair_hessian(model: ClothModel, state: ContactState, x, *, settings: SolverS
         rows.append(np.repeat(dof, dof.shape[1], axis=1).ravel())
         cols.append(np.tile(dof, (1, dof.shape[1])).ravel())
         vals.append((k[:, None, None] * wn[:, :, None] * wn[:, None, :]).ravel())
-    n3 = 3 * model.n
+    n3 = 3 * n
     return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
                                                  np.concatenate(cols))), shape=(n3, n3))

@@ -1,0 +1,113 @@
+"""Body contact between the vertices: the edge contact points (``SolverSettings.edge_contact``,
+``ClothModel.edge_points``) and the count of edges through the body
+(``sim.checks.edges_in_body``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from patternfit.sim.checks import drape_checks, edges_in_body
+from patternfit.sim.model import EdgePoints
+from patternfit.sim.settings import SolverSettings
+from patternfit.sim.solver import GarmentSolver
+from patternfit.sim.total_energy import energy, hessian, hessian_pattern
+
+from scenes import grain_at, sphere_field
+
+R = 0.05
+
+
+def _square_on_sphere(depth, spacing):
+    """Two triangles (a 6 cm square) lying across the top of a sphere of radius R, the
+    square's centre ``depth`` [m] inside it: the corners are 13 mm clear, only the points
+    of the diagonal edge near the centre are inside."""
+    v = np.array([[-0.03, -0.03], [0.03, -0.03], [0.03, 0.03], [-0.03, 0.03]])
+    t = np.array([[0, 1, 2], [0, 2, 3]])
+    x = np.c_[v[:, 0], np.full(4, R - depth), v[:, 1]]
+    solver = GarmentSolver(v, t, grain_at(0, 2), "cotton_shirting",
+                           body=sphere_field(R, half=0.1, h=0.0025),
+                           settings=SolverSettings(max_iterations=0, edge_contact=spacing))
+    return solver, x
+
+
+def test_points_are_evenly_spaced_inside_each_edge_and_weighted_by_where_they_lie():
+    pts = EdgePoints.of(np.array([[0, 1], [1, 2], [2, 3]]), np.array([0.025, 0.01, 0.031]),
+                        0.01, 4)
+    # 2.5 cm -> 2 points, 1 cm -> none (its ends are 1 cm apart), 3.1 cm -> 3 points
+    np.testing.assert_array_equal(pts.ids, [[0, 1], [0, 1], [2, 3], [2, 3], [2, 3]])
+    np.testing.assert_allclose(pts.w[:, 1], [1 / 3, 2 / 3, 0.25, 0.5, 0.75])
+    np.testing.assert_allclose(pts.w.sum(axis=1), 1.0)
+    x = np.random.default_rng(0).normal(size=(4, 3))
+    np.testing.assert_allclose(pts.matrix @ x, pts.w[:, :1] * x[pts.ids[:, 0]]
+                               + pts.w[:, 1:] * x[pts.ids[:, 1]])
+    assert not len(EdgePoints.of(np.array([[0, 1]]), np.array([0.05]), 0.0, 2).ids)
+
+
+def test_an_edge_across_the_body_is_pushed_out_though_its_vertices_are_clear():
+    """Vertices alone feel nothing; the edge points push, with the gradient of the energy
+    (finite differences) and a Hessian that is its derivative (a sphere's field is not
+    planar, so the check is on the normal direction the contact's Gauss-Newton term
+    models)."""
+    off, x = _square_on_sphere(0.003, 0.0)
+    on, _ = _square_on_sphere(0.003, 0.01)
+    off.solve(x)  # (max_iterations 0: sets the contact state up at x)
+    on.solve(x)
+    e_off, g_off = energy(off.model, off.state, x, settings=off.settings)
+    e_on, g_on = energy(on.model, on.state, x, settings=on.settings)
+    assert e_on > e_off
+    push = (g_off - g_on)[:, 1]  # the contact's extra force, upwards on every vertex
+    assert (push[[0, 2]] > 0).all()  # the diagonal's ends carry it
+    h = 1e-7
+    fd = np.zeros_like(x)
+    for i in range(4):
+        for c in range(3):
+            xp, xm = x.copy(), x.copy()
+            xp[i, c] += h
+            xm[i, c] -= h
+            fd[i, c] = (energy(on.model, on.state, xp, settings=on.settings)[0]
+                        - energy(on.model, on.state, xm, settings=on.settings)[0]) / (2 * h)
+    np.testing.assert_allclose(g_on, fd, atol=1e-6 * np.abs(g_on).max())
+    # along the vertical (the field's normal at the top) the Hessian is the gradient's
+    # derivative: the contact's part of it
+    H_on = hessian(on.model, on.state, x, settings=on.settings,
+                   pattern=hessian_pattern(on.model)).toarray()
+    H_off = hessian(off.model, off.state, x, settings=off.settings,
+                    pattern=hessian_pattern(off.model)).toarray()
+    up = np.zeros((4, 3))
+    up[:, 1] = 1.0
+    dg = (energy(on.model, on.state, x + h * up, settings=on.settings)[1]
+          - energy(on.model, on.state, x - h * up, settings=on.settings)[1]
+          - energy(off.model, off.state, x + h * up, settings=off.settings)[1]
+          + energy(off.model, off.state, x - h * up, settings=off.settings)[1]) / (2 * h)
+    np.testing.assert_allclose(((H_on - H_off) @ up.ravel()).reshape(4, 3)[:, 1], dg[:, 1],
+                               rtol=0.05)
+
+
+def test_edges_through_the_body_are_counted_and_fail_the_checks():
+    solver, x = _square_on_sphere(0.003, 0.0)
+    assert edges_in_body(solver.model, x) == 1  # the diagonal; the sides are clear
+    checks = drape_checks(solver.model, x, settings=solver.settings, converged=True)
+    assert checks.inside_vertices == 0 and checks.edges_in_body == 1
+    assert not checks.passed and checks.to_dict()["edges_in_body"] == 1
+    # 0.5 mm deep is within the tolerance a vertex gets too
+    solver, x = _square_on_sphere(0.0005, 0.0)
+    assert edges_in_body(solver.model, x) == 0
+
+
+@pytest.mark.parametrize("spacing", [0.0, 0.01])
+def test_a_coarse_coat_keeps_the_body_out_between_its_vertices(spacing):
+    """The 1.5K coat on male_average: with contact at the vertices alone its edges cut
+    into the arms and shoulders (some 200 edges, up to 15 mm), and its checks now say so;
+    with the edge points none does."""
+    from patternfit import api
+
+    out = api.drape_and_evaluate("coat", "male_average", triangles=1500,
+                                 settings=SolverSettings(edge_contact=spacing))
+    checks = out.extra["checks"]
+    if spacing:
+        assert checks["edges_in_body"] == 0 and checks["inside_vertices"] == 0
+        assert checks["passed"], checks["reasons"]
+    else:
+        assert checks["edges_in_body"] > 50 and not checks["passed"]
+        assert any("edges through the body" in r for r in checks["reasons"])
