@@ -10,12 +10,13 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from patternfit.sim import kernels
 from patternfit.sim.model import ClothModel
 from patternfit.sim.preconditioners import Factors, newton_preconditioner
 from patternfit.sim.settings import SolverSettings
 from patternfit.sim.solver import GarmentSolver, solve
 from patternfit.sim.state import ContactState
-from patternfit.sim.total_energy import (ContactLookups, energy, hessian, hessian_pattern,
+from patternfit.sim.total_energy import (ContactLookups, edge_points, energy, hessian, hessian_pattern,
                                          pair_hessian)
 
 from scenes import grain_at, rect_mesh, sphere_field
@@ -98,7 +99,7 @@ def test_energy_is_pure(scene, request):
     snap = _snapshot(state)
     rest, mass = model.rest.copy(), model.mass.copy()
     e1, g1 = energy(model, state, x, settings=s)
-    lookups = ContactLookups.fresh(model.n)
+    lookups = ContactLookups.for_model(model, s)
     e2, g2 = energy(model, state, x, settings=s, lookups=lookups)
     e3, g3 = energy(model, state, x, settings=s, lookups=lookups)  # the cache now warm
     assert e1 == e2 == e3 and np.isfinite(e1)
@@ -111,7 +112,10 @@ def test_energy_is_pure(scene, request):
     H2 = hessian(model, state, x, settings=s, pattern=hessian_pattern(model))
     assert (H1 != H2).nnz == 0 and H1.shape == (3 * model.n, 3 * model.n)
     # the warm lookups spare distance lookups (on the body), not one entry of the Hessian
-    assert model.body is None or 0 < len(lookups.unspared(x)) < model.n
+    pts = edge_points(model, s).matrix @ x
+    looked = len(lookups.unspared(x)) + len(kernels.unspared(pts, lookups.edge_seen,
+                                                             lookups.edge_room))
+    assert model.body is None or 0 < looked < model.n + len(pts)
     H3 = hessian(model, state, x, settings=s, pattern=hessian_pattern(model), lookups=lookups)
     assert np.array_equal(H1.indptr, H3.indptr) and np.array_equal(H1.indices, H3.indices)
     assert np.array_equal(H1.data, H3.data)

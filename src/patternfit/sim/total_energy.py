@@ -2,7 +2,7 @@
 functions of the cloth model, the contact state and the positions (SI units: m, N, J).
 
 Energy (METHOD.md section 5): membrane + bending + gravity and external forces + body
-contact + lagged friction + seam springs + lagged self-repulsion (vertex-triangle and
+contact (at the vertices and at points inside the edges) + lagged friction + seam springs + lagged self-repulsion (vertex-triangle and
 edge-edge). Nothing here writes the model or the state; the rest-shape terms come from
 ``energies.py``, each term's loop from ``kernels/energy_terms.py``.
 """
@@ -76,6 +76,12 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
     fab = model.fabric
     if lookups is None and model.body is not None:
         lookups = ContactLookups.for_model(model, settings)
+    elif lookups is not None and (len(lookups.room), len(lookups.edge_room)) != (
+            len(x), len(edge_points(model, settings).ids)):
+        # the kernel writes them unchecked
+        raise ValueError(f"lookups: made for {len(lookups.room)} vertices and "
+                         f"{len(lookups.edge_room)} edge points, not this model's "
+                         "(ContactLookups.for_model)")
     grad = np.zeros_like(x)
     e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, fab.stretch_warp, fab.stretch_weft,
                          fab.shear, settings.compression, grad)
