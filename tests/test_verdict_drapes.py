@@ -129,9 +129,9 @@ def test_a_too_tight_region_is_let_out_until_it_is_no_longer_too_tight():
     from patternfit.loop.session import DesignSession
 
     # measured (1K triangles, 2-core CPU, 4 s): a size S skirt on the heavy woman in
-    # shirting reads ϖ 99.8 % (the paper's fit) with its waist pressed at 2.63 kPa (too
-    # tight); two let-outs of its side seams (0.3 cm a corner each) bring it to 2.01 and
-    # 1.52 kPa: tight, no longer too tight
+    # shirting reads ϖ 99.7 % (the paper's fit) with its waist pressed at 3.18 kPa (too
+    # tight); two let-outs of its side seams bring it to 2.74 and 1.69 kPa: tight, no
+    # longer too tight
     pattern = build("skirt", "S")
     session = DesignSession(pattern, load_body("female_heavy"), "cotton_shirting", 1000)
     out = correct(session, settings=CorrectionSettings(max_iterations=4))

@@ -19,7 +19,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from ..body.measure import Loop, cross_section
 from ..body.sdf import DistanceField
-from ..geometry import triangle_areas
+from ..geometry import triangle_areas, unique_edges
 from .body_regions import REGIONS, body_regions
 from .lengths import limb_ends
 from .pressure import force_balance_pressure, grain_coefficients
@@ -368,6 +368,25 @@ def ease(triangles, positions, body) -> dict[str, Section]:
     return out
 
 
+def resting(x, triangles, d, field: DistanceField, limit: float) -> np.ndarray:
+    """Vertices (n,) bool resting on the body at ``x`` (n, 3) [m]: nearer its surface than
+    ``limit`` [m] (their distances ``d`` (n,) [m]), or with the half of an edge next to them
+    that near (looked up at a sixth, a third and half of the way along; the solver's contact
+    acts inside the edges too, and a vertex whose edges rest on the body carries their load:
+    a 1K skirt's waist is a polygon that touches the body along its sides, its corners some
+    mm off)."""
+    out = d < limit
+    e = unique_edges(triangles)
+    if not len(e):
+        return out
+    for a, b in ((0, 1), (1, 0)):
+        near = np.zeros(len(e), bool)
+        for frac in (1.0 / 6.0, 1.0 / 3.0, 0.5):
+            near |= field.query(x[e[:, a]] * (1.0 - frac) + x[e[:, b]] * frac)[0] < limit
+        out[e[near, a]] = True
+    return out
+
+
 def fit_measures(mesh, positions, body, fabric, body_field: DistanceField | None = None, *,
                  reach: float) -> FitMeasures:
     """Gap, pressure, ease and body regions of a garment ``mesh`` (a
@@ -382,7 +401,7 @@ def fit_measures(mesh, positions, body, fabric, body_field: DistanceField | None
     a = vertex_areas(t, x)
     d, grad = f.query(x)
     normals = grad / np.maximum(np.linalg.norm(grad, axis=1), 1e-12)[:, None]
-    contact = d < reach + CONTACT_SLACK
+    contact = resting(x, t, d, f, reach + CONTACT_SLACK)
     cu, cv = grain_coefficients(mesh.vertices, t, mesh.grain[mesh.triangle_panel])
     p = force_balance_pressure(x, t, cu, cv, triangle_areas(mesh.vertices, t), fabric,
                                normals, a, contact)

@@ -99,21 +99,26 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         find_pairs(model, state, x, settings=s, newton=newton)
     if model.body is not None and friction_on and model.fabric.friction > 0:
         # the Coulomb limit of a vertex is mu times the normal force it carries: its own
-        # contact's and its share of its edges' points' (with the vertices' alone, a tight
-        # 900-triangle skirt whose edge points took the load slid off the hips)
+        # contact's and its share of its edges' points' (with its own alone, a tight
+        # 900-triangle skirt, whose polygon touches the hips at its edges' middles, slid
+        # off), and it acts across that force's direction (a vertex 2-5 cm off the feet
+        # of too long trousers, held across its own field normal against the push of its
+        # edge points on the foot, was re-anchored at every update and never balanced)
         pen = reach - d
-        normal = np.zeros(n)
-        normal[pen > 0] = kernels.contact_forces(pen[pen > 0], state.contact_k[pen > 0],
-                                                 s.contact_onset)[0]
+        own = pen > 0
+        push = np.zeros((n, 3))
+        push[own] = kernels.contact_forces(pen[own], state.contact_k[own],
+                                           s.contact_onset)[0][:, None] * g[own]
         pen_pts = reach - d_pts
         on = pen_pts > 0
         if on.any():
-            f_pts = np.zeros(len(pen_pts))
-            f_pts[on] = kernels.contact_forces(pen_pts[on], pts.stiffness(state.contact_k)[on],
-                                               s.contact_onset)[0]
-            normal += pts.to_vertices(f_pts)
+            f_pts = kernels.contact_forces(pen_pts[on], pts.stiffness(state.contact_k)[on],
+                                           s.contact_onset)[0]
+            g_pts = distance(model, pts.matrix[on] @ x)[1]
+            push += pts.matrix[on].T @ (f_pts[:, None] * g_pts)
+        normal = np.linalg.norm(push, axis=1)
         idx = np.flatnonzero((normal > 0) & model.free)
-        nrm = g[idx] / np.maximum(np.linalg.norm(g[idx], axis=1, keepdims=True), 1e-12)
+        nrm = push[idx] / normal[idx, None]
         state.friction_normal = np.ascontiguousarray(nrm)
         state.friction_limit = model.fabric.friction * normal[idx]
         # the gradient of every other term (friction is off here): what friction holds
