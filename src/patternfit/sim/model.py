@@ -44,21 +44,16 @@ class EdgePoints:
         Their weights (positive, summing to 1).
     matrix : (p, n) sparse CSR
         Positions (p, 3) [m] = ``matrix @ x``; forces on the vertices = ``matrix.T @ f``.
-    share : (p,) float
-        Each point's share of its vertices' contact stiffness, 1 / (points on its edge +
-        1): an edge's points together are as stiff as one of its vertices at most, so
-        that the vertices keep most of the load where the cloth lies flat on the body.
     """
 
     ids: np.ndarray
     w: np.ndarray
     matrix: sp.csr_matrix
-    share: np.ndarray
 
     def stiffness(self, contact_k) -> np.ndarray:
-        """Contact stiffness (p,) [N/m] of the points, from their vertices' ``contact_k``
-        (n,) [N/m]."""
-        return self.share * (self.matrix @ contact_k)
+        """Contact stiffness (p,) [N/m] of the points: their vertices' ``contact_k`` (n,)
+        [N/m], weighted."""
+        return self.matrix @ contact_k
 
     def to_vertices(self, values) -> np.ndarray:
         """Each vertex's weighted share (n,) of the points' ``values`` (p,)."""
@@ -79,7 +74,7 @@ class EdgePoints:
         w = np.c_[1.0 - t, t]
         rows = np.repeat(np.arange(len(ids)), 2)
         matrix = sp.csr_matrix((w.ravel(), (rows, ids.ravel())), shape=(len(ids), n))
-        return cls(ids, w, matrix, 1.0 / (count[owner] + 1.0))
+        return cls(ids, w, matrix)
 
 
 @dataclass(frozen=True, eq=False)

@@ -20,7 +20,7 @@ from .energies import spring_matrix
 from .model import ClothModel
 from .settings import SolverSettings
 from .state import MAX_CONTACT_SCALE, ContactState
-from .total_energy import ContactLookups, distance, edge_points, energy
+from .total_energy import ContactLookups, distance, edge_points, edge_stiffness, energy
 
 
 def set_springs(model: ClothModel, state: ContactState, *, settings: SolverSettings,
@@ -80,7 +80,11 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         pts = edge_points(model, s)
         d_pts = distance(model, pts.matrix @ x)[0]
         if not frozen:
-            inside = too_deep(model, d, d_pts, settings=s)
+            # a vertex found inside the body (or deeper than half the contact margin, where
+            # the true surface may lie) gets a stiffer contact (x4, up to 4^6), and so do
+            # the two of an edge point found there (their points' up to EDGE_CONTACT_SCALE)
+            inside = d < model.floor(s)
+            inside[pts.ids[d_pts < model.floor(s)].ravel()] = True
             state.contact_scale[inside] = np.minimum(state.contact_scale[inside] * 4.0,
                                                      MAX_CONTACT_SCALE)
         state.contact_k = contact_k(model, state, s)
@@ -88,7 +92,7 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         diag[near] = s.contact_precond * state.contact_k[near]
         on = d_pts < reach + s.contact_band
         w = pts.w[on]
-        k = pts.stiffness(state.contact_k)[on]
+        k = edge_stiffness(model, state, s)[on]
         np.add.at(diag, pts.ids[on].ravel(), (s.contact_precond * k[:, None] * w * w).ravel())
     else:
         state.contact_k = contact_k(model, state, s)
@@ -112,7 +116,7 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         pen_pts = reach - d_pts
         on = pen_pts > 0
         if on.any():
-            f_pts = kernels.contact_forces(pen_pts[on], pts.stiffness(state.contact_k)[on],
+            f_pts = kernels.contact_forces(pen_pts[on], edge_stiffness(model, state, s)[on],
                                            s.contact_onset)[0]
             g_pts = distance(model, pts.matrix[on] @ x)[1]
             push += pts.matrix[on].T @ (f_pts[:, None] * g_pts)
@@ -292,22 +296,10 @@ def moved_since_pairs(model: ClothModel, state: ContactState, x, *,
 
 def can_stiffen(model: ClothModel, state: ContactState, x, *,
                 settings: SolverSettings) -> bool:
-    """Whether a vertex or edge point is inside the body (or deeper than half the contact
-    margin) at solved positions ``x`` (n, 3) [m] with the contact stiffness of its vertex
-    not yet at the cap (:func:`too_deep`)."""
+    """Whether a vertex is inside the body (or deeper than half the contact margin) at solved
+    positions ``x`` (n, 3) [m] with its contact stiffness not yet at the cap."""
     if model.body is None:
         return False
-    d_pts = distance(model, edge_points(model, settings).matrix @ x)[0]
-    return bool((too_deep(model, distance(model, x)[0], d_pts, settings=settings)
+    d, _ = distance(model, x)
+    return bool(((d < model.floor(settings))
                  & (state.contact_scale < MAX_CONTACT_SCALE)).any())
-
-
-def too_deep(model: ClothModel, d, d_pts, *, settings: SolverSettings) -> np.ndarray:
-    """Vertices (n,) bool whose contact is to be stiffened (x4, up to 4^6): those inside the
-    body or deeper than half the contact margin, where the true surface may lie (their
-    distances ``d`` (n,) [m]), and the two of every edge contact point found there (``d_pts``
-    (p,) [m])."""
-    floor = model.floor(settings)
-    out = d < floor
-    out[edge_points(model, settings).ids[d_pts < floor].ravel()] = True
-    return out
