@@ -2,7 +2,7 @@
 only and with the edge contact points (``SolverSettings.edge_contact``), the body in grey:
 where it shows through the cloth, the body passes between the cloth's vertices.
 
-Close-ups of the right shoulder and forearm from the front and from above, and the count of
+Close-ups of the shoulders from the front and the back, and the count of
 edges through the body (``checks.edges_in_body``). Run ``python tools/figures_edge_contact.py
 [--garment coat] [--body male_average] [--triangles 1500] [--size M] [--out PATH]``.
 """
@@ -27,8 +27,8 @@ BODY = (0.75, 0.72, 0.70)
 #: close-ups: (name, focus as shares of the body's height (x, y, z from its bounding box
 #: centre), camera direction from the focus, up vector)
 VIEWS = (("right shoulder, front", (-0.11, 0.82, 0.0), (-0.3, 0.2, 1.0), (0.0, 1.0, 0.0)),
-         ("right forearm, front", (-0.17, 0.58, 0.0), (-0.2, 0.0, 1.0), (0.0, 1.0, 0.0)),
-         ("shoulders from above", (0.0, 0.82, 0.0), (0.0, 1.0, 0.15), (0.0, 0.0, -1.0)))
+         ("left shoulder, front", (0.11, 0.82, 0.0), (0.3, 0.2, 1.0), (0.0, 1.0, 0.0)),
+         ("right shoulder, back", (-0.11, 0.82, 0.0), (-0.3, 0.2, -1.0), (0.0, 1.0, 0.0)))
 
 
 def render(cloth, body, focus, distance, direction, up, size=(420, 420)):
