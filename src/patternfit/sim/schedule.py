@@ -32,9 +32,11 @@ STAGE_LENGTH = 0.03
 STAGE_ITERATIONS = 200
 #: a re-drape's moved start may lie this far inside the body [mm]: contact pushes such
 #: vertices out along the distance field's gradient (the 22K coat's hem lowered 3 cm: 12
-#: vertices, 2.7 mm deep); much deeper, a vertex could be pushed out through the far side of
-#: a thin limb
-MOVED_DEPTH_MM = 5.0
+#: vertices, 2.7 mm deep; 6.3 mm since the contact acts inside the edges too, and at 5 mm
+#: the start fell back to the unmoved state: 1,005 iterations, 44 s, instead of some 300);
+#: much deeper, a vertex could be pushed out through the far side of a thin limb (a
+#: forearm's radius is some 35 mm)
+MOVED_DEPTH_MM = 10.0
 
 _FIELDS = frozenset(f.name for f in fields(SolverSettings))
 _NO_GRAVITY = ("gravity", (0.0, 0.0, 0.0))
