@@ -33,9 +33,10 @@ VIEWS = {"front, from below": ((0.0, -0.6, 1.0), (0.0, 1.0, 0.0)),
          "back, from below": ((0.0, -0.6, -1.0), (0.0, 1.0, 0.0))}
 
 
-def render(x, tris, rgb, focus, distance, direction, up, size=(420, 420)):
+def render(x, tris, rgb, focus, distance, direction, up, size=(420, 420), body=None):
     """RGB image of the triangles ``tris`` at ``x`` [m], one colour (3,) per triangle in
-    ``rgb``, seen from ``distance`` [m] along ``direction`` from ``focus``, edges drawn."""
+    ``rgb``, seen from ``distance`` [m] along ``direction`` from ``focus``, edges drawn;
+    ``body``: (vertices (k, 3) [m], faces (f, 3)) drawn grey and smooth with them."""
     import pyvista as pv
 
     pv.OFF_SCREEN = True
@@ -43,6 +44,10 @@ def render(x, tris, rgb, focus, distance, direction, up, size=(420, 420)):
     mesh.cell_data["rgb"] = (rgb * 255).astype(np.uint8)
     pl = pv.Plotter(off_screen=True, window_size=size)
     pl.set_background("white")
+    if body is not None:
+        faces = np.hstack([np.full((len(body[1]), 1), 3), body[1]]).ravel()
+        pl.add_mesh(pv.PolyData(np.asarray(body[0], float), faces), color=(0.75, 0.72, 0.70),
+                    smooth_shading=True)
     pl.add_mesh(mesh, scalars="rgb", rgb=True, show_edges=True, edge_color=(0.2, 0.2, 0.2),
                 line_width=0.5)
     d = np.asarray(direction, float)

@@ -21,37 +21,15 @@ from patternfit.pattern.library import build
 from patternfit.sim.drape import drape
 from patternfit.sim.solver import SolverSettings
 
+from figures_crossings import render  # (tools/ is the script's folder)
+
 OUT = Path(__file__).resolve().parents[1] / "docs" / "figures" / "edge_contact.png"
 CLOTH = (0.35, 0.55, 0.80)
-BODY = (0.75, 0.72, 0.70)
 #: close-ups: (name, focus as shares of the body's height (x, y, z from its bounding box
 #: centre), camera direction from the focus, up vector)
 VIEWS = (("right shoulder, front", (-0.11, 0.82, 0.0), (-0.3, 0.2, 1.0), (0.0, 1.0, 0.0)),
          ("left shoulder, front", (0.11, 0.82, 0.0), (0.3, 0.2, 1.0), (0.0, 1.0, 0.0)),
          ("right shoulder, back", (-0.11, 0.82, 0.0), (-0.3, 0.2, -1.0), (0.0, 1.0, 0.0)))
-
-
-def render(cloth, body, focus, distance, direction, up, size=(420, 420)):
-    """RGB image of the cloth ((n, 3) [m] positions, (m, 3) triangles) over the body (the
-    same, grey) seen from ``distance`` [m] along ``direction`` from ``focus``."""
-    import pyvista as pv
-
-    pv.OFF_SCREEN = True
-    pl = pv.Plotter(off_screen=True, window_size=size)
-    pl.set_background("white")
-    for (x, tris), colour, edges in ((body, BODY, False), (cloth, CLOTH, True)):
-        mesh = pv.PolyData(np.asarray(x, float), np.hstack([np.full((len(tris), 1), 3),
-                                                             tris]).ravel())
-        pl.add_mesh(mesh, color=colour, show_edges=edges, edge_color=(0.15, 0.15, 0.3),
-                    line_width=0.5, smooth_shading=not edges)
-    d = np.asarray(direction, float)
-    pl.camera.focal_point = focus
-    pl.camera.position = focus + distance * d / np.linalg.norm(d)
-    pl.camera.up = up
-    pl.camera.view_angle = 30.0
-    img = pl.screenshot(return_img=True)
-    pl.close()
-    return img
 
 
 def main():
@@ -77,8 +55,9 @@ def main():
         for ax, (name, share, direction, up) in zip(row, VIEWS):
             focus = np.array([centre[0] + share[0] * height, lo[1] + share[1] * height,
                               centre[2] + share[2] * height])
-            ax.imshow(render((d.positions, mesh.triangles), (bm.vertices, bm.faces), focus,
-                             0.45, direction, up))
+            rgb = np.tile(CLOTH, (len(mesh.triangles), 1))
+            ax.imshow(render(d.positions, mesh.triangles, rgb, focus, 0.45, direction, up,
+                             body=(bm.vertices, bm.faces)))
             ax.set_title(name, fontsize=9)
             ax.axis("off")
         where = "vertices only" if not spacing else f"also inside edges, {spacing * 100:g} cm"
