@@ -52,11 +52,8 @@ class ContactLookups:
 
 
 def edge_points(model: ClothModel, settings: SolverSettings):
-    """The edge contact points of ``model`` under ``settings.edge_contact``: none while the
-    seams are open. Sewing pulls panels round the body, and their points caught on it: the
-    2K GarmentCode shirt on male_average sewed into 58 crossed pairs and no rest; with
-    points from the weld on it rests with none and no edge through the body."""
-    return model.edge_points(settings.edge_contact if model.welded else 0.0)
+    """The edge contact points of ``model`` under ``settings.edge_contact``."""
+    return model.edge_points(settings.edge_contact)
 
 
 def edge_stiffness(model: ClothModel, state: ContactState,
