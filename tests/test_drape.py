@@ -56,6 +56,20 @@ def test_skirt_drapes_to_rest(thin_woman):
     assert np.abs(again.positions - x).max() < 0.01
 
 
+def test_seams_that_do_not_close_are_sewn_again_with_self_collision(thin_woman):
+    # three sewing iterations close nothing: the garment is sewn again from the placement
+    # with self-collision on, and when that fails too the drape says so (not welded, failed)
+    p = build("skirt", "M")
+    m = mesh_pattern(p, triangles=600)
+    d = drape(p, m, thin_woman, "cotton", sewing_iterations=3)
+    assert d.timing["sewing_retried"] and d.timing["sewing_iterations"] == 6
+    assert not d.result.welded and not d.checks.passed
+    once = drape(p, m, thin_woman, "cotton", sewing_iterations=3, sewing_self_collision=True)
+    assert "sewing_retried" not in once.timing and once.timing["sewing_iterations"] == 3
+    sewn = drape(p, m, thin_woman, "cotton")
+    assert sewn.result.welded and "sewing_retried" not in sewn.timing
+
+
 def test_redrape_after_a_hem_edit_starts_from_the_state_moved_with_it(thin_woman):
     p = build("skirt", "M")
     m = mesh_pattern(p, triangles=1500)
