@@ -111,3 +111,25 @@ def test_a_coarse_coat_keeps_the_body_out_between_its_vertices(spacing):
     else:
         assert checks["edges_in_body"] > 50 and not checks["passed"]
         assert any("edges through the body" in r for r in checks["reasons"])
+
+
+def test_a_bump_through_a_large_triangle_is_seen_by_the_fine_edges_across_it():
+    """Why a coarse drape carried to a fine mesh is checked for edges through the body (the
+    coarse tries of ``sim.drape``): a 1 cm ball poking 4 mm through the face of a 6 cm
+    triangle, clear of its corners and edges, is through no coarse edge; the fine mesh of
+    the same square, laid on the same plane, has edges through it."""
+    v = np.array([[-0.03, -0.03], [0.03, -0.03], [0.03, 0.03], [-0.03, 0.03]])
+    coarse = np.array([[0, 1, 2], [0, 2, 3]])
+    g = np.linspace(-0.03, 0.03, 13)
+    fv = np.array([[a, b] for b in g for a in g])
+    fine = np.array([[r * 13 + c, r * 13 + c + 1, (r + 1) * 13 + c + 1] for r in range(12)
+                     for c in range(12)] + [[r * 13 + c, (r + 1) * 13 + c + 1, (r + 1) * 13 + c]
+                                             for r in range(12) for c in range(12)])
+    field = sphere_field(0.01, half=0.06, h=0.0025)
+    centroid = v[[0, 1, 2]].mean(axis=0)  # (0.01, -0.01): inside the first triangle
+    for rest, tris, through in ((v, coarse, False), (fv, fine, True)):
+        solver = GarmentSolver(rest, tris, grain_at(0, len(tris)), "cotton_shirting",
+                               body=field, settings=SolverSettings(max_iterations=0))
+        # the sheet in the plane y = 6 mm, the ball's top (1 cm) under the centroid
+        x = np.c_[rest[:, 0] - centroid[0], np.full(len(rest), 0.006), rest[:, 1] - centroid[1]]
+        assert (edges_in_body(solver.model, x) > 0) == through
