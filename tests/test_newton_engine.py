@@ -17,7 +17,7 @@ from patternfit.sim.newton_engine import (
     BENDING_SCALE, NewtonMissingError, NewtonSettings, edge_bending, import_newton, mean_dihedral,
     panel_rest)
 
-from scenes import end_line_load, garment, rect_mesh, welded
+from scenes import end_line_load, garment, rect_mesh, sphere_field, welded
 
 
 def test_mean_dihedral_of_a_flat_and_a_folded_pair():
@@ -100,7 +100,7 @@ def test_newton_skirt_drapes_inside_nothing_sewn(skirt):
     d = skirt["cold"]
     c = d.checks
     assert skirt["static"].checks.passed, "the static reference drape failed its checks"
-    assert c.inside_vertices == 0
+    assert c.inside_vertices == 0 and c.edges_in_body == 0  # 30-40 edges with vertices alone
     assert c.seam_gap_max_mm < 0.5
     assert c.self_intersections == 0
     assert d.timing["engine"] == "newton" and d.timing["device"] == "cpu"
@@ -277,3 +277,42 @@ def test_a_fabric_with_bending_hysteresis_is_named_when_newton_leaves_it_out(mon
         warnings.simplefilter("error", newton_engine.EngineWarning)
         with pytest.raises(newton_engine.NewtonMissingError):
             newton_engine.newton_drape(None, None, None, "denim")
+
+
+@pytest.mark.parametrize("spacing", [0.0, 0.01])
+def test_the_contact_projection_pushes_the_body_out_between_the_vertices(spacing):
+    """A 6 cm square lying across the top of a 5 cm ball, its centre 3 mm inside it: the
+    corners are clear, the diagonal edge is not. One frame without gravity: projected at
+    the vertices alone the diagonal stays through the ball; with its edge points it lies
+    outside, at the fabric's thickness."""
+    pytest.importorskip("newton", reason="newton not installed")
+    from types import SimpleNamespace
+
+    import trimesh
+
+    from patternfit.sim.fabrics import get_fabric
+    from patternfit.sim.model import EdgePoints
+    from patternfit.sim.newton_engine import NewtonSettings, build_scene, run_to_rest
+
+    r = 0.05
+    v = np.array([[-0.03, -0.03], [0.03, -0.03], [0.03, 0.03], [-0.03, 0.03]])
+    t = np.array([[0, 1, 2], [0, 2, 3]])
+    mesh = SimpleNamespace(vertices=v, triangles=t, grain=np.array([[1.0, 0.0]]),
+                           vertex_panel=np.zeros(4, np.int64))
+    ball = trimesh.creation.icosphere(subdivisions=4, radius=r)
+    fab = get_fabric("cotton_shirting")
+    scene = build_scene(mesh, np.c_[v[:, 0], np.full(4, r - 0.003), v[:, 1]], np.arange(4),
+                        ball, fab, settings=NewtonSettings(gravity=0.0, self_collision=False,
+                                                           max_frames=1),
+                        device="cpu")
+    edges = np.array([[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]])
+    points = EdgePoints.of(edges, np.linalg.norm(v[edges[:, 0]] - v[edges[:, 1]], axis=1),
+                           spacing, 4)
+    x = run_to_rest(scene, field=sphere_field(r, half=0.1, h=0.0025), points=points).x
+    s = np.linspace(0.0, 1.0, 41)[:, None]
+    diagonal = x[0] * (1.0 - s) + x[2] * s
+    depth = r - np.linalg.norm(diagonal, axis=1)
+    if spacing:
+        assert depth.max() < 0.001  # out, but for the chord between its points
+    else:
+        assert depth.max() > 0.002
