@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from patternfit.sim.checks import drape_checks, edges_in_body
+from patternfit.sim.checks import drape_checks, edges_in_body, faces_in_body
 from patternfit.sim.model import EdgePoints
 from patternfit.sim.settings import SolverSettings
 from patternfit.sim.solver import GarmentSolver
@@ -113,11 +113,12 @@ def test_a_coarse_coat_keeps_the_body_out_between_its_vertices(spacing):
         assert any("edges through the body" in r for r in checks["reasons"])
 
 
-def test_a_bump_through_a_large_triangle_is_seen_by_the_fine_edges_across_it():
-    """Why a coarse drape carried to a fine mesh is checked for edges through the body (the
-    coarse tries of ``sim.drape``): a 1 cm ball poking 4 mm through the face of a 6 cm
-    triangle, clear of its corners and edges, is through no coarse edge; the fine mesh of
-    the same square, laid on the same plane, has edges through it."""
+def test_a_bump_through_a_large_triangle_is_counted_and_seen_by_the_fine_edges_across_it():
+    """A 1 cm ball poking 4 mm through the face of a 6 cm triangle, clear of its corners and
+    edges, is through no coarse edge but through that face (``faces_in_body``: the checks
+    fail); the fine mesh of the same square, laid on the same plane, has edges through it,
+    which is why a coarse drape is checked before it is carried to a fine mesh (the coarse
+    tries of ``sim.drape``)."""
     v = np.array([[-0.03, -0.03], [0.03, -0.03], [0.03, 0.03], [-0.03, 0.03]])
     coarse = np.array([[0, 1, 2], [0, 2, 3]])
     g = np.linspace(-0.03, 0.03, 13)
@@ -133,3 +134,9 @@ def test_a_bump_through_a_large_triangle_is_seen_by_the_fine_edges_across_it():
         # the sheet in the plane y = 6 mm, the ball's top (1 cm) under the centroid
         x = np.c_[rest[:, 0] - centroid[0], np.full(len(rest), 0.006), rest[:, 1] - centroid[1]]
         assert (edges_in_body(solver.model, x) > 0) == through
+        if not through:
+            assert faces_in_body(solver.model, x) == 1  # the first triangle, not the second
+            checks = drape_checks(solver.model, x, settings=solver.settings, converged=True)
+            assert not checks.passed and checks.to_dict()["faces_in_body"] == 1
+            x[:, 1] = 0.0105  # lifted clear of the ball
+            assert faces_in_body(solver.model, x) == 0

@@ -73,11 +73,13 @@ def thumbnail_name(task: Task) -> str:
 
 
 def failed_checks(checks: dict, fitting_ratio: float) -> list[str]:
-    """Names of the checks a drape failed: ``inside`` (vertices or edges in the body), ``seams``
+    """Names of the checks a drape failed: ``inside`` (vertices, edges or triangles in the
+    body), ``seams``
     (open >= 0.5 mm), ``crossings``, ``equilibrium``, ``on_body``, ``fitting_ratio`` (not
     finite)."""
     out = []
-    if checks.get("inside_vertices") or checks.get("edges_in_body"):
+    if checks.get("inside_vertices") or checks.get("edges_in_body") \
+            or checks.get("faces_in_body"):
         out.append("inside")
     if not checks.get("seam_gap_max_mm", 0.0) < 0.5:
         out.append("seams")

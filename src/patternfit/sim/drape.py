@@ -17,7 +17,7 @@ from ..mesh.garment import GarmentMesh
 from ..mesh.transfer import transfer
 from ..mesh.triangulate import mesh_pattern
 from ..pattern.model import Pattern
-from .checks import edges_in_body
+from .checks import edges_in_body, faces_in_body
 from .fabrics import Fabric, get_fabric
 from .onbody import OnBodyChecks, on_body_checks
 from .placement import place_on_body
@@ -127,6 +127,9 @@ def solver_reasons(checks, stop_reason: str | None = None) -> list[str]:
     if checks.edges_in_body > limits.body_penetrations:
         out.append(f"{checks.edges_in_body} cloth edges through the body between their "
                    f"vertices (limit {limits.body_penetrations})")
+    if checks.faces_in_body > limits.body_penetrations:
+        out.append(f"{checks.faces_in_body} cloth triangles with the body through them, "
+                   f"their edges clear (limit {limits.body_penetrations})")
     if not checks.seam_gap_max_mm < limits.seam_gap_mm:
         out.append(f"seams open by up to {checks.seam_gap_max_mm:.1f} mm")
     if checks.self_intersections > limits.self_intersections:
@@ -321,7 +324,8 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
                                         vertex_map=np.arange(mesh.n_vertices)), solver=solver,
                          seconds=time.perf_counter() - t0, timing=timing)
         start = transfer(small, first.positions, mesh)
-        faults = solver.crossings(start) + edges_in_body(solver.model, start)
+        faults = (solver.crossings(start) + edges_in_body(solver.model, start)
+                  + faces_in_body(solver.model, start))
         if best is None or faults < best[0]:
             best = (faults, start, small.n_triangles)
         if faults == 0:
