@@ -196,9 +196,8 @@ def test_garmentcode_dress_and_tee_drape_with_every_check_passing(name, body):
 @pytest.mark.parametrize("name, body", [
     # the shirt's seams close only when sewn again with self-collision: its panels, pulled
     # round the body, catch on it and fold through each other
-    pytest.param("shirt", "male_average", marks=THUMB), pytest.param("hoodie", "male_average",
-                                                                     marks=THUMB),
-    ("jumpsuit", "female_average")])
+    pytest.param("shirt", "male_average", marks=THUMB),
+    pytest.param("hoodie", "male_average", marks=THUMB), ("jumpsuit", "female_average")])
 def test_garmentcode_garments_drape_with_every_check_passing(name, body):
     with pytest.warns(PlacementWarning):
         d = drape_checked(gc(name), body, 2000)

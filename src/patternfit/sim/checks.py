@@ -94,7 +94,7 @@ def edges_in_body(model: ClothModel, x, *, step: float = 2e-3) -> int:
     This is the measure GarmentCode rejects a drape by (cloth edges through the body
     surface): with contact felt at the vertices alone it missed a body that passes
     between them (the 3K coat on male_average: 156 edges, no vertex inside)."""
-    return int(_deep_edges(model, x, step).sum())
+    return through_body(model, x, step=step)[0]
 
 
 def faces_in_body(model: ClothModel, x, *, step: float = 2e-3) -> int:
@@ -107,13 +107,51 @@ def faces_in_body(model: ClothModel, x, *, step: float = 2e-3) -> int:
     1 cm across) can pass through its middle with its corners and edges clear: the 2K
     GarmentCode shirt on male_thin passed every other check with a thumb 7.6 mm through
     its sleeve."""
+    return through_body(model, x, step=step)[1]
+
+
+def through_body(model: ClothModel, x, *, step: float = 2e-3) -> tuple[int, int]:
+    """(:func:`edges_in_body`, :func:`faces_in_body`) of simulated positions ``x`` (n3, 3)
+    [m] in one pass: the faces' test needs the edges' anyway."""
     body = model.body
-    tris = model.terms.tris
-    if body is None or not len(tris):
-        return 0
-    deep_edge = _deep_edges(model, x, step)
+    if body is None or not len(model.edges):
+        return 0, 0
     x = model.reduce(array(x, "x", shape=(None, 3), contiguous=True))
     d_end, _ = kernels.sdf_query(body.values, body.origin, body.spacing, x)
+    deep = _deep_edges(model, x, d_end, step)
+    return int(deep.sum()), _pierced_faces(model, x, d_end, deep, step)
+
+
+def _deep_edges(model: ClothModel, x, d_end, step: float) -> np.ndarray:
+    """Whether each of ``model.edges`` (e,) has a point deeper in the body than
+    ``tol.penetration``, at solved positions ``x`` (n, 3) [m] whose body distances are
+    ``d_end`` (n,) [m]."""
+    body = model.body
+    e = model.edges
+    out = np.zeros(len(e), dtype=bool)
+    length = np.linalg.norm(x[e[:, 1]] - x[e[:, 0]], axis=1)
+    # the distance changes by at most SDF_SLOPE per metre: an edge whose ends are both
+    # farther than that over half its length cannot reach the body
+    near = np.flatnonzero(np.minimum(d_end[e[:, 0]], d_end[e[:, 1]])
+                          < kernels.SDF_SLOPE * 0.5 * length)
+    if not len(near):
+        return out
+    count = np.maximum(np.ceil(length[near] / step).astype(np.int64), 1)
+    owner = np.repeat(near, count)
+    t = (np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)) \
+        / np.repeat(count, count)
+    p = x[e[owner, 0]] * (1.0 - t)[:, None] + x[e[owner, 1]] * t[:, None]
+    d, _ = kernels.sdf_query(body.values, body.origin, body.spacing, np.ascontiguousarray(p))
+    out[np.unique(owner[d < -tol.penetration])] = True
+    return out
+
+
+def _pierced_faces(model: ClothModel, x, d_end, deep_edge, step: float) -> int:
+    """Triangles with a point inside them deeper in the body than ``tol.penetration`` and
+    none of their edges in ``deep_edge`` (e,) (:func:`_deep_edges`), at solved positions
+    ``x`` (n, 3) [m] whose body distances are ``d_end`` (n,) [m]."""
+    body = model.body
+    tris = model.terms.tris
     p = x[tris]  # (m, 3, 3)
     longest = np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2).max(axis=1)
     # the distance changes by at most SDF_SLOPE per metre: no point of a triangle is
@@ -143,33 +181,6 @@ def faces_in_body(model: ClothModel, x, *, step: float = 2e-3) -> int:
     return pierced
 
 
-def _deep_edges(model: ClothModel, x, step: float) -> np.ndarray:
-    """Whether each of ``model.edges`` (e,) has a point deeper in the body than
-    ``tol.penetration`` (:func:`edges_in_body`)."""
-    body = model.body
-    e = model.edges
-    out = np.zeros(len(e), dtype=bool)
-    if body is None or not len(e):
-        return out
-    x = model.reduce(array(x, "x", shape=(None, 3), contiguous=True))
-    d_end, _ = kernels.sdf_query(body.values, body.origin, body.spacing, x)
-    length = np.linalg.norm(x[e[:, 1]] - x[e[:, 0]], axis=1)
-    # the distance changes by at most SDF_SLOPE per metre: an edge whose ends are both
-    # farther than that over half its length cannot reach the body
-    near = np.flatnonzero(np.minimum(d_end[e[:, 0]], d_end[e[:, 1]])
-                          < kernels.SDF_SLOPE * 0.5 * length)
-    if not len(near):
-        return out
-    count = np.maximum(np.ceil(length[near] / step).astype(np.int64), 1)
-    owner = np.repeat(near, count)
-    t = (np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)) \
-        / np.repeat(count, count)
-    p = x[e[owner, 0]] * (1.0 - t)[:, None] + x[e[owner, 1]] * t[:, None]
-    d, _ = kernels.sdf_query(body.values, body.origin, body.spacing, np.ascontiguousarray(p))
-    out[np.unique(owner[d < -tol.penetration])] = True
-    return out
-
-
 def drape_checks(model: ClothModel, x, *, settings: SolverSettings, converged: bool = False,
                  residual=None) -> DrapeChecks:
     """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`.
@@ -184,8 +195,7 @@ def drape_checks(model: ClothModel, x, *, settings: SolverSettings, converged: b
         clearance = float(d.min() * 1e3)
     else:
         inside, depth, clearance = 0, 0.0, None
-    through = edges_in_body(model, x)
-    pierced = faces_in_body(model, x)
+    through, pierced = through_body(model, x)
     pairs = model.seam_pairs
     gap = (float(np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1).max() * 1e3)
            if len(pairs) else 0.0)

@@ -17,7 +17,7 @@ from ..mesh.garment import GarmentMesh
 from ..mesh.transfer import transfer
 from ..mesh.triangulate import mesh_pattern
 from ..pattern.model import Pattern
-from .checks import edges_in_body, faces_in_body
+from .checks import through_body
 from .fabrics import Fabric, get_fabric
 from .onbody import OnBodyChecks, on_body_checks
 from .placement import place_on_body
@@ -324,8 +324,7 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
                                         vertex_map=np.arange(mesh.n_vertices)), solver=solver,
                          seconds=time.perf_counter() - t0, timing=timing)
         start = transfer(small, first.positions, mesh)
-        faults = (solver.crossings(start) + edges_in_body(solver.model, start)
-                  + faces_in_body(solver.model, start))
+        faults = solver.crossings(start) + sum(through_body(solver.model, start))
         if best is None or faults < best[0]:
             best = (faults, start, small.n_triangles)
         if faults == 0:
