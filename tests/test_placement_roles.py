@@ -169,10 +169,12 @@ def test_grain_line_says_which_way_is_up():
     assert x[:, 1].max() == pytest.approx(upright[:, 1].max(), abs=0.02)
 
 
-#: sleeves that reach the hands: the thumb passes through them while the seams close and
-#: stays through a triangle or an edge (``checks.faces_in_body``, docs/simulation.md
-#: "Checks in every result"); not strict, as which triangles it meets varies with the path
-THUMB = pytest.mark.xfail(reason="a thumb through the sleeve (docs/simulation.md, open)")
+#: a sleeve longer than the arm whose cuff cannot pass the mitten (Body.mittens) gathers
+#: at the wrist; the 2K GarmentCode shirt's cuff, hemmed by edges up to 9 cm long, folds
+#: through itself there while the seams close (docs/bodies.md "Mittens"); not strict, as
+#: the folds vary with the path
+GATHERED_CUFF = pytest.mark.xfail(reason="a coarse cuff folded through itself at the wrist "
+                                         "(docs/bodies.md, open)")
 
 
 def drape_checked(pattern, body_name, triangles):
@@ -194,10 +196,8 @@ def test_garmentcode_dress_and_tee_drape_with_every_check_passing(name, body):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name, body", [
-    # the shirt's seams close only when sewn again with self-collision: its panels, pulled
-    # round the body, catch on it and fold through each other
-    pytest.param("shirt", "male_average", marks=THUMB),
-    pytest.param("hoodie", "male_average", marks=THUMB), ("jumpsuit", "female_average")])
+    pytest.param("shirt", "male_average", marks=GATHERED_CUFF),
+    ("hoodie", "male_average"), ("jumpsuit", "female_average")])
 def test_garmentcode_garments_drape_with_every_check_passing(name, body):
     with pytest.warns(PlacementWarning):
         d = drape_checked(gc(name), body, 2000)
@@ -207,9 +207,7 @@ def test_garmentcode_garments_drape_with_every_check_passing(name, body):
 @pytest.mark.slow
 @pytest.mark.parametrize("name, gender", [("shirt", "male"), ("gathered_skirt", "female")])
 @pytest.mark.parametrize("build_", ["thin", "average", "heavy"])
-def test_new_built_ins_drape_on_every_body_of_their_gender(name, gender, build_, request):
-    if name == "shirt" and build_ in ("thin", "average"):
-        request.applymarker(THUMB)
+def test_new_built_ins_drape_on_every_body_of_their_gender(name, gender, build_):
     drape_checked(build(name, "M"), f"{gender}_{build_}", 3000)
 
 

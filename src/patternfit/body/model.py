@@ -8,6 +8,7 @@ import numpy as np
 import trimesh
 
 from ..arguments import array
+from .hands import mittens
 from .measure import LANDMARKS, MEASUREMENTS, LandmarkError
 from .sdf import DistanceField
 
@@ -70,14 +71,22 @@ class Body:
         return float(np.ptp(self.vertices[:, 1]))
 
     def distance_field(self, spacing: float = 0.005, *, padding: float = 0.1) -> DistanceField:
-        """Signed distance field of the body, grid step ``spacing`` [m], ``padding`` [m]
-        around the body. Kept on the body and cached on disk (see
-        :func:`patternfit.body.sdf.cache_dir`)."""
+        """Signed distance field of the body as the cloth meets it, grid step ``spacing``
+        [m], ``padding`` [m] around the body: the body joined with its :meth:`mittens`. Kept
+        on the body and cached on disk (see :func:`patternfit.body.sdf.cache_dir`)."""
         key = (float(spacing), float(padding))
         if key not in self._fields:
+            solids = [(m.vertices, m.faces) for m in self.mittens()]
             self._fields[key] = DistanceField.from_mesh(self.vertices, self.faces,
-                                                        spacing=spacing, padding=padding)
+                                                        spacing=spacing, padding=padding,
+                                                        solids=solids)
         return self._fields[key]
+
+    def mittens(self) -> list[trimesh.Trimesh]:
+        """The convex hull of each hand, which the cloth meets instead of the hand (a thumb
+        narrower than a sleeve's triangles would pass through them):
+        :func:`patternfit.body.hands.mittens`."""
+        return mittens(self.vertices, self.faces, self.landmarks)
 
     def to_trimesh(self):
         """The body as a :class:`trimesh.Trimesh` (no processing)."""

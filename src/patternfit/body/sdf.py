@@ -289,8 +289,8 @@ class DistanceField:
 
     @classmethod
     def from_mesh(cls, vertices, faces, *, spacing: float = 0.005, padding: float = 0.1,
-                  band: float = 0.02, cache: bool = True) -> "DistanceField":
-        """Signed distance field of a closed triangle mesh.
+                  band: float = 0.02, solids=(), cache: bool = True) -> "DistanceField":
+        """Signed distance field of a closed triangle mesh, or of its union with ``solids``.
 
         Parameters
         ----------
@@ -306,6 +306,10 @@ class DistanceField:
             Nodes at most this far from the surface [m] get the exact distance; further out
             the value is interpolated from an exact grid ``4 * spacing`` wide, whose error is
             at most that grid's half cell diagonal.
+        solids : sequence of (vertices (k, 3) float, faces (j, 3) int)
+            Closed meshes [m] inside the mesh's bounding box joined to it: the field is the
+            smaller of the distances (exact outside the union; inside, the depth below the
+            nearer surface). The body's mittens (:mod:`patternfit.body.hands`).
         cache : bool
             Read and write the result in :func:`cache_dir`, keyed by a hash of the inputs.
         """
@@ -322,10 +326,15 @@ class DistanceField:
             raise ValueError("faces: index a vertex that does not exist")
         if not spacing > 0 or not padding >= 0 or not band > 0:
             raise ValueError("spacing and band must be positive and padding non-negative")
+        solids = [(np.ascontiguousarray(sv, dtype=np.float64),
+                   np.ascontiguousarray(sf, dtype=np.int64)) for sv, sf in solids]
 
         key = hashlib.sha256()
         key.update(np.ascontiguousarray(v).tobytes())
         key.update(np.ascontiguousarray(f).tobytes())
+        for sv, sf in solids:
+            key.update(sv.tobytes())
+            key.update(sf.tobytes())
         key.update(np.array([spacing, padding, band, _VERSION], dtype=np.float64).tobytes())
         path = cache_dir() / f"sdf-{key.hexdigest()[:24]}.npz"
         if cache and path.exists():
@@ -337,7 +346,7 @@ class DistanceField:
             except Exception:  # zipfile and numpy raise many kinds for a damaged file
                 pass  # a damaged cache file is recomputed and overwritten
 
-        field = cls._build(v, f, spacing, padding, band)
+        field = cls._build(v, f, spacing, padding, band, solids)
         if cache:
             buf = io.BytesIO()
             np.savez(buf, origin=field.origin, spacing=field.spacing, values=field.values)
@@ -348,14 +357,28 @@ class DistanceField:
         return field
 
     @classmethod
-    def _build(cls, v, f, spacing, padding, band) -> "DistanceField":
+    def _build(cls, v, f, spacing, padding, band, solids) -> "DistanceField":
         lo = v.min(axis=0) - padding
         hi = v.max(axis=0) + padding
         coarse_step = _COARSE * spacing
         coarse_shape = tuple(int(n) for n in np.ceil((hi - lo) / coarse_step).astype(int) + 1)
-        coarse = signed_distance(_grid_points(lo, coarse_step, coarse_shape), v, f)
+        points = _grid_points(lo, coarse_step, coarse_shape)
+        coarse = _union_distance(points, v, f, solids, np.inf)
         values = _upsample(coarse.reshape(coarse_shape).astype(np.float32), _COARSE)
         # The upsampled value is within a half coarse diagonal of the truth.
         near = np.abs(values) < band + 0.5 * np.sqrt(3.0) * coarse_step
-        values[near] = signed_distance(_grid_points(lo, spacing, values.shape, near), v, f)
+        values[near] = _union_distance(_grid_points(lo, spacing, values.shape, near), v, f,
+                                       solids, band + np.sqrt(3.0) * coarse_step)
         return cls(lo, spacing, values)
+
+
+def _union_distance(points, v, f, solids, reach) -> np.ndarray:
+    """Signed distance (n,) [m] from ``points`` (n, 3) [m] to the mesh ``v``, ``f`` joined
+    with ``solids``, each looked up only within ``reach`` [m] of its bounding box: beyond,
+    it is farther than the mesh (``reach`` at least the mesh's distance there)."""
+    d = signed_distance(points, v, f)
+    for sv, sf in solids:
+        inside = np.all((points > sv.min(axis=0) - reach) & (points < sv.max(axis=0) + reach),
+                        axis=1)
+        d[inside] = np.minimum(d[inside], signed_distance(points[inside], sv, sf))
+    return d

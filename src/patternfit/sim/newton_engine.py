@@ -233,8 +233,9 @@ def build_scene(mesh: GarmentMesh, x_sim, vertex_map, body, fabric: Fabric | str
         Start positions of the simulated (welded) vertices [m].
     vertex_map : (n,) int
         Flat vertex -> simulated vertex.
-    body : patternfit.body.Body
-        Its mesh becomes a static collision shape.
+    body : patternfit.body.Body or a mesh
+        Its mesh (``vertices`` (k, 3) [m], ``faces`` (j, 3)) and a Body's mittens
+        (:meth:`~patternfit.body.Body.mittens`) become static collision shapes.
     fabric : Fabric or str
     settings : NewtonSettings, optional
     device : str, optional
@@ -269,9 +270,12 @@ def build_scene(mesh: GarmentMesh, x_sim, vertex_map, body, fabric: Fabric | str
             builder.edge_bending_properties[edge_start + i] = (k, 0.0)
         cfg = newton.ModelBuilder.ShapeConfig(mu=fabric.friction, ke=s.contact_ke,
                                               kd=s.contact_kd)
-        builder.add_shape_mesh(-1, mesh=newton.Mesh(np.asarray(body.vertices, np.float32),
-                                                    np.asarray(body.faces, np.int32).ravel()),
-                               cfg=cfg)
+        # the hands as the cloth meets them (Body.mittens), as in the distance field
+        mittens = body.mittens() if hasattr(body, "mittens") else []
+        for v, f in [(body.vertices, body.faces)] + [(m.vertices, m.faces) for m in mittens]:
+            builder.add_shape_mesh(-1, mesh=newton.Mesh(np.asarray(v, np.float32),
+                                                        np.asarray(f, np.int32).ravel()),
+                                   cfg=cfg)
         model = builder.finalize()
         model.soft_contact_ke = s.contact_ke
         model.soft_contact_kd = s.contact_kd
