@@ -74,7 +74,8 @@ def mittens(vertices, faces, landmarks) -> list[trimesh.Trimesh]:
         if near.min() > WRIST_REACH:
             continue
         hand = v[label == label[used[np.argmin(near)]]]
-        if np.linalg.norm(hand - wrist, axis=1).max() > HAND_REACH or len(hand) < 4:
-            continue
+        if np.linalg.norm(hand - wrist, axis=1).max() > HAND_REACH or len(hand) < 4 \
+                or np.linalg.svd(hand - hand.mean(axis=0), compute_uv=False)[-1] < 1e-3:
+            continue  # no hand there, or a flat piece of one: no volume to hull
         out.append(trimesh.convex.convex_hull(hand))
     return out
