@@ -13,9 +13,7 @@ with the thumb laid in is about 21 cm) stops at the wrist, and the sleeve gather
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 import trimesh
-from scipy.sparse.csgraph import connected_components
 
 #: a hand reaches no farther than this from its wrist landmark [m]: a part of the mesh
 #: past the wrist that does (the arm ends at the wrist, or the hand is fused with the
@@ -42,9 +40,8 @@ def mittens(vertices, faces, landmarks) -> list[trimesh.Trimesh]:
     faces : (m, 3) int
         Its triangles.
     landmarks : dict of str to array
-        At least ``wrist_left``, ``wrist_right`` (3,) [m] and ``arm_axis_left``,
-        ``arm_axis_right`` (2, 3) [m] (shoulder to wrist), as
-        :func:`patternfit.body.measure.measure` gives them.
+        At least ``arm_axis_left`` and ``arm_axis_right`` (2, 3) [m] (shoulder to wrist),
+        as :func:`patternfit.body.measure.measure` gives them.
 
     Returns
     -------
@@ -56,7 +53,6 @@ def mittens(vertices, faces, landmarks) -> list[trimesh.Trimesh]:
     """
     v = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
-    n = len(v)
     out = []
     for side in ("left", "right"):
         shoulder, wrist = landmarks[f"arm_axis_{side}"]
@@ -65,12 +61,10 @@ def mittens(vertices, faces, landmarks) -> list[trimesh.Trimesh]:
         past = f[beyond[f].all(axis=1)]
         if not len(past):
             continue
-        graph = sp.coo_matrix((np.ones(past.size), (past.ravel(),
-                                                    np.roll(past, 1, axis=1).ravel())),
-                              shape=(n, n))
-        _, label = connected_components(graph, directed=False)
+        label = trimesh.graph.connected_component_labels(
+            trimesh.geometry.faces_to_edges(past), node_count=len(v))
         used = np.unique(past)
-        near = np.linalg.norm(v[used] - landmarks[f"wrist_{side}"], axis=1)
+        near = np.linalg.norm(v[used] - wrist, axis=1)
         if near.min() > WRIST_REACH:
             continue
         hand = v[label == label[used[np.argmin(near)]]]

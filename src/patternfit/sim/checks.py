@@ -157,15 +157,12 @@ def _pierced_faces(model: ClothModel, x, d_end, deep_edge, step: float) -> int:
     # the distance changes by at most SDF_SLOPE per metre: no point of a triangle is
     # farther than its longest edge from a corner
     near = np.flatnonzero(d_end[tris].min(axis=1) < kernels.SDF_SLOPE * longest)
-    keys = model.edges[:, 0] * model.n + model.edges[:, 1]  # sorted (unique_edges)
     pierced = 0
     levels = np.maximum(np.ceil(longest[near] / step).astype(np.int64), 3)
     for n in np.unique(levels):
         group = near[levels == n]
-        side = np.sort(np.stack([tris[group], np.roll(tris[group], 1, axis=1)], axis=2),
-                       axis=2)
-        clear = ~deep_edge[np.searchsorted(keys, side[..., 0] * model.n
-                                           + side[..., 1])].any(axis=1)
+        side = np.stack([tris[group], np.roll(tris[group], 1, axis=1)], axis=2)
+        clear = ~deep_edge[model.edge_index(side)].any(axis=1)
         group = group[clear]
         if not len(group):
             continue

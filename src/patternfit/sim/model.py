@@ -253,13 +253,17 @@ class ClothModel:
         sewn from two sides: the longer)."""
         flat = unique_edges(self.triangles)
         length = np.linalg.norm(self.rest[flat[:, 0]] - self.rest[flat[:, 1]], axis=1)
-        solved = np.sort(self.group[self.vertex_map][flat], axis=1)
-        n = self.n
-        keys = self.edges[:, 0] * n + self.edges[:, 1]  # sorted (unique_edges)
-        at = np.minimum(np.searchsorted(keys, solved[:, 0] * n + solved[:, 1]), len(keys) - 1)
-        out = np.zeros(len(keys))
-        np.maximum.at(out, at, length)
+        out = np.zeros(len(self.edges))
+        np.maximum.at(out, self.edge_index(self.group[self.vertex_map][flat]), length)
         return out
+
+    def edge_index(self, pairs) -> np.ndarray:
+        """Index in :attr:`edges` of each of ``pairs`` (..., 2) of solved vertices, in
+        either order (a pair that is no edge: a neighbouring index)."""
+        pairs = np.sort(np.asarray(pairs, dtype=np.int64), axis=-1)
+        keys = self.edges[:, 0] * self.n + self.edges[:, 1]  # sorted (unique_edges)
+        return np.minimum(np.searchsorted(keys, pairs[..., 0] * self.n + pairs[..., 1]),
+                          len(keys) - 1)
 
     def reach(self, settings: SolverSettings) -> float:
         """Distance kept from the body [m]."""
