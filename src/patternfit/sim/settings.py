@@ -65,6 +65,11 @@ class SolverSettings:
     #: Newton: a full step is extended (x2 while the energy falls) only when its energy drop
     #: exceeds this many times the quadratic model's prediction [-]
     newton_extend: float = 1.25
+    #: ... and only while the force residual's rms exceeds this many times ``residual_rms``
+    #: [-]: nearer rest a doubled step overshoots the stiff directions it was not taken for
+    #: (the 22K coat's hem re-drape: one vertex of an eased sleeve cap swung to and fro
+    #: for 100 Newton steps, every other step doubled)
+    newton_extend_above: float = 10.0
     step_tol: float = 5e-5
     energy_tol: float = 1e-5
     patience: int = 5

@@ -37,7 +37,7 @@ from .preconditioners import Factors, ensure_factor, newton_direction, precondit
 from .result import DrapeResult
 from .settings import SolverSettings
 from .state import ContactState
-from .stop_rule import at_rest, drift, fell, residual, stalled
+from .stop_rule import at_rest, drift, fell, residual, residual_rms, stalled
 from .total_energy import ContactLookups
 
 
@@ -261,13 +261,15 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
                     break
                 alpha *= 0.5
             if accepted and newton_now and tries == 0 \
-                    and energy - e_new > -0.5 * s.newton_extend * gd:
+                    and energy - e_new > -0.5 * s.newton_extend * gd \
+                    and residual_rms(model, grad) > s.newton_extend_above * s.residual_rms:
                 # a full Newton step taken whole that lowered the energy by more than the
                 # model's -g.d / 2 (the drop a CG step predicts): the projected Hessian is
                 # stiffer than the energy there (cloth that buckles or slides), so try twice
                 # as far while that lowers the energy further; where the model holds (near
                 # rest) the full step stands, as an extended one threw the stiff directions
-                # off again (15K skirt: rms 0.02 -> 0.4 after a 4x step)
+                # off again (15K skirt: rms 0.02 -> 0.4 after a 4x step); near rest it is
+                # not tried at all (``newton_extend_above``)
                 while 2.0 * alpha * longest <= s.max_step:
                     x_try = x + 2.0 * alpha * d.reshape(-1, 3)
                     e_try, g_try = evaluate(x_try)

@@ -30,6 +30,15 @@ def residual(model: ClothModel, grad) -> tuple[float, float]:
     return float(np.sqrt(np.mean(r * r))), float(np.percentile(r, 99))
 
 
+def residual_rms(model: ClothModel, grad) -> float:
+    """rms of |F_i| / (m_i g) [-] over the free solved vertices (:func:`residual`'s first)."""
+    free = model.free & (model.mass > 0)
+    if not free.any():
+        return 0.0
+    r2 = (grad[free] ** 2).sum(axis=1) / (model.mass[free] * GRAVITY) ** 2
+    return float(np.sqrt(np.mean(r2)))
+
+
 def at_rest(model: ClothModel, grad, settings: SolverSettings) -> bool:
     """Whether the force balance of ``settings.residual_rms`` / ``residual_p99`` holds for the
     gradient ``grad`` (n_solved, 3) [N] (the p99 is computed only when the rms passes)."""
