@@ -133,9 +133,6 @@ def test_trousers_crotch_does_not_cross_itself():
 
 
 @pytest.mark.slow  # two drapes to rest (about 20 s in all)
-@pytest.mark.xfail(reason="the S's 1.2K mesh, stretched over the bust, lets it 1.3 mm into a "
-                          "triangle between the edges' contact points (checks.faces_in_body; "
-                          "contact points inside the triangles fix it, docs/simulation.md)")
 def test_larger_size_fits_looser():
     # a too-small dress in a stretch knit is stretched (ϖ < 1); a larger one less so
     m_s, small = draped("dress", "female_heavy", 1200, size="S", fabric="stretch_knit")

@@ -169,14 +169,6 @@ def test_grain_line_says_which_way_is_up():
     assert x[:, 1].max() == pytest.approx(upright[:, 1].max(), abs=0.02)
 
 
-#: a sleeve longer than the arm whose cuff cannot pass the mitten (Body.mittens) gathers
-#: at the wrist; the 2K GarmentCode shirt's cuff, hemmed by edges up to 9 cm long, folds
-#: through itself there while the seams close (docs/bodies.md "Mittens"); not strict, as
-#: the folds vary with the path
-GATHERED_CUFF = pytest.mark.xfail(reason="a coarse cuff folded through itself at the wrist "
-                                         "(docs/bodies.md, open)")
-
-
 def drape_checked(pattern, body_name, triangles):
     from patternfit.sim.drape import drape
     body = load_body(body_name)
@@ -196,8 +188,7 @@ def test_garmentcode_dress_and_tee_drape_with_every_check_passing(name, body):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name, body", [
-    pytest.param("shirt", "male_average", marks=GATHERED_CUFF),
-    ("hoodie", "male_average"), ("jumpsuit", "female_average")])
+    ("shirt", "male_average"), ("hoodie", "male_average"), ("jumpsuit", "female_average")])
 def test_garmentcode_garments_drape_with_every_check_passing(name, body):
     with pytest.warns(PlacementWarning):
         d = drape_checked(gc(name), body, 2000)

@@ -6,12 +6,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 
 from patternfit.sim.checks import drape_checks, edges_in_body, faces_in_body
 from patternfit.sim.model import EdgePoints
 from patternfit.sim.settings import SolverSettings
 from patternfit.sim.solver import GarmentSolver
-from patternfit.sim.total_energy import energy, hessian, hessian_pattern
+from patternfit.sim.total_energy import edge_stiffness, energy, hessian, hessian_pattern
 
 from scenes import grain_at, sphere_field
 
@@ -35,13 +38,86 @@ def test_points_are_evenly_spaced_inside_each_edge_and_weighted_by_where_they_li
     pts = EdgePoints.of(np.array([[0, 1], [1, 2], [2, 3]]), np.array([0.025, 0.01, 0.031]),
                         0.01, 4)
     # 2.5 cm -> 2 points, 1 cm -> none (its ends are 1 cm apart), 3.1 cm -> 3 points
-    np.testing.assert_array_equal(pts.ids, [[0, 1], [0, 1], [2, 3], [2, 3], [2, 3]])
+    # (a third vertex of weight 0: the first again)
+    np.testing.assert_array_equal(pts.ids, [[0, 1, 0], [0, 1, 0], [2, 3, 2], [2, 3, 2],
+                                            [2, 3, 2]])
     np.testing.assert_allclose(pts.w[:, 1], [1 / 3, 2 / 3, 0.25, 0.5, 0.75])
+    np.testing.assert_allclose(pts.w[:, 2], 0.0)
     np.testing.assert_allclose(pts.w.sum(axis=1), 1.0)
     x = np.random.default_rng(0).normal(size=(4, 3))
     np.testing.assert_allclose(pts.matrix @ x, pts.w[:, :1] * x[pts.ids[:, 0]]
-                               + pts.w[:, 1:] * x[pts.ids[:, 1]])
+                               + pts.w[:, 1:2] * x[pts.ids[:, 1]])
     assert not len(EdgePoints.of(np.array([[0, 1]]), np.array([0.05]), 0.0, 2).ids)
+
+
+def test_a_triangle_wider_than_the_spacing_gets_the_inner_nodes_of_its_grid():
+    tris = np.array([[0, 1, 2], [1, 2, 3], [2, 3, 4]])
+    pts = EdgePoints.of(np.zeros((0, 2)), np.zeros(0), 0.01, 5, tris,
+                        np.array([0.035, 0.02, 0.025]))
+    # 3.5 cm -> 4 steps a side, 3 inner nodes; 2 cm -> 2 steps, none; 2.5 cm -> 3, the centroid
+    np.testing.assert_array_equal(pts.ids, [[0, 1, 2]] * 3 + [[2, 3, 4]])
+    np.testing.assert_allclose(np.sort(pts.w[:3], axis=1), [[0.25, 0.25, 0.5]] * 3)
+    assert len({tuple(w) for w in pts.w[:3]}) == 3
+    np.testing.assert_allclose(pts.w[3], 1 / 3)
+    x = np.random.default_rng(1).normal(size=(5, 3))
+    np.testing.assert_allclose(pts.matrix @ x, np.einsum("pj,pjc->pc", pts.w, x[pts.ids]))
+
+
+@settings(max_examples=60, deadline=None)
+@given(corners=arrays(np.float64, (3, 2), elements=st.floats(-0.08, 0.08)),
+       spacing=st.floats(0.004, 0.03))
+def test_every_point_of_a_triangle_lies_within_the_spacing_of_a_contact_point(corners,
+                                                                               spacing):
+    """What the points are for: no part of a triangle (a body feature under it) is further
+    than ``spacing`` from a vertex, an edge point or a face point."""
+    a, b, c = corners
+    area = 0.5 * abs((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0])
+    assume(area > 1e-6)
+    tri = np.array([[0, 1, 2]])
+    edges = np.array([[0, 1], [1, 2], [0, 2]])
+    lengths = np.linalg.norm(corners[edges[:, 0]] - corners[edges[:, 1]], axis=1)
+    pts = EdgePoints.of(edges, lengths, spacing, 3, tri, np.array([lengths.max()]))
+    nodes = np.r_[corners, pts.matrix @ corners]
+    bary = np.random.default_rng(2).dirichlet(np.ones(3), size=400)
+    probe = bary @ corners
+    nearest = np.linalg.norm(probe[:, None] - nodes[None], axis=2).min(axis=1)
+    assert nearest.max() <= spacing
+
+
+def test_a_body_into_the_middle_of_a_triangle_pushes_all_three_corners():
+    """A 10 cm triangle over a 5 cm ball, its centre 3 mm inside and its corners and
+    edges clear: the points inside the triangle push its corners out, with the gradient of
+    the energy."""
+    side = 0.1
+    v = side * np.array([[-0.5, -np.sqrt(3) / 6], [0.5, -np.sqrt(3) / 6], [0.0, np.sqrt(3) / 3]])
+    t = np.array([[0, 1, 2]])
+    x = np.c_[v[:, 0], np.full(3, R - 0.003), v[:, 1]]
+    solver = GarmentSolver(v, t, grain_at(0, 1), "cotton_shirting",
+                           body=sphere_field(R, half=0.1, h=0.0025),
+                           settings=SolverSettings(max_iterations=0, edge_contact=0.01))
+    assert edges_in_body(solver.model, x) == 0 and faces_in_body(solver.model, x) == 1
+    solver.solve(x)
+    m, st_ = solver.model, solver.state
+    e, g = energy(m, st_, x, settings=solver.settings)
+    assert (g[:, 1] < 0).all()  # the force, -g, lifts every corner
+    assert m.edge_points(0.01).w[:, 2].any()  # points inside the triangle
+    h = 1e-7
+    fd = np.zeros_like(x)
+    for i in range(3):
+        for c in range(3):
+            xp, xm = x.copy(), x.copy()
+            xp[i, c] += h
+            xm[i, c] -= h
+            fd[i, c] = (energy(m, st_, xp, settings=solver.settings)[0]
+                        - energy(m, st_, xm, settings=solver.settings)[0]) / (2 * h)
+    np.testing.assert_allclose(g, fd, atol=1e-6 * np.abs(g).max())
+    # stiffened vertices stiffen their edge points up to 16 times, never their face points
+    st_.contact_scale[:] = 64.0
+    k = edge_stiffness(m, st_, solver.settings)
+    face = m.edge_points(0.01).w[:, 2] > 0
+    base = solver.settings.contact_stiffness * m.terms.vertex_area
+    np.testing.assert_allclose(k[face], m.edge_points(0.01).stiffness(base)[face])
+    np.testing.assert_allclose(k[~face], 16.0 * m.edge_points(0.01).stiffness(base)[~face])
 
 
 def test_an_edge_across_the_body_is_pushed_out_though_its_vertices_are_clear():

@@ -1,6 +1,6 @@
 """The verdict on real drapes (small meshes) and the correction's edits for it: a size S
-skirt reads tighter than an XL on the same body; XL trousers too long for the body fail
-(they did not slide: not "too loose"); a region too tight is let out by translating its
+skirt reads tighter than an XL on the same body; XL trousers too large for the body rest on
+it and read "too loose"; a region too tight is let out by translating its
 edges (seams matched, symmetry kept); the Table 2 coat goes from too tight to no region too
 tight (slow)."""
 
@@ -34,26 +34,29 @@ def test_a_size_s_skirt_reads_tighter_than_an_xl_on_the_same_body():
     assert "below the waist" in large.judgement.reason
 
 
-def test_trousers_too_long_for_the_body_fail_without_sliding(tmp_path):
+def test_trousers_too_large_for_the_body_rest_on_it_and_read_too_loose(tmp_path):
     import json
 
     from patternfit.sim.onbody import ON_BODY
 
-    # measured (1K triangles, at rest, no crossed pair): the XL's waistband rests on the
-    # thin woman's hips 4-6 cm below her waist, within the anchor's tolerance (it did not
-    # slide: the skirt test above has one that did), and its legs, longer than hers, hang
-    # 11-12 cm below her feet. Under the earlier kinematic stop it read "slid 10+ cm, too
-    # loose"; with crossed pairs left at its crotch it reached no force balance at all.
+    # measured (1K triangles, at rest, no crossed pair): the XL on the thin woman rests with
+    # its hems on her feet (its legs are longer than hers) and its waistband about 1 cm
+    # above her waist; hip and thighs read "too loose", some 24 cm of ease. Until the body
+    # contact acted inside the triangles, her feet passed through the coarse hems, the
+    # trousers slid 8 cm to her hips and hung 12 cm below her feet (failed); under the
+    # earlier kinematic stop they read "slid 10+ cm, too loose"
     o = pf.drape_and_evaluate("trousers", "female_thin", "cotton", triangles=1000, size="XL")
     c = o.checks
     assert c["self_intersections"] == 0 and c["equilibrium"], c
-    assert -1000.0 * ON_BODY.anchor_tolerance < c["anchor_offset_mm"] < 0.0
-    assert c["below_feet_vertices"] > 0 and not o.passed
-    assert o.verdict == "failed" and "below the feet" in o.judgement.reason
+    assert c["faces_in_body"] == 0 and c["below_feet_vertices"] == 0 and o.passed, c
+    assert abs(c["anchor_offset_mm"]) < 1000.0 * ON_BODY.anchor_tolerance
+    assert o.verdict == "too loose"
     report = o.write(tmp_path, pictures=False)
     saved = json.loads((tmp_path / "report.json").read_text())
-    assert saved["verdict"] == report["verdict"] == "failed"
-    assert saved["checks"]["passed"] is False and not saved["region_verdicts"]
+    assert saved["verdict"] == report["verdict"] == "too loose"
+    for region in ("hip", "thigh_left", "thigh_right"):
+        assert saved["region_verdicts"][region]["verdict"] == "too loose"
+        assert saved["region_verdicts"][region]["ease_cm"] > 10.0
 
 
 def _stretched(pattern, mesh, factor, above):

@@ -32,16 +32,17 @@ from .settings import SolverSettings
 
 @dataclass(frozen=True, eq=False)
 class EdgePoints:
-    """Body contact points inside the cloth's edges: point ``k`` lies at ``w[k, 0] x[ids[k,
-    0]] + w[k, 1] x[ids[k, 1]]``; its contact force is shared by its two vertices with the
-    same weights.
+    """Body contact points between the cloth's vertices, inside its edges and (where a
+    triangle is wider than the spacing) inside its triangles: point ``k`` lies at
+    ``sum_j w[k, j] x[ids[k, j]]``; its contact force is shared by its vertices with the same
+    weights. A point inside an edge has a third weight 0 (its third id repeats its first).
 
     Attributes
     ----------
-    ids : (p, 2) int
-        The two solved vertices of each point's edge.
-    w : (p, 2) float
-        Their weights (positive, summing to 1).
+    ids : (p, 3) int
+        The solved vertices of each point's edge or triangle.
+    w : (p, 3) float
+        Their weights (non-negative, summing to 1).
     matrix : (p, n) sparse CSR
         Positions (p, 3) [m] = ``matrix @ x``; forces on the vertices = ``matrix.T @ f``.
     """
@@ -60,9 +61,14 @@ class EdgePoints:
         return self.matrix.T @ values
 
     @classmethod
-    def of(cls, edges, lengths, spacing: float, n: int) -> "EdgePoints":
+    def of(cls, edges, lengths, spacing: float, n: int, triangles=None,
+           longest=None) -> "EdgePoints":
         """Points inside each of ``edges`` (e, 2) (over ``n`` vertices) of rest ``lengths``
-        (e,) [m], evenly spaced at most ``spacing`` [m] apart (none for ``spacing`` 0)."""
+        (e,) [m], evenly spaced at most ``spacing`` [m] apart (none for ``spacing`` 0), and
+        inside each of ``triangles`` (m, 3) whose ``longest`` (m,) rest edge [m] is more than
+        twice ``spacing``: the inner nodes of its barycentric grid of ``ceil(longest /
+        spacing)`` steps a side (a body feature narrower than a triangle, a bust under a
+        tight coarse dress, otherwise passes between the edges' points)."""
         edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
         count = (np.zeros(len(edges), np.int64) if spacing <= 0 else
                  np.maximum(np.ceil(np.asarray(lengths) / spacing).astype(np.int64) - 1, 0))
@@ -70,11 +76,33 @@ class EdgePoints:
         # j / (count + 1) of the way along, j = 1 ... count
         j = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count) + 1
         t = j / (count[owner] + 1.0)
-        ids = edges[owner]
-        w = np.c_[1.0 - t, t]
-        rows = np.repeat(np.arange(len(ids)), 2)
+        ids = edges[owner][:, [0, 1, 0]]
+        w = np.c_[1.0 - t, t, np.zeros_like(t)]
+        if triangles is not None and spacing > 0:
+            face_ids, face_w = _face_points(np.asarray(triangles, dtype=np.int64),
+                                            np.asarray(longest, dtype=np.float64), spacing)
+            ids, w = np.r_[ids, face_ids], np.r_[w, face_w]
+        rows = np.repeat(np.arange(len(ids)), 3)
         matrix = sp.csr_matrix((w.ravel(), (rows, ids.ravel())), shape=(len(ids), n))
         return cls(ids, w, matrix)
+
+
+def _face_points(triangles, longest, spacing: float) -> tuple[np.ndarray, np.ndarray]:
+    """Vertex ids (q, 3) and barycentric weights (q, 3) of the inner nodes of each
+    triangle's grid of ``k = ceil(longest / spacing)`` steps a side (none where k < 3)."""
+    steps = np.ceil(longest / spacing - 1e-9).astype(np.int64)
+    owner, w = [np.zeros(0, np.int64)], [np.zeros((0, 3))]
+    for k in np.unique(steps[steps >= 3]):
+        a, b = np.meshgrid(np.arange(1, k), np.arange(1, k), indexing="ij")
+        inner = (a + b < k).ravel()
+        bary = np.c_[a.ravel()[inner], b.ravel()[inner], k - (a + b).ravel()[inner]] / k
+        tri = np.flatnonzero(steps == k)
+        owner.append(np.repeat(tri, len(bary)))
+        w.append(np.tile(bary, (len(tri), 1)))
+    # in triangle order, as the vertices are numbered
+    owner, w = np.concatenate(owner), np.concatenate(w)
+    order = np.argsort(owner, kind="stable")
+    return triangles[owner[order]], w[order]
 
 
 @dataclass(frozen=True, eq=False)
@@ -242,10 +270,14 @@ class ClothModel:
     # ------------------------------------------------ distances that depend on the settings
     def edge_points(self, spacing: float) -> "EdgePoints":
         """Contact points inside the edges, evenly spaced at most ``spacing`` [m] apart
-        along the edges' rest lengths (:class:`EdgePoints`); made once per spacing."""
+        along the edges' rest lengths, and inside the triangles wider than that
+        (:class:`EdgePoints`); made once per spacing."""
         if spacing not in self._edge_points:
+            flat = self.rest[self.triangles]  # (m, 3, 2)
+            longest = np.linalg.norm(flat - np.roll(flat, 1, axis=1), axis=2).max(axis=1)
             self._edge_points[spacing] = EdgePoints.of(self.edges, self.rest_lengths(),
-                                                       spacing, self.n)
+                                                       spacing, self.n, self.terms.tris,
+                                                       longest)
         return self._edge_points[spacing]
 
     def rest_lengths(self) -> np.ndarray:

@@ -352,7 +352,7 @@ def _frame(scene: NewtonScene, field, dt: float, h: float, points=None) -> tuple
 
 
 def _project_points(x, v, field, h: float, points) -> int:
-    """Move the two vertices of every edge point found inside the body (``points``,
+    """Move the vertices of every edge or face point found inside the body (``points``,
     :class:`~patternfit.sim.model.EdgePoints`) so that the point lies ``h`` [m] out along
     the field's normal, each by its weight over the sum of the squared weights (the
     least motion that moves the point so), averaged where a vertex has several such points;
@@ -366,14 +366,17 @@ def _project_points(x, v, field, h: float, points) -> int:
     ids = points.ids[low]
     step = ((h - d[low]) / (w * w).sum(axis=1))[:, None, None] * w[:, :, None] \
         * g[low, None, :]
+    # an edge point's third vertex has weight 0: it is not one of its vertices here
+    mine = (w > 0.0).ravel()
+    ids = ids.ravel()[mine]
     move = np.zeros_like(x)
     count = np.zeros(len(x))
-    np.add.at(move, ids.ravel(), step.reshape(-1, 3))
-    np.add.at(count, ids.ravel(), 1.0)
+    np.add.at(move, ids, step.reshape(-1, 3)[mine])
+    np.add.at(count, ids, 1.0)
     hit = count > 0
     x[hit] += move[hit] / count[hit, None]
     normal = np.zeros_like(x)
-    np.add.at(normal, ids.ravel(), np.repeat(g[low], 2, axis=0))
+    np.add.at(normal, ids, np.repeat(g[low], w.shape[1], axis=0)[mine])
     normal[hit] /= np.linalg.norm(normal[hit], axis=1)[:, None]
     vn = (v[hit] * normal[hit]).sum(axis=1)
     v[hit] -= np.minimum(vn, 0.0)[:, None] * normal[hit]

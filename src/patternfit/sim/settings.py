@@ -94,7 +94,8 @@ class SolverSettings:
     #: lying over a curved body cuts into it by about L^2 / 8R between two vertices held
     #: clear (a 5 cm edge round a 3.5 cm forearm: 9 mm): the 3K coat on male_average had
     #: 156 edges through the body and no vertex inside (docs/simulation.md, "Contact
-    #: between the vertices")
+    #: between the vertices"); and inside each triangle more than twice this across, on a
+    #: grid as fine (a bust into a coarse dress's triangle, feet through coarse hems)
     edge_contact: float = 0.01
     #: share of the contact stiffness put on the preconditioner's diagonal [-]
     contact_precond: float = 0.3

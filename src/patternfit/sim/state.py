@@ -21,6 +21,8 @@ import scipy.sparse as sp
 MAX_CONTACT_SCALE = 4.0 ** 6
 #: ... and the most of it an edge contact point takes (``total_energy.edge_stiffness``)
 EDGE_CONTACT_SCALE = 16.0
+#: ... and a contact point inside a triangle
+FACE_CONTACT_SCALE = 1.0
 #: the fields of a saved drape's state (:meth:`ContactState.saved_arrays`)
 SAVED = ("contact_scale", "anchor_of", "friction_idx", "friction_anchor", "friction_normal",
          "friction_limit", "pairs", "bary", "pair_normal", "near_edges", "edge_pairs",

@@ -18,7 +18,7 @@ import scipy.sparse as sp
 from . import kernels
 from .model import ClothModel
 from .settings import SolverSettings
-from .state import EDGE_CONTACT_SCALE, ContactState
+from .state import EDGE_CONTACT_SCALE, FACE_CONTACT_SCALE, ContactState
 
 
 @dataclass(eq=False)
@@ -58,15 +58,23 @@ def edge_points(model: ClothModel, settings: SolverSettings):
 
 def edge_stiffness(model: ClothModel, state: ContactState,
                    settings: SolverSettings) -> np.ndarray:
-    """Contact stiffness (p,) [N/m] of the edge points: their vertices' (weighted,
+    """Contact stiffness (p,) [N/m] of the edge and face points: their vertices' (weighted,
     ``EdgePoints.stiffness``), stiffened no more than ``EDGE_CONTACT_SCALE`` times. A
     straight edge across a concave crease (an armpit) cannot leave the body whatever pushes
     it: stiffened as far as its vertices may be (4^6), the underarm points of the 1.5K
     coat pushed a vertex with 10 kN, its friction limit grew to 6.8 kN and a let-out
-    re-drape blew up; never stiffened, the 3K shirt kept 4 edges 1.5 mm deep at its cuffs."""
-    scale = np.minimum(state.contact_scale, EDGE_CONTACT_SCALE)
-    return edge_points(model, settings).stiffness(settings.contact_stiffness
-                                                  * model.terms.vertex_area * scale)
+    re-drape blew up; never stiffened, the 3K shirt kept 4 edges 1.5 mm deep at its cuffs.
+    A point inside a triangle is never stiffened (``FACE_CONTACT_SCALE``): a triangle
+    across the underarm has several, and stiffened to 16 times they pushed the let-out
+    coat's sleeves apart."""
+    base = settings.contact_stiffness * model.terms.vertex_area
+    pts = edge_points(model, settings)
+    k = pts.stiffness(base * np.minimum(state.contact_scale, EDGE_CONTACT_SCALE))
+    face = pts.w[:, 2] > 0.0
+    if face.any():
+        k[face] = pts.stiffness(base * np.minimum(state.contact_scale,
+                                                  FACE_CONTACT_SCALE))[face]
+    return k
 
 
 def distance(model: ClothModel, x):
@@ -268,8 +276,8 @@ def pair_hessian(model: ClothModel, state: ContactState, x, *, settings: SolverS
 
 def edge_contact_hessian(model: ClothModel, state: ContactState, x, *,
                          settings: SolverSettings, lookups: ContactLookups | None = None):
-    """Hessian (3n x 3n CSR) [N/m] of the edge points' body contact (k w w^T g g^T, g the
-    field's gradient) at solved positions ``x`` (n, 3) [m], or None when no point is in
+    """Hessian (3n x 3n CSR) [N/m] of the edge and face points' body contact (k w w^T g g^T,
+    g the field's gradient) at solved positions ``x`` (n, 3) [m], or None when no point is in
     contact. ``lookups``: the energy's cache (read only)."""
     s = settings
     pts = edge_points(model, s)
@@ -285,7 +293,9 @@ def edge_contact_hessian(model: ClothModel, state: ContactState, x, *,
     on = near[hit]
     k = edge_stiffness(model, state, s)[on]
     _, k_on = kernels.contact_forces(model.reach(s) - d[hit], k, s.contact_onset)
-    return weighted_blocks([(pts.ids[on], pts.w[on], g[hit], k_on)], model.n)
+    # points inside edges alone (a fine mesh) leave the third column 0: 2 x 2 blocks
+    j = 3 if pts.w[on, 2].any() else 2
+    return weighted_blocks([(pts.ids[on, :j], pts.w[on, :j], g[hit], k_on)], model.n)
 
 
 def weighted_blocks(parts, n: int) -> sp.csr_matrix:
