@@ -227,3 +227,15 @@ def assert_matched_and_mirrored(pattern, panels):
         axis = 0.5 * (poly[:, 0].min() + poly[:, 0].max())
         mirrored = poly * [-1.0, 1.0] + [2 * axis, 0.0]
         assert np.linalg.norm(mirrored[:, None] - poly[None], axis=2).min(axis=1).max() < 1e-4
+
+
+def fd_gradient(f, x, h=1e-7):
+    """Central finite differences (n, 3) of the scalar ``f`` at ``x`` (n, 3), step ``h``."""
+    g = np.zeros_like(x)
+    for i in range(x.shape[0]):
+        for c in range(3):
+            xp, xm = x.copy(), x.copy()
+            xp[i, c] += h
+            xm[i, c] -= h
+            g[i, c] = (f(xp) - f(xm)) / (2 * h)
+    return g

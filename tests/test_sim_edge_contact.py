@@ -16,7 +16,7 @@ from patternfit.sim.settings import SolverSettings
 from patternfit.sim.solver import GarmentSolver
 from patternfit.sim.total_energy import edge_stiffness, energy, hessian, hessian_pattern
 
-from scenes import grain_at, sphere_field
+from scenes import fd_gradient, grain_at, sphere_field
 
 R = 0.05
 
@@ -101,15 +101,7 @@ def test_a_body_into_the_middle_of_a_triangle_pushes_all_three_corners():
     e, g = energy(m, st_, x, settings=solver.settings)
     assert (g[:, 1] < 0).all()  # the force, -g, lifts every corner
     assert m.edge_points(0.01).w[:, 2].any()  # points inside the triangle
-    h = 1e-7
-    fd = np.zeros_like(x)
-    for i in range(3):
-        for c in range(3):
-            xp, xm = x.copy(), x.copy()
-            xp[i, c] += h
-            xm[i, c] -= h
-            fd[i, c] = (energy(m, st_, xp, settings=solver.settings)[0]
-                        - energy(m, st_, xm, settings=solver.settings)[0]) / (2 * h)
+    fd = fd_gradient(lambda y: energy(m, st_, y, settings=solver.settings)[0], x)
     np.testing.assert_allclose(g, fd, atol=1e-6 * np.abs(g).max())
     # stiffened vertices stiffen their edge points up to 16 times, never their face points
     st_.contact_scale[:] = 64.0
@@ -134,16 +126,9 @@ def test_an_edge_across_the_body_is_pushed_out_though_its_vertices_are_clear():
     assert e_on > e_off
     push = (g_off - g_on)[:, 1]  # the contact's extra force, upwards on every vertex
     assert (push[[0, 2]] > 0).all()  # the diagonal's ends carry it
-    h = 1e-7
-    fd = np.zeros_like(x)
-    for i in range(4):
-        for c in range(3):
-            xp, xm = x.copy(), x.copy()
-            xp[i, c] += h
-            xm[i, c] -= h
-            fd[i, c] = (energy(on.model, on.state, xp, settings=on.settings)[0]
-                        - energy(on.model, on.state, xm, settings=on.settings)[0]) / (2 * h)
+    fd = fd_gradient(lambda y: energy(on.model, on.state, y, settings=on.settings)[0], x)
     np.testing.assert_allclose(g_on, fd, atol=1e-6 * np.abs(g_on).max())
+    h = 1e-7
     # along the vertical (the field's normal at the top) the Hessian is the gradient's
     # derivative: the contact's part of it
     H_on = hessian(on.model, on.state, x, settings=on.settings,

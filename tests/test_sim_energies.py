@@ -13,7 +13,7 @@ from patternfit.sim.settings import SolverSettings
 from patternfit.sim.solver import GarmentSolver
 from patternfit.sim.total_energy import energy
 
-from scenes import grain_at, rect_mesh, sphere_field
+from scenes import fd_gradient, grain_at, rect_mesh, sphere_field
 
 FABRIC = dict(k_warp=900.0, k_weft=600.0, k_shear=40.0)
 
@@ -28,17 +28,6 @@ def _sheet(seed=0, scale=3e-3):
     return v, t, terms, x
 
 
-def _fd_gradient(f, x, h=1e-7):
-    g = np.zeros_like(x)
-    for i in range(x.shape[0]):
-        for c in range(3):
-            xp, xm = x.copy(), x.copy()
-            xp[i, c] += h
-            xm[i, c] -= h
-            g[i, c] = (f(xp) - f(xm)) / (2 * h)
-    return g
-
-
 @pytest.mark.parametrize("compression", [1.0, 0.05])
 def test_membrane_gradient_matches_finite_differences(compression):
     _, _, T, x = _sheet()
@@ -51,7 +40,7 @@ def test_membrane_gradient_matches_finite_differences(compression):
     grad = np.zeros_like(x)
     kernels.membrane(x, T.tris, T.cu, T.cv, T.area, FABRIC["k_warp"], FABRIC["k_weft"],
                      FABRIC["k_shear"], compression, grad)
-    np.testing.assert_allclose(grad, _fd_gradient(energy, x), atol=1e-6 * np.abs(grad).max())
+    np.testing.assert_allclose(grad, fd_gradient(energy, x), atol=1e-6 * np.abs(grad).max())
 
 
 def test_membrane_hessian_is_exact_in_pure_stretch_and_psd_everywhere():
@@ -130,7 +119,7 @@ def test_contact_friction_seam_and_repulsion_gradients():
     for term in (contact, friction, seams):
         grad = np.zeros_like(x)
         term(x, grad)
-        fd = _fd_gradient(lambda y: term(y, np.zeros_like(y)), x)
+        fd = fd_gradient(lambda y: term(y, np.zeros_like(y)), x)
         np.testing.assert_allclose(grad, fd, atol=1e-6 * max(np.abs(grad).max(), 1e-9))
     # vertex-triangle repulsion
     tris = np.array([[0, 1, 2]])
@@ -145,7 +134,7 @@ def test_contact_friction_seam_and_repulsion_gradients():
 
     grad = np.zeros_like(y)
     assert rep(y, grad) > 0
-    np.testing.assert_allclose(grad, _fd_gradient(lambda z: rep(z, np.zeros_like(z)), y),
+    np.testing.assert_allclose(grad, fd_gradient(lambda z: rep(z, np.zeros_like(z)), y),
                                atol=1e-7)
 
 
@@ -162,7 +151,7 @@ def test_bending_and_weld_springs_are_quadratic_forms_with_the_right_gradient():
         def energy(y, Q=Q):
             return 0.5 * float(np.einsum("ij,ij->", y, Q @ y))
 
-        np.testing.assert_allclose(Q @ x, _fd_gradient(energy, x),
+        np.testing.assert_allclose(Q @ x, fd_gradient(energy, x),
                                    atol=1e-6 * np.abs(Q @ x).max())
     flat = np.c_[v, np.zeros(n)]
     c, s = np.cos(0.7), np.sin(0.7)
@@ -200,7 +189,7 @@ def test_residual_is_the_finite_difference_force_of_the_total_energy():
     solver = GarmentSolver(v, t, grain_at(20, len(t)), "cotton_shirting", body=body,
                            pinned=pinned, settings=SolverSettings(max_iterations=0))
     res = solver.solve(x0)
-    fd = _fd_gradient(lambda y: energy(solver.model, solver.state, y,
+    fd = fd_gradient(lambda y: energy(solver.model, solver.state, y,
                                        settings=solver.settings)[0], x0, h=1e-8)
     free = np.ones(len(v), bool)
     free[pinned] = False
