@@ -13,7 +13,8 @@ from hypothesis import strategies as st
 
 from patternfit.geometry import (boundary_edges, counter_clockwise, euler_xyz_matrix,
                                  face_adjacency,
-                                 face_cross, hinges, interior_edges, polygon_area,
+                                 face_cross, hinges, inner_grid, interior_edges,
+                                 longest_edges, polygon_area,
                                  rotation_between, signed_areas, triangle_areas, unique_edges)
 
 coord = st.floats(-10.0, 10.0, allow_nan=False, allow_infinity=False)
@@ -182,3 +183,18 @@ def test_the_boundary_of_a_grid_is_its_outer_frame(grid):
     on_frame = ((x[b][..., 0] == 0).all(1) | (x[b][..., 0] == nx).all(1)
                 | (x[b][..., 1] == 0).all(1) | (x[b][..., 1] == ny).all(1))
     assert on_frame.all()
+
+
+@given(k=st.integers(0, 12))
+def test_the_inner_grid_holds_every_node_strictly_inside_once(k):
+    bary = inner_grid(k)
+    assert len(bary) == max(k - 1, 0) * max(k - 2, 0) // 2
+    assert (bary > 0).all() and np.allclose(bary.sum(axis=1), 1.0)
+    assert len({tuple(np.round(b * k).astype(int)) for b in bary}) == len(bary)
+
+
+def test_longest_edges_of_flat_and_spatial_triangles():
+    corners = np.array([[[0, 0], [3, 0], [0, 4]], [[0, 0], [1, 0], [0, 1]]], float)
+    np.testing.assert_allclose(longest_edges(corners), [5.0, np.sqrt(2.0)])
+    np.testing.assert_allclose(longest_edges(np.dstack([corners, np.zeros((2, 3))])),
+                               [5.0, np.sqrt(2.0)])

@@ -43,6 +43,7 @@ def test_points_are_evenly_spaced_inside_each_edge_and_weighted_by_where_they_li
                                             [2, 3, 2]])
     np.testing.assert_allclose(pts.w[:, 1], [1 / 3, 2 / 3, 0.25, 0.5, 0.75])
     np.testing.assert_allclose(pts.w[:, 2], 0.0)
+    assert pts.n_edge == 5
     np.testing.assert_allclose(pts.w.sum(axis=1), 1.0)
     x = np.random.default_rng(0).normal(size=(4, 3))
     np.testing.assert_allclose(pts.matrix @ x, pts.w[:, :1] * x[pts.ids[:, 0]]
@@ -56,6 +57,7 @@ def test_a_triangle_wider_than_the_spacing_gets_the_inner_nodes_of_its_grid():
                         np.array([0.035, 0.02, 0.025]))
     # 3.5 cm -> 4 steps a side, 3 inner nodes; 2 cm -> 2 steps, none; 2.5 cm -> 3, the centroid
     np.testing.assert_array_equal(pts.ids, [[0, 1, 2]] * 3 + [[2, 3, 4]])
+    assert pts.n_edge == 0
     np.testing.assert_allclose(np.sort(pts.w[:3], axis=1), [[0.25, 0.25, 0.5]] * 3)
     assert len({tuple(w) for w in pts.w[:3]}) == 3
     np.testing.assert_allclose(pts.w[3], 1 / 3)

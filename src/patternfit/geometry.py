@@ -69,6 +69,21 @@ def triangle_areas(vertices, triangles) -> np.ndarray:
     return trimesh.triangles.area(crosses=face_cross(v, t))
 
 
+def longest_edges(corners) -> np.ndarray:
+    """Longest edge (m,) [m] of each triangle of ``corners`` (m, 3, 2) or (m, 3, 3) [m]."""
+    c = np.asanyarray(corners, dtype=np.float64)
+    return np.linalg.norm(c - np.roll(c, 1, axis=1), axis=2).max(axis=1)
+
+
+def inner_grid(k: int) -> np.ndarray:
+    """Barycentric coordinates (q, 3) of the nodes strictly inside a triangle's grid of ``k``
+    steps a side, ``(i, j, k - i - j) / k`` with all three >= 1 (none for k < 3)."""
+    i, j = np.meshgrid(np.arange(1, k), np.arange(1, k), indexing="ij")
+    inner = (i + j < k).ravel()
+    i, j = i.ravel()[inner], j.ravel()[inner]
+    return np.c_[i, j, k - i - j] / k
+
+
 def counter_clockwise(vertices, triangles) -> np.ndarray:
     """``triangles`` (m, 3) over 2D ``vertices`` with every clockwise one turned over (its
     last two corners swapped), so that all run counter-clockwise."""

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..arguments import array
 from ..constants import limits, tol
+from ..geometry import inner_grid, longest_edges
 from . import kernels
 from .model import ClothModel
 from .settings import SolverSettings
@@ -153,7 +154,7 @@ def _pierced_faces(model: ClothModel, x, d_end, deep_edge, step: float) -> int:
     body = model.body
     tris = model.terms.tris
     p = x[tris]  # (m, 3, 3)
-    longest = np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2).max(axis=1)
+    longest = longest_edges(p)
     # the distance changes by at most SDF_SLOPE per metre: no point of a triangle is
     # farther than its longest edge from a corner
     near = np.flatnonzero(d_end[tris].min(axis=1) < kernels.SDF_SLOPE * longest)
@@ -166,12 +167,7 @@ def _pierced_faces(model: ClothModel, x, d_end, deep_edge, step: float) -> int:
         group = group[clear]
         if not len(group):
             continue
-        # the grid points strictly inside: barycentric (i, j, n - i - j) / n, all >= 1
-        i, j = np.meshgrid(np.arange(1, n), np.arange(1, n), indexing="ij")
-        inner = i + j < n
-        u, v = i[inner] / n, j[inner] / n
-        q = p[group, :1] + u[None, :, None] * (p[group, 1:2] - p[group, :1]) \
-            + v[None, :, None] * (p[group, 2:] - p[group, :1])
+        q = np.einsum("qj,gjc->gqc", inner_grid(n)[:, [2, 0, 1]], p[group])  # grid inside
         d, _ = kernels.sdf_query(body.values, body.origin, body.spacing,
                                  np.ascontiguousarray(q.reshape(-1, 3)))
         pierced += int((d.reshape(len(group), -1) < -tol.penetration).any(axis=1).sum())

@@ -23,7 +23,7 @@ import scipy.sparse as sp
 
 from ..arguments import array
 from ..body.sdf import DistanceField
-from ..geometry import unique_edges
+from ..geometry import inner_grid, longest_edges, unique_edges
 from .bending_friction import BendingFriction
 from .energies import MeshTerms, build_terms
 from .fabrics import Fabric, get_fabric
@@ -45,11 +45,14 @@ class EdgePoints:
         Their weights (non-negative, summing to 1).
     matrix : (p, n) sparse CSR
         Positions (p, 3) [m] = ``matrix @ x``; forces on the vertices = ``matrix.T @ f``.
+    n_edge : int
+        Points ``0 ... n_edge - 1`` lie inside edges, the rest inside triangles.
     """
 
     ids: np.ndarray
     w: np.ndarray
     matrix: sp.csr_matrix
+    n_edge: int
 
     def stiffness(self, contact_k) -> np.ndarray:
         """Contact stiffness (p,) [N/m] of the points: their vertices' ``contact_k`` (n,)
@@ -78,13 +81,14 @@ class EdgePoints:
         t = j / (count[owner] + 1.0)
         ids = edges[owner][:, [0, 1, 0]]
         w = np.c_[1.0 - t, t, np.zeros_like(t)]
+        n_edge = len(ids)
         if triangles is not None and spacing > 0:
             face_ids, face_w = _face_points(np.asarray(triangles, dtype=np.int64),
                                             np.asarray(longest, dtype=np.float64), spacing)
             ids, w = np.r_[ids, face_ids], np.r_[w, face_w]
         rows = np.repeat(np.arange(len(ids)), 3)
         matrix = sp.csr_matrix((w.ravel(), (rows, ids.ravel())), shape=(len(ids), n))
-        return cls(ids, w, matrix)
+        return cls(ids, w, matrix, n_edge)
 
 
 def _face_points(triangles, longest, spacing: float) -> tuple[np.ndarray, np.ndarray]:
@@ -93,9 +97,7 @@ def _face_points(triangles, longest, spacing: float) -> tuple[np.ndarray, np.nda
     steps = np.ceil(longest / spacing - 1e-9).astype(np.int64)
     owner, w = [np.zeros(0, np.int64)], [np.zeros((0, 3))]
     for k in np.unique(steps[steps >= 3]):
-        a, b = np.meshgrid(np.arange(1, k), np.arange(1, k), indexing="ij")
-        inner = (a + b < k).ravel()
-        bary = np.c_[a.ravel()[inner], b.ravel()[inner], k - (a + b).ravel()[inner]] / k
+        bary = inner_grid(k)
         tri = np.flatnonzero(steps == k)
         owner.append(np.repeat(tri, len(bary)))
         w.append(np.tile(bary, (len(tri), 1)))
@@ -273,11 +275,9 @@ class ClothModel:
         along the edges' rest lengths, and inside the triangles wider than that
         (:class:`EdgePoints`); made once per spacing."""
         if spacing not in self._edge_points:
-            flat = self.rest[self.triangles]  # (m, 3, 2)
-            longest = np.linalg.norm(flat - np.roll(flat, 1, axis=1), axis=2).max(axis=1)
-            self._edge_points[spacing] = EdgePoints.of(self.edges, self.rest_lengths(),
-                                                       spacing, self.n, self.terms.tris,
-                                                       longest)
+            self._edge_points[spacing] = EdgePoints.of(
+                self.edges, self.rest_lengths(), spacing, self.n, self.terms.tris,
+                longest_edges(self.rest[self.triangles]))
         return self._edge_points[spacing]
 
     def rest_lengths(self) -> np.ndarray:

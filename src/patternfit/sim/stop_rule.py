@@ -19,33 +19,34 @@ def drift(x, it, marks, window) -> float:
     return float(np.sqrt(((x - old[-1]) ** 2).sum(axis=1).max()))
 
 
+def _ratios2(model: ClothModel, grad) -> np.ndarray:
+    """(|F_i| / (m_i g))^2 [-] over the free solved vertices of mass (k,), F = -grad."""
+    free = model.free & (model.mass > 0)
+    return (grad[free] ** 2).sum(axis=1) / (model.mass[free] * GRAVITY) ** 2
+
+
 def residual(model: ClothModel, grad) -> tuple[float, float]:
     """(rms, 99th percentile) of |F_i| / (m_i g) [-] over the free solved vertices, F = -grad
     ((n_solved, 3) [N]) of the energy minimised (lagged terms at their current anchors and
     pairs)."""
-    free = model.free & (model.mass > 0)
-    if not free.any():
+    r2 = _ratios2(model, grad)
+    if not len(r2):
         return 0.0, 0.0
-    r = np.sqrt((grad[free] ** 2).sum(axis=1)) / (model.mass[free] * GRAVITY)
-    return float(np.sqrt(np.mean(r * r))), float(np.percentile(r, 99))
+    return float(np.sqrt(np.mean(r2))), float(np.percentile(np.sqrt(r2), 99))
 
 
 def residual_rms(model: ClothModel, grad) -> float:
     """rms of |F_i| / (m_i g) [-] over the free solved vertices (:func:`residual`'s first)."""
-    free = model.free & (model.mass > 0)
-    if not free.any():
-        return 0.0
-    r2 = (grad[free] ** 2).sum(axis=1) / (model.mass[free] * GRAVITY) ** 2
-    return float(np.sqrt(np.mean(r2)))
+    r2 = _ratios2(model, grad)
+    return float(np.sqrt(np.mean(r2))) if len(r2) else 0.0
 
 
 def at_rest(model: ClothModel, grad, settings: SolverSettings) -> bool:
     """Whether the force balance of ``settings.residual_rms`` / ``residual_p99`` holds for the
     gradient ``grad`` (n_solved, 3) [N] (the p99 is computed only when the rms passes)."""
-    free = model.free & (model.mass > 0)
-    if not free.any():
+    r2 = _ratios2(model, grad)
+    if not len(r2):
         return True
-    r2 = (grad[free] ** 2).sum(axis=1) / (model.mass[free] * GRAVITY) ** 2
     if float(np.mean(r2)) > settings.residual_rms ** 2:
         return False
     return float(np.sqrt(np.percentile(r2, 99))) <= settings.residual_p99

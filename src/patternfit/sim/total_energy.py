@@ -70,10 +70,9 @@ def edge_stiffness(model: ClothModel, state: ContactState,
     base = settings.contact_stiffness * model.terms.vertex_area
     pts = edge_points(model, settings)
     k = pts.stiffness(base * np.minimum(state.contact_scale, EDGE_CONTACT_SCALE))
-    face = pts.w[:, 2] > 0.0
-    if face.any():
-        k[face] = pts.stiffness(base * np.minimum(state.contact_scale,
-                                                  FACE_CONTACT_SCALE))[face]
+    if len(k) > pts.n_edge:
+        k[pts.n_edge:] = pts.matrix[pts.n_edge:] @ (base * np.minimum(state.contact_scale,
+                                                                       FACE_CONTACT_SCALE))
     return k
 
 
@@ -294,7 +293,7 @@ def edge_contact_hessian(model: ClothModel, state: ContactState, x, *,
     k = edge_stiffness(model, state, s)[on]
     _, k_on = kernels.contact_forces(model.reach(s) - d[hit], k, s.contact_onset)
     # points inside edges alone (a fine mesh) leave the third column 0: 2 x 2 blocks
-    j = 3 if pts.w[on, 2].any() else 2
+    j = 3 if (on >= pts.n_edge).any() else 2
     return weighted_blocks([(pts.ids[on, :j], pts.w[on, :j], g[hit], k_on)], model.n)
 
 
