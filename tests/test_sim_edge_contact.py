@@ -110,8 +110,8 @@ def test_a_body_into_the_middle_of_a_triangle_pushes_all_three_corners():
     k = edge_stiffness(m, st_, solver.settings)
     face = m.edge_points(0.01).w[:, 2] > 0
     base = solver.settings.contact_stiffness * m.terms.vertex_area
-    np.testing.assert_allclose(k[face], m.edge_points(0.01).stiffness(base)[face])
-    np.testing.assert_allclose(k[~face], 16.0 * m.edge_points(0.01).stiffness(base)[~face])
+    np.testing.assert_allclose(k[face], (m.edge_points(0.01).matrix @ base)[face])
+    np.testing.assert_allclose(k[~face], 16.0 * (m.edge_points(0.01).matrix @ base)[~face])
 
 
 def test_an_edge_across_the_body_is_pushed_out_though_its_vertices_are_clear():
@@ -203,3 +203,51 @@ def test_a_bump_through_a_large_triangle_is_counted_and_seen_by_the_fine_edges_a
             assert not checks.passed and checks.to_dict()["faces_in_body"] == 1
             x[:, 1] = 0.0105  # lifted clear of the ball
             assert faces_in_body(solver.model, x) == 0
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), n_edge=st.integers(0, 40))
+def test_the_fused_point_kernel_equals_the_points_assembled_and_their_forces_shared(seed,
+                                                                                   n_edge):
+    """``kernels.point_contact`` (positions, stiffness and the forces' sharing done inside
+    the loop) against the same contact assembled with the points' matrix: the points'
+    positions ``matrix @ x``, ``kernels.contact`` on them, forces back by ``matrix.T``; the
+    lookups it keeps spare later calls without changing them."""
+    import scipy.sparse as sp
+
+    from patternfit.sim import kernels
+
+    rng = np.random.default_rng(seed)
+    n, p = 30, 60
+    x = rng.normal(scale=0.03, size=(n, 3)) + [0.0, R, 0.0]
+    ids = rng.integers(0, n, size=(p, 3))
+    w = rng.dirichlet(np.ones(3), size=p)
+    w[:n_edge, 2] = 0.0
+    w[:n_edge, :2] /= w[:n_edge, :2].sum(axis=1, keepdims=True)
+    base, scale = rng.uniform(1.0, 5.0, n), 4.0 ** rng.integers(0, 7, n)
+    body = sphere_field(R, half=0.1, h=0.0025)
+    args = (body.values, body.origin, body.spacing, 0.004)
+    grad, seen, room = np.zeros((n, 3)), np.full((p, 3), np.inf), np.zeros(p)
+    e = kernels.point_contact(x, ids, w, n_edge, base, scale, 16.0, 1.0, *args, 0.001, seen,
+                              room, grad)
+    # again from the lookups kept, 0.1 mm further: only the points in reach are looked up
+    # and the sums are the fresh ones
+    y, again = x + 1e-4, np.zeros((n, 3))
+    e2 = kernels.point_contact(y, ids, w, n_edge, base, scale, 16.0, 1.0, *args, 0.001, seen,
+                               room, again)
+    fresh = np.zeros((n, 3))
+    e3 = kernels.point_contact(y, ids, w, n_edge, base, scale, 16.0, 1.0, *args, 0.001,
+                               np.full((p, 3), np.inf), np.zeros(p), fresh)
+    assert e2 == e3 and (again == fresh).all()
+    matrix = sp.csr_matrix((w.ravel(), (np.repeat(np.arange(p), 3), ids.ravel())),
+                           shape=(p, n))
+    cap = np.where(np.arange(p) < n_edge, 16.0, 1.0)
+    k = np.einsum("pj,pj->p", w, base[ids] * np.minimum(scale[ids], cap[:, None]))
+    fp = np.zeros((p, 3))
+    e_ref = kernels.contact(matrix @ x, *args, k, 0.001, np.full((p, 3), np.inf),
+                            np.zeros(p), fp)
+    assert e_ref > 0  # some points in contact
+    np.testing.assert_allclose(e, e_ref, rtol=1e-12)
+    np.testing.assert_allclose(grad, matrix.T @ fp, rtol=1e-10, atol=1e-12 * abs(fp).max())
+    np.testing.assert_allclose(kernels.point_stiffness(ids, w, n_edge, base, scale, 16.0, 1.0),
+                               k, rtol=1e-12)

@@ -131,15 +131,12 @@ def _axis(p, origin, spacing, n):
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def _weights(t, w, dw):
+def _weights(t):
     """Quadratic B-spline weights of the three nodes around offset ``t`` and their
-    derivatives [per grid step]."""
-    w[0] = 0.5 * (0.5 - t) ** 2
-    w[1] = 0.75 - t * t
-    w[2] = 0.5 * (0.5 + t) ** 2
-    dw[0] = t - 0.5
-    dw[1] = -2.0 * t
-    dw[2] = t + 0.5
+    derivatives [per grid step]: two 3-tuples (tuples, not arrays: this runs per contact
+    lookup, tens of millions of times a drape, and an array is a heap allocation)."""
+    return ((0.5 * (0.5 - t) ** 2, 0.75 - t * t, 0.5 * (0.5 + t) ** 2),
+            (t - 0.5, -2.0 * t, t + 0.5))
 
 
 @numba.njit(cache=True, nogil=True)
@@ -150,27 +147,32 @@ def smooth_distance_at(values, origin, spacing, p):
     i0, tx, ox = _axis(p[0], origin[0], spacing, nx)
     j0, ty, oy = _axis(p[1], origin[1], spacing, ny)
     k0, tz, oz = _axis(p[2], origin[2], spacing, nz)
-    wx = np.empty(3)
-    wy = np.empty(3)
-    wz = np.empty(3)
-    dx = np.empty(3)
-    dy = np.empty(3)
-    dz = np.empty(3)
-    _weights(tx, wx, dx)
-    _weights(ty, wy, dy)
-    _weights(tz, wz, dz)
+    wx, dx = _weights(tx)
+    wy, dy = _weights(ty)
+    wz, dz = _weights(tz)
     d = 0.0
     gx = 0.0
     gy = 0.0
     gz = 0.0
+    # separably: along z, then y, then x
     for a in range(3):
+        s0 = 0.0  # sum over b, c of wy wz v
+        sy = 0.0  # ... dy wz v
+        sz = 0.0  # ... wy dz v
         for b in range(3):
+            r0 = 0.0
+            rz = 0.0
             for c in range(3):
                 v = values[i0 + a, j0 + b, k0 + c]
-                d += wx[a] * wy[b] * wz[c] * v
-                gx += dx[a] * wy[b] * wz[c] * v
-                gy += wx[a] * dy[b] * wz[c] * v
-                gz += wx[a] * wy[b] * dz[c] * v
+                r0 += wz[c] * v
+                rz += dz[c] * v
+            s0 += wy[b] * r0
+            sy += dy[b] * r0
+            sz += wy[b] * rz
+        d += wx[a] * s0
+        gx += dx[a] * s0
+        gy += wx[a] * sy
+        gz += wx[a] * sz
     d += np.sqrt(ox + oy + oz)
     return d, gx / spacing, gy / spacing, gz / spacing
 

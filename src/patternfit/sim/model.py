@@ -54,15 +54,6 @@ class EdgePoints:
     matrix: sp.csr_matrix
     n_edge: int
 
-    def stiffness(self, contact_k) -> np.ndarray:
-        """Contact stiffness (p,) [N/m] of the points: their vertices' ``contact_k`` (n,)
-        [N/m], weighted."""
-        return self.matrix @ contact_k
-
-    def to_vertices(self, values) -> np.ndarray:
-        """Each vertex's weighted share (n,) of the points' ``values`` (p,)."""
-        return self.matrix.T @ values
-
     @classmethod
     def of(cls, edges, lengths, spacing: float, n: int, triangles=None,
            longest=None) -> "EdgePoints":

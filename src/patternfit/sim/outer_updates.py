@@ -20,7 +20,8 @@ from .energies import spring_matrix
 from .model import ClothModel
 from .settings import SolverSettings
 from .state import MAX_CONTACT_SCALE, ContactState
-from .total_energy import ContactLookups, distance, edge_points, edge_stiffness, energy
+from .total_energy import (ContactLookups, contact_base, distance, edge_points, edge_stiffness,
+                           energy)
 
 
 def set_springs(model: ClothModel, state: ContactState, *, settings: SolverSettings,
@@ -167,7 +168,7 @@ def saved_contact_scale(model: ClothModel, state: ContactState, x, *,
 def contact_k(model: ClothModel, state: ContactState, settings: SolverSettings) -> np.ndarray:
     """Contact stiffness (n,) [N/m] of every vertex: pressure stiffness x vertex area x the
     state's scale."""
-    return settings.contact_stiffness * model.terms.vertex_area * state.contact_scale
+    return contact_base(model, settings) * state.contact_scale
 
 
 def anchors(state: ContactState, x, idx, normal, grad=None, *,

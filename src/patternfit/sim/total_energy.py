@@ -59,7 +59,7 @@ def edge_points(model: ClothModel, settings: SolverSettings):
 def edge_stiffness(model: ClothModel, state: ContactState,
                    settings: SolverSettings) -> np.ndarray:
     """Contact stiffness (p,) [N/m] of the edge and face points: their vertices' (weighted,
-    ``EdgePoints.stiffness``), stiffened no more than ``EDGE_CONTACT_SCALE`` times. A
+    ``kernels.point_stiffness``), stiffened no more than ``EDGE_CONTACT_SCALE`` times. A
     straight edge across a concave crease (an armpit) cannot leave the body whatever pushes
     it: stiffened as far as its vertices may be (4^6), the underarm points of the 1.5K
     coat pushed a vertex with 10 kN, its friction limit grew to 6.8 kN and a let-out
@@ -67,13 +67,15 @@ def edge_stiffness(model: ClothModel, state: ContactState,
     A point inside a triangle is never stiffened (``FACE_CONTACT_SCALE``): a triangle
     across the underarm has several, and stiffened to 16 times they pushed the let-out
     coat's sleeves apart."""
-    base = settings.contact_stiffness * model.terms.vertex_area
     pts = edge_points(model, settings)
-    k = pts.stiffness(base * np.minimum(state.contact_scale, EDGE_CONTACT_SCALE))
-    if len(k) > pts.n_edge:
-        k[pts.n_edge:] = pts.matrix[pts.n_edge:] @ (base * np.minimum(state.contact_scale,
-                                                                       FACE_CONTACT_SCALE))
-    return k
+    return kernels.point_stiffness(pts.ids, pts.w, pts.n_edge, contact_base(model, settings),
+                                   state.contact_scale, EDGE_CONTACT_SCALE, FACE_CONTACT_SCALE)
+
+
+def contact_base(model: ClothModel, settings: SolverSettings) -> np.ndarray:
+    """Unstiffened contact stiffness (n,) [N/m] of each vertex: the contact pressure
+    stiffness times its area."""
+    return settings.contact_stiffness * model.terms.vertex_area
 
 
 def distance(model: ClothModel, x):
@@ -118,13 +120,12 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
                              lookups.room, grad)
         pts = edge_points(model, settings)
         if len(pts.ids):
-            # a point's force is its vertices' (weighted)
-            fp = np.zeros((len(pts.ids), 3))
-            e += kernels.contact(pts.matrix @ x, body.values, body.origin, body.spacing,
-                                 model.reach(settings), edge_stiffness(model, state, settings),
-                                 settings.contact_onset, lookups.edge_seen,
-                                 lookups.edge_room, fp)
-            grad += pts.matrix.T @ fp
+            e += kernels.point_contact(x, pts.ids, pts.w, pts.n_edge,
+                                       contact_base(model, settings), state.contact_scale,
+                                       EDGE_CONTACT_SCALE, FACE_CONTACT_SCALE, body.values,
+                                       body.origin, body.spacing, model.reach(settings),
+                                       settings.contact_onset, lookups.edge_seen,
+                                       lookups.edge_room, grad)
     if len(state.friction_idx):
         e += kernels.friction(x, state.friction_idx, state.friction_anchor,
                               state.friction_normal, state.friction_limit,

@@ -25,13 +25,15 @@ from .cholesky import block_factor, block_solve, block_symbolic
 from .collision import crossed_pairs, intersecting_pairs, near_edge_pairs, near_pairs
 from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge_repulsion,
                            friction, friction_law, friction_offset, friction_stiffness,
-                           membrane, membrane_hessian, seam_springs, self_repulsion, unspared)
+                           membrane, membrane_hessian, point_contact, point_stiffness,
+                           seam_springs, self_repulsion, unspared)
 from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
 from .sparse_assembly import scatter_hessian, trim_to_near
 
-__all__ = ["axpy", "block_factor", "block_solve", "block_symbolic", "contact",
-           "contact_forces", "contact_law", "crossed_pairs", "dot", "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
-           "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move",
-           "max_row_norm", "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs",
-           "scatter_hessian", "sdf_query", "SDF_SLOPE", "seam_springs", "self_repulsion",
-           "smooth_sdf_query", "trim_to_near", "unspared"]
+__all__ = ["axpy", "block_factor", "block_solve", "block_symbolic", "contact", "contact_forces",
+           "contact_law", "crossed_pairs", "dot", "edge_repulsion", "friction", "friction_law",
+           "friction_offset", "friction_stiffness", "intersecting_pairs", "lbfgs_back",
+           "lbfgs_forward", "max_relative_move", "max_row_norm", "membrane", "membrane_hessian",
+           "near_edge_pairs", "near_pairs", "point_contact", "point_stiffness", "scatter_hessian",
+           "sdf_query", "SDF_SLOPE", "seam_springs", "self_repulsion", "smooth_sdf_query",
+           "trim_to_near", "unspared"]

@@ -152,6 +152,72 @@ def contact(x, values, origin, spacing, thickness, stiffness, onset, seen, room,
     return energy
 
 
+@njit(cache=True)
+def _point_stiffness(ids, w, n_edge, base, scale, edge_cap, face_cap, i):
+    """Contact stiffness [N/m] of point ``i`` (:func:`point_stiffness`)."""
+    cap = edge_cap if i < n_edge else face_cap
+    k = 0.0
+    for j in range(3):
+        v = ids[i, j]
+        k += w[i, j] * base[v] * min(scale[v], cap)
+    return k
+
+
+@njit(cache=True)
+def point_stiffness(ids, w, n_edge, base, scale, edge_cap, face_cap):
+    """Contact stiffness (p,) [N/m] of the contact points at ``sum_j w[k, j] x[ids[k, j]]``
+    (``ids``, ``w`` (p, 3)): their vertices' ``base`` (n,) [N/m] times their stiffening
+    ``scale`` (n,), capped at ``edge_cap`` for points ``0 ... n_edge - 1`` (inside edges)
+    and ``face_cap`` for the rest (inside triangles), weighted."""
+    out = np.empty(ids.shape[0])
+    for i in range(ids.shape[0]):
+        out[i] = _point_stiffness(ids, w, n_edge, base, scale, edge_cap, face_cap, i)
+    return out
+
+
+@njit(cache=True)
+def point_contact(x, ids, w, n_edge, base, scale, edge_cap, face_cap, values, origin,
+                  spacing, thickness, onset, seen, room, grad):
+    """:func:`contact` on the points ``sum_j w[k, j] x[ids[k, j]]`` (``ids``, ``w`` (p, 3))
+    between the vertices ``x`` (n, 3) [m], stiffness :func:`point_stiffness`; a point's
+    force is shared by its vertices with its weights. ``seen`` (p, 3) and ``room`` (p,)
+    as :func:`contact`'s, per point.
+
+    Fused so that the points (10-30 per vertex on a 1-2K mesh) need neither their positions
+    nor their stiffness assembled at every energy: on the 3K coat's drape the points took
+    0.43 ms an energy, about 1.4 ms assembled. (Skipping a whole edge or triangle
+    whose corner's lookup shows it far from the body made the call 0.94 ms: the check
+    costs more than the per-point one it spares; the points in contact, looked up at every
+    call, are the cost.)"""
+    energy = 0.0
+    p = np.empty(3)
+    for i in range(ids.shape[0]):
+        for c in range(3):
+            p[c] = (w[i, 0] * x[ids[i, 0], c] + w[i, 1] * x[ids[i, 1], c]
+                    + w[i, 2] * x[ids[i, 2], c])
+        m0 = p[0] - seen[i, 0]
+        m1 = p[1] - seen[i, 1]
+        m2 = p[2] - seen[i, 2]
+        if m0 * m0 + m1 * m1 + m2 * m2 < room[i] * room[i]:
+            continue
+        d, gx, gy, gz = smooth_distance_at(values, origin, spacing, p)
+        pen = thickness - d
+        seen[i, 0] = p[0]
+        seen[i, 1] = p[1]
+        seen[i, 2] = p[2]
+        room[i] = max(-pen, 0.0) / SDF_SLOPE
+        if pen > 0.0:
+            k = _point_stiffness(ids, w, n_edge, base, scale, edge_cap, face_cap, i)
+            e, f, _ = contact_law(pen, k, onset)
+            energy += e
+            for j in range(3):
+                v = ids[i, j]
+                grad[v, 0] -= w[i, j] * f * gx
+                grad[v, 1] -= w[i, j] * f * gy
+                grad[v, 2] -= w[i, j] * f * gz
+    return energy
+
+
 def contact_forces(pen, k, onset):
     """:func:`contact_law`'s normal force [N] and stiffness [N/m] for arrays ``pen`` (> 0)
     [m] and ``k`` [N/m]: ((p,), (p,))."""
