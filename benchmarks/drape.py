@@ -1,21 +1,26 @@
 """Benchmark of the drape of the built-in garments on the built-in bodies (static engine).
 
 Run ``python benchmarks/drape.py [--garments coat skirt trousers] [--rules force kinematic]
-[--cold] [--figures DIR]``; prints, per garment (the paper's sizes: coat 22K, skirt 15K,
-trousers 20K triangles) and stopping rule, the first drape (placement, sewing, drape under
-gravity), the first drape continued from its own saved rest (``restart``: positions and
-contact state, as ``patternfit drape --start DIR``; it must stop at once and move nothing)
-and a warm re-drape after a 3 cm hem edit: iterations, seconds, peak memory, the
-checks (residual rms / p99, equilibrium) and the fitting ratio. The rules side by side:
-``force`` is the solver's default (L-BFGS, then Newton steps to a force balance, full
-stiffness in compression); ``kinematic`` the earlier one (L-BFGS stopped by small steps,
-5 % stiffness in compression), whose states are not at rest by the force measure. Each
-garment runs in its own process so that the peak memory is its own. ``--cold`` also times the first
-drape with an empty distance-field cache (the field is computed, not read). ``--edits N``
-goes on with N - 1 more hem edits (lengths in ``HEM_STEPS``), each re-draped from the last
-equilibrium as in a design session: the iterations a re-drape needs depend on where the
-folds land, so one edit is one sample. The solver's wall-clock ``time_limit`` is lifted
-(``COMMON``); ``--set time_limit=S`` puts one back.
+[--cold] [--figures DIR] [--edits N] [--samples N]``; prints, per garment (the paper's
+sizes: coat 22K, skirt 15K, trousers 20K triangles) and stopping rule, the first drape
+(placement, sewing, drape under gravity), the first drape continued from its own saved rest
+(``restart``: positions and contact state, as ``patternfit drape --start DIR``; it must stop
+at once and move nothing) and a warm re-drape after a 3 cm hem edit: iterations, seconds,
+peak memory, the checks (residual rms / p99, equilibrium) and the fitting ratio. The rules
+side by side: ``force`` is the solver's default (L-BFGS, then Newton steps to a force
+balance, full stiffness in compression); ``kinematic`` the earlier one (L-BFGS stopped by
+small steps, 5 % stiffness in compression), whose states are not at rest by the force
+measure. Each garment runs in its own process so that the peak memory is its own. ``--cold``
+also times the first drape with an empty distance-field cache (the field is computed, not
+read). ``--edits N`` goes on with N - 1 more hem edits (lengths in ``HEM_STEPS``), each
+re-draped from the last equilibrium as in a design session: the iterations a re-drape needs
+depend on where the folds land, so one edit is one sample. ``--samples N`` runs every
+garment N times, sample k with gravity scaled by 1 + k * ``JITTER``, and ends with each
+run's median and range: a difference in rounding alone sends the folds elsewhere and changes
+a 22K first drape's Newton steps up to threefold (docs/simulation.md, "The contact points'
+cost"), so two variants of the solver are compared over several samples, not one. The
+solver's wall-clock ``time_limit`` is lifted (``COMMON``); ``--set time_limit=S`` puts one
+back.
 """
 
 from __future__ import annotations
@@ -44,6 +49,10 @@ RULES = {"force": {}, "kinematic": {"stop": "kinematic", "compression": 0.05}}
 #: with other jobs the solver's 300 s default stopped 15-22K solves after 12-25 s of CPU)
 COMMON = {"time_limit": 3600.0}
 
+#: the relative change of gravity from one ``--samples`` sample to the next: far below any
+#: physical effect, above rounding
+JITTER = 1e-9
+
 #: successive hem moves [m] of ``--edits`` (down is negative: -0.03 lengthens by 3 cm)
 HEM_STEPS = (-0.03, 0.02, -0.01, 0.03, -0.02, 0.01)
 
@@ -57,15 +66,21 @@ def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | None = None) -> list:
+def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | None = None,
+            sample: int = 0) -> list:
     """First drape and ``edits`` warm re-drapes of one garment; returns the table's rows.
-    ``knobs``: SolverSettings fields to change (name -> value)."""
+    ``knobs``: SolverSettings fields to change (name -> value); ``sample`` k scales gravity
+    by 1 + k * ``JITTER``."""
     from patternfit.body.builtin import load_body
     from patternfit.edit import move_edge, update_mesh
     from patternfit.fit import FitEvaluator
     from patternfit.sim.drape import drape, redrape
+    from patternfit.constants import GRAVITY
     from patternfit.sim.settings import SolverSettings
     from scenes import garment as meshed
+
+    if sample:
+        knobs = {**(knobs or {}), "gravity": (0.0, -GRAVITY * (1.0 + sample * JITTER), 0.0)}
 
     body_name, triangles = CASES[garment]
     body = load_body(body_name)
@@ -111,7 +126,8 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
     for name, d, wall, cpu, ratio, compressed, moved in rows:
         c = d.checks
         out.append({"garment": garment, "body": body_name, "triangles": len(mesh.triangles),
-                    "run": name, "iterations": d.report_extra()["timing"]["iterations"],
+                    "run": name + (f" #{sample}" if sample else ""), "sample": sample,
+                    "iterations": d.report_extra()["timing"]["iterations"],
                     "seconds": wall, "cpu": cpu,
                     "sdf_seconds": d.timing.get("distance_field_seconds", 0.0),
                     "coarse": f"{d.timing['coarse_iterations']}/{d.timing['coarse_seconds']:.1f}"
@@ -139,7 +155,10 @@ def main():
                     help="stopping rules to compare (RULES)")
     ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE",
                     help="SolverSettings fields to change (over the rule's), e.g. refresh=50")
+    ap.add_argument("--samples", type=int, default=1,
+                    help="runs of each garment, gravity jittered (JITTER); median and range")
     ap.add_argument("--one", default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--sample", type=int, default=0, help=argparse.SUPPRESS)
     args = ap.parse_args()
     def value(v):
         try:
@@ -152,7 +171,7 @@ def main():
 
     knobs = {k: value(v) for k, v in (item.split("=", 1) for item in args.set)}
     if args.one:
-        print(json.dumps(run_one(args.one, args.figures, args.edits, knobs)))
+        print(json.dumps(run_one(args.one, args.figures, args.edits, knobs, args.sample)))
         return
     print("built-in garments (size M, cotton) on built-in bodies, 5 mm distance field, "
           "contact margin 3 mm; re-drapes after hem edits (front, or the first panel, and "
@@ -169,7 +188,11 @@ def main():
     print(f"{'garment':>8} {'rule':>9} {'tri':>6} {'run':>10} {'iters':>6} {'seconds':>8} {'cpu':>7} {'sdf s':>6} "
           f"{'coarse':>9} {'peak MB':>8} {'inside':>6} {'clear mm':>8} {'seam mm':>7} {'cross':>5} "
           f"{'equil':>5} {'rms':>7} {'p99':>7} {'compr':>6} {'moved':>7} {'ratio':>7} {'start':>8}")
-    for garment, rule in ((g, r) for g in args.garments for r in args.rules):
+    if args.samples < 1:
+        ap.error("--samples: at least 1")
+    cpu = {}  # (garment, rule, run) -> CPU seconds of each sample
+    for garment, rule, k in ((g, r, k) for g in args.garments for r in args.rules
+                             for k in range(args.samples)):
         runs = [("warm", None)]
         if args.cold:
             runs.append(("cold", tempfile.mkdtemp(prefix="patternfit-cache-")))
@@ -179,17 +202,18 @@ def main():
             if cache:
                 env["PATTERNFIT_CACHE"] = cache
             cmd = [sys.executable, __file__, "--one", garment, "--edits", str(args.edits),
-                   "--set", *rule_set]
-            if args.figures and label == "warm" and rule == args.rules[0]:
+                   "--sample", str(k), "--set", *rule_set]
+            if args.figures and label == "warm" and rule == args.rules[0] and k == 0:
                 cmd += ["--figures", args.figures]
             done = subprocess.run(cmd, env=env, capture_output=True, text=True)
             if done.returncode:
                 print(f"{garment}: failed\n{done.stderr[-2000:]}")
                 continue
             for r in json.loads(done.stdout.strip().splitlines()[-1]):
-                if label == "cold" and r["run"] != "first":
+                if label == "cold" and not r["run"].startswith("first"):
                     continue
                 run = r["run"] + (" cold" if label == "cold" else "")
+                cpu.setdefault((garment, rule, run.split(" #")[0]), []).append(r["cpu"])
                 print(f"{garment:>8} {rule:>9} {r['triangles']:>6} {run:>10} {r['iterations']:>6} "
                       f"{r['seconds']:>8.2f} {r['cpu']:>7.2f} {r['sdf_seconds']:>6.2f} {r['coarse']:>9} "
                       f"{r['peak_mb']:>8.0f} "
@@ -199,6 +223,12 @@ def main():
                       f"{r['ratio']:>7.4f} "
                       f"{r['start']:>8}",
                       flush=True)
+    if args.samples > 1:
+        print(f"\nCPU s over {args.samples} samples (gravity x 1 + k * {JITTER:g}):")
+        print(f"{'garment':>8} {'rule':>9} {'run':>10} {'median':>7} {'min':>7} {'max':>7}")
+        for (garment, rule, run), t in cpu.items():
+            print(f"{garment:>8} {rule:>9} {run:>10} {np.median(t):>7.2f} {min(t):>7.2f} "
+                  f"{max(t):>7.2f}")
 
 
 if __name__ == "__main__":
