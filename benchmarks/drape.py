@@ -15,17 +15,19 @@ also times the first drape with an empty distance-field cache (the field is comp
 read). ``--edits N`` goes on with N - 1 more hem edits (lengths in ``HEM_STEPS``), each
 re-draped from the last equilibrium as in a design session: the iterations a re-drape needs
 depend on where the folds land, so one edit is one sample. ``--samples N`` runs every
-garment N times, sample k with gravity scaled by 1 + k * ``JITTER``, and ends with each
-run's median and range: a difference in rounding alone sends the folds elsewhere and changes
-a 22K first drape's Newton steps up to threefold (docs/simulation.md, "The contact points'
-cost"), so two variants of the solver are compared over several samples, not one. The
-solver's wall-clock ``time_limit`` is lifted (``COMMON``); ``--set time_limit=S`` puts one
-back.
+garment N times, sample k (k > 0) with its flat vertices moved by a seeded random ``JITTER``
+[m] and its coarse start meshed at ``COARSE + COARSE_STEP * k`` triangles, and ends with
+each run's median and range: a difference in rounding alone sends the folds elsewhere and
+changes a 22K first drape's Newton steps up to threefold (docs/simulation.md, "The contact
+points' cost"), so two variants of the solver are compared over several samples, not one.
+The solver's wall-clock ``time_limit`` is lifted (``COMMON``); ``--set time_limit=S`` puts
+one back.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import resource
@@ -49,9 +51,13 @@ RULES = {"force": {}, "kinematic": {"stop": "kinematic", "compression": 0.05}}
 #: with other jobs the solver's 300 s default stopped 15-22K solves after 12-25 s of CPU)
 COMMON = {"time_limit": 3600.0}
 
-#: the relative change of gravity from one ``--samples`` sample to the next: far below any
-#: physical effect, above rounding
-JITTER = 1e-9
+#: ``--samples``: the flat vertices of sample k > 0 move by this much [m] (normal, seeded by
+#: k), far below any physical effect, and its coarse start has COARSE_STEP * k triangles
+#: more than ``drape``'s default COARSE (a sample at 1e-9 relative gravity drew the same
+#: coarse start each time, whose 2K L-BFGS path rounding does not change)
+JITTER = 1e-7
+COARSE = 2000
+COARSE_STEP = 25
 
 #: successive hem moves [m] of ``--edits`` (down is negative: -0.03 lengthens by 3 cm)
 HEM_STEPS = (-0.03, 0.02, -0.01, 0.03, -0.02, 0.01)
@@ -69,25 +75,25 @@ def _peak_mb() -> float:
 def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | None = None,
             sample: int = 0) -> list:
     """First drape and ``edits`` warm re-drapes of one garment; returns the table's rows.
-    ``knobs``: SolverSettings fields to change (name -> value); ``sample`` k scales gravity
-    by 1 + k * ``JITTER``."""
+    ``knobs``: SolverSettings fields to change (name -> value); ``sample`` k > 0: the mesh
+    jittered and the coarse start re-meshed (``JITTER``)."""
     from patternfit.body.builtin import load_body
     from patternfit.edit import move_edge, update_mesh
     from patternfit.fit import FitEvaluator
     from patternfit.sim.drape import drape, redrape
-    from patternfit.constants import GRAVITY
     from patternfit.sim.settings import SolverSettings
     from scenes import garment as meshed
-
-    if sample:
-        knobs = {**(knobs or {}), "gravity": (0.0, -GRAVITY * (1.0 + sample * JITTER), 0.0)}
 
     body_name, triangles = CASES[garment]
     body = load_body(body_name)
     pattern, mesh = meshed(garment, triangles)
+    if sample:
+        moved = np.random.default_rng(sample).normal(scale=JITTER, size=mesh.vertices.shape)
+        mesh = dataclasses.replace(mesh, vertices=mesh.vertices + moved)
     rows = []
     t0, c0 = time.perf_counter(), time.process_time()
-    first = drape(pattern, mesh, body, "cotton", settings=SolverSettings(**(knobs or {})))
+    first = drape(pattern, mesh, body, "cotton", settings=SolverSettings(**(knobs or {})),
+                  coarse=COARSE + COARSE_STEP * sample)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     fit = FitEvaluator(mesh)(first.positions)
     # (read now: a re-drape gives the solver the edited rest shapes)
@@ -156,7 +162,7 @@ def main():
     ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE",
                     help="SolverSettings fields to change (over the rule's), e.g. refresh=50")
     ap.add_argument("--samples", type=int, default=1,
-                    help="runs of each garment, gravity jittered (JITTER); median and range")
+                    help="runs of each garment, mesh jittered (JITTER); median and range")
     ap.add_argument("--one", default=None, help=argparse.SUPPRESS)
     ap.add_argument("--sample", type=int, default=0, help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -224,7 +230,8 @@ def main():
                       f"{r['start']:>8}",
                       flush=True)
     if args.samples > 1:
-        print(f"\nCPU s over {args.samples} samples (gravity x 1 + k * {JITTER:g}):")
+        print(f"\nCPU s over {args.samples} samples (JITTER {JITTER:g} m, coarse + "
+              f"{COARSE_STEP} k triangles):")
         print(f"{'garment':>8} {'rule':>9} {'run':>10} {'median':>7} {'min':>7} {'max':>7}")
         for (garment, rule, run), t in cpu.items():
             print(f"{garment:>8} {rule:>9} {run:>10} {np.median(t):>7.2f} {min(t):>7.2f} "
