@@ -132,7 +132,7 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
     for name, d, wall, cpu, ratio, compressed, moved in rows:
         c = d.checks
         out.append({"garment": garment, "body": body_name, "triangles": len(mesh.triangles),
-                    "run": name + (f" #{sample}" if sample else ""), "sample": sample,
+                    "run": name, "sample": sample,
                     "iterations": d.report_extra()["timing"]["iterations"],
                     "seconds": wall, "cpu": cpu,
                     "sdf_seconds": d.timing.get("distance_field_seconds", 0.0),
@@ -216,10 +216,11 @@ def main():
                 print(f"{garment}: failed\n{done.stderr[-2000:]}")
                 continue
             for r in json.loads(done.stdout.strip().splitlines()[-1]):
-                if label == "cold" and not r["run"].startswith("first"):
+                if label == "cold" and r["run"] != "first":
                     continue
                 run = r["run"] + (" cold" if label == "cold" else "")
-                cpu.setdefault((garment, rule, run.split(" #")[0]), []).append(r["cpu"])
+                cpu.setdefault((garment, rule, run), []).append(r["cpu"])
+                run += f" #{r['sample']}" if r["sample"] else ""
                 print(f"{garment:>8} {rule:>9} {r['triangles']:>6} {run:>10} {r['iterations']:>6} "
                       f"{r['seconds']:>8.2f} {r['cpu']:>7.2f} {r['sdf_seconds']:>6.2f} {r['coarse']:>9} "
                       f"{r['peak_mb']:>8.0f} "

@@ -188,7 +188,9 @@ def point_contact(x, ids, w, n_edge, base, scale, edge_cap, face_cap, values, or
     0.43 ms an energy, about 1.4 ms assembled. (Skipping a whole edge or triangle
     whose corner's lookup shows it far from the body made the call 0.94 ms: the check
     costs more than the per-point one it spares; the points in contact, looked up at every
-    call, are the cost.)"""
+    call, are the cost.) The spare-and-look-up block is written out as in :func:`contact`:
+    shared through one helper returning the depth and gradient, the 3K coat's energy took
+    2.3 times as long (0.55-0.62 -> 1.33-1.52 ms), the same to the bit."""
     energy = 0.0
     p = np.empty(3)
     for i in range(ids.shape[0]):
