@@ -79,3 +79,52 @@ def test_a_hem_edit_is_redraped_from_the_last_drape_moved_with_it():
     s.undo()
     s.apply("move_edge", panel="front", edge="hem", offset=(0.0, -0.01), partner=True)
     assert s.redrape().timing["start"] == "given"
+
+
+def test_a_remeshed_edit_is_redraped_from_the_drape_before_it():
+    from patternfit import edit as tools
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=900)
+    s.redrape()
+    before = s.state
+    hem = before.positions[:, 1].min()
+    new = tools.move_edge(s.pattern, panel="front", edge="hem", offset=(0.0, -0.02),
+                          partner=True)
+    s.apply_pattern(new, label="hem -2 cm", min_angle=89.0)  # every moved panel re-meshed
+    carried = s.state
+    assert not np.array_equal(carried.mesh.triangles, before.mesh.triangles)
+    assert s.next_start() == "carried"
+    assert carried.positions.shape == (carried.mesh.n_vertices, 3)
+    assert carried.start_rest.shape == (carried.mesh.n_vertices, 2)
+    # carried through the flat panels: seams still closed, the hem where it hung, and the
+    # flat shapes it rests at the unedited pattern's (the hem 2 cm higher)
+    pairs = carried.mesh.seam_pairs
+    assert np.abs(carried.positions[pairs[:, 0]] - carried.positions[pairs[:, 1]]).max() < 1e-9
+    assert carried.positions[:, 1].min() == pytest.approx(hem, abs=1e-6)
+    low = carried.mesh.vertices[:, 1].min()
+    assert carried.start_rest[:, 1].min() == pytest.approx(low + 0.02, abs=1e-6)
+    # an edit of it that keeps the topology, before its drape, keeps what it rests at
+    s.apply("move_edge", panel="front", edge="hem", offset=(0.0, -0.01), partner=True)
+    st = s.state
+    assert st.positions is carried.positions and s.next_start() == "carried"
+    assert np.array_equal(st.start_rest, carried.start_rest)
+    again = s.redrape()
+    assert again.timing["start"] == "carried" and again.passed, again.reasons
+    assert again.result.converged
+    assert 0.02 < hem - s.positions[:, 1].min() < 0.04
+    assert st.start_rest is None
+    assert st.fitting_ratio == pytest.approx(before.fitting_ratio, abs=0.01)
+
+
+def test_a_carried_start_through_the_body_is_draped_cold():
+    from patternfit.sim.drape import drape
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=900)
+    s.redrape()
+    bad = s.positions.copy()
+    waist = np.argsort(bad[:, 1])[-10:]  # the ten highest vertices to the body's axis
+    bad[waist, 0] = bad[waist, 2] = 0.0
+    d = drape(s.pattern, s.mesh, s.body, s.fabric, start=bad, start_rest=s.mesh.vertices)
+    assert d.timing["carried_faults"] > 0 and "start" not in d.timing
+    assert d.passed, d.reasons
+    with pytest.raises(ValueError, match="start_rest"):
+        drape(s.pattern, s.mesh, s.body, s.fabric, start=s.positions,
+              start_rest=s.mesh.vertices[:-1])

@@ -49,6 +49,11 @@ def test_staged_redrape_has_a_stage_per_3_cm_capped_at_the_solvers_own_limit():
     assert plan.phases[-1].settings(BASE) == BASE
     with pytest.raises(ValueError, match="change"):
         Plan.staged(float("nan"))
+    # a carried start: only the first phase reads the contact back from the force balance
+    saved = Plan.staged(0.061, saved=True)
+    assert saved.names == plan.names
+    assert [p.settings(BASE).saved_rest for p in saved.phases] == [True, False, False]
+    assert Plan.staged(0.01, saved=True).phases[0].settings(BASE).saved_rest
 
 
 def replace_iterations(n):

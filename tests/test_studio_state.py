@@ -155,8 +155,7 @@ def test_tracker_follows_the_phases_the_runner_names():
 
 def test_large_mesh_plan_drapes_coarse_then_settles():
     mesh = SimpleNamespace(n_triangles=22000)
-    session = SimpleNamespace(state=SimpleNamespace(mesh=mesh), relax=1.0, position=0,
-                              _drape=None)
+    session = SimpleNamespace(state=SimpleNamespace(mesh=mesh), next_start=lambda: "cold")
     plan = studio_state.drape_plan(session)
     assert [p for p, _ in plan] == ["sewing", "relaxing", "draping", "settling"]
     assert plan[-1][1] > sum(w for _, w in plan[:-1])  # the fine settling costs the most

@@ -176,6 +176,11 @@ class UpdateReport:
     needs_remesh : tuple of str   with ``remesh=False``: the panels that would have been
                                re-triangulated; they kept their topology (flipped or thin
                                triangles included).
+    moved_mesh : GarmentMesh or None   when panels were re-meshed: the old mesh with its
+                               vertices moved by the edit, before re-meshing (same topology
+                               as the old mesh, flat frames of the new pattern), through which
+                               values on the old mesh reach the new one
+                               (:func:`patternfit.mesh.transfer.transfer`).
     """
 
     moved: tuple
@@ -184,6 +189,7 @@ class UpdateReport:
     inverted: int
     min_angle: float
     needs_remesh: tuple = ()
+    moved_mesh: GarmentMesh | None = field(default=None, repr=False, compare=False)
 
 
 def boundary_positions(pattern: Pattern, mesh: GarmentMesh) -> np.ndarray:
@@ -315,8 +321,9 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
                               min(angles.values(), default=float("nan")),
                               tuple(mesh.panel_names[i] for i in bad))
         return (out, report) if return_report else out
+    moved_mesh = None
     if bad:
-        out = remesh_panels(out, bad)
+        moved_mesh, out = out, remesh_panels(out, bad)
         for pi in bad:
             flips, angles[pi] = _quality(out.vertices, _panel_triangles(out, pi), tol.area)
             inverted += flips
@@ -327,4 +334,4 @@ def update_mesh(old_pattern: Pattern, new_pattern: Pattern, mesh: GarmentMesh, *
         return out
     angle = min(angles.values(), default=float("nan"))
     return out, UpdateReport(tuple(moved), steps, tuple(mesh.panel_names[i] for i in bad),
-                             inverted, angle)
+                             inverted, angle, moved_mesh=moved_mesh)

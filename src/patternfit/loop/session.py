@@ -32,6 +32,7 @@ from ..files import (atomic_write_bytes, atomic_write_text, dumps_finite_json, r
 from ..fit.metrics import FitEvaluator, FitResult
 from ..mesh.garment import GarmentMesh
 from ..mesh.store import save_garment
+from ..mesh.transfer import transfer
 from ..mesh.triangulate import mesh_pattern
 from ..pattern.errors import PatternError
 from ..pattern.io import load_pattern
@@ -81,6 +82,10 @@ class State:
     checks : dict or None
         The drape's checks as the report holds them (``Drape.report_extra()["checks"]``:
         the solver's and the on-body checks, ``passed`` for both, ``reasons``).
+    start_rest : (n, 2) float or None
+        Before the state's first drape: the flat rest shapes [m] at which ``positions``
+        (the start of that drape, an earlier state's drape) rest, once known; None after
+        the drape, and not saved with the session. See :meth:`DesignSession.next_start`.
     key : str
         The name of the state's folder in a saved session (random, fixed for the state's
         life: pattern and mesh are never replaced, so the folder is written once).
@@ -93,6 +98,7 @@ class State:
     positions: np.ndarray | None = None
     fitting_ratio: float | None = None
     checks: dict | None = None
+    start_rest: np.ndarray | None = field(default=None, repr=False)
     key: str = field(default_factory=_new_key, repr=False)
     # (positions array, its file name): a re-drape replaces the array (never edits it in
     # place), so a new array object is what needs a new file
@@ -119,8 +125,9 @@ class DesignSession:
         ``relax`` about its centre, then its true rest shape is restored and the drape
         solved again warm. A garment drafted much too small cannot be sewn around the body
         directly (the seams squeeze it off the body); 1.0 sews it as it is. An edited
-        pattern whose mesh had to be re-meshed is draped cold as it is (its edits made it
-        fit better, and a narrow-by-``relax`` grading of it need not keep its seams
+        pattern whose mesh had to be re-meshed starts from the drape before the edit,
+        carried over (:meth:`next_start`), or cold as it is when there is none (its edits
+        made it fit better, and a narrow-by-``relax`` grading of it need not keep its seams
         matched).
     """
 
@@ -173,19 +180,43 @@ class DesignSession:
             raise RuntimeError("nothing draped yet: call redrape() first")
         return FitEvaluator(self.mesh, tight=tight, loose=loose)(self.state.positions)
 
+    def next_start(self) -> str:
+        """Where :meth:`redrape` will start the current state's drape:
+
+        - ``"warm"``: from the last drape, whose solver goes on (the mesh kept its
+          topology);
+        - ``"carried"``: from an earlier state's drape carried over to this state's mesh
+          (:attr:`State.start_rest`: a panel was re-meshed by the edit, or the last drape
+          is of another mesh), reaching the edited rest shapes in stages;
+        - ``"relaxed"``: the history's first state of a session with ``relax`` > 1;
+        - ``"cold"``: placed, sewn and draped from the pattern.
+        """
+        st = self.state
+        if (self._drape is not None
+                and np.array_equal(self._drape.solver.model.triangles, st.mesh.triangles)
+                and _sewing(self._drape.pattern) == _sewing(st.pattern)):
+            return "warm"
+        if st.positions is not None and st.start_rest is not None:
+            return "carried"
+        if self.relax > 1.0 and self.position == 0:
+            return "relaxed"
+        return "cold"
+
     def redrape(self, *, progress: Callable | None = None) -> Drape:
-        """Drape the current state: warm-started from the last drape when the mesh kept its
-        topology, from the placement otherwise. Records ϖ and the checks in the history.
-        A pattern of several pieces not sewn together is refused
+        """Drape the current state from where :meth:`next_start` says: warm-started from the
+        last drape when the mesh kept its topology, from an earlier drape carried over when
+        a panel was re-meshed, from the placement otherwise. Records ϖ and the checks in
+        the history. A pattern of several pieces not sewn together is refused
         (:func:`~patternfit.pattern.seam_suggest.check_sewn`)."""
         st = self.state
         check_sewn(st.pattern)
-        same = (self._drape is not None
-                and np.array_equal(self._drape.solver.model.triangles, st.mesh.triangles)
-                and _sewing(self._drape.pattern) == _sewing(st.pattern))
-        if same:
+        how = self.next_start()
+        if how == "warm":
             result = self._staged_redrape(st.mesh, st.positions, progress)
-        elif self.relax > 1.0 and self.position == 0:
+        elif how == "carried":
+            result = drape(st.pattern, st.mesh, self.body, self.fabric, start=st.positions,
+                           start_rest=st.start_rest, progress=progress)
+        elif how == "relaxed":
             wide_pattern, wide_mesh = _widened(st.pattern, st.mesh, self.relax)
             first = drape(wide_pattern, wide_mesh, self.body, self.fabric, progress=progress)
             # the true rest shapes are reached in stages, as after a large edit: in one step
@@ -198,7 +229,7 @@ class DesignSession:
         else:
             result = drape(st.pattern, st.mesh, self.body, self.fabric, progress=progress)
         self._drape = result
-        st.positions = result.positions
+        st.positions, st.start_rest = result.positions, None
         st.fitting_ratio = FitEvaluator(st.mesh).metrics(result.positions)[1]
         st.checks = result.report_extra()["checks"]  # solver and on-body checks, reasons
         return result
@@ -248,21 +279,38 @@ class DesignSession:
         """Make ``new_pattern`` (an edit of the current pattern made elsewhere, e.g. by the
         automatic correction) the next state; the mesh follows as in :meth:`apply`, its
         panels re-meshed when their smallest angle falls below ``min_angle`` [degrees]
-        (default: ``edit.update_mesh``'s); ``cache`` as in :meth:`apply`."""
+        (default: ``edit.update_mesh``'s); ``cache`` as in :meth:`apply`.
+
+        The current state's 3D positions go with the edit as the next drape's start. When a
+        panel was re-meshed they are carried over to the new mesh through the flat panels
+        (:func:`~patternfit.mesh.transfer.transfer` from the old mesh moved with the edit),
+        with the flat shapes they rest at (:attr:`State.start_rest`): re-draped from the
+        placement instead, the 22K Table 2 coat's fourth let-out took minutes and twice
+        ended crossing itself and the body."""
         old = self.state
         report = None
         quality = {} if min_angle is None else {"min_angle": float(min_angle)}
         if cache is not None and cache.mesh is not old.mesh:
             cache = None  # built for another state's mesh
+        # the flat shapes the current positions rest at: its own drape's, or its start's
+        rest = old.mesh.vertices if old.fitting_ratio is not None else old.start_rest
         try:
             mesh, report = tools.update_mesh(old.pattern, new_pattern, old.mesh, cache=cache,
                                              return_report=True, **quality)
-            positions = old.positions if np.array_equal(mesh.triangles,
-                                                         old.mesh.triangles) else None
         except PatternError:
-            mesh, positions = mesh_pattern(new_pattern, triangles=self.triangles), None
+            mesh, report = mesh_pattern(new_pattern, triangles=self.triangles), None
+        if report is None or old.positions is None:
+            positions, start_rest = None, None
+        elif np.array_equal(mesh.triangles, old.mesh.triangles):
+            positions, start_rest = old.positions, rest
+        elif rest is None or report.moved_mesh is None:
+            positions, start_rest = None, None
+        else:
+            both = transfer(report.moved_mesh, np.hstack([old.positions, rest]), mesh)
+            positions, start_rest = both[:, :3], both[:, 3:]
         del self.history[self.position + 1:]
-        self.history.append(State(label, edit, new_pattern, mesh, positions))
+        self.history.append(State(label, edit, new_pattern, mesh, positions,
+                                  start_rest=start_rest))
         self.position += 1
         self.pattern = new_pattern
         return report

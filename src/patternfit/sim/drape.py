@@ -147,7 +147,8 @@ def _grain_per_triangle(mesh: GarmentMesh) -> np.ndarray:
 def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFAULTS.fabric, *,
           settings: SolverSettings | None = None, clearance: float = DEFAULTS.clearance,
           spacing: float = 0.005,
-          placed=None, start=None, start_contact=None, sewing_iterations: int = 1500,
+          placed=None, start=None, start_contact=None, start_rest=None,
+          sewing_iterations: int = 1500,
           relax_iterations: int = 300,
           contact_margin: float = CONTACT_MARGIN, sewing_self_collision: bool = False,
           coarse: int | None = 2000, progress=None) -> Drape:
@@ -186,6 +187,16 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
         there): the solve continues that drape, so from its rest it stops at once and
         moves nothing. :class:`~patternfit.sim.state.SavedStateError` when it does not
         fit ``mesh``.
+    start_rest : (n, 2) float, optional
+        The flat rest shapes [m] at which ``start`` rests when they are not ``mesh``'s own:
+        a drape of the pattern before an edit carried over to the re-meshed edited one
+        (:meth:`patternfit.loop.DesignSession.apply_pattern`). The drape then reaches
+        ``mesh.vertices`` from them in stages, as a re-drape does
+        (:meth:`~patternfit.sim.schedule.Plan.staged`); ``timing["start"]`` is
+        ``"carried"``. A carried start that crosses itself or lies through the body (new
+        triangles across the old drape's folds: no repulsion undoes a crossing once made)
+        is dropped for a cold drape, ``timing["carried_faults"]`` saying how many faults it
+        had.
     sewing_iterations : int
         Iteration limit of the sewing phase (no gravity), which ends once the seams are
         closed and welded.
@@ -221,14 +232,17 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
     t = time.perf_counter()
     field_ = body.distance_field(spacing)
     t_sdf = time.perf_counter() - t
+    faults = 0
     if start is not None:
         d = _drape_from(mesh, fabric, field_, np.asanyarray(start, dtype=np.float64),
                         replace(settings or SolverSettings(), contact_margin=contact_margin),
-                        progress, start_contact)
-        d.seconds = time.perf_counter() - t0
-        d.timing["distance_field_seconds"] = t_sdf
-        d.check_on_body(pattern, mesh, body)
-        return d
+                        progress, start_contact, start_rest)
+        if isinstance(d, Drape):
+            d.seconds = time.perf_counter() - t0
+            d.timing["distance_field_seconds"] = t_sdf
+            d.check_on_body(pattern, mesh, body)
+            return d
+        faults = d
     x0 = place_on_body(pattern, mesh, body, clearance=clearance) if placed is None \
         else np.asanyarray(placed, dtype=np.float64)
     settings = replace(settings or SolverSettings(), contact_margin=contact_margin)
@@ -239,8 +253,12 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
         d = _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options,
                             t0, t_sdf, progress)
         d.check_on_body(pattern, mesh, body)
+        if faults:
+            d.timing["carried_faults"] = faults
         return d
     timing = {"distance_field_seconds": t_sdf, "sewing_seconds": 0.0, "sewing_iterations": 0}
+    if faults:
+        timing["carried_faults"] = faults
     for self_collision in (sewing_self_collision, True):
         solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh),
                                fabric, seam_pairs=mesh.seam_pairs, body=field_,
@@ -267,23 +285,38 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
 
 
 def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settings,
-                progress, contact=None) -> Drape:
+                progress, contact=None, rest=None) -> Drape | int:
     """Drape under gravity from a sewn state ``x`` (n, 3) [m] of ``mesh``, seams welded, with
     the contact state saved there (``contact``, :meth:`ContactState.saved_arrays`) when
-    given."""
+    given; ``x`` rests at the flat shapes ``rest`` (n, 2) [m] when given, and the drape
+    reaches ``mesh``'s own from them in stages; or, when such an ``x`` crosses itself or
+    lies through the body, nothing is draped and the count of those faults is returned."""
     if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
         raise ValueError(f"start: expected finite ({mesh.n_vertices}, 3) positions, "
                          f"got {x.shape}")
-    solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh), fabric,
-                           seam_pairs=mesh.seam_pairs, body=field_,
-                           settings=replace(settings, friction_delay=0))
+    if rest is not None:
+        rest = np.asanyarray(rest, dtype=np.float64)
+        if rest.shape != (mesh.n_vertices, 2) or not np.isfinite(rest).all():
+            raise ValueError(f"start_rest: expected finite ({mesh.n_vertices}, 2) flat "
+                             f"positions [m], got {rest.shape}")
+    solver = GarmentSolver(mesh.vertices if rest is None else rest, mesh.triangles,
+                           _grain_per_triangle(mesh), fabric, seam_pairs=mesh.seam_pairs,
+                           body=field_, settings=replace(settings, friction_delay=0))
     solver.weld()
     if contact is not None:
         solver.state = ContactState.from_saved(contact, n=solver.model.n,
                                                n_triangles=len(solver.model.terms.tris), x=x)
-    result = run_plan(solver, Plan.settle(saved=True), x, progress=progress).result
+    if rest is None:
+        result = run_plan(solver, Plan.settle(saved=True), x, progress=progress).result
+    else:
+        faults = solver.crossings(x) + sum(through_body(solver.model, x))
+        if faults:
+            return faults
+        change = float(np.linalg.norm(mesh.vertices - rest, axis=1).max(initial=0.0))
+        result = run_plan(solver, Plan.staged(change, saved=True), x, rest=mesh.vertices,
+                          progress=progress).result
     return Drape(positions=result.x[solver.model.vertex_map], placed=x, result=result, solver=solver,
-                 seconds=0.0, timing={"start": "saved"})
+                 seconds=0.0, timing={"start": "saved" if rest is None else "carried"})
 
 
 #: coarse sizes tried, as multiples of ``coarse``, until one's equilibrium carried to the

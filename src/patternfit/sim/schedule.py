@@ -143,29 +143,34 @@ class Plan:
                           overrides=(("saved_rest", True),) if saved else ()),))
 
     @classmethod
-    def redrape(cls, stages: int = 1, *, stage_iterations: int = STAGE_ITERATIONS) -> "Plan":
+    def redrape(cls, stages: int = 1, *, stage_iterations: int = STAGE_ITERATIONS,
+                saved: bool = False) -> "Plan":
         """Drape again after an edit, reaching the new rest shapes in ``stages`` equal
-        steps; the intermediate ones run at most ``stage_iterations``."""
+        steps; the intermediate ones run at most ``stage_iterations``. ``saved``: the
+        solver is new and its start a rest carried over from another drape, whose contact
+        stiffness the first phase reads back from the force balance (as :meth:`settle`)."""
         if stages < 1:
             raise ValueError(f"stages: must be >= 1, got {stages}")
-        steps = tuple(Phase(f"stage {k} of {stages}", "part of the edit's motion: large "
-                            "changes at once outrun the lagged self-collision pairs",
-                            at_most=stage_iterations, rest=k / stages)
-                      for k in range(1, stages))
-        return cls(steps + (Phase("settling", "settle at the edited rest shapes",
-                                  rest=1.0),))
+        phases = [Phase(f"stage {k} of {stages}", "part of the edit's motion: large "
+                        "changes at once outrun the lagged self-collision pairs",
+                        at_most=stage_iterations, rest=k / stages)
+                  for k in range(1, stages)]
+        phases.append(Phase("settling", "settle at the edited rest shapes", rest=1.0))
+        if saved:
+            phases[0] = replace(phases[0], overrides=(("saved_rest", True),))
+        return cls(tuple(phases))
 
     @classmethod
-    def staged(cls, change: float) -> "Plan":
+    def staged(cls, change: float, *, saved: bool = False) -> "Plan":
         """:meth:`redrape` in stages of at most ``STAGE_LENGTH`` of flat-vertex motion for
         an edit that moves a flat vertex by up to ``change`` [m]: a garment whose rest
         shapes grew by 12 cm at once (a coat corrected from 65% of its width) expands faster
         than the lagged self-collision pairs follow and crossed itself (7-8 crossing pairs
         on the Table 2 coat and trousers); in three stages of 4 cm, 0 or 1; in four of
-        3 cm, 0, and faster than in one."""
+        3 cm, 0, and faster than in one. ``saved`` as in :meth:`redrape`."""
         if not math.isfinite(change) or change < 0.0:
             raise ValueError(f"change: expected a finite length >= 0 [m], got {change}")
-        return cls.redrape(max(1, int(np.ceil(change / STAGE_LENGTH))))
+        return cls.redrape(max(1, int(np.ceil(change / STAGE_LENGTH))), saved=saved)
 
 
 @dataclass(eq=False)

@@ -92,14 +92,13 @@ class DrapeStopped(Exception):
 def drape_plan(session) -> list[tuple[str, float]]:
     """The phases the next ``session.redrape()`` runs, with their expected cost (iterations
     times triangles), following ``DesignSession.redrape`` and ``patternfit.sim.drape``."""
-    st = session.state
-    n = st.mesh.n_triangles
-    previous = getattr(session, "_drape", None)
-    if previous is not None and np.array_equal(previous.solver.model.triangles, st.mesh.triangles):
+    n = session.state.mesh.n_triangles
+    how = session.next_start()
+    if how in ("warm", "carried"):
         return [("settling", _PHASE_ITERATIONS["settling"] * n)]
     size = _COARSE if n > 3 * _COARSE else n
     plan = [(name, _PHASE_ITERATIONS[name] * size) for name in ("sewing", "relaxing", "draping")]
-    if size != n or (session.relax > 1.0 and session.position == 0):
+    if size != n or how == "relaxed":
         plan.append(("settling", _PHASE_ITERATIONS["settling"] * n))
     return plan
 
