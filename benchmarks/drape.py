@@ -21,7 +21,10 @@ each run's median and range: a difference in rounding alone sends the folds else
 changes a 22K first drape's Newton steps up to threefold (docs/simulation.md, "The contact
 points' cost"), so two variants of the solver are compared over several samples, not one.
 The solver's wall-clock ``time_limit`` is lifted (``COMMON``); ``--set time_limit=S`` puts
-one back.
+one back. ``--remeshed`` also makes the first 3 cm hem edit with every moved panel re-meshed
+(``update_mesh(min_angle=89)``) and drapes it twice from the first drape's state: carried
+over to the new mesh (``rm carried``, as a design session does: ``drape(start=...,
+start_rest=...)``) and cold from the placement (``rm cold``, what a session did before).
 """
 
 from __future__ import annotations
@@ -73,13 +76,15 @@ def _peak_mb() -> float:
 
 
 def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | None = None,
-            sample: int = 0) -> list:
+            sample: int = 0, remeshed: bool = False) -> list:
     """First drape and ``edits`` warm re-drapes of one garment; returns the table's rows.
     ``knobs``: SolverSettings fields to change (name -> value); ``sample`` k > 0: the mesh
-    jittered and the coarse start re-meshed (``JITTER``)."""
+    jittered and the coarse start re-meshed (``JITTER``); ``remeshed``: the re-meshed hem
+    edit carried and cold (``--remeshed``)."""
     from patternfit.body.builtin import load_body
     from patternfit.edit import move_edge, update_mesh
     from patternfit.fit import FitEvaluator
+    from patternfit.mesh.transfer import transfer
     from patternfit.sim.drape import drape, redrape
     from patternfit.sim.settings import SolverSettings
     from scenes import garment as meshed
@@ -114,6 +119,20 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
                     body=(body.vertices, body.faces),
                     title=f"{garment} M on {body_name}, {len(mesh.triangles)} triangles, cotton")
     panel = "front" if any(p.name == "front" for p in pattern.panels) else pattern.panels[0].name
+    if remeshed:
+        edited = move_edge(pattern, panel, "hem", (0.0, HEM_STEPS[0]), partner=True)
+        new_mesh, report = update_mesh(pattern, edited, mesh, min_angle=89.0,
+                                       return_report=True)
+        both = transfer(report.moved_mesh, np.hstack([first.positions, mesh.vertices]),
+                        new_mesh)
+        for name, start in (("rm carried", {"start": both[:, :3], "start_rest": both[:, 3:]}),
+                            ("rm cold", {})):
+            t0, c0 = time.perf_counter(), time.process_time()
+            d = drape(edited, new_mesh, body, "cotton", settings=SolverSettings(**(knobs or {})),
+                      coarse=COARSE + COARSE_STEP * sample, **start)
+            wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+            rows.append((name, d, wall, cpu, FitEvaluator(new_mesh)(d.positions).fitting_ratio,
+                         d.solver.compressed_share(d.result.x), float("nan")))
     last = first
     for k in range(edits):
         step = HEM_STEPS[k % len(HEM_STEPS)]
@@ -131,7 +150,8 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
     out = []
     for name, d, wall, cpu, ratio, compressed, moved in rows:
         c = d.checks
-        out.append({"garment": garment, "body": body_name, "triangles": len(mesh.triangles),
+        out.append({"garment": garment, "body": body_name,
+                    "triangles": len(d.solver.model.triangles),
                     "run": name, "sample": sample,
                     "iterations": d.report_extra()["timing"]["iterations"],
                     "seconds": wall, "cpu": cpu,
@@ -163,6 +183,8 @@ def main():
                     help="SolverSettings fields to change (over the rule's), e.g. refresh=50")
     ap.add_argument("--samples", type=int, default=1,
                     help="runs of each garment, mesh jittered (JITTER); median and range")
+    ap.add_argument("--remeshed", action="store_true",
+                    help="also the first hem edit with its panels re-meshed: carried and cold")
     ap.add_argument("--one", default=None, help=argparse.SUPPRESS)
     ap.add_argument("--sample", type=int, default=0, help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -177,7 +199,8 @@ def main():
 
     knobs = {k: value(v) for k, v in (item.split("=", 1) for item in args.set)}
     if args.one:
-        print(json.dumps(run_one(args.one, args.figures, args.edits, knobs, args.sample)))
+        print(json.dumps(run_one(args.one, args.figures, args.edits, knobs, args.sample,
+                                 args.remeshed)))
         return
     print("built-in garments (size M, cotton) on built-in bodies, 5 mm distance field, "
           "contact margin 3 mm; re-drapes after hem edits (front, or the first panel, and "
@@ -208,7 +231,8 @@ def main():
             if cache:
                 env["PATTERNFIT_CACHE"] = cache
             cmd = [sys.executable, __file__, "--one", garment, "--edits", str(args.edits),
-                   "--sample", str(k), "--set", *rule_set]
+                   "--sample", str(k), "--set", *rule_set] \
+                + (["--remeshed"] if args.remeshed and label == "warm" else [])
             if args.figures and label == "warm" and rule == args.rules[0] and k == 0:
                 cmd += ["--figures", args.figures]
             done = subprocess.run(cmd, env=env, capture_output=True, text=True)

@@ -212,7 +212,7 @@ class DesignSession:
         check_sewn(st.pattern)
         how = self.next_start()
         if how == "warm":
-            result = self._staged_redrape(st.mesh, st.positions, progress)
+            result = self._staged_redrape(st.mesh, st.positions, progress, st.start_rest)
         elif how == "carried":
             result = drape(st.pattern, st.mesh, self.body, self.fabric, start=st.positions,
                            start_rest=st.start_rest, progress=progress)
@@ -244,17 +244,20 @@ class DesignSession:
             return None
         return d.saved_contact()
 
-    def _staged_redrape(self, mesh: GarmentMesh, start, progress) -> Drape:
+    def _staged_redrape(self, mesh: GarmentMesh, start, progress, start_rest=None) -> Drape:
         """Warm re-drape to the rest shapes of ``mesh`` in stages
         (:meth:`patternfit.sim.schedule.Plan.staged`: at most ``schedule.STAGE_LENGTH`` of flat-vertex
-        motion each), from ``start`` or, when that is the last drape itself, from the last
-        drape moved with the edit."""
+        motion each), from the last drape moved with the edit, or from ``start`` when that
+        is another drape of the mesh: moved from ``start_rest``, the flat shapes it rests at,
+        when they are known (an edit made after an undo), else as it is."""
         if np.array_equal(start, self._drape.positions):
             start = None
-        change = float(np.linalg.norm(mesh.vertices - self._drape.solver.model.rest,
-                                      axis=1).max(initial=0.0))
-        return redrape(self._drape, mesh, start=start, plan=Plan.staged(change),
-                       progress=progress)
+        origin = self._drape.solver.model.rest if start is None or start_rest is None \
+            else start_rest
+        change = float(np.linalg.norm(mesh.vertices - origin, axis=1).max(initial=0.0))
+        return redrape(self._drape, mesh, start=start,
+                       start_rest=None if start is None else start_rest,
+                       plan=Plan.staged(change), progress=progress)
 
     # -- editing -------------------------------------------------------------------------
     def apply(self, op: str, *, label: str | None = None, cache=None, **args):

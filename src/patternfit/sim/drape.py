@@ -368,8 +368,8 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
                  seconds=time.perf_counter() - t0, timing=timing)
 
 
-def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, pattern: Pattern | None = None,
-            plan: Plan | None = None, progress=None) -> Drape:
+def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, start_rest=None,
+            pattern: Pattern | None = None, plan: Plan | None = None, progress=None) -> Drape:
     """Drape again after an edit that kept the mesh topology (new rest shapes only); the
     factorisation is reused when it can be.
 
@@ -377,16 +377,23 @@ def redrape(previous: Drape, mesh: GarmentMesh, *, start=None, pattern: Pattern 
     the previous equilibrium moved with the edit, or as it is when the moved state crosses
     itself or enters the body (:func:`patternfit.sim.schedule.start_after_edit`).
     ``timing["start"]`` says which: "given", "moved" or "previous" (of the last phase).
-    ``plan`` (default :meth:`Plan.redrape() <patternfit.sim.schedule.Plan.redrape>`, one
+    ``start_rest`` ((n, 2) [m]) are the flat shapes at which ``start`` rests when it is not
+    ``previous``'s (an older drape of the same mesh, after an undo): the solver takes them
+    as its rest shapes first, and ``start`` is moved with the edit from them as the previous
+    equilibrium would be. ``plan`` (default :meth:`Plan.redrape() <patternfit.sim.schedule.Plan.redrape>`, one
     step) may reach the new rest shapes in stages (:meth:`~patternfit.sim.schedule.Plan.staged`).
     The on-body checks run against ``pattern`` (the edited pattern; the previous drape's
     when None: an edit keeps the panels' parts and the anchor) and the previous body.
     """
     t0 = time.perf_counter()
     solver = previous.solver
+    x0 = previous.result.x
     if start is not None:
         start = np.asanyarray(start, dtype=np.float64)
-    run = run_plan(solver, plan or Plan.redrape(), previous.result.x, rest=mesh.vertices,
+        if start_rest is not None:
+            solver.set_rest(start_rest)
+            x0, start = start, None
+    run = run_plan(solver, plan or Plan.redrape(), x0, rest=mesh.vertices,
                    start=start, progress=progress)
     result = run.result
     d = Drape(positions=result.x[solver.model.vertex_map], placed=previous.placed, result=result,
