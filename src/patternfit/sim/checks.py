@@ -111,22 +111,23 @@ def faces_in_body(model: ClothModel, x, *, step: float = 2e-3) -> int:
     return through_body(model, x, step=step)[1]
 
 
-def through_body(model: ClothModel, x, *, step: float = 2e-3) -> tuple[int, int]:
+def through_body(model: ClothModel, x, *, step: float = 2e-3,
+                 depth: float = tol.penetration) -> tuple[int, int]:
     """(:func:`edges_in_body`, :func:`faces_in_body`) of simulated positions ``x`` (n3, 3)
-    [m] in one pass: the faces' test needs the edges' anyway."""
+    [m] in one pass: the faces' test needs the edges' anyway. ``depth`` [m]: how deep in the
+    body a point of an edge or face must lie to count (the checks' ``tol.penetration``)."""
     body = model.body
     if body is None or not len(model.edges):
         return 0, 0
     x = model.reduce(array(x, "x", shape=(None, 3), contiguous=True))
     d_end, _ = kernels.sdf_query(body.values, body.origin, body.spacing, x)
-    deep = _deep_edges(model, x, d_end, step)
-    return int(deep.sum()), _pierced_faces(model, x, d_end, deep, step)
+    deep = _deep_edges(model, x, d_end, step, depth)
+    return int(deep.sum()), _pierced_faces(model, x, d_end, deep, step, depth)
 
 
-def _deep_edges(model: ClothModel, x, d_end, step: float) -> np.ndarray:
-    """Whether each of ``model.edges`` (e,) has a point deeper in the body than
-    ``tol.penetration``, at solved positions ``x`` (n, 3) [m] whose body distances are
-    ``d_end`` (n,) [m]."""
+def _deep_edges(model: ClothModel, x, d_end, step: float, depth: float) -> np.ndarray:
+    """Whether each of ``model.edges`` (e,) has a point deeper in the body than ``depth``
+    [m], at solved positions ``x`` (n, 3) [m] whose body distances are ``d_end`` (n,) [m]."""
     body = model.body
     e = model.edges
     out = np.zeros(len(e), dtype=bool)
@@ -143,14 +144,14 @@ def _deep_edges(model: ClothModel, x, d_end, step: float) -> np.ndarray:
         / np.repeat(count, count)
     p = x[e[owner, 0]] * (1.0 - t)[:, None] + x[e[owner, 1]] * t[:, None]
     d, _ = kernels.sdf_query(body.values, body.origin, body.spacing, np.ascontiguousarray(p))
-    out[np.unique(owner[d < -tol.penetration])] = True
+    out[np.unique(owner[d < -depth])] = True
     return out
 
 
-def _pierced_faces(model: ClothModel, x, d_end, deep_edge, step: float) -> int:
-    """Triangles with a point inside them deeper in the body than ``tol.penetration`` and
-    none of their edges in ``deep_edge`` (e,) (:func:`_deep_edges`), at solved positions
-    ``x`` (n, 3) [m] whose body distances are ``d_end`` (n,) [m]."""
+def _pierced_faces(model: ClothModel, x, d_end, deep_edge, step: float, depth: float) -> int:
+    """Triangles with a point inside them deeper in the body than ``depth`` [m] and none of
+    their edges in ``deep_edge`` (e,) (:func:`_deep_edges`), at solved positions ``x``
+    (n, 3) [m] whose body distances are ``d_end`` (n,) [m]."""
     body = model.body
     tris = model.terms.tris
     p = x[tris]  # (m, 3, 3)
@@ -170,7 +171,7 @@ def _pierced_faces(model: ClothModel, x, d_end, deep_edge, step: float) -> int:
         q = np.einsum("qj,gjc->gqc", inner_grid(n)[:, [2, 0, 1]], p[group])  # grid inside
         d, _ = kernels.sdf_query(body.values, body.origin, body.spacing,
                                  np.ascontiguousarray(q.reshape(-1, 3)))
-        pierced += int((d.reshape(len(group), -1) < -tol.penetration).any(axis=1).sum())
+        pierced += int((d.reshape(len(group), -1) < -depth).any(axis=1).sum())
     return pierced
 
 

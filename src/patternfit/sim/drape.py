@@ -193,10 +193,10 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
         (:meth:`patternfit.loop.DesignSession.apply_pattern`). The drape then reaches
         ``mesh.vertices`` from them in stages, as a re-drape does
         (:meth:`~patternfit.sim.schedule.Plan.staged`); ``timing["start"]`` is
-        ``"carried"``. A carried start that crosses itself or lies through the body (new
-        triangles across the old drape's folds: no repulsion undoes a crossing once made)
-        is dropped for a cold drape, ``timing["carried_faults"]`` saying how many faults it
-        had.
+        ``"carried"``. A carried start that crosses itself (new triangles across the old
+        drape's folds: no repulsion undoes a crossing once made) or lies through the body
+        deeper than ``CARRIED_DEPTH_MM`` is dropped for a cold drape,
+        ``timing["carried_faults"]`` saying how many faults it had.
     sewing_iterations : int
         Iteration limit of the sewing phase (no gravity), which ends once the seams are
         closed and welded.
@@ -309,7 +309,8 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
     if rest is None:
         result = run_plan(solver, Plan.settle(saved=True), x, progress=progress).result
     else:
-        faults = solver.crossings(x) + sum(through_body(solver.model, x))
+        faults = solver.crossings(x) + sum(through_body(solver.model, x,
+                                                        depth=CARRIED_DEPTH_MM * 1e-3))
         if faults:
             return faults
         change = float(np.linalg.norm(mesh.vertices - rest, axis=1).max(initial=0.0))
@@ -318,6 +319,13 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
     return Drape(positions=result.x[solver.model.vertex_map], placed=x, result=result, solver=solver,
                  seconds=0.0, timing={"start": "saved" if rest is None else "carried"})
 
+
+#: a carried start (``drape(start_rest=...)``) may have cloth edges or faces this far inside
+#: the body [mm]: a new edge across the old drape's triangles is a chord of a chord, and on
+#: a convex part of the body it dips by its sagitta (1.5K trousers and dress after a
+#: re-meshed edit: one edge 1.1-1.4 mm deep), which the edge contact pushes out; deeper
+#: ones lie across a limb (the 1.5K coat: 4-23 mm), where the push may go either way
+CARRIED_DEPTH_MM = 3.0
 
 #: coarse sizes tried, as multiples of ``coarse``, until one's equilibrium carried to the
 #: fine mesh neither crosses itself nor lies across the body: fine triangles near a coarse
