@@ -290,7 +290,8 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
     the contact state saved there (``contact``, :meth:`ContactState.saved_arrays`) when
     given; ``x`` rests at the flat shapes ``rest`` (n, 2) [m] when given, and the drape
     reaches ``mesh``'s own from them in stages; or, when such an ``x`` crosses itself or
-    lies through the body, nothing is draped and the count of those faults is returned."""
+    lies through the body deeper than ``CARRIED_DEPTH_MM``, nothing is draped and the count
+    of those faults is returned."""
     if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
         raise ValueError(f"start: expected finite ({mesh.n_vertices}, 3) positions, "
                          f"got {x.shape}")
