@@ -264,3 +264,31 @@ def test_a_version_1_session_loads_and_is_moved_to_the_new_layout(session, tmp_p
     back.save(folder)
     assert not snap.exists() and same_history(DesignSession.load(folder), session)
     assert os.path.isdir(folder / STATES)
+
+
+def test_a_carried_start_keeps_its_rest_shapes_across_a_save(tmp_path):
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=300)
+    s.apply("move_edge", **HEM)
+    st = s.state
+    st.positions = np.column_stack([st.mesh.vertices, np.full(st.mesh.n_vertices, 0.1)])
+    st.start_rest = st.mesh.vertices + 0.004  # made up: a start carried over an edit
+    folder = tmp_path / "s"
+    s.save(folder)
+    back = DesignSession.load(folder)
+    assert np.array_equal(back.state.start_rest, st.start_rest)
+    assert back.next_start() == "carried"  # not the placement, as before the save
+    written = files_of(folder)
+    back.save(folder)
+    rest_files = [k for k in files_of(folder) if "start-rest-" in k]
+    assert len(rest_files) == 1 and files_of(folder)[rest_files[0]] == written[rest_files[0]]
+    # damaged: its shape, then its name in the snapshot
+    meta = json.loads((folder / snapshot(folder)).read_text())
+    row = meta["states"][-1]
+    rest = folder / STATES / row["key"] / row["start_rest"]
+    _save_npy(rest, np.zeros((st.mesh.n_vertices, 3)))
+    with pytest.raises(SessionError, match=rest.name):
+        DesignSession.load(folder)
+    row["start_rest"] = "../../start-rest.npy"
+    (folder / snapshot(folder)).write_text(json.dumps(meta))
+    with pytest.raises(SessionError, match="start_rest"):
+        DesignSession.load(folder)

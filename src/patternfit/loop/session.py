@@ -56,6 +56,7 @@ STATES = "states"
 _SNAPSHOT = re.compile(r"snapshot-(\d+)(\.json)?")
 _KEY = re.compile(r"[0-9a-f]{32}")
 _POSITIONS = re.compile(r"positions-[0-9a-f]{32}\.npy")
+_START_REST = re.compile(r"start-rest-[0-9a-f]{32}\.npy")
 _BODY = re.compile(r"body-[0-9a-f]{32}\.npz")
 
 
@@ -85,7 +86,7 @@ class State:
     start_rest : (n, 2) float or None
         Before the state's first drape: the flat rest shapes [m] at which ``positions``
         (the start of that drape, an earlier state's drape) rest, once known; None after
-        the drape, and not saved with the session. See :meth:`DesignSession.next_start`.
+        the drape. See :meth:`DesignSession.next_start`.
     key : str
         The name of the state's folder in a saved session (random, fixed for the state's
         life: pattern and mesh are never replaced, so the folder is written once).
@@ -103,6 +104,7 @@ class State:
     # (positions array, its file name): a re-drape replaces the array (never edits it in
     # place), so a new array object is what needs a new file
     _stored_positions: tuple | None = field(default=None, repr=False)
+    _stored_start_rest: tuple | None = field(default=None, repr=False)
 
 
 @dataclass(eq=False)
@@ -346,7 +348,7 @@ class DesignSession:
 
         Each state is written once into ``states/<key>/`` (pattern and mesh, into a hidden
         folder renamed into place when complete; each drape of it as its own positions
-        file), the body once as ``body-<key>.npz``; then a snapshot file lists the history,
+        file, a carried start's flat shapes, :attr:`State.start_rest`, beside it), the body once as ``body-<key>.npz``; then a snapshot file lists the history,
         then ``current`` is replaced to name it (one rename), then the files no longer named
         are removed. A save killed at any point leaves the previous session loadable.
         """
@@ -417,12 +419,16 @@ class DesignSession:
             with _as_session_error(d / "mesh.npz"):
                 mesh = GarmentMesh.load(d / "mesh.npz")
             file = ("positions.npy" if row["draped"] else None) if v1 else row["positions"]
-            positions = None if file is None else _load_positions(d / file, mesh.n_vertices)
+            positions = None if file is None else _load_array(d / file, (mesh.n_vertices, 3))
+            rest_file = None if v1 else row.get("start_rest")
+            start_rest = None if rest_file is None else _load_array(d / rest_file,
+                                                                    (mesh.n_vertices, 2))
             st = State(row["label"], row["edit"], pattern, mesh, positions,
-                       row["fitting_ratio"], row["checks"])
+                       row["fitting_ratio"], row["checks"], start_rest)
             if not v1:  # a version-1 state is copied into the new layout by the next save
                 st.key = row["key"]
                 st._stored_positions = None if file is None else (positions, file)
+                st._stored_start_rest = None if rest_file is None else (start_rest, rest_file)
             history.append(st)
         with _as_session_error(meta_file):
             session = cls(history[meta["position"]].pattern, body, fabric, meta["triangles"],
@@ -452,17 +458,29 @@ def _store_state(states: Path, s: State) -> dict:
         part = states / f".{s.key}-{_new_key()}.part"
         save_garment(part, s.pattern, s.mesh)  # the garment folder's own checks and layout
         os.rename(part, d)
-    file = None
+    row = {"key": s.key, "label": s.label, "edit": s.edit, "fitting_ratio": s.fitting_ratio,
+           "checks": s.checks, "positions": None}
     if s.positions is not None:
-        if s._stored_positions is None or s._stored_positions[0] is not s.positions:
-            s._stored_positions = (s.positions, f"positions-{_new_key()}.npy")
-        file = s._stored_positions[1]
-        if not (d / file).is_file():
-            buf = io.BytesIO()
-            np.save(buf, np.asarray(s.positions, dtype=np.float64), allow_pickle=False)
-            atomic_write_bytes(d / file, buf.getvalue())
-    return {"key": s.key, "label": s.label, "edit": s.edit, "fitting_ratio": s.fitting_ratio,
-            "checks": s.checks, "positions": file}
+        s._stored_positions = _store_array(d, "positions", s.positions, s._stored_positions)
+        row["positions"] = s._stored_positions[1]
+        if s.start_rest is not None:
+            s._stored_start_rest = _store_array(d, "start-rest", s.start_rest,
+                                                s._stored_start_rest)
+            row["start_rest"] = s._stored_start_rest[1]
+    return row
+
+
+def _store_array(d: Path, prefix: str, values: np.ndarray, stored: tuple | None) -> tuple:
+    """Write ``values`` into ``d`` as ``<prefix>-<key>.npy`` unless ``stored`` (the
+    (array, file name) written last) is of this very array: arrays are replaced, never
+    edited in place. Returns the new (array, file name)."""
+    if stored is None or stored[0] is not values:
+        stored = (values, f"{prefix}-{_new_key()}.npy")
+    if not (d / stored[1]).is_file():
+        buf = io.BytesIO()
+        np.save(buf, np.asarray(values, dtype=np.float64), allow_pickle=False)
+        atomic_write_bytes(d / stored[1], buf.getvalue())
+    return stored
 
 
 def _remove_unnamed(folder: Path, keep: str, meta: dict) -> None:
@@ -474,13 +492,14 @@ def _remove_unnamed(folder: Path, keep: str, meta: dict) -> None:
     for p in [*folder.glob("body-*.npz"), *folder.glob(".*.tmp")]:
         if p.name != meta["body"]:
             p.unlink(missing_ok=True)
-    named = {row["key"]: row["positions"] for row in meta["states"]}
+    named = {row["key"]: {"pattern.json", "mesh.npz", row["positions"], row.get("start_rest")}
+             for row in meta["states"]}
     for d in (folder / STATES).iterdir():
         if d.name not in named:
             shutil.rmtree(d, ignore_errors=True)
             continue
         for p in d.iterdir():
-            if p.name not in ("pattern.json", "mesh.npz", named[d.name]):
+            if p.name not in named[d.name]:
                 p.unlink(missing_ok=True)
 
 
@@ -515,6 +534,10 @@ def _bad_meta(meta, v1: bool) -> str | None:
                 row.get("positions") is None
                 or isinstance(row["positions"], str) and _POSITIONS.fullmatch(row["positions"])):
             return f"state {i}: field 'key' or 'positions' missing or wrong"
+        elif row.get("start_rest") is not None and not (
+                row["positions"] is not None and isinstance(row["start_rest"], str)
+                and _START_REST.fullmatch(row["start_rest"])):
+            return f"state {i}: field 'start_rest' wrong"
     return None
 
 
@@ -530,10 +553,12 @@ def _as_session_error(file: Path):
         raise SessionError(f"cannot be used ({exc})", file=file) from None
 
 
-def _load_positions(path: Path, n: int) -> np.ndarray:
+def _load_array(path: Path, shape: tuple) -> np.ndarray:
+    """A saved state's positions (n, 3) or start rest shapes (n, 2) [m], checked."""
     x = read_npy(path, limit=limits.positions_bytes, error=SessionError)
-    if x.dtype.kind != "f" or x.shape != (n, 3) or not np.isfinite(x).all():
-        raise SessionError(f"expected finite ({n}, 3) positions, got {x.dtype} {x.shape}",
+    if x.dtype.kind != "f" or x.shape != shape or not np.isfinite(x).all():
+        what = "positions" if shape[1] == 3 else "flat rest shapes"
+        raise SessionError(f"expected finite {shape} {what}, got {x.dtype} {x.shape}",
                            file=path)
     return x.astype(np.float64)
 
