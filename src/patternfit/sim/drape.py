@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..constants import limits
+from ..constants import limits, tol
 from ..defaults import DEFAULTS
 from ..mesh.garment import GarmentMesh
 from ..mesh.transfer import transfer
@@ -310,8 +310,7 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
     if rest is None:
         result = run_plan(solver, Plan.settle(saved=True), x, progress=progress).result
     else:
-        faults = solver.crossings(x) + sum(through_body(solver.model, x,
-                                                        depth=CARRIED_DEPTH_MM * 1e-3))
+        faults = _start_faults(solver, x, depth=CARRIED_DEPTH_MM * 1e-3)
         if faults:
             return faults
         change = float(np.linalg.norm(mesh.vertices - rest, axis=1).max(initial=0.0))
@@ -319,6 +318,13 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
                           progress=progress).result
     return Drape(positions=result.x[solver.model.vertex_map], placed=x, result=result, solver=solver,
                  seconds=0.0, timing={"start": "saved" if rest is None else "carried"})
+
+
+def _start_faults(solver: GarmentSolver, x, *, depth: float = tol.penetration) -> int:
+    """Crossed triangle pairs plus cloth edges and faces deeper than ``depth`` [m] in the
+    body of a start ``x`` (n3, 3) [m] carried to ``solver``'s mesh from another one (a
+    coarser drape, or the drape before a re-meshing edit)."""
+    return solver.crossings(x) + sum(through_body(solver.model, x, depth=depth))
 
 
 #: a carried start (``drape(start_rest=...)``) may have cloth edges or faces this far inside
@@ -366,7 +372,7 @@ def _coarse_to_fine(pattern, mesh, body, fabric, field_, x0, coarse, options, t0
                                         vertex_map=np.arange(mesh.n_vertices)), solver=solver,
                          seconds=time.perf_counter() - t0, timing=timing)
         start = transfer(small, first.positions, mesh)
-        faults = solver.crossings(start) + sum(through_body(solver.model, start))
+        faults = _start_faults(solver, start)
         if best is None or faults < best[0]:
             best = (faults, start, small.n_triangles)
         if faults == 0:
