@@ -8,7 +8,8 @@ from patternfit.edit import move_edge, update_mesh
 from patternfit.fit import FitEvaluator
 from patternfit.mesh import mesh_pattern
 from patternfit.pattern.library import build
-from patternfit.sim.drape import drape, redrape
+from patternfit.sim import drape as drape_module
+from patternfit.sim.drape import RESEW_CLEARANCES, drape, redrape
 from patternfit.sim.placement import place_on_body
 
 from scenes import draped
@@ -61,13 +62,54 @@ def test_seams_that_do_not_close_are_sewn_again_with_self_collision(thin_woman):
     # with self-collision on, and when that fails too the drape says so (not welded, failed)
     p = build("skirt", "M")
     m = mesh_pattern(p, triangles=600)
+    # (from each of the three placements, RESEW_CLEARANCES)
     d = drape(p, m, thin_woman, "cotton", sewing_iterations=3)
-    assert d.timing["sewing_retried"] and d.timing["sewing_iterations"] == 6
+    assert d.timing["sewing_retried"] and d.timing["sewing_iterations"] == 3 * 6
+    assert d.timing["sewing_attempts"] == 3
     assert not d.result.welded and not d.checks.passed
     once = drape(p, m, thin_woman, "cotton", sewing_iterations=3, sewing_self_collision=True)
-    assert "sewing_retried" not in once.timing and once.timing["sewing_iterations"] == 3
+    assert "sewing_retried" not in once.timing and once.timing["sewing_iterations"] == 3 * 3
     sewn = drape(p, m, thin_woman, "cotton")
     assert sewn.result.welded and "sewing_retried" not in sewn.timing
+
+
+@pytest.mark.parametrize("faults,kept", [((4, 0), 2), ((5, 2, 3), 2)])
+def test_a_tangled_sewing_is_sewn_again_from_farther_out(thin_woman, monkeypatch, faults,
+                                                         kept):
+    # the checks of each sewn state are replaced by the counts in ``faults``: sewing stops
+    # at the first clean one, else the one with the fewest faults is draped
+    p = build("skirt", "M")
+    m = mesh_pattern(p, triangles=600)
+    counts = iter(faults)
+    monkeypatch.setattr(drape_module, "_start_faults", lambda solver, x: next(counts))
+    d = drape(p, m, thin_woman, "cotton")
+    assert d.timing["sewing_attempts"] == len(faults)
+    gap = 0.03 + RESEW_CLEARANCES[kept - 2]
+    assert d.timing["sewing_clearance"] == pytest.approx(gap)
+    np.testing.assert_allclose(d.placed, place_on_body(p, m, thin_woman, clearance=gap))
+    assert d.timing["phases"] == ["sewing", "relaxing", "draping"]
+    assert d.result.welded and d.checks.passed, d.reasons
+
+
+@pytest.mark.slow  # three sewings and a drape to rest (about 25 s)
+def test_the_shirt_at_the_studio_size_is_sewn_again_until_untangled():
+    # sewn from 3 cm, the cuffs close over the mittens and the 1.5K shirt on male_average
+    # rested with 8 edges through the body and 50 crossed pairs; from 6 cm it is clean
+    p = build("shirt", "M")
+    m = mesh_pattern(p, triangles=1500)
+    d = drape(p, m, load_body("male_average"), "cotton")
+    assert d.timing["sewing_attempts"] > 1
+    assert d.checks.passed and d.onbody.passed, d.reasons
+
+
+def test_a_given_placement_is_sewn_once(thin_woman, monkeypatch):
+    p = build("skirt", "M")
+    m = mesh_pattern(p, triangles=600)
+    monkeypatch.setattr(drape_module, "_start_faults", lambda solver, x: 7)
+    x0 = place_on_body(p, m, thin_woman, clearance=0.04)
+    d = drape(p, m, thin_woman, "cotton", placed=x0)
+    assert d.timing["sewing_attempts"] == 1 and "sewing_clearance" not in d.timing
+    np.testing.assert_array_equal(d.placed, x0)
 
 
 def test_redrape_after_a_hem_edit_starts_from_the_state_moved_with_it(thin_woman):

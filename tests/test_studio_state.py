@@ -146,7 +146,20 @@ def test_tracker_follows_the_phases_the_runner_names():
         ["sewing", "relaxing", "draping", "settling"]
     assert [n for _, n, _ in seen] == list(range(1, 18))
     assert monotone([f for *_, f in seen]) and seen[-1][2] > 0.75
-    # a phase the plan does not have further on moves the bar on by one
+    # a sewing again (from farther out) goes back to it; the fraction waits
+    tracker.plan = [(n, 100.0) for n in ("sewing", "relaxing", "draping")]
+    tracker.index, tracker.last, tracker.done, tracker.fraction = 0, 0, 0, 0.0
+    seen = []
+    for name, its in (("sewing", 40), ("relaxing", 30), ("sewing", 20), ("relaxing", 10),
+                      ("draping", 5)):
+        tracker.enter(name)
+        for it in range(1, its + 1):
+            tracker.update(it)
+            seen.append((tracker.phase, tracker.fraction))
+    assert [p for i, (p, _) in enumerate(seen) if i == 0 or p != seen[i - 1][0]] == \
+        ["sewing", "relaxing", "sewing", "relaxing", "draping"]
+    assert monotone([f for _, f in seen]) and tracker.iterations == 105
+    # a phase the plan does not have moves the bar on by one
     tracker.plan = [("sewing", 1.0), ("draping", 1.0)]
     tracker.index, tracker.last, tracker.done = 0, 4, 0
     tracker.enter("unplanned")

@@ -131,8 +131,14 @@ class Plan:
         sewn = cls.sewing(sewing_iterations=sewing_iterations,
                           relax_iterations=relax_iterations,
                           sewing_self_collision=sewing_self_collision)
-        return cls(sewn.phases + (Phase("draping", "drape the sewn garment under gravity "
-                                        "to rest", needs_weld=True),))
+        return cls(sewn.phases + cls.draping().phases)
+
+    @classmethod
+    def draping(cls) -> "Plan":
+        """Drape the sewn and relaxed garment under gravity to rest: the last phase of
+        :meth:`first_drape`, run alone after a sewing that was checked first."""
+        return cls((Phase("draping", "drape the sewn garment under gravity to rest",
+                          needs_weld=True),))
 
     @classmethod
     def settle(cls, *, saved: bool = False) -> "Plan":

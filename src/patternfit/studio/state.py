@@ -131,8 +131,10 @@ class DrapeTracker:
 
     def enter(self, name: str) -> None:
         """The drape's runner starts phase ``name`` (a re-drape's stages belong to its
-        settling): the bar moves to that phase of the plan, or on by one when the plan does
-        not have it further on."""
+        settling): the bar moves to that phase of the plan; back to it when it ran before
+        (a tangled sewing is sewn again from farther out, ``drape``'s ``RESEW_CLEARANCES``:
+        the bar waits, the fraction never goes back); on by one when the plan does not have
+        it."""
         key = "settling" if name.startswith("stage ") else name
         names = [n for n, _ in self.plan]
         started = self.done + self.last > 0
@@ -140,6 +142,8 @@ class DrapeTracker:
         self.last = 0
         if key in names[self.index:]:
             self.index = names.index(key, self.index)
+        elif key in names:
+            self.index = names.index(key)
         elif started and names:
             self.index = min(self.index + 1, len(names) - 1)
 
