@@ -129,18 +129,25 @@ def test_progress_follows_the_phases_monotonically(client, callbacks):
     assert monotone([f for _, _, f, _ in callbacks]) and monotone([n for *_, n in callbacks])
 
 
+def _walk(tracker, runs):
+    """Feed ``tracker`` the runner's phases and the solver's callbacks: (name, iterations)
+    pairs; the (phase, iterations, fraction) after each callback."""
+    seen = []
+    for name, its in runs:
+        tracker.enter(name)
+        for it in range(1, its + 1):
+            tracker.update(it)
+            seen.append((tracker.phase, tracker.iterations, tracker.fraction))
+    return seen
+
+
 def test_tracker_follows_the_phases_the_runner_names():
     """The relaxed first drape of a session: sew, relax, drape the widened garment, then a
     staged re-drape; the stages count as the settling, iterations add up over the runs."""
     tracker = studio_state.DrapeTracker()
     tracker.plan = [(n, 100.0) for n in ("sewing", "relaxing", "draping", "settling")]
-    seen = []
-    for name, its in (("sewing", 5), ("relaxing", 3), ("draping", 4), ("stage 1 of 2", 2),
-                      ("settling", 3)):
-        tracker.enter(name)
-        for it in range(1, its + 1):
-            tracker.update(it)
-            seen.append((tracker.phase, tracker.iterations, tracker.fraction))
+    seen = _walk(tracker, (("sewing", 5), ("relaxing", 3), ("draping", 4), ("stage 1 of 2", 2),
+                           ("settling", 3)))
     phases = [p for p, _, _ in seen]
     assert [p for i, p in enumerate(phases) if i == 0 or p != phases[i - 1]] == \
         ["sewing", "relaxing", "draping", "settling"]
@@ -149,16 +156,11 @@ def test_tracker_follows_the_phases_the_runner_names():
     # a sewing again (from farther out) goes back to it; the fraction waits
     tracker.plan = [(n, 100.0) for n in ("sewing", "relaxing", "draping")]
     tracker.index, tracker.last, tracker.done, tracker.fraction = 0, 0, 0, 0.0
-    seen = []
-    for name, its in (("sewing", 40), ("relaxing", 30), ("sewing", 20), ("relaxing", 10),
-                      ("draping", 5)):
-        tracker.enter(name)
-        for it in range(1, its + 1):
-            tracker.update(it)
-            seen.append((tracker.phase, tracker.fraction))
-    assert [p for i, (p, _) in enumerate(seen) if i == 0 or p != seen[i - 1][0]] == \
+    seen = _walk(tracker, (("sewing", 40), ("relaxing", 30), ("sewing", 20), ("relaxing", 10),
+                           ("draping", 5)))
+    assert [p for i, (p, *_) in enumerate(seen) if i == 0 or p != seen[i - 1][0]] == \
         ["sewing", "relaxing", "sewing", "relaxing", "draping"]
-    assert monotone([f for _, f in seen]) and tracker.iterations == 105
+    assert monotone([f for *_, f in seen]) and tracker.iterations == 105
     # a phase the plan does not have moves the bar on by one
     tracker.plan = [("sewing", 1.0), ("draping", 1.0)]
     tracker.index, tracker.last, tracker.done = 0, 4, 0
