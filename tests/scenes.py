@@ -139,6 +139,24 @@ def welded(d):
 # ------------------------------------------------------------ GarmentCode-built patterns
 
 
+def planes_placed(pattern, mesh, body):
+    """``pattern`` as a file might place it: each panel a plane 25 cm in front of / behind
+    the body at the height patternfit's placement gives it (a plausible imported placement,
+    kept by ``place_on_body``)."""
+    from dataclasses import replace
+
+    from patternfit.sim.placement import place_on_body
+
+    ours = place_on_body(pattern, mesh, body)
+    panels = []
+    for i, p in enumerate(pattern.panels):
+        z = 0.25 if p.placement.side == "front" else -0.25
+        panels.append(replace(p, placement=replace(
+            p.placement, translation=(0.0, float(ours[mesh.panel_vertices(i), 1].min()), z),
+            rotation=(0.0, 0.0 if z > 0 else 180.0, 0.0))))
+    return replace(pattern, panels=tuple(panels))
+
+
 def gc_panel(points, curved=None, at=(0.0, 0.0, 0.0), rot=0.0):
     """A GarmentCode panel entry: ``points`` [cm], ``curved`` {edge index: curvature},
     translation ``at`` [cm] and a rotation ``rot`` [deg] about z."""

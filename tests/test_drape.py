@@ -12,7 +12,7 @@ from patternfit.sim import drape as drape_module
 from patternfit.sim.drape import RESEW_CLEARANCES, drape, redrape
 from patternfit.sim.placement import place_on_body
 
-from scenes import draped
+from scenes import draped, planes_placed
 
 
 @pytest.fixture(scope="module")
@@ -89,6 +89,17 @@ def test_a_tangled_sewing_is_sewn_again_from_farther_out(thin_woman, monkeypatch
     np.testing.assert_allclose(d.placed, place_on_body(p, m, thin_woman, clearance=gap))
     assert d.timing["phases"] == ["sewing", "relaxing", "draping"]
     assert d.result.welded and d.checks.passed, d.reasons
+
+
+def test_a_garment_at_its_files_placement_is_sewn_once(thin_woman, monkeypatch):
+    # no clearance moves a kept imported placement: sewing it again would repeat the first
+    p = build("skirt", "M")
+    m = mesh_pattern(p, triangles=600)
+    placed = planes_placed(p, m, thin_woman)
+    monkeypatch.setattr(drape_module, "_start_faults", lambda solver, x: 7)
+    d = drape(placed, m, thin_woman, "cotton")
+    assert d.timing["sewing_attempts"] == 1 and "sewing_clearance" not in d.timing
+    np.testing.assert_array_equal(d.placed, place_on_body(placed, m, thin_woman))
 
 
 @pytest.mark.slow  # three sewings and a drape to rest (about 25 s)

@@ -24,6 +24,8 @@ from patternfit.sim.panel_frames import PlacementWarning, implausible_placements
 from patternfit.sim.placement import place_on_body
 from patternfit.sim.solver import GarmentSolver
 
+from scenes import planes_placed
+
 GC = Path(__file__).parent / "data" / "garmentcode"
 
 #: per file: the anchor and every panel's (kind, part, side)
@@ -124,15 +126,7 @@ def test_a_plausible_imported_placement_is_kept():
     body = load_body("female_thin")
     pattern = build("skirt")
     mesh = mesh_pattern(pattern, triangles=600)
-    ours = place_on_body(pattern, mesh, body)
-    # a file placing each panel as a plane in front of / behind the body at its height
-    panels = []
-    for i, p in enumerate(pattern.panels):
-        z = 0.25 if p.placement.side == "front" else -0.25
-        panels.append(replace(p, placement=replace(
-            p.placement, translation=(0.0, float(ours[mesh.panel_vertices(i), 1].min()), z),
-            rotation=(0.0, 0.0 if z > 0 else 180.0, 0.0))))
-    placed = replace(pattern, panels=tuple(panels))
+    placed = planes_placed(pattern, mesh, body)
     assert implausible_placements(placed, mesh, body) == []
 
 

@@ -170,7 +170,8 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
     The sewn and relaxed state is checked before the drape under gravity: one that crosses
     itself or has cloth through the body (no repulsion undoes such a tangle) is sewn again
     from a placement ``RESEW_CLEARANCES`` farther out (1.5 cm, then 3 cm), and the first
-    clean one, or else the one with the fewest faults, is draped.
+    clean one, or else the one with the fewest faults, is draped (a garment at its file's
+    own 3D placement, which no clearance moves, is sewn once).
     ``timing["sewing_attempts"]`` counts the sewings and ``timing["sewing_clearance"]`` [m]
     is the placement's clearance when it is not ``clearance``.
 
@@ -278,10 +279,13 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
     tries = (None,) if placed is not None else \
         tuple(dict.fromkeys(min(clearance + extra, MAX_CLEARANCE)
                             for extra in (0.0,) + RESEW_CLEARANCES))
-    best = None
-    for attempt, gap in enumerate(tries, start=1):
-        if attempt > 1:
+    best, attempt, last = None, 0, None
+    for gap in tries:
+        if attempt:
             x0 = place_on_body(pattern, mesh, body, clearance=gap)
+            if np.array_equal(x0, last):
+                continue  # the file's own 3D placement, which no clearance moves
+        attempt, last = attempt + 1, x0
         solver, run = _sew(mesh, fabric, field_, x0, settings, options, timing, progress)
         if run.result.interrupted:
             best = (None, solver, run, x0, gap)
