@@ -161,7 +161,15 @@ def test_tracker_follows_the_phases_the_runner_names():
     assert [p for i, (p, *_) in enumerate(seen) if i == 0 or p != seen[i - 1][0]] == \
         ["sewing", "relaxing", "sewing", "relaxing", "draping"]
     assert monotone([f for *_, f in seen]) and tracker.iterations == 105
-    # a phase the plan does not have moves the bar on by one
+    # a carried start refused for its faults is draped cold: the plan gets those phases
+    tracker.plan = [("settling", 300.0)]
+    tracker.index, tracker.last, tracker.done, tracker.fraction = 0, 0, 0, 0.0
+    seen = _walk(tracker, (("sewing", 30), ("relaxing", 20), ("draping", 10)))
+    assert [p for i, (p, *_) in enumerate(seen) if i == 0 or p != seen[i - 1][0]] == \
+        ["sewing", "relaxing", "draping"]
+    assert [n for n, _ in tracker.plan] == ["sewing", "relaxing", "draping", "settling"]
+    assert monotone([f for *_, f in seen]) and seen[-1][2] < 1.0
+    # a name no drape phase has moves the bar on by one
     tracker.plan = [("sewing", 1.0), ("draping", 1.0)]
     tracker.index, tracker.last, tracker.done = 0, 4, 0
     tracker.enter("unplanned")

@@ -133,8 +133,10 @@ class DrapeTracker:
         """The drape's runner starts phase ``name`` (a re-drape's stages belong to its
         settling): the bar moves to that phase of the plan; back to it when it ran before
         (a tangled sewing is sewn again from farther out, ``drape``'s ``RESEW_CLEARANCES``:
-        the bar waits, the fraction never goes back); on by one when the plan does not have
-        it."""
+        the bar waits, the fraction never goes back). A drape phase the plan did not foresee
+        (a carried start refused for its faults is draped cold: sewing, relaxing, draping)
+        is put into the plan where it runs, weighed like the plan's own; any other name
+        moves the bar on by one."""
         key = "settling" if name.startswith("stage ") else name
         names = [n for n, _ in self.plan]
         started = self.done + self.last > 0
@@ -144,6 +146,10 @@ class DrapeTracker:
             self.index = names.index(key, self.index)
         elif key in names:
             self.index = names.index(key)
+        elif key in _PHASE_ITERATIONS and names:
+            per = sum(w for _, w in self.plan) / sum(_PHASE_ITERATIONS[n] for n in names)
+            self.index += started
+            self.plan.insert(self.index, (key, per * _PHASE_ITERATIONS[key]))
         elif started and names:
             self.index = min(self.index + 1, len(names) - 1)
 
