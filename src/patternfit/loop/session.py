@@ -348,7 +348,8 @@ class DesignSession:
 
         Each state is written once into ``states/<key>/`` (pattern and mesh, into a hidden
         folder renamed into place when complete; each drape of it as its own positions
-        file, a carried start's flat shapes, :attr:`State.start_rest`, beside it), the body once as ``body-<key>.npz``; then a snapshot file lists the history,
+        file, a carried start's flat shapes, :attr:`State.start_rest`, beside it), the body
+        once as ``body-<key>.npz``; then a snapshot file lists the history,
         then ``current`` is replaced to name it (one rename), then the files no longer named
         are removed. A save killed at any point leaves the previous session loadable.
         """

@@ -375,8 +375,9 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
 
 def _start_faults(solver: GarmentSolver, x, *, depth: float = tol.penetration) -> int:
     """Crossed triangle pairs plus cloth edges and faces deeper than ``depth`` [m] in the
-    body of a start ``x`` (n3, 3) [m] carried to ``solver``'s mesh from another one (a
-    coarser drape, or the drape before a re-meshing edit)."""
+    body of a start ``x`` (n3, 3) [m] of the drape under gravity: a sewn state, or one
+    carried to ``solver``'s mesh from another (a coarser drape, or the drape before a
+    re-meshing edit)."""
     return solver.crossings(x) + sum(through_body(solver.model, x, depth=depth))
 
 
