@@ -1,6 +1,6 @@
 """The Newton preconditioner's sparse Cholesky in 3 x 3 vertex blocks
 (``patternfit.sim.block_cholesky``): solves against SciPy's on random meshes, refactoring on
-the same graph, and clear refusals."""
+the same graph, clear refusals, and its split in two halves for two threads."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial import Delaunay
 
-from patternfit.sim.block_cholesky import BlockCholesky
+from patternfit.sim.block_cholesky import BlockCholesky, subtree_split
 
 
 def _mesh(rng, n):
@@ -114,3 +114,55 @@ def test_isolated_vertices_with_identity_rows_factor():
     chol = BlockCholesky(graph.indptr, graph.indices)
     chol.factor(*_lower(sp.eye(3 * n, format="csr") * 2.0))
     assert np.allclose(chol.solve(np.arange(3.0 * n)), np.arange(3.0 * n) / 2.0)
+
+
+@settings(max_examples=25, deadline=None)
+@given(n=st.integers(2, 400), seed=st.integers(0, 2 ** 31 - 1))
+def test_the_split_gives_each_set_whole_subtrees_below_the_columns_above(n, seed):
+    rng = np.random.default_rng(seed)
+    _, graph = _mesh(rng, max(n, 4))
+    chol = BlockCholesky(graph.indptr, graph.indices)
+    parts, top, owner = subtree_split(chol.colptr, chol.rowidx)
+    count = np.diff(chol.colptr)
+    assert sorted(np.concatenate([*parts, top]).tolist()) == list(range(chol.n))
+    for k, cols in enumerate((*parts, top)):
+        assert np.all(owner[cols] == k) and np.all(np.diff(cols) > 0)
+    for j in range(chol.n):
+        if count[j] > 1:  # its parent: the first row below the diagonal
+            up = chol.rowidx[chol.colptr[j] + 1]
+            # a set's column hangs below a column of its own set or above both; above stays
+            assert owner[up] in ((owner[j], 2) if owner[j] < 2 else (2,))
+
+
+@pytest.mark.parametrize("n", [60, 900])
+def test_two_threads_give_the_factor_and_solves_of_one_bit_for_bit(n):
+    rng = np.random.default_rng(11)
+    tri, graph = _mesh(rng, n)
+    A = _matrix(rng, tri, n)
+    b = rng.standard_normal(3 * n)
+    out = []
+    for threads in (1, 2):
+        chol = BlockCholesky(graph.indptr, graph.indices)
+        chol.threads = threads  # (below PARALLEL_VERTICES it would run on one)
+        chol.factor(*_lower(A))
+        out.append((chol.values.copy(), chol.solve(b)))
+    assert np.array_equal(out[0][0], out[1][0]) and np.array_equal(out[0][1], out[1][1])
+    assert np.linalg.norm(A @ out[1][1] - b) <= 1e-4 * np.linalg.norm(b)
+    parts, top, _ = subtree_split(chol.colptr, chol.rowidx)
+    assert min(len(parts[0]), len(parts[1])) > 0.2 * n  # both threads have work
+
+
+def test_a_bad_pivot_in_either_half_is_refused_on_two_threads():
+    rng = np.random.default_rng(5)
+    n = 300
+    tri, graph = _mesh(rng, n)
+    chol = BlockCholesky(graph.indptr, graph.indices)
+    chol.threads = 2
+    parts, _, _ = subtree_split(chol.colptr, chol.rowidx)
+    for cols in parts:
+        vertex = int(chol.perm[cols[0]])
+        A = _matrix(rng, tri, n).tolil()
+        A[3 * vertex, 3 * vertex] = -1e6
+        with pytest.raises(np.linalg.LinAlgError, match=f"at vertex {vertex}$"):
+            chol.factor(*_lower(A.tocsr()))
+        assert not chol.factored

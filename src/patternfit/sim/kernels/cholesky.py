@@ -12,8 +12,13 @@ of 5 ms (``docs/simulation.md``).
 L is kept as a block CSC: ``colptr`` (n + 1,), ``rowidx`` (nnzb,) with each column's
 diagonal block first and the rows ascending, and ``values`` (9 nnzb,), block p at
 ``values[9 p : 9 p + 9]`` row-major. A diagonal block holds the *inverse* of its 3 x 3 lower
-factor (the solves multiply by it). Serial loops in a fixed order: two factorisations of the
-same matrix are bit-identical.
+factor (the solves multiply by it).
+
+The factorisation and the solves work on given sets of columns, so that two subtrees of the
+elimination tree (whose columns never touch each other) can be done at once
+(``sim.block_cholesky``): each set keeps its own list heads (factor) or adds what it owes
+the columns above both into its own buffer (forward solve). Serial loops in a fixed order:
+two factorisations of the same matrix are bit-identical, however many threads ran them.
 """
 
 from __future__ import annotations
@@ -70,7 +75,7 @@ def block_symbolic(n, indptr, indices):
     return colptr, rowidx
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _slot(colptr, rowidx, row, col):
     """Position of block (``row``, ``col``), row >= col, in L's pattern, or -1."""
     lo = colptr[col]
@@ -84,12 +89,13 @@ def _slot(colptr, rowidx, row, col):
     return lo if rowidx[lo] == row else -1
 
 
-@njit(cache=True)
-def _scatter(colptr, rowidx, iperm, indptr, indices, data, values):
-    """Add the scalar lower-triangle CSR matrix (``indptr`` (3n + 1,), ``indices``,
-    ``data``) into L's blocks ``values`` (permuted by ``iperm``; a diagonal block's
-    strictly lower entries mirrored). Returns the first row whose entry has no slot, or -1."""
-    for r in range(indptr.shape[0] - 1):
+@njit(cache=True, nogil=True)
+def block_scatter(colptr, rowidx, iperm, indptr, indices, data, values, r0, r1):
+    """Add the scalar rows ``r0``:``r1`` of the lower-triangle CSR matrix (``indptr``
+    (3n + 1,), ``indices``, ``data``) into L's blocks ``values`` (permuted by ``iperm``; a
+    diagonal block's strictly lower entries mirrored). Rows of different vertices write
+    different blocks. Returns the first row whose entry has no slot, or -1."""
+    for r in range(r0, r1):
         for p in range(indptr[r], indptr[r + 1]):
             c = indices[p]
             bi = iperm[r // 3]
@@ -107,24 +113,17 @@ def _scatter(colptr, rowidx, iperm, indptr, indices, data, values):
     return -1
 
 
-@njit(cache=True)
-def block_factor(colptr, rowidx, iperm, indptr, indices, data, values):
-    """Numeric factorisation into ``values`` (9 nnzb,) of the SPD matrix given by its scalar
-    lower triangle (CSR ``indptr`` (3n + 1,), ``indices``, ``data`` [N/m]), in the pattern
-    ``colptr``, ``rowidx`` of :func:`block_symbolic` for the ordering whose inverse is
-    ``iperm`` (n,). Returns ``(status, where)``: (0, -1) done; (1, scalar row) an entry
-    outside the pattern; (2, block column) a pivot not positive (the matrix is not positive
-    definite there: the vertex ordered at that position)."""
-    n = colptr.shape[0] - 1
-    values[:] = 0.0
-    bad = _scatter(colptr, rowidx, iperm, indptr, indices, data, values)
-    if bad >= 0:
-        return 1, bad
-    head = -np.ones(n, np.int64)
-    link = -np.ones(n, np.int64)
-    nextpos = colptr[:-1].copy()
-    pos = np.empty(n, np.int64)
-    for j in range(n):
+@njit(cache=True, nogil=True)
+def block_factor_columns(cols, colptr, rowidx, values, head, link, nextpos, pos):
+    """Factor the block columns ``cols`` (ascending) in place in ``values`` (9 nnzb,), the
+    matrix already scattered there, in the pattern ``colptr``, ``rowidx`` of
+    :func:`block_symbolic`: left-looking, each column updated by the earlier columns
+    linked from ``head`` (n,) through ``link`` (n,) (the next block each is at:
+    ``nextpos`` (n,)); ``pos`` (n,) is scratch. Every column whose updates reach a column of
+    ``cols`` must be done or in ``cols``. Returns -1, or the block column whose pivot is not
+    positive (the matrix is not positive definite there)."""
+    for jj in range(cols.shape[0]):
+        j = cols[jj]
         c0 = colptr[j]
         c1 = colptr[j + 1]
         for p in range(c0, c1):
@@ -156,18 +155,18 @@ def block_factor(colptr, rowidx, iperm, indptr, indices, data, values):
         a00, a10, a11 = values[b], values[b + 3], values[b + 4]
         a20, a21, a22 = values[b + 6], values[b + 7], values[b + 8]
         if not a00 > 0.0:
-            return 2, j
+            return j
         l00 = np.sqrt(a00)
         l10 = a10 / l00
         l20 = a20 / l00
         s = a11 - l10 * l10
         if not s > 0.0:
-            return 2, j
+            return j
         l11 = np.sqrt(s)
         l21 = (a21 - l20 * l10) / l11
         s = a22 - l20 * l20 - l21 * l21
         if not s > 0.0:
-            return 2, j
+            return j
         l22 = np.sqrt(s)
         m00 = 1.0 / l00
         m11 = 1.0 / l11
@@ -191,21 +190,35 @@ def block_factor(colptr, rowidx, iperm, indptr, indices, data, values):
             link[j] = head[r]
             head[r] = j
             nextpos[j] = c0 + 1
-    return 0, -1
+    return -1
 
 
-@njit(cache=True)
-def block_solve(colptr, rowidx, values, perm, b, out):
-    """Solve L L^T x = ``b`` (3n,) into ``out`` (3n,) with the factor of
-    :func:`block_factor` (``perm`` (n,): the ordering, vertex of each position)."""
-    n = colptr.shape[0] - 1
-    y = np.empty(3 * n)
-    for i in range(n):
-        v = perm[i]
-        y[3 * i] = b[3 * v]
-        y[3 * i + 1] = b[3 * v + 1]
-        y[3 * i + 2] = b[3 * v + 2]
-    for j in range(n):
+@njit(cache=True, nogil=True)
+def block_join_lists(cols, head, other, link):
+    """Append, for each column of ``cols``, the update list ``other`` starts to the one
+    ``head`` starts (both linked through ``link``): the lists two subtrees' factorisations
+    left for the columns above them, joined in a fixed order."""
+    for i in range(cols.shape[0]):
+        r = cols[i]
+        if other[r] == -1:
+            continue
+        if head[r] == -1:
+            head[r] = other[r]
+            continue
+        k = head[r]
+        while link[k] != -1:
+            k = link[k]
+        link[k] = other[r]
+
+
+@njit(cache=True, nogil=True)
+def block_forward(cols, colptr, rowidx, values, y, owner, me, spill):
+    """Forward solve L z = y over the block columns ``cols`` (ascending), in place in ``y``
+    (3n,) (in elimination order): an update of a row ``owner`` (n,) gives to another part
+    than ``me`` is subtracted in ``spill`` (3n,) instead, to be added to ``y`` once the
+    parts are done."""
+    for jj in range(cols.shape[0]):
+        j = cols[jj]
         q = 9 * colptr[j]
         y0, y1, y2 = y[3 * j], y[3 * j + 1], y[3 * j + 2]
         z0 = values[q] * y0
@@ -214,11 +227,20 @@ def block_solve(colptr, rowidx, values, perm, b, out):
         y[3 * j], y[3 * j + 1], y[3 * j + 2] = z0, z1, z2
         for p in range(colptr[j] + 1, colptr[j + 1]):
             q = 9 * p
-            r = 3 * rowidx[p]
-            y[r] -= values[q] * z0 + values[q + 1] * z1 + values[q + 2] * z2
-            y[r + 1] -= values[q + 3] * z0 + values[q + 4] * z1 + values[q + 5] * z2
-            y[r + 2] -= values[q + 6] * z0 + values[q + 7] * z1 + values[q + 8] * z2
-    for j in range(n - 1, -1, -1):
+            row = rowidx[p]
+            t = y if owner[row] == me else spill
+            r = 3 * row
+            t[r] -= values[q] * z0 + values[q + 1] * z1 + values[q + 2] * z2
+            t[r + 1] -= values[q + 3] * z0 + values[q + 4] * z1 + values[q + 5] * z2
+            t[r + 2] -= values[q + 6] * z0 + values[q + 7] * z1 + values[q + 8] * z2
+
+
+@njit(cache=True, nogil=True)
+def block_backward(cols, colptr, rowidx, values, y):
+    """Backward solve L^T x = z over the block columns ``cols`` (ascending; done from the
+    last), in place in ``y`` (3n,): the rows below each column must be solved already."""
+    for jj in range(cols.shape[0] - 1, -1, -1):
+        j = cols[jj]
         s0, s1, s2 = y[3 * j], y[3 * j + 1], y[3 * j + 2]
         for p in range(colptr[j] + 1, colptr[j + 1]):
             q = 9 * p
@@ -231,8 +253,3 @@ def block_solve(colptr, rowidx, values, perm, b, out):
         y[3 * j] = values[q] * s0 + values[q + 3] * s1 + values[q + 6] * s2
         y[3 * j + 1] = values[q + 4] * s1 + values[q + 7] * s2
         y[3 * j + 2] = values[q + 8] * s2
-    for i in range(n):
-        v = perm[i]
-        out[3 * v] = y[3 * i]
-        out[3 * v + 1] = y[3 * i + 1]
-        out[3 * v + 2] = y[3 * i + 2]

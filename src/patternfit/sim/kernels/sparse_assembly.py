@@ -5,7 +5,9 @@
   (``total_energy.HessianPattern``);
 - :func:`trim_to_near`: the lower triangle of the matrix factored to precondition Newton's
   conjugate gradients (``preconditioners.newton_preconditioner``), in one pass over the
-  Hessian's CSR rows.
+  Hessian's CSR rows;
+- :func:`csr_rows_product`: rows of a CSR matrix times a vector (the conjugate gradients'
+  products, split between two threads by ``preconditioners.newton_direction``).
 
 Serial loops in a fixed order, the same order as the NumPy / SciPy operations they replace
 (``np.bincount``, a CSR sum), so that the matrices are bit-identical to theirs.
@@ -80,3 +82,14 @@ def trim_to_near(indptr, indices, data, near_indptr, near_indices):
         nnz += 1
         out_ptr[i + 1] = nnz
     return out_ptr, out_idx[:nnz], out_val[:nnz]
+
+
+@njit(cache=True, nogil=True)
+def csr_rows_product(indptr, indices, data, x, out, r0, r1):
+    """``out[r0:r1]`` = rows ``r0``:``r1`` of the CSR matrix (``indptr``, ``indices``,
+    ``data``) times ``x``, each row summed in its stored order (as SciPy's product)."""
+    for i in range(r0, r1):
+        acc = 0.0
+        for p in range(indptr[i], indptr[i + 1]):
+            acc += data[p] * x[indices[p]]
+        out[i] = acc

@@ -1,0 +1,76 @@
+"""The solver's second thread: how many threads it may use, and running two halves of a job
+at once.
+
+A laptop has two cores or more, and the Newton step's sparse Cholesky (``block_cholesky``)
+splits into two independent halves (two subtrees of its elimination tree) and a part that
+needs both. The halves run in one worker thread and the calling thread at once (the numba
+kernels release the GIL); with one thread they run one after the other, with the same
+arithmetic, so the results are bit-identical either way.
+
+``PATTERNFIT_THREADS`` (a whole number >= 1) sets the threads; else ``OMP_NUM_THREADS``
+caps them (Ray gives each one-CPU batch task ``OMP_NUM_THREADS=1``, so the batch's
+workers do not compete for cores), and they are at most two and at most the CPUs this
+process may run on.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from typing import Callable
+
+#: the environment variable that sets the solver's threads
+ENV = "PATTERNFIT_THREADS"
+#: the most threads the solver uses (its jobs split in two)
+MOST = 2
+
+_pool: ThreadPoolExecutor | None = None
+_lock = threading.Lock()
+
+
+def _whole(name: str) -> int | None:
+    text = os.environ.get(name, "").strip()
+    if not text:
+        return None
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise ValueError(f"{name}: expected a whole number of threads >= 1, got {text!r}")
+    return value
+
+
+def solver_threads() -> int:
+    """Threads the solver may use now: ``PATTERNFIT_THREADS`` if set, else at most
+    :data:`MOST`, the CPUs this process may run on and ``OMP_NUM_THREADS`` if set.
+    ``ValueError`` naming the variable when one is set to something else than a whole
+    number >= 1."""
+    own = _whole(ENV)
+    if own is not None:
+        return min(own, MOST)
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:  # macOS, Windows
+        cpus = os.cpu_count() or 1
+    cap = _whole("OMP_NUM_THREADS")
+    return max(1, min(MOST, cpus, cap if cap is not None else MOST))
+
+
+def both(first: Callable, second: Callable, *, threads: int):
+    """``(first(), second())``: ``first`` in the worker thread while ``second`` runs here
+    when ``threads`` >= 2, else one after the other. An exception of either is raised
+    (``first``'s when both raise), after both have ended."""
+    if threads < 2:
+        return first(), second()
+    global _pool
+    with _lock:
+        if _pool is None:
+            _pool = ThreadPoolExecutor(1, thread_name_prefix="patternfit-solver")
+    future = _pool.submit(first)
+    try:
+        b = second()
+    finally:
+        a = future.result()  # waited for even when second raised: it writes shared arrays
+    return a, b
