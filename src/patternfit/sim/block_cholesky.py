@@ -21,13 +21,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .kernels import (block_backward, block_factor_columns, block_forward, block_join_lists,
-                      block_scatter, block_symbolic)
-from .threads import both, solver_threads
-
-#: below this many vertices the two halves run one after the other: a thread's start costs
-#: more than half a solve of so small a factor
-PARALLEL_VERTICES = 2000
+from .kernels import (block_backward, block_factor_columns, block_forward, block_gather,
+                      block_join_lists, block_scatter, block_spread, block_symbolic)
+from .threads import both, threads_for
 
 
 class BlockCholesky:
@@ -78,7 +74,9 @@ class BlockCholesky:
         self._solve_values = np.zeros(9 * self.blocks, np.float32)
         self._parts, self._top, self._owner = subtree_split(self.colptr, self.rowidx)
         self._top3 = (3 * self._top[:, None] + np.arange(3)).ravel()
-        self.threads = solver_threads() if n >= PARALLEL_VERTICES else 1
+        # what each half's forward solve owes the columns above both: only those rows used
+        self._spill = (np.zeros(3 * n), np.zeros(3 * n))
+        self.threads = threads_for(n)
         self.factored = False
 
     def factor(self, indptr, indices, data) -> None:
@@ -130,19 +128,22 @@ class BlockCholesky:
         if not self.factored:
             raise RuntimeError("no factor: factor() first")
         n, colptr, rows, values = self.n, self.colptr, self._solve_rows, self._solve_values
-        y = np.ascontiguousarray(b, dtype=np.float64).reshape(n, 3)[self.perm].ravel()
-        spill = (np.zeros(3 * n), np.zeros(3 * n))
+        y = np.empty(3 * n)
+        block_gather(np.ascontiguousarray(b, dtype=np.float64), self.perm, y)
+        spill, top3 = self._spill, self._top3
+        for part in spill:
+            part[top3] = 0.0
         both(*(lambda k=k: block_forward(self._parts[k], colptr, rows, values, y, self._owner,
                                          k, spill[k]) for k in (0, 1)), threads=self.threads)
-        y[self._top3] += spill[0][self._top3]
-        y[self._top3] += spill[1][self._top3]
+        y[top3] += spill[0][top3]
+        y[top3] += spill[1][top3]
         block_forward(self._top, colptr, rows, values, y, self._owner, 2, spill[0])
         block_backward(self._top, colptr, rows, values, y)
         both(*(lambda k=k: block_backward(self._parts[k], colptr, rows, values, y)
                for k in (0, 1)), threads=self.threads)
-        out = np.empty((n, 3))
-        out[self.perm] = y.reshape(n, 3)
-        return out.ravel()
+        out = np.empty(3 * n)
+        block_spread(y, self.perm, out)
+        return out
 
 
 def subtree_split(colptr, rowidx) -> tuple[tuple[np.ndarray, np.ndarray], np.ndarray,

@@ -24,6 +24,9 @@ from typing import Callable
 ENV = "PATTERNFIT_THREADS"
 #: the most threads the solver uses (its jobs split in two)
 MOST = 2
+#: below this many vertices a job runs on one thread: handing half of it to another thread
+#: costs more than that half (a solve of a 1K-vertex factor takes some 0.2 ms)
+PARALLEL_VERTICES = 2000
 
 _pool: ThreadPoolExecutor | None = None
 _lock = threading.Lock()
@@ -56,6 +59,12 @@ def solver_threads() -> int:
         cpus = os.cpu_count() or 1
     cap = _whole("OMP_NUM_THREADS")
     return max(1, min(MOST, cpus, cap if cap is not None else MOST))
+
+
+def threads_for(vertices: int) -> int:
+    """Threads for a job on a garment of ``vertices`` vertices: :func:`solver_threads`,
+    or 1 below :data:`PARALLEL_VERTICES`."""
+    return solver_threads() if vertices >= PARALLEL_VERTICES else 1
 
 
 def both(first: Callable, second: Callable, *, threads: int):

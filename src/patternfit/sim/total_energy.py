@@ -19,6 +19,7 @@ from . import kernels
 from .model import ClothModel
 from .settings import SolverSettings
 from .state import EDGE_CONTACT_SCALE, FACE_CONTACT_SCALE, ContactState
+from .threads import both, threads_for
 
 
 @dataclass(eq=False)
@@ -105,19 +106,26 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
                          f"{len(lookups.edge_room)} edge points, not this model's "
                          "(ContactLookups.for_model)")
     grad = np.zeros_like(x)
-    e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, fab.stretch_warp, fab.stretch_weft,
-                         fab.shear, settings.compression, grad)
-    qx = state.quadratic @ x
-    e += 0.5 * float(np.einsum("ij,ij->", x, qx)) - float(np.einsum("ij,ij->", state.forces, x))
-    grad += qx - state.forces
-    if model.bend_friction is not None:
-        e += model.bend_friction.energy(x, grad)
-    if model.body is not None:
+    touch = np.zeros_like(x) if model.body is not None else None
+
+    def cloth() -> float:  # membrane, bending and the given forces, into grad
+        e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, fab.stretch_warp,
+                             fab.stretch_weft, fab.shear, settings.compression, grad)
+        qx = state.quadratic @ x
+        e += 0.5 * float(np.einsum("ij,ij->", x, qx)) \
+            - float(np.einsum("ij,ij->", state.forces, x))
+        grad[...] += qx - state.forces
+        if model.bend_friction is not None:
+            e += model.bend_friction.energy(x, grad)
+        return e
+
+    def body_contact() -> float:  # the vertices' and the edge and face points', into touch
+        if model.body is None:
+            return 0.0
         body = model.body
-        e += kernels.contact(x, body.values, body.origin, body.spacing,
-                             model.reach(settings), state.contact_k, settings.contact_onset,
-                             lookups.seen,
-                             lookups.room, grad)
+        e = kernels.contact(x, body.values, body.origin, body.spacing, model.reach(settings),
+                            state.contact_k, settings.contact_onset, lookups.seen,
+                            lookups.room, touch)
         pts = edge_points(model, settings)
         if len(pts.ids):
             e += kernels.point_contact(x, pts.ids, pts.w, pts.n_edge,
@@ -125,7 +133,15 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
                                        EDGE_CONTACT_SCALE, FACE_CONTACT_SCALE, body.values,
                                        body.origin, body.spacing, model.reach(settings),
                                        settings.contact_onset, lookups.edge_seen,
-                                       lookups.edge_room, grad)
+                                       lookups.edge_room, touch)
+        return e
+
+    # the two groups write apart and are summed in a fixed order: the same bits on one
+    # thread or two
+    e_contact, e = both(body_contact, cloth, threads=threads_for(len(x)))
+    e += e_contact
+    if touch is not None:
+        grad += touch
     if len(state.friction_idx):
         e += kernels.friction(x, state.friction_idx, state.friction_anchor,
                               state.friction_normal, state.friction_limit,
@@ -208,38 +224,44 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
     f = model.fabric
     n = model.n
     data = np.zeros(len(pattern.indices))
-    kernels.membrane_hessian(x, t.tris, t.cu, t.cv, t.area, f.stretch_warp,
-                             f.stretch_weft, f.shear, s.compression, pattern.membrane_slots,
-                             data)
-    blocks = np.zeros((n, 3, 3))
-    blocks += (model.mass / s.newton_dt ** 2)[:, None, None] * np.eye(3)
-    if model.body is not None:
-        near = np.arange(n) if lookups is None else lookups.unspared(x)
-        d, g = distance(model, x[near])
-        hit = d < model.reach(s)
-        on = near[hit]
-        _, k_on = kernels.contact_forces(model.reach(s) - d[hit], state.contact_k[on],
-                                         s.contact_onset)
-        blocks[on] += k_on[:, None, None] * g[hit, :, None] * g[hit, None, :]
-        points = edge_contact_hessian(model, state, x, settings=s, lookups=lookups)
-    else:
+
+    def membrane():
+        kernels.membrane_hessian(x, t.tris, t.cu, t.cv, t.area, f.stretch_warp,
+                                 f.stretch_weft, f.shear, s.compression,
+                                 pattern.membrane_slots, data)
+
+    def the_rest():  # per vertex: the regulariser, contact, friction; the other matrices
+        blocks = np.zeros((n, 3, 3))
+        blocks += (model.mass / s.newton_dt ** 2)[:, None, None] * np.eye(3)
         points = None
-    if len(state.friction_idx):
-        idx, nrm = state.friction_idx, state.friction_normal
-        P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
-        u = np.einsum("kij,kj->ki", P, x[idx] - state.friction_anchor)
-        m = np.linalg.norm(u, axis=1)
-        ratio, k = kernels.friction_stiffness(m, state.friction_limit, s.friction_slip)
-        uh = u / np.maximum(m, 1e-300)[:, None]
-        uu = uh[:, :, None] * uh[:, None, :]
-        np.add.at(blocks, idx, ratio[:, None, None] * (P - uu) + k[:, None, None] * uu)
+        if model.body is not None:
+            near = np.arange(n) if lookups is None else lookups.unspared(x)
+            d, g = distance(model, x[near])
+            hit = d < model.reach(s)
+            on = near[hit]
+            _, k_on = kernels.contact_forces(model.reach(s) - d[hit], state.contact_k[on],
+                                             s.contact_onset)
+            blocks[on] += k_on[:, None, None] * g[hit, :, None] * g[hit, None, :]
+            points = edge_contact_hessian(model, state, x, settings=s, lookups=lookups)
+        if len(state.friction_idx):
+            idx, nrm = state.friction_idx, state.friction_normal
+            P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
+            u = np.einsum("kij,kj->ki", P, x[idx] - state.friction_anchor)
+            m = np.linalg.norm(u, axis=1)
+            ratio, k = kernels.friction_stiffness(m, state.friction_limit, s.friction_slip)
+            uh = u / np.maximum(m, 1e-300)[:, None]
+            uu = uh[:, :, None] * uh[:, None, :]
+            np.add.at(blocks, idx, ratio[:, None, None] * (P - uu) + k[:, None, None] * uu)
+        friction = None if model.bend_friction is None else model.bend_friction.hessian(x, n)
+        return blocks, (friction, points, pair_hessian(model, state, x, settings=s))
+
+    # the membrane's kernel runs while the rest is assembled (they write apart)
+    _, (blocks, extras) = both(membrane, the_rest, threads=threads_for(n))
     kernels.scatter_hessian(t.bending.data, pattern.bending_slots, blocks,
                             pattern.block_slots, data)
     n3 = 3 * n
     H = sp.csr_matrix((data, pattern.indices, pattern.indptr), shape=(n3, n3))
-    if model.bend_friction is not None:
-        H = H + model.bend_friction.hessian(x, n)
-    for extra in (points, pair_hessian(model, state, x, settings=s)):
+    for extra in extras:
         if extra is not None:
             H = H + extra
     if not model.free.all():

@@ -253,3 +253,24 @@ def block_backward(cols, colptr, rowidx, values, y):
         y[3 * j] = values[q] * s0 + values[q + 3] * s1 + values[q + 6] * s2
         y[3 * j + 1] = values[q + 4] * s1 + values[q + 7] * s2
         y[3 * j + 2] = values[q + 8] * s2
+
+
+@njit(cache=True, nogil=True)
+def block_gather(b, perm, y):
+    """``y`` (3n,) = ``b`` (3n,) in elimination order: vertex ``perm[i]``'s three values at
+    block i."""
+    for i in range(perm.shape[0]):
+        v = perm[i]
+        y[3 * i] = b[3 * v]
+        y[3 * i + 1] = b[3 * v + 1]
+        y[3 * i + 2] = b[3 * v + 2]
+
+
+@njit(cache=True, nogil=True)
+def block_spread(y, perm, out):
+    """The inverse of :func:`block_gather`: ``out`` (3n,) in vertex order from ``y``."""
+    for i in range(perm.shape[0]):
+        v = perm[i]
+        out[3 * v] = y[3 * i]
+        out[3 * v + 1] = y[3 * i + 1]
+        out[3 * v + 2] = y[3 * i + 2]

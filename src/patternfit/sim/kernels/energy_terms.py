@@ -19,7 +19,7 @@ from ...body.sdf import smooth_distance_at
 # membrane
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, grad):
     """Orthotropic membrane (Baraff-Witkin strain measures on the grain frame).
 
@@ -121,7 +121,7 @@ def unspared(x, seen, room):
     return out[:k]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def contact(x, values, origin, spacing, thickness, stiffness, onset, seen, room, grad):
     """Penalty (:func:`contact_law`, stiffness reached over ``onset`` [m]) on every vertex
     whose distance ``d_i`` (the field's C1 reading, ``body.sdf.smooth_distance_at``: a
@@ -175,7 +175,7 @@ def point_stiffness(ids, w, n_edge, base, scale, edge_cap, face_cap):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def point_contact(x, ids, w, n_edge, base, scale, edge_cap, face_cap, values, origin,
                   spacing, thickness, onset, seen, room, grad):
     """:func:`contact` on the points ``sum_j w[k, j] x[ids[k, j]]`` (``ids``, ``w`` (p, 3))
@@ -412,7 +412,7 @@ def edge_repulsion(x, edges, pairs, st, normal, radius, stiffness, grad):
 # Hessians for the Newton solver (SolverSettings.method = "newton")
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, slots,
                      out):
     """Positive semi-definite Hessian of :func:`membrane`, per triangle: the 9x9 block over

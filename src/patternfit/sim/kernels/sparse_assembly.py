@@ -88,8 +88,10 @@ def trim_to_near(indptr, indices, data, near_indptr, near_indices):
 def csr_rows_product(indptr, indices, data, x, out, r0, r1):
     """``out[r0:r1]`` = rows ``r0``:``r1`` of the CSR matrix (``indptr``, ``indices``,
     ``data``) times ``x``, each row summed in its stored order (as SciPy's product)."""
+    # unsigned positions: numba then drops its check for negative indices, which doubled
+    # the time of this loop
     for i in range(r0, r1):
         acc = 0.0
-        for p in range(indptr[i], indptr[i + 1]):
-            acc += data[p] * x[indices[p]]
+        for p in range(np.uint64(indptr[i]), np.uint64(indptr[i + 1])):
+            acc += data[p] * x[np.uint64(indices[p])]
         out[i] = acc
