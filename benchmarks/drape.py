@@ -17,9 +17,10 @@ re-draped from the last equilibrium as in a design session: the iterations a re-
 depend on where the folds land, so one edit is one sample. ``--samples N`` runs every
 garment N times, sample k (k > 0) with its flat vertices moved by a seeded random ``JITTER``
 [m] and its coarse start meshed at ``COARSE + COARSE_STEP * k`` triangles, and ends with
-each run's median and range: a difference in rounding alone sends the folds elsewhere and
+each run's median and range (wall and CPU seconds): a difference in rounding alone sends the folds elsewhere and
 changes a 22K first drape's Newton steps up to threefold (docs/simulation.md, "The contact
 points' cost"), so two variants of the solver are compared over several samples, not one.
+``PATTERNFIT_THREADS=1`` runs the solver on one thread (the same results bit for bit).
 The solver's wall-clock ``time_limit`` is lifted (``COMMON``); ``--set time_limit=S`` puts
 one back. ``--remeshed`` also makes the first 3 cm hem edit with every moved panel re-meshed
 (``update_mesh(min_angle=89)``) and drapes it twice from the first drape's state: carried
@@ -42,6 +43,8 @@ import time
 import numpy as np
 
 import _path  # noqa: F401  (tests/ on sys.path)
+
+from patternfit.sim.threads import solver_threads
 
 #: garment -> (body, triangles) as in the paper's Table 2
 CASES = {"coat": ("male_heavy", 22000), "skirt": ("female_thin", 15000),
@@ -205,7 +208,7 @@ def main():
     print("built-in garments (size M, cotton) on built-in bodies, 5 mm distance field, "
           "contact margin 3 mm; re-drapes after hem edits (front, or the first panel, and "
           "its seam partner; -3 cm = 3 cm longer), each from the last equilibrium; "
-          "2-core CPU")
+          f"{os.cpu_count()} CPUs, solver threads {solver_threads()} (PATTERNFIT_THREADS)")
     print("iters, seconds (wall) and cpu (the process's CPU seconds: on a shared machine the "
           "fairer measure) of the whole run; coarse: iterations/seconds of the whole "
           "coarse drape (2K triangles: placement, sewing, drape) that starts the fine one; "
@@ -219,7 +222,8 @@ def main():
           f"{'equil':>5} {'rms':>7} {'p99':>7} {'compr':>6} {'moved':>7} {'ratio':>7} {'start':>8}")
     if args.samples < 1:
         ap.error("--samples: at least 1")
-    cpu = {}  # (garment, rule, run) -> CPU seconds of each sample
+    # (garment, rule, run) -> (wall, CPU) seconds of each sample
+    times: dict[tuple, list[tuple[float, float]]] = {}
     for garment, rule, k in ((g, r, k) for g in args.garments for r in args.rules
                              for k in range(args.samples)):
         runs = [("warm", None)]
@@ -243,7 +247,7 @@ def main():
                 if label == "cold" and r["run"] != "first":
                     continue
                 run = r["run"] + (" cold" if label == "cold" else "")
-                cpu.setdefault((garment, rule, run), []).append(r["cpu"])
+                times.setdefault((garment, rule, run), []).append((r["seconds"], r["cpu"]))
                 run += f" #{r['sample']}" if r["sample"] else ""
                 print(f"{garment:>8} {rule:>9} {r['triangles']:>6} {run:>10} {r['iterations']:>6} "
                       f"{r['seconds']:>8.2f} {r['cpu']:>7.2f} {r['sdf_seconds']:>6.2f} {r['coarse']:>9} "
@@ -255,13 +259,16 @@ def main():
                       f"{r['start']:>8}",
                       flush=True)
     if args.samples > 1:
-        print(f"\nCPU s over {args.samples} samples (JITTER {JITTER:g} m, coarse + "
-              f"{COARSE_STEP} k triangles):")
-        print(f"{'garment':>8} {'rule':>9} {'run':>10} {'median':>7} {'min':>7} {'max':>7}")
-        for (garment, rule, run), t in cpu.items():
-            print(f"{garment:>8} {rule:>9} {run:>10} {np.median(t):>7.2f} {min(t):>7.2f} "
-                  f"{max(t):>7.2f}")
-
+        print(f"\nseconds over {args.samples} samples (JITTER {JITTER:g} m, coarse + "
+              f"{COARSE_STEP} k triangles): wall (what one waits; the solver's threads run "
+              f"at once) and CPU (all threads' seconds)")
+        print(f"{'garment':>8} {'rule':>9} {'run':>10} {'wall med':>8} {'min':>7} {'max':>7} "
+              f"{'cpu med':>7} {'min':>7} {'max':>7}")
+        for (garment, rule, run), pairs in times.items():
+            wall, cpu = (np.array(t) for t in zip(*pairs))
+            print(f"{garment:>8} {rule:>9} {run:>10} {np.median(wall):>8.2f} {wall.min():>7.2f} "
+                  f"{wall.max():>7.2f} {np.median(cpu):>7.2f} {cpu.min():>7.2f} "
+                  f"{cpu.max():>7.2f}")
 
 if __name__ == "__main__":
     main()

@@ -214,7 +214,12 @@ def test_a_drape_started_from_a_saved_one_stays_put(skirt, restarted):
     pattern, mesh, body, d = skirt
     moved = float(np.linalg.norm(restarted.positions - d.positions, axis=1).max())
     assert d.checks.equilibrium and restarted.drape.checks.equilibrium
-    assert restarted.drape.result.iterations <= 5, restarted.drape.result.stop_reason
+    # saved without its contact state, the contact stiffness is read back from the force
+    # balance: a drape that ended just under the residual limit (rms 0.008-0.0097 here) can
+    # start just over it, and the hand-over to Newton takes a few iterations (8-11 with
+    # NumPy 2.4, SciPy 1.17, numba 0.68); with the contact state it stops at once
+    # (tests/test_restart.py)
+    assert restarted.drape.result.iterations <= 15, restarted.drape.result.stop_reason
     assert moved < 1e-3, f"moved {moved * 1e3:.2f} mm"
 
 

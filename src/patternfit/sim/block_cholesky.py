@@ -72,6 +72,14 @@ class BlockCholesky:
         self.values = np.zeros(9 * self.blocks)
         self._solve_rows = self.rowidx.astype(np.int32)
         self._solve_values = np.zeros(9 * self.blocks, np.float32)
+        # the backward solve's copy, columns last first (kernels.block_backward)
+        count = np.diff(self.colptr)[::-1]
+        self._back_colptr = np.concatenate([[0], np.cumsum(count)]).astype(np.int64)
+        self._back_order = np.concatenate([np.arange(self.colptr[j], self.colptr[j + 1])
+                                           for j in range(n - 1, -1, -1)]).astype(np.int64) \
+            if n else np.zeros(0, np.int64)
+        self._back_rows = self._solve_rows[self._back_order]
+        self._back_values = np.zeros((self.blocks, 9), np.float32)
         self._parts, self._top, self._owner = subtree_split(self.colptr, self.rowidx)
         self._top3 = (3 * self._top[:, None] + np.arange(3)).ravel()
         # what each half's forward solve owes the columns above both: only those rows used
@@ -121,6 +129,7 @@ class BlockCholesky:
                 raise np.linalg.LinAlgError(f"the matrix is not positive definite at vertex "
                                             f"{self.perm[where]}")
         self._solve_values[:] = self.values
+        self._back_values[:] = self._solve_values.reshape(-1, 9)[self._back_order]
         self.factored = True
 
     def solve(self, b) -> np.ndarray:
@@ -138,9 +147,10 @@ class BlockCholesky:
         y[top3] += spill[0][top3]
         y[top3] += spill[1][top3]
         block_forward(self._top, colptr, rows, values, y, self._owner, 2, spill[0])
-        block_backward(self._top, colptr, rows, values, y)
-        both(*(lambda k=k: block_backward(self._parts[k], colptr, rows, values, y)
-               for k in (0, 1)), threads=self.threads)
+        back = (self._back_colptr, self._back_rows, self._back_values.reshape(-1))
+        block_backward(self._top, *back, y)
+        both(*(lambda k=k: block_backward(self._parts[k], *back, y) for k in (0, 1)),
+             threads=self.threads)
         out = np.empty(3 * n)
         block_spread(y, self.perm, out)
         return out

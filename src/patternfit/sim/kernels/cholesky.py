@@ -236,23 +236,28 @@ def block_forward(cols, colptr, rowidx, values, y, owner, me, spill):
 
 
 @njit(cache=True, nogil=True)
-def block_backward(cols, colptr, rowidx, values, y):
+def block_backward(cols, back_colptr, back_rowidx, back_values, y):
     """Backward solve L^T x = z over the block columns ``cols`` (ascending; done from the
-    last), in place in ``y`` (3n,): the rows below each column must be solved already."""
+    last), in place in ``y`` (3n,): the rows below each column must be solved already. L
+    is read from its copy with the columns stored last first (``back_colptr`` (n + 1,),
+    ``back_rowidx``, ``back_values``: column j at n - 1 - j), so that the solve reads memory
+    forwards (read backwards it took 3-4 times as long)."""
+    n = back_colptr.shape[0] - 1
     for jj in range(cols.shape[0] - 1, -1, -1):
         j = cols[jj]
+        c = n - 1 - j
         s0, s1, s2 = y[3 * j], y[3 * j + 1], y[3 * j + 2]
-        for p in range(colptr[j] + 1, colptr[j + 1]):
+        for p in range(back_colptr[c] + 1, back_colptr[c + 1]):
             q = 9 * p
-            r = 3 * rowidx[p]
+            r = 3 * back_rowidx[p]
             x0, x1, x2 = y[r], y[r + 1], y[r + 2]
-            s0 -= values[q] * x0 + values[q + 3] * x1 + values[q + 6] * x2
-            s1 -= values[q + 1] * x0 + values[q + 4] * x1 + values[q + 7] * x2
-            s2 -= values[q + 2] * x0 + values[q + 5] * x1 + values[q + 8] * x2
-        q = 9 * colptr[j]
-        y[3 * j] = values[q] * s0 + values[q + 3] * s1 + values[q + 6] * s2
-        y[3 * j + 1] = values[q + 4] * s1 + values[q + 7] * s2
-        y[3 * j + 2] = values[q + 8] * s2
+            s0 -= back_values[q] * x0 + back_values[q + 3] * x1 + back_values[q + 6] * x2
+            s1 -= back_values[q + 1] * x0 + back_values[q + 4] * x1 + back_values[q + 7] * x2
+            s2 -= back_values[q + 2] * x0 + back_values[q + 5] * x1 + back_values[q + 8] * x2
+        q = 9 * back_colptr[c]
+        y[3 * j] = back_values[q] * s0 + back_values[q + 3] * s1 + back_values[q + 6] * s2
+        y[3 * j + 1] = back_values[q + 4] * s1 + back_values[q + 7] * s2
+        y[3 * j + 2] = back_values[q + 8] * s2
 
 
 @njit(cache=True, nogil=True)
