@@ -8,8 +8,10 @@ triangle). :class:`BlockCholesky` orders that graph once by METIS nested dissect
 numeric only and :meth:`BlockCholesky.solve` works on blocks (``kernels.cholesky``).
 Both split the elimination tree in two sets of subtrees of about equal work and the columns
 above them (:func:`subtree_split`): the two sets run at once on a machine with two cores
-(:mod:`patternfit.sim.threads`; the 22K coat's factorisation 92 -> 70 ms, a solve 4.8 ->
-3.5 ms), and one after the other, with the same arithmetic, on one.
+(:mod:`patternfit.sim.threads`), and one after the other, with the same arithmetic, on one.
+The backward solve reads a copy of the factor stored last column first, so that it reads
+memory forwards (22K coat: a factorisation 79 -> 70 ms, a solve 3.3 -> 1.9 ms on two
+threads, docs/simulation.md "Two threads").
 The solves read the factor rounded to single precision: they are bound by memory traffic,
 which that halves (22K coat: 3.3 -> 2.0 ms a solve), and a preconditioner needs no more (the
 solve is exact for a matrix within a relative 1e-7 of the one factored, still symmetric
