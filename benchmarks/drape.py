@@ -20,7 +20,8 @@ garment N times, sample k (k > 0) with its flat vertices moved by a seeded rando
 each run's median and range (wall and CPU seconds): a difference in rounding alone sends
 the folds elsewhere and changes a 22K first drape's Newton steps up to threefold
 (docs/simulation.md, "The contact points' cost"), so two variants of the solver are
-compared over several samples, not one. ``PATTERNFIT_THREADS=1`` runs the solver on one thread (the same results bit for bit).
+compared over several samples, not one. ``PATTERNFIT_THREADS=1`` runs the solver on one
+thread (the same results bit for bit).
 The solver's wall-clock ``time_limit`` is lifted (``COMMON``); ``--set time_limit=S`` puts
 one back. ``--remeshed`` also makes the first 3 cm hem edit with every moved panel re-meshed
 (``update_mesh(min_angle=89)``) and drapes it twice from the first drape's state: carried
