@@ -20,6 +20,7 @@ from .energies import spring_matrix
 from .model import ClothModel
 from .settings import SolverSettings
 from .state import MAX_CONTACT_SCALE, ContactState
+from .threads import both, threads_for
 from .total_energy import (ContactLookups, contact_base, distance, edge_points, edge_stiffness,
                            energy)
 
@@ -219,10 +220,16 @@ def find_pairs(model: ClothModel, state: ContactState, x, *, settings: SolverSet
     detect = model.detect(settings)
     held = (state.pairs, state.bary, state.pair_normal) if newton and len(state.pairs) \
         else None
+    tris = model.terms.tris
     # grid cells of the search radius for the vertices (a 20K mesh: 9.6 ms, 11.9 at
-    # twice that), twice the radius for the edges' boxes
-    state.pairs, state.bary, state.pair_normal = kernels.near_pairs(
-        x, model.terms.tris, detect, detect, model.root)
+    # twice that), twice the radius for the edges' boxes; the crossings that untangling
+    # needs are searched at the same time (as long again)
+    crossings = model.welded and settings.untangle
+    crossed, (state.pairs, state.bary, state.pair_normal) = both(
+        lambda: kernels.crossed_pairs(x, tris, model.terms.edge_length, model.root)
+        if crossings else None,
+        lambda: kernels.near_pairs(x, tris, detect, detect, model.root),
+        threads=threads_for(model.n))
     if held is not None:
         hold_pairs(model, state, x, *held, detect=detect)
     # edges cross each other only where two sheets are near: search the edges of the
@@ -234,8 +241,8 @@ def find_pairs(model: ClothModel, state: ContactState, x, *, settings: SolverSet
     state.edge_pairs, state.edge_st, state.edge_normal = kernels.near_edge_pairs(
         x, state.near_edges, detect, 2 * detect, model.root)
     state.pairs_x = x.copy()
-    if model.welded and settings.untangle:
-        untangle(model, state, x)
+    if crossings:
+        untangle(model, state, x, crossed)
 
 
 def hold_pairs(model: ClothModel, state: ContactState, x, pairs, bary, normal, *,
@@ -260,15 +267,15 @@ def hold_pairs(model: ClothModel, state: ContactState, x, pairs, bary, normal, *
         state.pair_normal = np.ascontiguousarray(np.r_[state.pair_normal, normal[keep]])
 
 
-def untangle(model: ClothModel, state: ContactState, x):
-    """Turn the self-collision pairs of ``state`` towards undoing the crossings at solved
-    positions ``x`` (n, 3) [m]: each vertex that passed through a triangle
+def untangle(model: ClothModel, state: ContactState, x, crossed):
+    """Turn the self-collision pairs of ``state`` towards undoing the crossings ``crossed``
+    (``kernels.crossed_pairs``: (c, 2) triangle pairs) at solved positions ``x`` (n, 3)
+    [m]: each vertex that passed through a triangle
     (``crossings.wrong_sides``) gets a pair with that triangle whose normal points back to
     the side it came from (replacing the pair the search made, which would hold it where it
     is), and the edge pairs around a crossing, which would hold it too, are dropped until it
     is undone."""
     tris = model.terms.tris
-    crossed = kernels.crossed_pairs(x, tris, model.terms.edge_length, model.root)
     if not len(crossed):
         return
     vt, bary, normal = wrong_sides(x, tris, crossed)

@@ -118,7 +118,7 @@ def _box_pairs(x, items, cell, pad):
     return _rows(out, np.empty((len(out), 2), dtype=np.int64))
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def near_pairs(x, tris, radius, cell, root):
     """Vertex-triangle pairs closer than ``radius`` whose projection falls inside the triangle.
 
@@ -278,7 +278,7 @@ def _segment_hits(x, p, q, a, b, c):
     return 0.0 <= t <= 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def crossed_pairs(x, tris, cell, root):
     """Triangle pairs (k, 2) int, lower index first, whose surfaces cross each other at
     positions ``x`` (n, 3) [m]; pairs sharing a vertex's ``root`` (n,) int are skipped.
