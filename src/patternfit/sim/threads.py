@@ -1,12 +1,13 @@
 """The solver's second thread: how many threads it may use, and running two halves of a job
 at once.
 
-A laptop has two cores or more. Four jobs of a large garment's solve split in two parts that
+A laptop has two cores or more. Five jobs of a large garment's solve split in two parts that
 write apart: the Newton preconditioner's sparse Cholesky (``block_cholesky``: two subtrees
 of its elimination tree, then the columns above them), the conjugate gradients' products
 with the Hessian (two halves of its rows), the energy (the cloth's terms, and the body
-contact of the vertices and of the edge and face points) and the Hessian's assembly (the
-membrane's kernel, and the rest). The numba kernels release the GIL, so the two parts run in
+contact of the vertices and of the edge and face points), the Hessian's assembly (the
+membrane's kernel, and the rest) and the self-collision search (the crossings, and the
+vertex-triangle pairs). The numba kernels release the GIL, so the two parts run in
 one worker thread and the calling thread at once; with one thread they run one after the
 other with the same arithmetic, so the results are bit-identical either way. Garments below
 :data:`PARALLEL_VERTICES` vertices use one thread.
