@@ -51,3 +51,15 @@ def test_an_error_in_either_half_is_raised_after_both_end():
     with pytest.raises(ZeroDivisionError):
         both(lambda: done.append(2), lambda: 1 / 0, threads=2)
     assert done == [1, 2]
+
+
+def test_a_job_split_again_inside_a_half_runs_and_ends():
+    """A half that splits its own work (from the worker thread too) does not wait for
+    itself (without the guard this hung: the inner job queued behind the outer one)."""
+    inner = lambda: both(lambda: 1, lambda: 2, threads=2)  # noqa: E731
+    out = []
+    runner = threading.Thread(target=lambda: out.append(both(inner, inner, threads=2)),
+                              daemon=True)
+    runner.start()
+    runner.join(timeout=20)
+    assert out == [((1, 2), (1, 2))]

@@ -33,6 +33,7 @@ MOST = 2
 #: costs more than that half (a solve of a 1K-vertex factor takes some 0.2 ms)
 PARALLEL_VERTICES = 2000
 
+_WORKER = "patternfit-solver"
 _pool: ThreadPoolExecutor | None = None
 _lock = threading.Lock()
 
@@ -76,12 +77,13 @@ def both(first: Callable, second: Callable, *, threads: int):
     """``(first(), second())``: ``first`` in the worker thread while ``second`` runs here
     when ``threads`` >= 2, else one after the other. An exception of either is raised
     (``first``'s when both raise), after both have ended."""
-    if threads < 2:
+    # (from the worker itself, a job queued behind the one running there would never start)
+    if threads < 2 or threading.current_thread().name.startswith(_WORKER):
         return first(), second()
     global _pool
     with _lock:
         if _pool is None:
-            _pool = ThreadPoolExecutor(1, thread_name_prefix="patternfit-solver")
+            _pool = ThreadPoolExecutor(1, thread_name_prefix=_WORKER)
     future = _pool.submit(first)
     try:
         b = second()
