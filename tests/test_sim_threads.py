@@ -17,6 +17,10 @@ def test_the_variable_sets_the_threads_up_to_two(monkeypatch):
     monkeypatch.delenv(ENV)
     monkeypatch.setenv("OMP_NUM_THREADS", "1")  # a one-CPU Ray task's
     assert solver_threads() == 1
+    monkeypatch.setenv("OMP_NUM_THREADS", "1,4")  # OpenMP's nested levels: the outer one
+    assert solver_threads() == 1
+    monkeypatch.setenv("OMP_NUM_THREADS", "auto")  # another library's: not ours to refuse
+    assert 1 <= solver_threads() <= MOST
     monkeypatch.delenv("OMP_NUM_THREADS")
     assert 1 <= solver_threads() <= MOST
 

@@ -77,9 +77,9 @@ class BlockCholesky:
         # the backward solve's copy, columns last first (kernels.block_backward)
         count = np.diff(self.colptr)[::-1]
         self._back_colptr = np.concatenate([[0], np.cumsum(count)]).astype(np.int64)
-        self._back_order = np.concatenate([np.arange(self.colptr[j], self.colptr[j + 1])
-                                           for j in range(n - 1, -1, -1)]).astype(np.int64) \
-            if n else np.zeros(0, np.int64)
+        # block q of the copy is block q + (the column's start in L - its start in the copy)
+        self._back_order = np.arange(self.blocks, dtype=np.int64) + np.repeat(
+            self.colptr[:-1][::-1] - self._back_colptr[:-1], count)
         self._back_rows = self._solve_rows[self._back_order]
         self._back_values = np.zeros((self.blocks, 9), np.float32)
         self._parts, self._top, self._owner = subtree_split(self.colptr, self.rowidx)

@@ -236,7 +236,7 @@ def find_pairs(model: ClothModel, state: ContactState, x, *, settings: SolverSet
     # vertex-triangle pairs' vertices and triangles (a tenth of the 20K trousers' edges)
     near = np.zeros(model.n, bool)
     near[state.pairs[:, 0]] = True
-    near[model.terms.tris[state.pairs[:, 1]]] = True
+    near[tris[state.pairs[:, 1]]] = True
     state.near_edges = np.ascontiguousarray(model.edges[near[model.edges].any(axis=1)])
     state.edge_pairs, state.edge_st, state.edge_normal = kernels.near_edge_pairs(
         x, state.near_edges, detect, 2 * detect, model.root)

@@ -51,11 +51,19 @@ def _whole(name: str) -> int | None:
     return value
 
 
+def _omp_cap() -> int | None:
+    """The threads ``OMP_NUM_THREADS`` allows the outermost level (OpenMP's list syntax
+    "4,2" gives one number per nesting level), or None when it is unset or not OpenMP's:
+    the variable belongs to other libraries, so a value they accept must not stop a drape."""
+    first = os.environ.get("OMP_NUM_THREADS", "").split(",")[0].strip()
+    return int(first) if first.isdigit() and int(first) >= 1 else None
+
+
 def solver_threads() -> int:
     """Threads the solver may use now: ``PATTERNFIT_THREADS`` if set, else at most
-    :data:`MOST`, the CPUs this process may run on and ``OMP_NUM_THREADS`` if set.
-    ``ValueError`` naming the variable when one is set to something else than a whole
-    number >= 1."""
+    :data:`MOST`, the CPUs this process may run on and ``OMP_NUM_THREADS`` (its first
+    level) if set. ``ValueError`` naming ``PATTERNFIT_THREADS`` when it is set to something
+    else than a whole number >= 1."""
     own = _whole(ENV)
     if own is not None:
         return min(own, MOST)
@@ -63,7 +71,7 @@ def solver_threads() -> int:
         cpus = len(os.sched_getaffinity(0))
     except AttributeError:  # macOS, Windows
         cpus = os.cpu_count() or 1
-    cap = _whole("OMP_NUM_THREADS")
+    cap = _omp_cap()
     return max(1, min(MOST, cpus, cap if cap is not None else MOST))
 
 

@@ -13,9 +13,10 @@
   (``sim.block_cholesky``).
 
 Every kernel is serial numba compiled with ``cache=True`` (a fixed summation order makes two
-runs bit-identical); the Cholesky's release the GIL, so that two run at once
-(:mod:`patternfit.sim.threads`). The solver calls them as ``kernels.NAME``; the names are
-re-exported here.
+runs bit-identical); those that :mod:`patternfit.sim.threads` runs two at a time (the
+Cholesky's, the Hessian product, the membrane and contact terms, the membrane's Hessian, the
+vertex-triangle and crossing searches) release the GIL. The solver calls them as
+``kernels.NAME``; the names are re-exported here.
 """
 
 from __future__ import annotations

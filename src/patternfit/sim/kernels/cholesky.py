@@ -3,7 +3,8 @@
 The Newton step's preconditioner (``sim.block_cholesky``) factors a 3n x 3n matrix whose
 nonzeros come in 3 x 3 blocks, one per pair of neighbouring vertices, and whose sparsity is
 the mesh's for as long as the topology is. So the ordering and the factor's pattern are made
-once (:func:`block_symbolic`) and each factorisation is numeric only (:func:`block_factor`):
+once (:func:`block_symbolic`) and each factorisation is numeric only
+(:func:`block_scatter`, then :func:`block_factor_columns`):
 left-looking, a block column at a time, the 3 x 3 block products written out. Against
 cholespy (which orders the matrix again at every call and factors it scalar, simplicial) the
 22K coat's 33K-unknown matrix factors in 0.04 s instead of 0.2 s and solves in 2.5 ms instead
