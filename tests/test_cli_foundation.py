@@ -78,3 +78,19 @@ def test_mesh_reports_bad_file(tmp_path):
     bad.write_text("{")
     r = runner.invoke(app, ["mesh", str(bad), "--out", str(tmp_path / "o")])
     assert r.exit_code == 2 and "bad.json" in r.output and "not valid JSON" in r.output
+
+
+def test_drape_progress_shows_how_far_from_rest():
+    """The bar shows the force residual against the rest threshold when the solver gives it,
+    and still runs on the four values the dynamic engine gives."""
+    from patternfit.cli.show import drape_progress
+
+    bar, callback = drape_progress(total=100, rest=0.01)
+    callback(7, -0.5, 2e-4, 1.0, residual=0.345)
+    info = bar.tasks[0].fields["info"]
+    assert "force residual 0.345 × weight (rest ≤ 0.01)" in info and "it 7" in info
+    assert bar.tasks[0].completed == 7
+    callback(8, -0.5, 1e-4, 1.1, residual=1234.5)
+    assert "force residual 1234 × weight" in bar.tasks[0].fields["info"]
+    callback(9, -0.5, 1e-4, 1.1)  # the Newton engine: no residual
+    assert "residual" not in bar.tasks[0].fields["info"]

@@ -12,7 +12,7 @@ from patternfit.body.sdf import DistanceField
 from patternfit.constants import limits, tol
 from patternfit.sim.fabrics import get_fabric
 from patternfit.sim.settings import SolverSettings
-from patternfit.sim.solver import GarmentSolver
+from patternfit.sim.solver import GarmentSolver, takes_residual
 
 from scenes import end_line_load, grain_at, rect_mesh, sphere_field
 
@@ -115,6 +115,25 @@ def test_interrupt_returns_the_last_state(dropped):
     short.settings = SolverSettings(max_iterations=12)
     short = short.solve(x0)
     assert np.array_equal(res.x, short.x)
+
+
+def test_progress_gets_the_residual_when_it_asks(dropped):
+    """A callback with a ``residual`` parameter gets the force residual's rms at every
+    iteration: it falls to the rest the result reports, and asking changes nothing."""
+    v, t, x0, make, res, _ = dropped
+    seen = []
+
+    def progress(iteration, energy, step, elapsed, residual):
+        seen.append(residual)
+
+    asked = make().solve(x0, progress=progress)
+    assert np.array_equal(asked.x, res.x) and len(seen) == asked.iterations
+    assert np.isfinite(seen).all() and min(seen) >= 0.0
+    assert max(seen) > 100 * res.checks.residual_rms  # a drop is far from rest at first
+    assert seen[-1] <= 2 * SolverSettings().residual_rms  # and near it at the end
+    assert takes_residual(lambda it, e, s, t, *, residual=None: None)
+    assert not takes_residual(lambda it, e, s, t: None)
+    assert not takes_residual(max)  # no signature Python can read: four values
 
 
 def test_warm_start_after_a_rest_edit_reuses_the_state(dropped):

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from fastapi.testclient import TestClient
 
+from patternfit.sim.settings import SolverSettings
 from patternfit.studio import create_app
 
 EDIT = {"op": "move_point", "args": {"panel": "front", "corner": "waist", "offset": [0.01, 0.0],
@@ -108,6 +109,8 @@ def test_drape_progress_stop_and_exports(client):
         studio.wait(120)
     job = client.get("/api/drape").json()
     assert job["fraction"] == 1.0 and job["iteration"] > 0 and not job["stopped"]
+    # the last iteration's force residual, beside the rest it aims at
+    assert job["residual"] >= 0.0 and job["residual_rest"] == SolverSettings().residual_rms
     s = client.get("/api/state").json()
     assert s["draped"] and 0.5 < s["fitting_ratio"] < 1.5
     g3 = client.get("/api/garment3d").json()

@@ -94,7 +94,17 @@ def test_drape_edit_redrape_undo(page, server, figures):
     assert page.inner_text("#ratio") == "—"
     n_tri = len(page.evaluate("studio.geometry.triangles")) // 3
     assert 800 <= n_tri <= 1600
-    wait_drape(page)
+    page.click("#drape-btn")
+    # while it runs, the status says how far the drape still is from a force balance
+    page.wait_for_function("document.getElementById('drape-status').textContent"
+                           ".includes('force residual')", timeout=60000)
+    assert "× weight (rest ≤ 0.01)" in page.inner_text("#drape-status")
+    page.screenshot(path=str(figures / "studio_draping.png"))
+    page.wait_for_function("document.getElementById('drape-btn').disabled === false",
+                           timeout=120000)
+    page.wait_for_function("document.getElementById('ratio').textContent.includes('%')",
+                           timeout=20000)
+    assert "force residual" not in page.inner_text("#drape-status")  # done: no longer
     r0 = ratio(page)
     assert 50 < r0 < 150
     assert page.evaluate("studio.geometry.colors !== null")

@@ -523,8 +523,10 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
         drape (from its rest it stops at once and moves nothing); bare positions do not,
         and each contact's stiffness is read back from the force balance instead.
     progress : callable, optional
-        ``progress(iteration, energy [J], step [m], elapsed [s])``; raising
-        KeyboardInterrupt in it stops cleanly with the last state.
+        ``progress(iteration, energy [J], step [m], elapsed [s])``; a callback with a
+        parameter named ``residual`` also gets ``residual=`` the rms of |F_i| / (m_i g) [-]
+        (at rest ≤ 0.01; the static engine only). Raising KeyboardInterrupt in it stops
+        cleanly with the last state.
     verdict_rules : VerdictRules, optional
         The thresholds of the fit verdict (pressure, stretch limit, ease ranges' style);
         :class:`VerdictRules` () by default.

@@ -82,7 +82,7 @@ def drape(
     settings = SolverSettings(max_iterations=max_iterations, time_limit=time_limit)
     rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
                               style=style)
-    bar, callback = drape_progress(total=max_iterations)
+    bar, callback = drape_progress(total=max_iterations, rest=settings.residual_rms)
     with bar:
         try:
             outcome = api.drape_and_evaluate(pattern, b, fabric, triangles=triangles, size=size,

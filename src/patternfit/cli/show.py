@@ -137,15 +137,25 @@ def say_guessed_units(body, source) -> None:
                   "that is wrong", highlight=False)
 
 
-def drape_progress(*, total: int):
-    """A rich progress bar and the solver callback that feeds it (iteration, energy, step)."""
+def drape_progress(*, total: int, rest: float | None = None):
+    """A rich progress bar and the solver callback that feeds it (iteration, energy, step and,
+    from the static engine, the force residual against ``rest``, the rms at which the drape
+    counts as at rest; default ``SolverSettings().residual_rms``)."""
+    if rest is None:
+        from ..sim.settings import SolverSettings
+        rest = SolverSettings().residual_rms
     bar = Progress(TextColumn("[bold]draping"), BarColumn(), TextColumn("{task.fields[info]}"),
                    TimeElapsedColumn(), console=console, transient=True)
     task = bar.add_task("drape", total=total, info="")
 
-    def callback(it, energy, step, elapsed):
+    def callback(it, energy, step, elapsed, residual=None):
+        # how far from a force balance says more than the energy about how long is left
+        balance = ""
+        if residual is not None:  # no exponents for a designer
+            size = f"{residual:.0f}" if residual >= 100 else f"{residual:.3g}"
+            balance = f"  force residual {size} × weight (rest ≤ {rest:g})"
         bar.update(task, completed=min(it, total),
-                   info=f"it {it}  E {energy:.4g} J  step {step * 1000:.3f} mm")
+                   info=f"it {it}{balance}  E {energy:.4g} J  step {step * 1000:.3f} mm")
     return bar, callback
 
 

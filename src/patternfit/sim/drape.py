@@ -241,8 +241,9 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
         iteration is ten times cheaper, and the fine solve only settles the detail (the
         15K skirt: 8.6 s instead of 25 s, the same ϖ). None: always drape directly.
     progress : callable, optional
-        ``progress(iteration, energy [J], step [m], elapsed [s])``; raising KeyboardInterrupt
-        in it stops cleanly with the last state.
+        ``progress(iteration, energy [J], step [m], elapsed [s])``, with ``residual=`` the
+        residual rms [-] when it has a parameter of that name; raising KeyboardInterrupt in
+        it stops cleanly with the last state.
     """
     t0 = time.perf_counter()
     fabric = get_fabric(fabric)

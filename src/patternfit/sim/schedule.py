@@ -236,8 +236,9 @@ def run_plan(solver: GarmentSolver, plan: Plan, x0, *, rest=None, start=None,
         Start of the first phase at new rest shapes instead of the last state moved with
         the edit (see :func:`start_after_edit`).
     progress : callable, optional
-        ``progress(iteration, energy [J], step [m], elapsed [s])`` for every iteration; when
-        it has a ``phase`` attribute, ``progress.phase(name)`` is called as each phase
+        ``progress(iteration, energy [J], step [m], elapsed [s])`` for every iteration (and
+        ``residual=`` when it takes one: :func:`~patternfit.sim.solver.solve`); when it has
+        a ``phase`` attribute, ``progress.phase(name)`` is called as each phase
         starts.
     """
     base = solver.settings

@@ -20,6 +20,7 @@ callers that drape and re-drape one garment.
 
 from __future__ import annotations
 
+import inspect
 import time
 from collections.abc import Callable
 from dataclasses import replace
@@ -76,7 +77,10 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
         resumed anyway.)
     progress : callable, optional
         Called after every iteration as ``progress(iteration, energy [J], step [m],
-        elapsed [s])``. Raising KeyboardInterrupt in it stops the solve cleanly.
+        elapsed [s])``; one with a parameter named ``residual`` also gets
+        ``residual=`` the rms of |F_i| / (m_i g) [-] there (rest: ``settings.residual_rms``),
+        how far the drape still is from a force balance. Raising KeyboardInterrupt in it
+        stops the solve cleanly.
 
     Returns
     -------
@@ -110,6 +114,7 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
     # force balance
     newton_on = False
     lookups = None  # the body distance lookups of this state (set up below)
+    report_residual = progress is not None and takes_residual(progress)
 
     def evaluate(x):
         return total_energy.energy(model, state, x, settings=s, lookups=lookups)
@@ -296,7 +301,10 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
             if s.self_collision and moved_since_pairs(model, state, x, settings=s):
                 find_pairs(model, state, x, settings=s, newton=newton_on)
                 energy, grad = evaluate(x)
-            if progress is not None:
+            if report_residual:
+                progress(it, energy, step, time.perf_counter() - t_start,
+                         residual=residual_rms(model, grad))
+            elif progress is not None:
                 progress(it, energy, step, time.perf_counter() - t_start)
             if it % max(s.window // 2, 1) == 0:
                 marks = marks[-2:] + [(it, x.copy())]
@@ -329,6 +337,15 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
                             residual=residual(model, grad)),
         factorizations=factors.count)
     return Solved(result, model, state)
+
+
+def takes_residual(progress: Callable) -> bool:
+    """Whether the callback ``progress`` has a parameter named ``residual`` (the solver then
+    passes the residual rms; a callback written for four values keeps getting four)."""
+    try:
+        return "residual" in inspect.signature(progress).parameters
+    except (TypeError, ValueError):  # a callable without a signature Python can read
+        return False
 
 
 class GarmentSolver:

@@ -37,6 +37,7 @@ from ..loop.session import holds_session
 from ..pattern.library import GARMENTS
 from ..pattern.sizes import SIZE_NAMES
 from ..sim.fabrics import FABRICS
+from ..sim.settings import SolverSettings
 from .jobs import Background, Refused
 from .payload import Views
 from .words import describe_edit, designer_message
@@ -188,6 +189,8 @@ class DrapeJob:
     iteration: int = 0
     energy: float = float("nan")
     step: float = float("nan")
+    #: rms of |F_i| / (m_i g) [-] at the last iteration: how far from rest (at rest <= 0.01)
+    residual: float = float("nan")
     elapsed: float = 0.0
     fraction: float = 0.0
     error: str | None = None
@@ -205,6 +208,8 @@ class DrapeJob:
         t = self.tracker
         return {"running": self.running, "iteration": self.iteration,
                 "energy": _finite(self.energy), "step": _finite(self.step),
+                "residual": _finite(self.residual),
+                "residual_rest": SolverSettings().residual_rms,  # its drapes run on the defaults
                 "elapsed": self.elapsed, "fraction": self.fraction, "error": self.error,
                 "stopping": self.stop and self.running, "stopped": self.stopped,
                 "kind": self.kind, "rounds": self.rounds, "result": self.result,
@@ -585,12 +590,12 @@ class Studio:
         t0 = time.perf_counter()
         tracker = job.tracker
 
-        def progress(it, energy, step, elapsed):
+        def progress(it, energy, step, elapsed, residual=float("nan")):
             if job.stop:
                 raise DrapeStopped
             tracker.update(int(it))
             job.iteration = tracker.iterations  # counted over the runs: never goes back
-            job.energy, job.step = float(energy), float(step)
+            job.energy, job.step, job.residual = float(energy), float(step), float(residual)
             job.elapsed = time.perf_counter() - t0
             share = (len(job.rounds) + tracker.fraction) / job.drapes
             job.fraction = max(job.fraction, min(0.99, share))

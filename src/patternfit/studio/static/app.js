@@ -433,7 +433,9 @@ async function pollDrape() {
       const state = j.stopped ? "stopped: " : (j.stopping ? "stopping: " :
         (j.running ? "" : (j.error ? "did not finish: " : "done: ")));
       $("drape-status").textContent = head + state +
-        `${phaseText(j)}, ${j.elapsed.toFixed(1)} s` + (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "");
+        `${phaseText(j)}, ${j.elapsed.toFixed(1)} s` + (j.step ? `, step ${(j.step * 1000).toFixed(3)} mm` : "") +
+        // how far from a force balance says more than the energy about how long is left
+        (j.running && j.residual !== null ? `, force residual ${j.residual >= 100 ? j.residual.toFixed(0) : j.residual.toPrecision(3)} × weight (rest ≤ ${j.residual_rest})` : "");
       if (j.rounds.length > seen) { seen = j.rounds.length; await refresh(); }  // each round's edit shows
       if (!j.running) {
         if (j.stopped) {
