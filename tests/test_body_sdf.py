@@ -82,3 +82,24 @@ def test_bad_input_refused():
         DistanceField.from_mesh([[np.nan, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
     with pytest.raises(ValueError, match="faces"):
         DistanceField.from_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 5]])
+
+
+def test_the_contact_field_stands_the_body_on_the_floor(body):
+    """What the cloth meets: the body's field joined with the half-space under its soles
+    (y = 0), the smaller distance at every grid node; the floor ends with the grid."""
+    field = body.distance_field(spacing=0.02)
+    floor = body.contact_field(spacing=0.02)
+    assert body.contact_field(spacing=0.02) is floor  # kept on the body
+    assert np.array_equal(floor.origin, field.origin) and floor.spacing == field.spacing
+    y = field.origin[1] + field.spacing * np.arange(field.shape[1])
+    plane = np.broadcast_to((y - body.vertices[:, 1].min())[None, :, None], field.shape)
+    assert np.array_equal(floor.values, np.minimum(field.values, plane.astype(np.float32)))
+    # beside the feet, 3 cm up: the floor is nearer than the body; below it: inside
+    beside = body.landmarks["waist"] * [1, 0, 1] + [0.0, 0.03, 0.25]
+    d_body, d_floor = field.query([beside])[0][0], floor.query([beside])[0][0]
+    assert d_floor == pytest.approx(0.03, abs=2e-3) and d_body > 0.1
+    assert floor.query([beside - [0.0, 0.05, 0.0]])[0][0] < 0.0
+    # high up the body is all there is; past the grid's end nothing holds the cloth up
+    assert floor.query([[0.0, 1.0, 0.4]])[0][0] == field.query([[0.0, 1.0, 0.4]])[0][0]
+    past = [floor.upper[0] + 0.5, 0.03, 0.0]
+    assert floor.query([past])[0][0] > 0.4

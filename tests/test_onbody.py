@@ -223,11 +223,13 @@ def test_a_drape_started_from_a_saved_one_stays_put(skirt, restarted):
     assert moved < 1e-3, f"moved {moved * 1e3:.2f} mm"
 
 
-def test_a_garment_below_the_body_stops_falling(tmp_path):
+def test_a_garment_that_slips_off_lands_on_the_floor_or_falls(tmp_path):
     """A skirt written in centimetres but labelled millimetres (6 cm wide) slips off the
-    body: once every vertex is below the body's distance field the solve stops ("fell")
-    instead of falling 5 mm an iteration until its limit (it fell 25 m), and the verdict
-    is "failed", not "too loose"."""
+    body and lands on the floor the body stands on (``Body.contact_field``): it rests
+    there, nothing below the floor, and the verdict is "failed", not "too loose". Beside
+    the body, past the floor's end, it falls, and once every vertex is below the body's
+    distance field the solve stops ("fell") instead of falling 5 mm an iteration until
+    its limit (it fell 25 m)."""
     import json
 
     written = tmp_path / "skirt.json"
@@ -237,9 +239,15 @@ def test_a_garment_below_the_body_stops_falling(tmp_path):
     written.write_text(json.dumps(data))
     outcome = api.drape_and_evaluate(written, BODY, "cotton", triangles=500)
     result = outcome.drape.result
-    assert result.stop_reason == "fell" and result.iterations < 1000
-    assert outcome.positions[:, 1].max() < outcome.drape.solver.model.body.origin[1]
+    assert result.stop_reason == "converged" and result.iterations < 1000
+    assert 0.0 < outcome.positions[:, 1].min() and outcome.positions[:, 1].max() < 0.1
     assert not outcome.passed and outcome.verdict == "failed"
+    assert any("below the waist" in r for r in outcome.checks["reasons"])
+    beside = outcome.positions + [3.0, 0.5, 0.0]
+    gone = api.drape_and_evaluate(written, BODY, "cotton", triangles=500, start=beside)
+    assert gone.drape.result.stop_reason == "fell" and gone.drape.result.iterations < 1000
+    assert gone.positions[:, 1].max() < gone.drape.solver.model.body.origin[1]
+    assert not gone.passed and gone.verdict == "failed"
 
 
 def test_a_garment_hung_upside_down_fails():
@@ -300,3 +308,14 @@ def test_only_a_side_the_name_says_is_checked_round_the_body():
     mesh = api.mesh_garment(plain, triangles=600)
     turned = np.c_[mesh.vertices[:, 0] * 0 + 0.3, mesh.vertices[:, 1], mesh.vertices[:, 0]]
     assert side_angles(plain, mesh, load_body(BODY), turned) == {}
+
+
+def test_trousers_longer_than_the_legs_rest_on_the_floor():
+    """The trousers M on female_average are longer than her legs: their hems reach the
+    floor the body stands on and rest on it (they hung 3 cm below the soles and failed as
+    "below the feet"); the drape passes."""
+    outcome = api.drape_and_evaluate("trousers", "female_average", "cotton", triangles=1200)
+    lowest = float(outcome.positions[:, 1].min())
+    assert 0.0 < lowest < 0.01, f"lowest point {lowest * 1000:.1f} mm above the floor"
+    assert outcome.passed, outcome.checks["reasons"]
+    assert outcome.checks["below_feet_vertices"] == 0

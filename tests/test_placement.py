@@ -34,3 +34,17 @@ def test_explicit_placement_is_kept():
         shift = x[ids] - want
         assert np.allclose(shift, shift[0]) and shift[0, [0, 2]] == pytest.approx([0, 0])
         assert 0.0 <= shift[0, 1] <= 0.06  # at most the sewing lift, the same for all panels
+
+
+def test_cloth_longer_than_the_legs_is_placed_on_the_floor():
+    """The trousers XL are longer than female_thin's legs: the part of each leg that would
+    start below the floor (y = 0) starts on it, and the rest is placed as before."""
+    body = load_body("female_thin")
+    pattern = build("trousers", "XL")
+    mesh = mesh_pattern(pattern, triangles=800)
+    x = place_on_body(pattern, mesh, body, clearance=0.03)
+    assert x[:, 1].min() == pytest.approx(0.015)
+    on_floor = np.isclose(x[:, 1], 0.015)
+    assert 0 < on_floor.sum() < 0.3 * len(x)  # the hems, not the legs
+    top = body.measurements["waist_height"] + 0.01  # the waistband where placement puts it
+    assert x[:, 1].max() == pytest.approx(top, abs=0.03)

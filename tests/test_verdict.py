@@ -185,10 +185,11 @@ def test_a_failed_drape_has_no_verdict_but_failed_and_a_slid_one_is_too_loose():
 
 @pytest.mark.parametrize("why", [{"below_feet_vertices": 412}, {"far_vertices": 9},
                                  {"area_ratio_3d": 0.2}, {"area_ratio_3d": float("nan")},
-                                 {"seam_gap_max_mm": 187368.9}])
+                                 {"seam_gap_max_mm": 187368.9}, {"anchor_height_mm": 48.0}])
 def test_a_garment_that_fell_or_never_closed_is_failed_not_too_loose(why):
-    """Below its anchor but also fallen, far from the body, collapsed or unsewn: the drape
-    failed (a pattern in millimetres read as metres fell 25 m and read "too loose")."""
+    """Below its anchor but also fallen (past the floor's end, or onto the floor: its top
+    5 cm above it), far from the body, collapsed or unsewn: the drape failed (a pattern in
+    millimetres read as metres fell 25 m and read "too loose")."""
     fit, m = _synthetic({"bust": 0.5}, {})
     checks = {"passed": False, "on_body": False, "anchor": "waist",
               "anchor_offset_mm": -24900.0, "below_feet_vertices": 0, "far_vertices": 0,
@@ -197,7 +198,8 @@ def test_a_garment_that_fell_or_never_closed_is_failed_not_too_loose(why):
     v = judge(fit, m, style="skirt", limit=0.1, checks=checks)
     assert v.overall == "failed" and v.regions == {} and "it fell" in v.reason
     assert slid_off(checks | {"below_feet_vertices": 0, "far_vertices": 0,
-                              "area_ratio_3d": 0.98, "seam_gap_max_mm": 0.1})
+                              "area_ratio_3d": 0.98, "seam_gap_max_mm": 0.1,
+                              "anchor_height_mm": 880.0})
 
 
 def test_rules_refuse_nonsense_and_stretch_limits_cover_the_presets():

@@ -453,15 +453,16 @@ class FitOutcome:
 
 
 def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMeasures:
-    """The fit measures of a drape, with the contact distance and distance field its solver
-    used (the static engine's), else the body's default field and the drape's default
-    margin (3 mm)."""
+    """The fit measures of a drape, with the contact distance and the grid of the distance
+    field its solver used (the static engine's; the body's own field, without the floor
+    the solver also meets: a gap is to the body), else the body's default field and the
+    drape's default margin (3 mm)."""
     s = getattr(d.solver, "settings", None)
     s = s if isinstance(s, SolverSettings) else SolverSettings(contact_margin=CONTACT_MARGIN)
     f = getattr(d.solver, "body", None)
     return fit_measures(mesh, d.positions, body, fabric,
-                        f if isinstance(f, DistanceField) else None,
-                        reach=max(fabric.thickness, s.contact_margin))
+                        body.distance_field(f.spacing) if isinstance(f, DistanceField)
+                        else None, reach=max(fabric.thickness, s.contact_margin))
 
 
 def verdict_rules(*, pressure_max: float | None = None, stretch_limit: float | None = None,

@@ -82,6 +82,25 @@ class Body:
                                                         solids=solids)
         return self._fields[key]
 
+    def contact_field(self, spacing: float = 0.005, *, padding: float = 0.1) -> DistanceField:
+        """Signed distance field [m] of what the cloth meets in a drape: the body with its
+        mittens (:meth:`distance_field`, same ``spacing`` and ``padding`` [m]) standing on
+        the floor, the plane y = the soles' height below which everything counts as solid.
+        Without the floor a hem longer than the legs hung below the soles (the trousers M on
+        female_average: 3 cm, failed as "below the feet"); standing on it, the hem rests
+        on it. The floor ends with the grid, ``padding`` beyond the body's bounding box:
+        a garment that slips off the body farther out still falls (``sim.stop_rule.fell``).
+        The distance to the union is the smaller of the two distances (exact outside
+        both). Kept on the body."""
+        key = ("floor", float(spacing), float(padding))
+        if key not in self._fields:
+            body = self.distance_field(spacing, padding=padding)
+            y = body.origin[1] + body.spacing * np.arange(body.shape[1])
+            above = (y - float(self.vertices[:, 1].min())).astype(np.float32)
+            self._fields[key] = DistanceField(body.origin, body.spacing,
+                                              np.minimum(body.values, above[None, :, None]))
+        return self._fields[key]
+
     def mittens(self) -> list[trimesh.Trimesh]:
         """The convex hull of each hand, which the cloth meets instead of the hand (a thumb
         narrower than a sleeve's triangles would pass through them):

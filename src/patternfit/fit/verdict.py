@@ -17,8 +17,9 @@ warp/weft stretch of :class:`~patternfit.fit.metrics.FitResult`) against the thr
 Overall: the first of too tight, too loose, tight, loose that a region reads, else fits.
 A garment that slid off its anchor (its top more than the on-body tolerance below the
 waist or neck it hangs from, :mod:`patternfit.sim.onbody`), still sewn and on the body, is
-too loose, whatever else it failed; any other failed check (fallen below the feet, far from
-the body, collapsed, seams open) makes it "failed", with no region verdicts.
+too loose, whatever else it failed; any other failed check (fallen to the floor or below
+the feet, far from the body, collapsed, seams open) makes it "failed", with no region
+verdicts.
 """
 
 from __future__ import annotations
@@ -87,15 +88,18 @@ def slid_off(checks: dict | None) -> str | None:
     """Why the drape with these ``checks`` slid off its anchor (its top more than the
     on-body tolerance below it, the garment otherwise on the body: sewn, not fallen below
     the feet, not far from the body, not collapsed), or None. A garment that fell or
-    never closed its seams is not too loose (a pattern in millimetres read as metres fell
-    25 m): its drape failed."""
+    never closed its seams is not too loose: its drape failed (a pattern in millimetres
+    read as metres fell 25 m, or onto the floor the body stands on, where its top lies
+    within the anchor tolerance of the floor, y = 0)."""
     checks = checks or {}
     offset = checks.get("anchor_offset_mm")
     if offset is None or offset >= -1000.0 * ON_BODY.anchor_tolerance:
         return None
     ratio = checks.get("area_ratio_3d")
     gap = checks.get("seam_gap_max_mm")
+    top = checks.get("anchor_height_mm")
     if (checks.get("below_feet_vertices") or checks.get("far_vertices")
+            or (top is not None and top < 1000.0 * ON_BODY.anchor_tolerance)
             or (ratio is not None and not ratio >= ON_BODY.min_area_ratio)
             or (gap is not None and not gap < limits.seam_gap_mm)):
         return None

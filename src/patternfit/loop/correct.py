@@ -336,11 +336,13 @@ def fit_reached(fit: FitResult, verdict: Verdict, settings: CorrectionSettings,
 
 def measure_state(session, rules: VerdictRules) -> tuple[FitResult, FitMeasures, Verdict]:
     """The fit, the fit measures and the verdict of the session's current drape (with the
-    contact distance and distance field of the solver that draped it)."""
+    contact distance of the solver that draped it, and its distance field's grid: the
+    body's own field, without the floor)."""
     fit = session.evaluate()
     solver = session._drape.solver if session._drape is not None else None
     margin = solver.settings.contact_margin if solver is not None else 0.003
-    field = solver.model.body if solver is not None else None
+    field = session.body.distance_field(solver.model.body.spacing) \
+        if solver is not None and solver.model.body is not None else None
     m = fit_measures(session.mesh, session.state.positions, session.body, session.fabric,
                      field, reach=max(session.fabric.thickness, margin))
     return fit, m, judge_garment(session.pattern, fit, m, session.fabric,

@@ -248,7 +248,7 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
     t0 = time.perf_counter()
     fabric = get_fabric(fabric)
     t = time.perf_counter()
-    field_ = body.distance_field(spacing)
+    field_ = body.contact_field(spacing)
     t_sdf = time.perf_counter() - t
     faults = 0
     if start is not None:

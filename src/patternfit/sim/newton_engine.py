@@ -502,7 +502,7 @@ def newton_drape(pattern: Pattern, mesh: GarmentMesh, body,
     s = settings or NewtonSettings()
     import_newton()  # fail before any work when newton is missing
     t = time.perf_counter()
-    field_ = body.distance_field(spacing)
+    field_ = body.contact_field(spacing)
     t_sdf = time.perf_counter() - t
     timing = {"distance_field_seconds": t_sdf}
     if from_static is not None:

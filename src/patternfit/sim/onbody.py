@@ -34,8 +34,9 @@ class OnBodySettings:
     """Thresholds of the on-body checks, all lengths in metres.
 
     below_feet : float
-        A vertex lower than ``-below_feet`` is below the feet (the floor is y = 0; a
-        trouser hem pooling on the feet measured 8 mm below it).
+        A vertex lower than ``-below_feet`` is below the feet (the floor is y = 0; the
+        solver's floor, ``Body.contact_field``, holds cloth above it near the body, so a
+        vertex below fell past the floor's end).
     far : float
         A vertex farther than this from the body surface (the body's distance field), and
         farther than the cloth that ties it to the anchor line is long
@@ -46,7 +47,8 @@ class OnBodySettings:
         The garment's anchor line may end this far above or below the body's anchor
         height (measured on the six built-in bodies: the skirt rests up to 6.8 cm below
         the waist landmark, where its eased waist meets the body; dress and coat within
-        2 cm of the neck base; trousers on women 7–10 cm low, hems through the floor).
+        2 cm of the neck base; trousers on women 7–10 cm low, hems through the floor,
+        before the solver had a floor).
     top_band : float
         The anchor line: the outline vertices of each panel not on an arm within this
         distance of the panel's top in the flat pattern (the top that placement puts at
