@@ -73,32 +73,47 @@ def test_seams_that_do_not_close_are_sewn_again_with_self_collision(thin_woman):
     assert sewn.result.welded and "sewing_retried" not in sewn.timing
 
 
-@pytest.mark.parametrize("faults,kept", [((4, 0), 2), ((5, 2, 3), 2)])
+@pytest.mark.parametrize("faults,kept", [((4, 0), 2), ((5, 2, 3, 4, 6, 7), 2),
+                                         ((5, 2, 3, 4, 0), 5)])
 def test_a_tangled_sewing_is_sewn_again_from_farther_out(thin_woman, monkeypatch, faults,
                                                          kept):
     # the checks of each sewn state are replaced by the counts in ``faults``: sewing stops
-    # at the first clean one, else the one with the fewest faults is draped
+    # at the first clean one, else each placement is sewn again with self-collision on,
+    # else the one with the fewest faults is draped
     p = build("skirt", "M")
     m = mesh_pattern(p, triangles=600)
     counts = iter(faults)
+    kept_apart = []
+
+    def sew(*args):
+        kept_apart.append(args[5]["sewing_self_collision"])
+        return sew_once(*args)
+
+    sew_once = drape_module._sew
+    monkeypatch.setattr(drape_module, "_sew", sew)
     monkeypatch.setattr(drape_module, "_start_faults", lambda solver, x: next(counts))
     d = drape(p, m, thin_woman, "cotton")
     assert d.timing["sewing_attempts"] == len(faults)
-    gap = 0.03 + RESEW_CLEARANCES[kept - 2]
-    assert d.timing["sewing_clearance"] == pytest.approx(gap)
+    assert kept_apart == [False, False, False, True, True, True][:len(faults)]
+    gap = 0.03 + ((0.0,) + RESEW_CLEARANCES)[(kept - 1) % 3]
+    if kept > 1:
+        assert d.timing["sewing_clearance"] == pytest.approx(gap)
+    assert d.timing.get("sewing_self_collision", False) == (kept > 3)
     np.testing.assert_allclose(d.placed, place_on_body(p, m, thin_woman, clearance=gap))
     assert d.timing["phases"] == ["sewing", "relaxing", "draping"]
     assert d.result.welded and d.checks.passed, d.reasons
 
 
-def test_a_garment_at_its_files_placement_is_sewn_once(thin_woman, monkeypatch):
+def test_a_garment_at_its_files_placement_is_not_sewn_from_farther_out(thin_woman,
+                                                                     monkeypatch):
     # no clearance moves a kept imported placement: sewing it again would repeat the first
+    # (it is sewn once more with self-collision on, as every tangled placement is)
     p = build("skirt", "M")
     m = mesh_pattern(p, triangles=600)
     placed = planes_placed(p, m, thin_woman)
     monkeypatch.setattr(drape_module, "_start_faults", lambda solver, x: 7)
     d = drape(placed, m, thin_woman, "cotton")
-    assert d.timing["sewing_attempts"] == 1 and "sewing_clearance" not in d.timing
+    assert d.timing["sewing_attempts"] == 2 and "sewing_clearance" not in d.timing
     np.testing.assert_array_equal(d.placed, place_on_body(placed, m, thin_woman))
 
 
@@ -113,13 +128,14 @@ def test_the_shirt_at_the_studio_size_is_sewn_again_until_untangled():
     assert d.checks.passed and d.onbody.passed, d.reasons
 
 
-def test_a_given_placement_is_sewn_once(thin_woman, monkeypatch):
+def test_a_given_placement_is_not_moved(thin_woman, monkeypatch):
     p = build("skirt", "M")
     m = mesh_pattern(p, triangles=600)
     monkeypatch.setattr(drape_module, "_start_faults", lambda solver, x: 7)
     x0 = place_on_body(p, m, thin_woman, clearance=0.04)
     d = drape(p, m, thin_woman, "cotton", placed=x0)
-    assert d.timing["sewing_attempts"] == 1 and "sewing_clearance" not in d.timing
+    # once as given, once more with self-collision on
+    assert d.timing["sewing_attempts"] == 2 and "sewing_clearance" not in d.timing
     np.testing.assert_array_equal(d.placed, x0)
 
 
