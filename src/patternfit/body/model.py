@@ -70,6 +70,11 @@ class Body:
         """Standing height [m]."""
         return float(np.ptp(self.vertices[:, 1]))
 
+    @property
+    def floor(self) -> float:
+        """Height of the soles [m], the floor the body stands on (0 in patternfit's frame)."""
+        return float(self.vertices[:, 1].min())
+
     def distance_field(self, spacing: float = 0.005, *, padding: float = 0.1) -> DistanceField:
         """Signed distance field of the body as the cloth meets it, grid step ``spacing``
         [m], ``padding`` [m] around the body: the body joined with its :meth:`mittens`. Kept
@@ -96,7 +101,7 @@ class Body:
         if key not in self._fields:
             body = self.distance_field(spacing, padding=padding)
             y = body.origin[1] + body.spacing * np.arange(body.shape[1])
-            above = (y - float(self.vertices[:, 1].min())).astype(np.float32)
+            above = (y - self.floor).astype(np.float32)
             self._fields[key] = DistanceField(body.origin, body.spacing,
                                               np.minimum(body.values, above[None, :, None]))
         return self._fields[key]

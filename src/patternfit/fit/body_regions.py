@@ -35,7 +35,7 @@ def torso_half_width(body, heights) -> np.ndarray:
     """Half the width (along x) of the body's torso section [m] at each of ``heights``
     (k,) [m] above the feet: the largest section loop's farthest point from the torso
     axis; 0 where the body has no section."""
-    y0 = float(body.vertices[:, 1].min())
+    y0 = body.floor
     cx = float(body.landmarks["torso_axis"][0][0])
     out = np.zeros(len(heights))
     for i, h in enumerate(heights):
@@ -59,7 +59,7 @@ def body_regions(points, body) -> np.ndarray:
     :data:`REGIONS`."""
     p = np.asanyarray(points, dtype=np.float64).reshape(-1, 3)
     m, lm = body.measurements, body.landmarks
-    y0 = float(body.vertices[:, 1].min())
+    y0 = body.floor
     h = p[:, 1] - y0
     out = np.full(len(p), REGIONS.index("hip"))
     out[h > 0.5 * (m["waist_height"] + m["hip_height"])] = REGIONS.index("waist")

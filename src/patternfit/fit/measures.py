@@ -210,7 +210,7 @@ def girth_levels(body) -> dict[str, tuple[np.ndarray, np.ndarray, str]]:
     Thigh: horizontal, :data:`THIGH_BELOW_CROTCH` below the crotch, one leg each. Bicep:
     perpendicular to the arm axis, :data:`BICEP_AT` of the way from shoulder to wrist."""
     m, lm = body.measurements, body.landmarks
-    y0 = float(body.vertices[:, 1].min())
+    y0 = body.floor
     up = np.array([0.0, 1.0, 0.0])
     out = {}
     c = lm["torso_axis"][0]

@@ -374,7 +374,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     # pushed it up through itself (the trousers XL on female_thin at 3K: 934 crossed
     # pairs; from the floor: none at 1K, 6 at 3K; laid out flat on the floor instead,
     # friction held it stretched: 40 at 3K, "too tight" at 1K)
-    x[:, 1] = np.maximum(x[:, 1], float(body.vertices[:, 1].min()) + 0.5 * clearance)
+    x[:, 1] = np.maximum(x[:, 1], body.floor + 0.5 * clearance)
     return x + [0.0, _sewing_lift(mesh, x, body, clearance), 0.0]
 
 

@@ -209,12 +209,16 @@ class DrapeJob:
         return {"running": self.running, "iteration": self.iteration,
                 "energy": _finite(self.energy), "step": _finite(self.step),
                 "residual": _finite(self.residual),
-                "residual_rest": SolverSettings().residual_rms,  # its drapes run on the defaults
+                "residual_rest": RESIDUAL_REST,
                 "elapsed": self.elapsed, "fraction": self.fraction, "error": self.error,
                 "stopping": self.stop and self.running, "stopped": self.stopped,
                 "kind": self.kind, "rounds": self.rounds, "result": self.result,
                 "phases": [name for name, _ in t.plan], "phase": t.phase,
                 "phase_index": t.index, "phase_iteration": t.last}
+
+
+#: the residual rms at which the studio's drapes count as at rest (they run on the defaults)
+RESIDUAL_REST = SolverSettings().residual_rms
 
 
 def _finite(x):
