@@ -6,15 +6,17 @@ import numpy as np
 import pytest
 
 from patternfit.body.sdf import DistanceField
-from patternfit.fit.measures import (gap, gap_summary, girth_section, plane_section,
-                                     pressure_summary)
+from patternfit.fit.measures import (WAIST_BELOW, ease, gap, gap_summary, girth_section,
+                                     plane_section, pressure_summary)
 
 
-def _cylinder(r, y0=0.0, y1=1.0, n=96, rows=20, closed=False):
-    """A cylinder of radius ``r`` [m] around the Y axis: vertices (k, 3), triangles."""
+def _cylinder(r, y0=0.0, y1=1.0, n=96, rows=20, closed=False, r1=None):
+    """A cylinder of radius ``r`` [m] around the Y axis (a cone to radius ``r1`` [m] at
+    ``y1`` when given): vertices (k, 3), triangles."""
     a = np.linspace(0, 2 * np.pi, n, endpoint=False)
     ys = np.linspace(y0, y1, rows)
-    v = np.array([[r * np.cos(t), y, r * np.sin(t)] for y in ys for t in a])
+    rs = np.linspace(r, r if r1 is None else r1, rows)
+    v = np.array([[q * np.cos(t), y, q * np.sin(t)] for y, q in zip(ys, rs) for t in a])
     tri = []
     for j in range(rows - 1):
         for i in range(n):
@@ -63,6 +65,49 @@ def test_ease_needs_the_garment_all_around():
     above = girth_section("hip", gt, gv, bv, bt, np.array([0.0, 0.95, 0.0]),
                           np.array([0.0, 1.0, 0.0]), "torso")
     assert above.ease_cm is None  # the garment ends below that height
+
+
+def _hips():
+    """A body that widens from a 0.11 m waist at y = 1.0 to 0.15 m 40 cm lower (a cone),
+    with the levels and axes :func:`ease` reads."""
+    from types import SimpleNamespace
+
+    v, t = _cylinder(0.15, 0.6, 1.4, rows=81, closed=True, r1=0.07)  # 1 cm rows
+    axis = np.array([[0.0, 1.4, 0.0], [0.0, 0.6, 0.0]])
+    return SimpleNamespace(
+        vertices=v, faces=t, floor=0.0,
+        measurements={"bust_height": 1.3, "waist_height": 1.0, "hip_height": 0.8,
+                      "crotch_height": 0.7},
+        landmarks={"torso_axis": axis, "leg_axis_left": axis, "leg_axis_right": axis,
+                   "arm_axis_left": axis, "arm_axis_right": axis})
+
+
+@pytest.mark.parametrize("top", [0.935, 0.965])
+def test_a_waist_the_garment_rests_under_is_measured_where_it_goes_all_around(top):
+    # a skirt slid down below the waist until the body is as wide: body and garment are
+    # cut where it goes all around, 4-7 cm lower (before: not measured, and the skirt M
+    # 6 cm down on female_average read "fits")
+    body = _hips()
+    gv, gt = _cylinder(0.14, 0.75, top, rows=21)  # clear of the body: 0.135 m at 0.75
+    s = ease(gt, gv, body)["waist"]
+    below = np.ceil((1.0 - top) * 100) / 100  # the first 1 cm level under the top [m]
+    assert s.covered and s.below_cm == pytest.approx(100 * below)
+    r = 0.11 + 0.1 * below  # the body's radius there
+    assert s.body_cm == pytest.approx(100 * 2 * np.pi * r, rel=0.01)
+    assert s.ease_cm == pytest.approx(100 * 2 * np.pi * (0.14 - r), rel=0.05)
+    gv, gt = _cylinder(0.14, 0.75, 1.05, rows=21)
+    reaching = ease(gt, gv, body)["waist"]
+    assert reaching.below_cm == 0.0 and reaching.covered
+
+
+def test_a_waist_is_not_sought_beyond_its_reach_or_round_an_open_garment():
+    body = _hips()
+    gv, gt = _cylinder(0.16, 0.75, 1.0 - WAIST_BELOW - 0.015, rows=21)
+    low = ease(gt, gv, body)["waist"]
+    assert not low.covered and low.ease_cm is None and low.below_cm == 0.0
+    gv, gt = _cylinder(0.14, 0.75, 0.95, rows=21)
+    front = gt[(gv[gt][:, :, 2] > 0).all(axis=1)]  # an open wrap: the front half only
+    assert ease(front, gv, body)["waist"].ease_cm is None
 
 
 @pytest.mark.parametrize("out", [0.24, 0.30])

@@ -183,6 +183,29 @@ def test_a_failed_drape_has_no_verdict_but_failed_and_a_slid_one_is_too_loose():
     assert slid_off({"anchor_offset_mm": -50.0}) is None and slid_off(None) is None
 
 
+def test_a_waist_whose_top_slid_more_than_slid_cm_below_it_reads_loose_by_its_ease():
+    # the skirt M on female_average: its top 6.1 cm below her waist, 11.4 cm of ease over
+    # it, the hip it grips stretched and pressed (before: "fits", the waist not measured;
+    # the gathered skirt's 78 cm band on her 68.5 cm waist read "too tight", stretched 5%)
+    checks = {"passed": True, "anchor": "waist", "anchor_offset_mm": -61.0}
+    fit, m = _synthetic({"waist": 0.06}, {"waist": 3.0}, {"waist": 11.4})
+    v = judge(fit, m, style="skirt", limit=0.03, checks=checks)
+    assert v.regions["waist"].verdict == "too loose" and v.overall == "too loose"
+    assert "6.1 cm below the waist" in v.regions["waist"].reason
+    assert "+11.4 cm" in v.regions["waist"].reason
+    unmeasured = judge(*_synthetic({"waist": 0.06}, {"waist": 3.0}), style="skirt",
+                       limit=0.03, checks=checks)
+    assert unmeasured.regions["waist"].verdict == "loose"
+    for other in ({"anchor_offset_mm": -40.0}, {"anchor": "neck"}, {"anchor_offset_mm": None}):
+        v = judge(fit, m, style="skirt", limit=0.03, checks=checks | other)
+        assert v.regions["waist"].verdict == "too tight"  # judged as before
+    v = judge(fit, m, style="skirt", limit=0.03, checks=checks,
+              rules=VerdictRules(slid_cm=10.0))
+    assert v.regions["waist"].verdict == "too tight"
+    with pytest.raises(ValueError, match="slid_cm"):
+        VerdictRules(slid_cm=-1.0)
+
+
 @pytest.mark.parametrize("why", [{"below_feet_vertices": 412}, {"far_vertices": 9},
                                  {"area_ratio_3d": 0.2}, {"area_ratio_3d": float("nan")},
                                  {"seam_gap_max_mm": 187368.9}, {"anchor_height_mm": 48.0}])

@@ -59,6 +59,18 @@ def test_trousers_too_large_for_the_body_rest_on_it_and_read_too_loose(tmp_path)
         assert saved["region_verdicts"][region]["ease_cm"] > 10.0
 
 
+def test_a_skirt_wider_than_the_waist_slides_below_it_and_reads_loose_there():
+    # the skirt M (waist 78 cm) on female_average (68.5 cm): measured at 1.5K, its top
+    # rests 5.6 cm below her waist, cut 7 cm down with 6.3 cm of ease; it read "fits" with
+    # no waist measured (3K: 6.1 cm down, +5.6 cm)
+    o = pf.drape_and_evaluate("skirt", "female_average", "cotton", triangles=1500)
+    assert o.passed and o.checks["anchor_offset_mm"] < -50.0, o.checks
+    waist = o.region_verdicts["waist"]
+    assert waist["verdict"] in ("loose", "too loose") and o.verdict in ("loose", "too loose")
+    assert "below the waist" in waist["reason"] and waist["ease_cm"] > 2.5
+    assert o.measures.sections["waist"].below_cm > 0.0
+
+
 def _stretched(pattern, mesh, factor, above):
     """3D positions of ``mesh`` flat in z = 0, every panel stretched across by ``factor``
     about its axis where higher than ``above`` [m] (linearly blended over 5 cm)."""

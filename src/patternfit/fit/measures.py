@@ -12,7 +12,7 @@ newtons; the results are in mm, cm and kPa as named.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError, cKDTree
@@ -43,6 +43,23 @@ SHARED_REACH = 0.03
 #: coat's let-out sleeves, 30 cm out, read as +58 cm of waist ease; they span 4–8°, a
 #: panel's chain around the torso 160–190°)
 MIN_CHAIN_SPAN_DEG = 45.0
+#: a waist that the garment does not go all around because its top rests below the body's
+#: waist level (a skirt or trousers wider than the waist slide down until the body is as
+#: wide: the skirt M, waist 78 cm, 6 cm down on female_average's 68.5 cm waist, read "fits"
+#: with no waist ease; the trousers M, 90 cm, 3.5 cm down, too) is measured at the highest
+#: level below it, :data:`WAIST_STEP` apart and down to this far [m], where the garment goes
+#: all around: the ease where its waist rests. Not against the waist's girth: that counts
+#: the body's own widening as slack (the demo's corrected skirt, 3 cm of ease in its 66.6
+#: cm waist, resting 3 cm low, read +9.7 cm). Farther down the on-body check (``sim.onbody``,
+#: 10 cm) calls the garment slid off
+WAIST_BELOW = 0.10
+WAIST_STEP = 0.01
+#: ... and no farther than this below the garment's highest cloth there [m]: a top may
+#: slope from front to back (the trousers M on female_average at 1K: cloth from 2 cm below
+#: the waist, all around from 7 cm), while a waistband whose top the gathers below pull
+#: into scallops goes all around nowhere, and lower down the plane cuts the gathered
+#: skirt instead (its 78 cm band read 37 cm of waist ease on female_heavy)
+WAIST_BAND = 0.05
 #: a vertex this much farther from the body than the solver's contact distance still rests
 #: on it (the penalty lets it sit a little inside; the distance field is interpolated) [m]
 CONTACT_SLACK = 0.001
@@ -55,7 +72,9 @@ class Section:
     ``body`` (k, 2) and ``garment`` (g, 2): the section points; ``body_hull`` and
     ``garment_hull``: the closed convex hull polygons (h, 2); ``body_cm``, ``garment_cm``:
     their perimeters [cm]; ``ease_cm`` = garment − body [cm]; ``origin`` (3,), ``normal``
-    (3,): the plane [m]; ``covered``: whether the garment goes all around the body there.
+    (3,): the plane [m]; ``covered``: whether the garment goes all around the body there;
+    ``below_cm``: how far below the body's level the section was cut [cm] (0, or a waist
+    the garment's top rests under, :data:`WAIST_BELOW`).
     """
 
     name: str
@@ -69,6 +88,7 @@ class Section:
     garment_cm: float
     ease_cm: float | None
     covered: bool
+    below_cm: float = 0.0
 
 
 @dataclass(eq=False)
@@ -108,9 +128,13 @@ class FitMeasures:
         → cm, only the girths the garment covers all around) and ``pressure_kpa`` (p50, p95,
         p99, max over the contact area, ``contact_vertices``, ``contact_area_m2``) and
         ``lengths_cm`` (limb → cm its cloth stops short of the wrist or ankle, negative
-        beyond it); a value that cannot be measured is None, never NaN."""
+        beyond it), and ``ease_below_cm`` (girth → how far below the body's level the
+        garment's girth was cut, for a waist its top rests under: ``Section.below_cm``);
+        a value that cannot be measured is None, never NaN."""
         return {"gap_mm": gap_summary(self.gap_mm, self.vertex_area),
                 "ease_cm": {k: s.ease_cm for k, s in self.sections.items() if s.covered},
+                "ease_below_cm": {k: s.below_cm for k, s in self.sections.items()
+                                  if s.below_cm},
                 "pressure_kpa": pressure_summary(self.pressure_kpa, self.contact,
                                                  self.vertex_area),
                 "lengths_cm": {k: round(100.0 * v, 2) for k, v in self.limb_ends.items()}}
@@ -358,14 +382,37 @@ def ease(triangles, positions, body) -> dict[str, Section]:
     that lie nearer another part of the body (a sleeve's, at bust height) are left out. A
     garment covers a girth when its section leaves no angular gap over
     :data:`MAX_GAP_DEG` around the body section's centre (a skirt covers no single thigh,
-    an open jacket no bust)."""
+    an open jacket no bust). A waist the garment's top rests under is measured where the
+    garment goes all around below it, body and garment alike (:data:`WAIST_BELOW`,
+    ``Section.below_cm``)."""
     out = {}
     for name, (origin, normal, kind) in girth_levels(body).items():
         s = girth_section(name, triangles, positions, body.vertices, body.faces,
                           origin, normal, kind)
+        if s is not None and name == "waist" and not s.covered:
+            s = _waist_below(s, triangles, positions, body, origin, normal, kind)
         if s is not None:
             out[name] = s
     return out
+
+
+def _waist_below(waist: Section, triangles, positions, body, origin, normal, kind) -> Section:
+    """The ``waist`` section (not covered) taken instead at the highest level below it,
+    within :data:`WAIST_BELOW` and :data:`WAIST_BAND` [m], where the garment goes all
+    around: garment and body girths there; ``waist`` itself when there is none."""
+    top = None
+    for k in range(1, int(round(WAIST_BELOW / WAIST_STEP)) + 1):
+        level = np.asanyarray(origin, dtype=np.float64) - k * WAIST_STEP * np.asarray(normal)
+        s = girth_section(waist.name, triangles, positions, body.vertices, body.faces,
+                          level, normal, kind)
+        if s is None:
+            continue
+        if s.covered:
+            return replace(s, below_cm=100.0 * k * WAIST_STEP)
+        top = k if top is None and len(s.garment) else top
+        if top is not None and (k - top) * WAIST_STEP >= WAIST_BAND:
+            break  # past the garment's waistband: a gathered skirt's folds are no waist
+    return waist
 
 
 def resting(x, triangles, d, field: DistanceField, limit: float) -> np.ndarray:

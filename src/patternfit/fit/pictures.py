@@ -216,6 +216,8 @@ def plot_sections(sections: dict, path, *, title: str | None = None) -> Path:
                     color="#1f5fbf", lw=1, label="garment")
         head = (f"ease {s.ease_cm:+.1f} cm" if s.ease_cm is not None
                 else "not all around")
+        if s.below_cm:
+            head += f", cut {s.below_cm:.0f} cm lower"
         ax.set_title(f"{name}: {head}\nbody {s.body_cm:.1f} cm", fontsize=9,
                      color="black" if s.covered else "0.45")
         ax.set_xlabel("cm", fontsize=7)

@@ -107,6 +107,17 @@ def slid_off(checks: dict | None) -> str | None:
             f"{checks.get('anchor', 'anchor')}")
 
 
+def _sunk_cm(checks: dict | None, rules: VerdictRules) -> float | None:
+    """How far [cm] the top of a garment hung from the waist rests below the waist when
+    that is more than ``rules.slid_cm`` (``checks["anchor_offset_mm"]``, the on-body
+    checks'), else None."""
+    checks = checks or {}
+    offset = checks.get("anchor_offset_mm")
+    if checks.get("anchor") != "waist" or offset is None or not -offset > 10 * rules.slid_cm:
+        return None
+    return -offset / 10.0
+
+
 def judge_region(ease_cm, pressure, stretch, *, style: str, girth: str, limit: float,
                  rules: VerdictRules, body_cm: float | None = None,
                  body_girths: dict | None = None) -> tuple[str, str]:
@@ -156,6 +167,7 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
     total = float(fit.area_2d.sum())
     sections = measures.sections
     body_girths = {k: sec.body_cm for k, sec in sections.items()}
+    sunk = _sunk_cm(checks, rules)
     regions = {}
     for k, name in enumerate(measures.regions):
         tris = measures.triangle_region == k
@@ -169,9 +181,17 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
                                   (rules.pressure_percentile,))[0]
         sec = sections.get(name)
         e = sec.ease_cm if sec is not None else None
-        word, why = judge_region(e, p, s, style=style, girth=name, limit=limit, rules=rules,
+        down = sunk is not None and name == "waist"
+        word, why = judge_region(e, None if down else p, None if down else s, style=style,
+                                 girth=name, limit=limit, rules=rules,
                                  body_cm=sec.body_cm if e is not None else None,
                                  body_girths=body_girths)
+        if down:
+            if word not in ("loose", "too loose"):
+                word, why = "loose", (f"ease {e:+.1f} cm where it rests" if e is not None
+                                      else "")
+            why = "; ".join(w for w in (f"its top rests {sunk:.1f} cm below the waist, slid "
+                                        "down to where the body is as wide", why) if w)
         regions[name] = RegionVerdict(word, e, p, s, area, why)
     words = [v.verdict for v in regions.values()]
     if slid:

@@ -44,6 +44,12 @@ class VerdictRules:
                                   ±1/4–1/2" on a jacket's sleeve length, up to ±1" on
                                   loose garments; 2.5 cm is that 1": a drape's folds
                                   move a sleeve's end as well).
+    slid_cm : float               a garment hung from the waist whose top rests more
+                                  than this far below it (the on-body checks'
+                                  ``anchor_offset_mm``) slid down to where the body is as
+                                  wide: its waist reads at least loose, judged by its ease
+                                  over the waist alone, since its stretch and pressure are
+                                  those of the hip it grips [cm].
     """
 
     pressure_max_kpa: float = 2.0
@@ -56,6 +62,7 @@ class VerdictRules:
     pressure_percentile: float = 95.0
     stretch_percentile: float = 90.0
     length_tolerance_cm: float = 2.5
+    slid_cm: float = 5.0
 
     def __post_init__(self):
         if not 0 < self.pressure_comfort_kpa <= self.pressure_max_kpa:
@@ -70,6 +77,8 @@ class VerdictRules:
             raise ValueError(f"loose_tolerance_cm: must be >= 0, got {self.loose_tolerance_cm}")
         if not self.length_tolerance_cm >= 0:
             raise ValueError(f"length_tolerance_cm: must be >= 0, got {self.length_tolerance_cm}")
+        if not self.slid_cm >= 0:
+            raise ValueError(f"slid_cm: must be >= 0, got {self.slid_cm}")
         if self.style is not None and self.style not in EASE_RANGES:
             raise ValueError(f"style: one of {', '.join(EASE_RANGES)}, got {self.style!r}")
         for name in ("pressure_percentile", "stretch_percentile"):
