@@ -290,6 +290,26 @@ def test_take_in_a_too_loose_dress_is_a_recorded_symmetric_edit():
     assert session.pattern == old
 
 
+def test_trousers_resting_below_a_waist_too_small_for_them_are_taken_in_there():
+    from patternfit.body.builtin import load_body
+    from patternfit.loop import DesignSession
+    from patternfit.loop.correct import correct
+
+    # the trousers M (waist 90 cm) on female_average (68.5 cm) rest 3.5-4 cm below her
+    # waist: measured there, too loose (+18.5 cm at 1K; before, no waist ease and "fits",
+    # so nothing to take in); one round takes the waist in (3K: +16.6 -> +6.1 cm, loose)
+    session = DesignSession(build("trousers", "M"), load_body("female_average"), "cotton", 1000)
+    result = correct(session, settings=CorrectionSettings(take_in=True, max_iterations=1))
+    first, last = result.iterations[0], result.iterations[-1]
+    waist = first.verdict.regions["waist"]
+    assert waist.verdict == "too loose" and waist.ease_cm > 10.0 and first.edits
+    assert last.verdict.regions["waist"].ease_cm < waist.ease_cm - 5.0
+    old = session.history[0].pattern
+    assert sum(e.length for p in result.pattern.panels for n, e in p.edges().items()
+               if n == "waist") < sum(e.length for p in old.panels
+                                      for n, e in p.edges().items() if n == "waist") - 0.05
+
+
 def test_fit_of_a_saved_drape_with_its_body_has_the_verdict(tmp_path):
     import json
 
