@@ -206,6 +206,39 @@ def test_a_waist_whose_top_slid_more_than_slid_cm_below_it_reads_loose_by_its_ea
         VerdictRules(slid_cm=-1.0)
 
 
+def test_cloth_resting_on_a_hand_is_a_long_sleeve_not_a_tight_one():
+    # the shirt M on male_average at 3K: 14 kPa past the wrist, on the hand's hull, read
+    # "too tight at forearm" (under 0.5 kPa along the rest of the forearm)
+    fit, m = _synthetic({"forearm_left": 0.2}, {"forearm_left": 9.0})
+    assert judge(fit, m, style="shirt", limit=0.03).regions["forearm_left"].verdict == \
+        "too tight"
+    hand = np.array([r == "forearm_left" for r in REGIONS])
+    m.vertex_on_hand, m.triangle_on_hand = hand, hand
+    v = judge(fit, m, style="shirt", limit=0.03)
+    assert v.regions["forearm_left"].verdict == "fits" and v.overall == "fits"
+    assert v.regions["forearm_left"].pressure_kpa_p95 is None
+
+
+def test_points_over_a_hand_are_past_the_mitten_start_and_near_the_arm():
+    from patternfit.body.builtin import load_body
+    from patternfit.body.hands import FOREARM
+    from patternfit.fit.body_regions import body_regions, on_hands
+
+    body = load_body("male_average")
+    shoulder, wrist = (np.asarray(v) for v in body.landmarks["arm_axis_left"])
+    axis = (wrist - shoulder) / np.linalg.norm(wrist - shoulder)
+    side = np.cross(axis, [0.0, 0.0, 1.0])
+    points = np.array([wrist + 0.08 * axis, wrist - 0.5 * FOREARM * axis + 0.05 * side,
+                       wrist - 2.0 * FOREARM * axis, wrist + 0.4 * axis,
+                       wrist + 0.05 * axis + 0.2 * side,
+                       np.asarray(body.landmarks["torso_axis"])[0]])
+    assert on_hands(points, body).tolist() == [True, True, False, False, False, False]
+    # the right hand too, and the points keep their regions
+    mirrored = points[:3] * [-1.0, 1.0, 1.0]
+    assert on_hands(mirrored, body).tolist() == [True, True, False]
+    assert REGIONS[body_regions(points[2:3], body)[0]] == "forearm_left"
+
+
 @pytest.mark.parametrize("why", [{"below_feet_vertices": 412}, {"far_vertices": 9},
                                  {"area_ratio_3d": 0.2}, {"area_ratio_3d": float("nan")},
                                  {"seam_gap_max_mm": 187368.9}, {"anchor_height_mm": 48.0}])

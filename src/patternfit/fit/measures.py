@@ -20,7 +20,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 from ..body.measure import Loop, cross_section
 from ..body.sdf import DistanceField
 from ..geometry import triangle_areas, unique_edges
-from .body_regions import REGIONS, body_regions
+from .body_regions import REGIONS, body_regions, on_hands
 from .lengths import limb_ends
 from .pressure import force_balance_pressure, grain_coefficients
 
@@ -111,6 +111,10 @@ class FitMeasures:
     limb_ends : dict of str to float
         How far each covered limb's cloth stops short of the wrist or ankle [m]
         (:func:`~patternfit.fit.lengths.limb_ends`).
+    vertex_on_hand, triangle_on_hand : (n,) and (m,) bool
+        The vertices / triangle centroids over a hand
+        (:func:`~patternfit.fit.body_regions.on_hands`), left out of the verdict's pressure
+        and stretch: a sleeve resting on the hand is too long, not too tight.
     """
 
     gap_mm: np.ndarray
@@ -122,6 +126,8 @@ class FitMeasures:
     triangle_region: np.ndarray | None = None
     regions: tuple = REGIONS
     limb_ends: dict = field(default_factory=dict)
+    vertex_on_hand: np.ndarray | None = None
+    triangle_on_hand: np.ndarray | None = None
 
     def report(self) -> dict:
         """``gap_mm`` (p5, p50, p95, area-weighted over the garment), ``ease_cm`` (girth name
@@ -453,6 +459,9 @@ def fit_measures(mesh, positions, body, fabric, body_field: DistanceField | None
     p = force_balance_pressure(x, t, cu, cv, triangle_areas(mesh.vertices, t), fabric,
                                normals, a, contact)
     vertex_region = body_regions(x, body)
+    centroids = x[t].mean(axis=1)
     return FitMeasures(1000.0 * d, p, contact, a, ease(t, x, body), vertex_region,
-                       body_regions(x[t].mean(axis=1), body),
-                       limb_ends=limb_ends(x, t, vertex_region, body))
+                       body_regions(centroids, body),
+                       limb_ends=limb_ends(x, t, vertex_region, body),
+                       vertex_on_hand=on_hands(x, body),
+                       triangle_on_hand=on_hands(centroids, body))

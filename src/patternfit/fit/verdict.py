@@ -169,14 +169,20 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
     body_girths = {k: sec.body_cm for k, sec in sections.items()}
     sunk = _sunk_cm(checks, rules)
     regions = {}
+    # cloth resting on a hand's hull is a sleeve too long for the arm, not too tight
+    hand_t, hand_v = measures.triangle_on_hand, measures.vertex_on_hand
     for k, name in enumerate(measures.regions):
         tris = measures.triangle_region == k
         area = float(fit.area_2d[tris].sum())
         if area < rules.region_share * total:
             continue
+        if hand_t is not None:
+            tris = tris & ~hand_t
         s = _weighted_percentiles(stretch[tris], fit.area_2d[tris],
                                   (rules.stretch_percentile,))[0]
         verts = (measures.vertex_region == k) & measures.contact
+        if hand_v is not None:
+            verts = verts & ~hand_v
         p = _weighted_percentiles(measures.pressure_kpa[verts], measures.vertex_area[verts],
                                   (rules.pressure_percentile,))[0]
         sec = sections.get(name)
