@@ -83,6 +83,42 @@ def test_cantilever_reads_back_the_bending_length():
     json.loads(dumps_finite_json(d))
 
 
+def test_cantilever_reads_its_verdict_from_each_meshs_last_solve():
+    """A search solve short of rest only steers the next overhang: the result stands when
+    each mesh's last solve is at rest, and fails, saying which strip and how it ended,
+    when one is not."""
+    def run(at_rest):
+        solve = kit.SolveInfo(1200, 2.0, at_rest, at_rest, "converged" if at_rest else
+                              "stalled", {"residual_rms": 0.004 if at_rest else 0.028,
+                                          "residual_p99": 0.02 if at_rest else 0.104},
+                              at_rest)
+        return kit.CantileverRun(1e-3, 0.02, 41.5, 0.01, 900, solve)
+
+    def result(*meshes):
+        m = tuple(kit.CantileverMesh(1e-3, 900, 0.02, 41.5, 0.01, 0.01, tuple(run(a) for a in r))
+                  for r in meshes)
+        return kit.CantileverResult("x", "warp", 0.1, 1e-7, 0.01, 0.0101, 1.01, 0.0102, 0.02,
+                                41.5, 0.004, m, 0.025, 3.0)
+
+    steered = result((True,), (False, True))
+    assert steered.converged and steered.passed and steered.failures == []
+    assert steered.to_dict()["meshes"][1]["runs"][0]["solve"]["at_rest"] is False
+    short = result((True,), (True, False))
+    assert not short.converged and not short.passed
+    assert short.failures == ["the 900-triangle strip did not reach rest (stalled after 1200 "
+                              "iterations, residual rms 0.028, p99 0.104 weights)"]
+    assert short.to_dict()["failures"] == short.failures
+
+
+def test_cli_says_why_a_fabric_test_failed():
+    r = runner.invoke(app, ["fabric-test", "strip", "-f", "jersey", "--length", "0.2",
+                            "--set", "max_iterations=3"])
+    assert r.exit_code == 1, r.output
+    text = " ".join(r.output.split())
+    assert "failed its checks: the strip did not reach rest (" in text, r.output
+    assert "after 3 iterations, residual rms" in text, r.output
+
+
 def test_cantilever_weft_uses_the_weft_rigidity():
     r = kit.cantilever_test("jersey_knit", direction="weft", meshes=(4,))
     fab = get_fabric("jersey_knit")

@@ -111,10 +111,12 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
     def cloth() -> float:  # membrane, bending and the given forces, into grad
         e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, fab.stretch_warp,
                              fab.stretch_weft, fab.shear, settings.compression, grad)
-        qx = state.quadratic @ x
-        e += 0.5 * float(np.einsum("ij,ij->", x, qx)) \
+        q = state.quadratic
+        if q.shape != (len(x), len(x)):  # the kernel reads it unchecked
+            raise ValueError(f"state.quadratic: {q.shape}, not ({len(x)}, {len(x)})")
+        e += kernels.quadratic(x, q.indptr, q.indices, q.data, grad) \
             - float(np.einsum("ij,ij->", state.forces, x))
-        grad[...] += qx - state.forces
+        grad[...] -= state.forces
         if model.bend_friction is not None:
             e += model.bend_friction.energy(x, grad)
         return e

@@ -225,6 +225,15 @@ class SolveInfo:
         """Stop rule met, equilibrium check passed and, where known, forces balanced."""
         return self.converged and self.equilibrium and self.balanced is not False
 
+    def describe(self) -> str:
+        """How the solve ended, in words: stop reason, iterations and residual."""
+        text = f"{self.stop_reason} after {self.iterations} iterations"
+        r = self.residual if isinstance(self.residual, dict) else {}
+        if r.get("residual_rms") is not None and r.get("residual_p99") is not None:
+            text += (f", residual rms {r['residual_rms']:.3g}, p99 {r['residual_p99']:.3g} "
+                     "weights")
+        return text
+
     def to_dict(self) -> dict:
         return _plain({"iterations": self.iterations, "seconds": self.seconds,
                        "converged": self.converged, "equilibrium": self.equilibrium,

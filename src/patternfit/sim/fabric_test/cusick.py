@@ -200,10 +200,24 @@ class CusickResult:
         return all(r.solve.at_rest for r in self.runs)
 
     @property
+    def failures(self) -> list[str]:
+        """Why the test failed, in words, per start (empty when it passed)."""
+        out = []
+        for r in self.runs:
+            if not r.solve.at_rest:
+                out.append(f"start {r.seed} did not reach rest ({r.solve.describe()})")
+            if r.crossings:
+                out.append(f"start {r.seed} folded through itself ({r.crossings} crossed "
+                           "triangle pairs)")
+            if not 0.0 <= r.drape_coefficient <= 1.0:
+                out.append(f"start {r.seed}: drape coefficient {r.drape_coefficient:.3g} "
+                           "outside [0, 1]")
+        return out
+
+    @property
     def passed(self) -> bool:
         """Every start ended at rest without crossings and every DC lies in [0, 1]."""
-        return bool(self.converged and all(r.crossings == 0 and 0.0 <= r.drape_coefficient <= 1.0
-                                           for r in self.runs))
+        return not self.failures
 
     def to_dict(self) -> dict:
         skip = {"runs", "positions", "rest", "mesh_triangles"}
@@ -214,7 +228,8 @@ class CusickResult:
                        "runs": [r.to_dict() for r in self.runs],
                        "residual": [r.solve.residual for r in self.runs],
                        "stop_reasons": [r.solve.stop_reason for r in self.runs],
-                       "converged": self.converged, "passed": self.passed})
+                       "converged": self.converged, "passed": self.passed,
+                       "failures": self.failures})
 
 
 def _perturbation(v: np.ndarray, r_disc: float, r_spec: float, amplitude: float,

@@ -73,17 +73,30 @@ class StripResult:
     tolerance: float = 0.05
 
     @property
+    def failures(self) -> list[str]:
+        """Why the test failed, in words (empty when it passed)."""
+        out = []
+        if not self.solve.at_rest:
+            out.append(f"the strip did not reach rest ({self.solve.describe()})")
+        if self.ratio is None:
+            out.append("no elongation could be read")
+        elif abs(self.ratio - 1.0) > self.tolerance:
+            out.append(f"elongation {100 * (self.ratio - 1.0):+.1f} % off the analytic one "
+                       f"(tolerance {100 * self.tolerance:g} %)")
+        return out
+
+    @property
     def passed(self) -> bool:
         """The solve ended at rest and the stretch is within ``tolerance`` of the analytic
         one."""
-        return bool(self.solve.at_rest and self.ratio is not None
-                    and abs(self.ratio - 1.0) <= self.tolerance)
+        return not self.failures
 
     def to_dict(self) -> dict:
         d = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "solve"}
         return _plain({"test": "strip", **d, "solve": self.solve.to_dict(),
                        "residual": self.solve.residual, "stop_reason": self.solve.stop_reason,
-                       "converged": self.solve.at_rest, "passed": self.passed})
+                       "converged": self.solve.at_rest, "passed": self.passed,
+                       "failures": self.failures})
 
 
 def strip_test(fabric: Fabric | str = "cotton_shirting", *, direction: str = "warp",
