@@ -111,12 +111,10 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
     def cloth() -> float:  # membrane, bending and the given forces, into grad
         e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, fab.stretch_warp,
                              fab.stretch_weft, fab.shear, settings.compression, grad)
-        q = state.quadratic
-        if q.shape != (len(x), len(x)):  # the kernel reads it unchecked
-            raise ValueError(f"state.quadratic: {q.shape}, not ({len(x)}, {len(x)})")
-        e += kernels.quadratic(x, q.indptr, q.indices, q.data, grad) \
+        qx = state.quadratic @ x
+        e += 0.5 * float(np.einsum("ij,ij->", x, qx)) \
             - float(np.einsum("ij,ij->", state.forces, x))
-        grad[...] -= state.forces
+        grad[...] += qx - state.forces
         if model.bend_friction is not None:
             e += model.bend_friction.energy(x, grad)
         return e

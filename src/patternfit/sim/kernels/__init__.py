@@ -1,7 +1,7 @@
 """Numba kernels of the garment solver, by topic (SI units: m, N, J):
 
-- :mod:`.energy_terms`: each energy term's value and gradient (membrane, the quadratic
-  bending, body contact, friction, seam springs, vertex-triangle and edge-edge repulsion), the membrane's Hessian,
+- :mod:`.energy_terms`: each energy term's value and gradient (membrane, body contact,
+  friction, seam springs, vertex-triangle and edge-edge repulsion), the membrane's Hessian,
   and the contact and friction laws (force and stiffness, also as array functions for the
   Newton Hessian);
 - :mod:`.collision`: the grid search for the lagged repulsion pairs and the count of
@@ -29,7 +29,7 @@ from .collision import crossed_pairs, intersecting_pairs, near_edge_pairs, near_
 from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge_repulsion,
                            friction, friction_law, friction_offset, friction_stiffness,
                            membrane, membrane_hessian, point_contact, point_stiffness,
-                           quadratic, seam_springs, self_repulsion, unspared)
+                           seam_springs, self_repulsion, unspared)
 from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
 from .sparse_assembly import csr_rows_product, scatter_hessian, trim_to_near
 
@@ -39,5 +39,5 @@ __all__ = ["axpy", "block_backward", "block_factor_columns", "block_forward", "b
            "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move", "max_row_norm",
            "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs", "point_contact",
-           "point_stiffness", "quadratic", "scatter_hessian", "sdf_query", "SDF_SLOPE", "seam_springs",
+           "point_stiffness", "scatter_hessian", "sdf_query", "SDF_SLOPE", "seam_springs",
            "self_repulsion", "smooth_sdf_query", "trim_to_near", "unspared"]

@@ -312,44 +312,6 @@ def friction(x, idx, anchor, normal, limit, slip, grad):
     return energy
 
 
-@njit(cache=True, nogil=True)
-def quadratic(x, indptr, indices, data, grad):
-    """The quadratic energy ``x^T Q x / 2`` per coordinate of the symmetric CSR matrix
-    ``Q`` [N/m] (bending, linear seam springs); adds ``Q x`` into ``grad``.
-
-    The energy is summed as ``sum_i r_i |x_i|^2 / 2 - sum_(i != j) Q_ij |x_i - x_j|^2 / 4``
-    (``r_i`` the row sums, zero for bending and springs, which leave a translation free),
-    the same value in exact arithmetic. Summed as ``x . Q x`` it cancels terms of the size of
-    ``Q |x|^2`` (absolute positions) down to a bending energy many orders smaller: a
-    cantilever strip's energy moved 5e-14 J when one coordinate moved by its last bit, more
-    than a Newton step near rest lowers it (4e-14 J), and the line search stalled there.
-    """
-    energy_off = 0.0
-    energy_diag = 0.0
-    for i in range(indptr.shape[0] - 1):
-        r = 0.0
-        q0 = 0.0
-        q1 = 0.0
-        q2 = 0.0
-        for p in range(indptr[i], indptr[i + 1]):
-            j = indices[p]
-            q = data[p]
-            r += q
-            q0 += q * x[j, 0]
-            q1 += q * x[j, 1]
-            q2 += q * x[j, 2]
-            if j != i:
-                d0 = x[i, 0] - x[j, 0]
-                d1 = x[i, 1] - x[j, 1]
-                d2 = x[i, 2] - x[j, 2]
-                energy_off += q * (d0 * d0 + d1 * d1 + d2 * d2)
-        energy_diag += r * (x[i, 0] * x[i, 0] + x[i, 1] * x[i, 1] + x[i, 2] * x[i, 2])
-        grad[i, 0] += q0
-        grad[i, 1] += q1
-        grad[i, 2] += q2
-    return 0.5 * energy_diag - 0.25 * energy_off
-
-
 @njit(cache=True)
 def seam_springs(x, a, b, stiffness, limit, grad):
     """Zero-length seam springs with a bounded pull between vertices ``a[k]`` and ``b[k]``.
