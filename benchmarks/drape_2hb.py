@@ -21,7 +21,8 @@ import _path  # noqa: F401  (tests/ on sys.path, as every benchmark)
 from _table import machine, print_table
 from physics import not_at_rest, order_agreement, solver_state
 from patternfit.sim import fabric_test as kit
-from patternfit.sim.fabrics import KES_BENDING, KES_BENDING_HYSTERESIS, Fabric
+from patternfit.sim.fabric_sheets import KES_BENDING, KES_BENDING_HYSTERESIS
+from patternfit.sim.fabrics import Fabric
 
 SOURCE = ("Matsudaira, Masuda, Wada & Yokura 2015, \"Shape factor of flared skirts compared "
           "with that of circular fabrics\", J. Textile Eng. 61(6) 69-73, doi 10.4188/jte.61.69, "

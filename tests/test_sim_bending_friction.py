@@ -14,7 +14,8 @@ import pytest
 
 from patternfit.sim.bending_friction import BendingFriction
 from patternfit.sim.energies import build_terms
-from patternfit.sim.fabrics import KES_BENDING_HYSTERESIS, FabricError, get_fabric, load_fabric
+from patternfit.sim.fabric_sheets import KES_BENDING_HYSTERESIS
+from patternfit.sim.fabrics import FabricError, get_fabric, load_fabric
 
 from scenes import grain_at, rect_mesh
 

@@ -66,7 +66,8 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "GIRTHS", "InputError", "PatternError", "SeamSuggestion", "SolverSettings", "Verdict",
            "VerdictRules", "accept_seams", "add_seam", "body_from_measurements", "check_sewn",
            "correct", "correct_design", "design_session", "drafted_too_small",
-           "drape_and_evaluate", "evaluate_drape", "evaluate_saved", "fabric_catalogue",
+           "describe_fabric", "drape_and_evaluate", "evaluate_drape", "evaluate_saved",
+           "fabric_catalogue",
            "fabric_test", "list_bodies", "list_body_sets", "list_engines", "list_fabrics",
            "judge_state", "list_garments", "list_sizes", "mesh_garment", "place_and_evaluate",
            "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric", "read_pattern",
@@ -104,16 +105,37 @@ def fabric_catalogue() -> list[dict]:
     entries += [(p.fabric, "published", p.source, p) for p in published_drapes().values()]
     for fab, kind, source, pub in entries:
         reading = KIT_READINGS.get(fab.name)
-        row = {"name": fab.name, "kind": kind, "constants": fab.to_dict(),
-               "bending_length_m": {"warp": fab.bending_length,
-                                    "weft": fab.bending_length_weft},
-               "kit": None if reading is None else reading.to_dict(), "source": source}
+        row = _fabric_row(fab, kind, source) | {
+            "kit": None if reading is None else reading.to_dict()}
         if pub is not None:
             row |= {"description": pub.description, "provenance": pub.provenance,
                     "drape_coefficient_measured": pub.drape_coefficient,
                     "drape_coefficient_reference": pub.drape_coefficient_reference}
         rows.append(row)
     return rows
+
+
+def _fabric_row(fab: Fabric, kind: str, source: str) -> dict:
+    return {"name": fab.name, "kind": kind, "constants": fab.to_dict(),
+            "bending_length_m": {"warp": fab.bending_length, "weft": fab.bending_length_weft},
+            "kit": None, "source": source}
+
+
+def describe_fabric(source: Fabric | str | Path) -> dict:
+    """A fabric as :func:`read_fabric` reads it (a preset, a published test fabric, an SI
+    fabric file, or a KES-F / FAST sheet converted to SI), as a row of
+    :func:`fabric_catalogue`: ``name``, ``kind`` ("file" for a file), ``constants`` (SI),
+    ``bending_length_m`` {warp, weft} [m], ``kit`` (the stored kit reading of a preset or
+    published fabric, else None) and ``source`` (the file, for a file).
+
+    Raises :class:`FabricError` naming the file and the field."""
+    fab = read_fabric(source)
+    row = {r["name"]: r for r in fabric_catalogue()}.get(fab.name)
+    if row is not None and row["constants"] == fab.to_dict():
+        return row
+    if isinstance(source, Fabric):
+        return _fabric_row(fab, "given", "")
+    return _fabric_row(fab, "file", str(source))
 
 
 #: the virtual fabric tests :func:`fabric_test` runs
@@ -346,7 +368,8 @@ def with_distance_field(body: Body) -> Body:
 
 
 def read_fabric(source: Fabric | str | Path) -> Fabric:
-    """A fabric: a :class:`Fabric` as is, a preset name, or a fabric JSON file (SI units).
+    """A fabric: a :class:`Fabric` as is, a preset name, or a fabric JSON file (SI units, or
+    a KES-F / FAST measurement sheet in its own units: ``patternfit.sim.fabric_sheets``).
 
     Raises :class:`FabricError` naming the file and the field."""
     return get_fabric(source)

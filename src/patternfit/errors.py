@@ -41,5 +41,9 @@ class GarmentFileError(InputError):
     be used."""
 
 
+class FabricError(InputError):
+    """An invalid fabric; the message names the file (if any) and the field."""
+
+
 class SessionError(InputError):
     """A design-session folder that cannot be used."""

@@ -234,14 +234,26 @@ def fabric_test(
 
 @app.command("fabrics")
 def fabrics(
+    sources: Optional[list[str]] = typer.Argument(
+        None, metavar="[FABRIC]...",
+        help="Show these instead of the catalogue: presets, or fabric files (SI, or a KES-F / "
+             "FAST measurement sheet in its own units, converted to SI)."),
     json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON."),
 ) -> None:
     """List the fabric presets and the published test fabrics: Peirce's bending length from
     their constants and as the virtual cantilever read it, the Cusick drape coefficient and
     nodes the virtual drape test gave (stored from the runs in docs/fabrics.md), the
-    measured drape coefficient of the published ones, and where the numbers come from."""
+    measured drape coefficient of the published ones, and where the numbers come from.
+    Given fabrics, shows those, with their constants in SI (a sheet's conversion)."""
     from .. import api
 
+    if sources:
+        rows = [api.describe_fabric(s) for s in sources]
+        if json_out:
+            print_json({"fabrics": rows})
+            return
+        _print_constants(rows)
+        return
     rows = api.fabric_catalogue()
     if json_out:
         print_json({"fabrics": rows})
@@ -268,3 +280,24 @@ def fabrics(
         what = r["source"] if r["kind"] == "preset" else f"{r['description']}; {r['source']}"
         console.print(f"[bold]{escape(r['name'])}[/]: {escape(what)}", highlight=False)
     console.print("sources in full: docs/fabrics.md, or --json")
+
+
+def _print_constants(rows: list[dict]) -> None:
+    table = Table(title="fabrics in SI: warp / weft; c = bending length (B/(ρg))^(1/3)")
+    for col in ("name", "g/m²", "stretch N/m", "shear N/m", "B µN·m", "c mm", "2HB mN",
+                "thick mm", "friction"):
+        table.add_column(col, overflow="fold")
+    for r in rows:
+        k, c = r["constants"], r["bending_length_m"]
+        table.add_row(
+            r["name"], f"{k['density'] * 1e3:.1f}",
+            f"{k['stretch_warp']:.0f} / {k['stretch_weft']:.0f}", f"{k['shear']:.3g}",
+            f"{k['bending_warp'] * 1e6:.3g} / {k['bending_weft'] * 1e6:.3g}",
+            f"{c['warp'] * 1e3:.1f} / {c['weft'] * 1e3:.1f}",
+            f"{k['bending_hysteresis'] * 1e3:.3g}", f"{k['thickness'] * 1e3:.3g}",
+            f"{k['friction']:.2g}")
+    console.print(table)
+    for r in rows:
+        if r["kind"] == "file":
+            console.print(f"[bold]{escape(r['name'])}[/]: {escape(r['source'])}",
+                          highlight=False)

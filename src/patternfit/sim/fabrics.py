@@ -1,4 +1,5 @@
-"""Fabric constants in SI units, the built-in presets and user fabrics from JSON.
+"""Fabric constants in SI units, the built-in presets and user fabrics from JSON (SI, or a
+KES-F / FAST measurement sheet in its own units: ``sim.fabric_sheets``).
 
 Every preset value and its published source is listed in ``docs/fabrics.md``. A user fabric
 is a JSON object with the same fields and units, e.g.::
@@ -22,13 +23,9 @@ from pathlib import Path
 
 from ..arguments import number
 from ..constants import GRAVITY
-from ..errors import InputError
+from ..errors import FabricError
 from ..files import read_json_file
-
-
-class FabricError(InputError):
-    """An invalid fabric; the message names the file (if any) and the field."""
-
+from .fabric_sheets import KES_BENDING, is_sheet, sheet_fields
 
 @dataclass(frozen=True)
 class Fabric:
@@ -139,11 +136,6 @@ def _check_values(values: dict, source) -> None:
 #: the spread over other meshes in docs/fabrics.md.
 ARCSIM_BENDING_FACTOR = 0.25
 
-#: KES-F bending rigidity B: gf cm^2/cm = gf cm = 9.80665e-3 N x 0.01 m [N m per gf cm^2/cm]
-KES_BENDING = 9.80665e-5
-#: KES-F bending hysteresis 2HB: gf cm/cm = gf = 9.80665e-3 N [N per gf cm/cm]
-KES_BENDING_HYSTERESIS = 9.80665e-3
-
 #: Built-in fabrics (sources in docs/fabrics.md). The knits take Wang et al. 2011's
 #: zero-curvature bending samples: row 0 (hinges along the weft / course, i.e. curvature
 #: along the warp / wale) and row 2 (the other way). The denim's density is the ``density`` of
@@ -194,7 +186,9 @@ _ALIASES = {"cotton": "cotton_shirting", "shirting": "cotton_shirting", "wool": 
 
 def load_fabric(path) -> Fabric:
     """Read a user fabric from a JSON file (SI units, fields as in :class:`Fabric`, each
-    within :data:`RANGES`; ``name`` defaults to the file's stem).
+    within :data:`RANGES`; ``name`` defaults to the file's stem), or from a KES-F or FAST
+    measurement sheet in its instrument's units (a file with an ``instrument`` field,
+    :mod:`patternfit.sim.fabric_sheets`), converted to SI and held to the same ranges.
 
     Raises :class:`FabricError` with ``file`` the path and ``place`` the field (or the line):
     unreadable, not a regular file (``/dev/zero``), too large, not UTF-8 JSON, not an
@@ -206,6 +200,13 @@ def load_fabric(path) -> Fabric:
         raise FabricError(f"expected a JSON object, got {type(data).__name__}", file=path)
     data = dict(data)
     data.setdefault("name", path.stem)
+    if is_sheet(data):
+        fields, origin = sheet_fields(data, path)
+        for key in RANGES:
+            _check_field(key, fields[key], path, name=f"{origin[key]} -> {key}")
+        fabric = {**fields, "name": data["name"]}
+        _check_values(fabric, source=path)
+        return Fabric(**fabric)
     for key, value in OPTIONAL.items():
         data.setdefault(key, value)
     if "bending" in data:

@@ -1,0 +1,166 @@
+"""KES-F and FAST measurement sheets read in their instruments' units (sim.fabric_sheets)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from typer.testing import CliRunner
+
+from patternfit import api
+from patternfit.cli.main import app
+from patternfit.sim.fabrics import RANGES, Fabric, FabricError, load_fabric
+
+#: Matsudaira et al. 2015's wool tropical (docs/fabrics.md): B 0.067 gf cm^2/cm, 2HB 0.033
+#: gf cm/cm, W 162.9 g/m^2, T 0.407 mm; the tensile and shear values are a typical woven's
+WOOL = {"name": "wool tropical", "instrument": "KES-F", "W": 16.29, "T": 0.407, "B": 0.067,
+        "2HB": 0.033, "G": [0.60, 0.64], "EMT": [4.0, 6.5], "friction": 0.4,
+        "LT": 0.71, "WT": 7.2, "RT": 68.0, "2HG": 0.9, "MIU": 0.19, "SMD": 3.1}
+SUITING = {"name": "suiting", "instrument": "FAST", "W": 205, "T2": 0.42, "C": [19.8, 17.1],
+           "E100": [2.9, 4.1], "G": 32, "friction": 0.4, "F1": 0.3, "EB5": 3.8}
+
+
+def _write(tmp_path, data, name="sheet.json"):
+    path = tmp_path / name
+    path.write_text(json.dumps(data))
+    return path
+
+
+def test_a_kes_sheet_reads_in_si(tmp_path):
+    fab = load_fabric(_write(tmp_path, WOOL))
+    # by hand: 1 gf = 9.80665e-3 N, 1 cm = 1e-2 m, 1 mg/cm^2 = 1e-2 kg/m^2
+    assert fab.name == "wool tropical"
+    assert fab.density == pytest.approx(0.1629)
+    assert fab.thickness == pytest.approx(0.407e-3)
+    assert fab.bending_warp == fab.bending_weft == pytest.approx(0.067 * 9.80665e-3 * 1e-2)
+    assert fab.bending_hysteresis == pytest.approx(0.033 * 9.80665e-3)
+    # G per degree of shear -> per radian; the model's one shear takes the mean
+    assert fab.shear == pytest.approx(0.62 * 0.980665 * 180 / math.pi)
+    # EMT: the strain [%] under 500 gf/cm = 490.3 N/m
+    assert fab.stretch_warp == pytest.approx(490.3325 / 0.040)
+    assert fab.stretch_weft == pytest.approx(490.3325 / 0.065)
+    # the bending length the docs give for this fabric (16.0 mm)
+    assert fab.bending_length == pytest.approx(0.0160, abs=5e-5)
+
+
+def test_a_fast_sheet_takes_the_bending_length_it_reports(tmp_path):
+    fab = load_fabric(_write(tmp_path, SUITING))
+    assert fab.density == pytest.approx(0.205)
+    assert fab.thickness == pytest.approx(0.42e-3)
+    assert fab.bending_length == pytest.approx(0.0198, rel=1e-12)
+    assert fab.bending_length_weft == pytest.approx(0.0171, rel=1e-12)
+    assert fab.stretch_warp == pytest.approx(98.0665 / 0.029)
+    assert fab.shear == 32
+    assert fab.bending_hysteresis == 0.0
+    by_b = load_fabric(_write(tmp_path, {**{k: v for k, v in SUITING.items() if k != "C"},
+                                         "B1": 12.0, "B2": 9.0}, "b.json"))
+    assert (by_b.bending_warp, by_b.bending_weft) == pytest.approx((12e-6, 9e-6))
+
+
+def test_a_sheets_two_spellings_of_a_direction_agree(tmp_path):
+    pair = load_fabric(_write(tmp_path, {**WOOL, "B": [0.07, 0.05]}, "a.json"))
+    split = {k: v for k, v in WOOL.items() if k != "B"} | {"B-1": 0.07, "B-2": 0.05}
+    assert load_fabric(_write(tmp_path, split, "b.json")) == pair
+    assert pair.bending_warp > pair.bending_weft
+
+
+@pytest.mark.parametrize("change, place, words", [
+    ({"instrument": "Instron"}, "instrument", "KES-F"),
+    ({"instrument": 5}, "instrument", "KES-F"),
+    ({"friction": None}, "friction", "MIU"),
+    ({"Bend": 0.07}, "Bend", "unknown"),
+    ({"B-1": 0.07}, "B", "both"),
+    ({"B": [0.07, 0.05, 0.06]}, "B", "3 values"),
+    ({"B": -0.07}, "B", "positive"),
+    ({"B": [0.07, "0.05"]}, "B[1]", "positive"),
+    ({"EMT": 0.0001}, "EMT -> stretch_warp", "plausible range"),
+    ({"W": 1600}, "W -> density", "plausible range"),
+    ({"T": None}, "T", "missing"),
+])
+def test_a_bad_kes_sheet_is_refused_naming_the_file_and_the_field(tmp_path, change, place,
+                                                                   words):
+    data = {**WOOL, **change}
+    data = {k: v for k, v in data.items() if v is not None}
+    path = _write(tmp_path, data)
+    with pytest.raises(FabricError) as err:
+        load_fabric(path)
+    assert err.value.file == str(path)
+    assert err.value.place == f"field {place!r}"
+    assert words in str(err.value)
+
+
+@pytest.mark.parametrize("change, place, words", [
+    ({"B1": 12.0, "B2": 9.0}, "B", "not both"),
+    ({"C": None}, "B", "not neither"),
+    ({"C": None, "B1": 12.0}, "B2", "given 'B1'"),
+    ({"T": 0.4}, "T2", "both"),
+    ({"E100": None}, "E100", "missing"),
+])
+def test_a_bad_fast_sheet_is_refused_naming_the_field(tmp_path, change, place, words):
+    data = {k: v for k, v in {**SUITING, **change}.items() if v is not None}
+    with pytest.raises(FabricError) as err:
+        load_fabric(_write(tmp_path, data))
+    assert err.value.place == f"field {place!r}"
+    assert words in str(err.value)
+
+
+def _within(key):
+    lo, hi, _ = RANGES[key]
+    return st.floats(max(lo, 1e-9) * 1.01, hi * 0.99, allow_nan=False)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(density=_within("density"), warp=_within("stretch_warp"), weft=_within("stretch_weft"),
+       shear=_within("shear"), bw=_within("bending_warp"), bf=_within("bending_weft"),
+       thick=_within("thickness"), hb=_within("bending_hysteresis"))
+def test_a_fabric_written_as_a_kes_sheet_reads_back(tmp_path, density, warp, weft, shear, bw,
+                                                     bf, thick, hb):
+    fab = Fabric("x", density, warp, weft, shear, bw, bf, 0.3, thick, hb)
+    gf = 9.80665e-3
+    sheet = {"name": "x", "instrument": "kes-f", "W": density / 0.01, "T": thick * 1e3,
+             "B": [bw / (gf * 0.01), bf / (gf * 0.01)], "2HB": hb / gf,
+             "G": shear / (0.980665 * 180 / math.pi),
+             "EMT": [100 * 500 * 0.980665 / warp, 100 * 500 * 0.980665 / weft],
+             "friction": 0.3}
+    back = load_fabric(_write(tmp_path, sheet))
+    for key, value in fab.to_dict().items():
+        assert getattr(back, key) == (value if isinstance(value, str)
+                                      else pytest.approx(value, rel=1e-9)), key
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(field=st.sampled_from(["W", "T", "B", "G", "EMT", "2HB", "friction", "B-1"]),
+       value=st.one_of(st.none(), st.booleans(), st.text(max_size=5),
+                       st.floats(allow_nan=False), st.integers(),
+                       st.lists(st.floats(allow_nan=False), max_size=3),
+                       st.dictionaries(st.text(max_size=2), st.integers(), max_size=2)))
+def test_any_value_in_a_kes_sheet_reads_or_is_refused_by_name(tmp_path, field, value):
+    path = _write(tmp_path, {**WOOL, field: value})
+    try:
+        fab = load_fabric(path)
+    except FabricError as err:
+        assert err.file == str(path)
+        assert err.place.startswith("field ")
+    else:
+        assert all(math.isfinite(v) for v in fab.to_dict().values() if not isinstance(v, str))
+
+
+def test_the_cli_shows_a_sheet_in_si_and_the_api_reads_it(tmp_path):
+    path = _write(tmp_path, WOOL)
+    out = CliRunner().invoke(app, ["fabrics", str(path), "denim", "--json"])
+    assert out.exit_code == 0, out.output
+    rows = json.loads(out.stdout)["fabrics"]
+    assert [r["kind"] for r in rows] == ["file", "preset"]
+    assert rows[0]["constants"] == load_fabric(path).to_dict()
+    assert rows[0]["bending_length_m"]["warp"] == pytest.approx(0.0160, abs=5e-5)
+    assert rows[1]["kit"] is not None
+    # what --json prints is an SI fabric file
+    si = _write(tmp_path, rows[0]["constants"], "si.json")
+    assert api.read_fabric(si) == api.read_fabric(path)
+    bad = _write(tmp_path, {**WOOL, "EMT": "4%"}, "bad.json")
+    out = CliRunner().invoke(app, ["fabrics", str(bad)])
+    assert out.exit_code == 2
+    assert "bad.json" in out.output and "'EMT'" in out.output
