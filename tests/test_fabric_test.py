@@ -70,6 +70,7 @@ def test_cantilever_reads_back_the_bending_length():
     fab = get_fabric("jersey_knit")
     expected = (fab.bending_warp / (fab.density * 9.80665)) ** (1 / 3)
     assert r.bending_length_expected_m == pytest.approx(expected)
+    assert r.bending_length_elastic_m == r.bending_length_expected_m
     assert [m.triangles for m in r.meshes] == sorted(m.triangles for m in r.meshes)
     assert r.converged
     assert r.bending_length_measured_m == pytest.approx(expected, rel=0.06)
@@ -97,7 +98,7 @@ def test_cantilever_reads_its_verdict_from_each_meshs_last_solve():
     def result(*meshes):
         m = tuple(kit.CantileverMesh(1e-3, 900, 0.02, 41.5, 0.01, 0.01, tuple(run(a) for a in r))
                   for r in meshes)
-        return kit.CantileverResult("x", "warp", 0.1, 1e-7, 0.01, 0.0101, 1.01, 0.0102, 0.02,
+        return kit.CantileverResult("x", "warp", 0.1, 1e-7, 0.01, 0.01, 0.0101, 1.01, 0.0102, 0.02,
                                 41.5, 0.004, m, 0.025, 3.0)
 
     steered = result((True,), (False, True))
@@ -117,6 +118,72 @@ def test_cli_says_why_a_fabric_test_failed():
     text = " ".join(r.output.split())
     assert "failed its checks: the strip did not reach rest (" in text, r.output
     assert "after 3 iterations, residual rms" in text, r.output
+
+
+def _shot_tip_angle(ratio, eta, a, eps):
+    """The frictional cantilever by shooting from the tip (solve_ivp, another method than the
+    kit's collocation): the tip's slope is chosen so that the root comes out horizontal."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import brentq
+
+    def kappa(m):  # invert m = k + eta a k / sqrt(a^2 k^2 + eps^2) by bisection
+        lo, hi = max(m - eta, 0.0), max(m, 0.0)
+        for _ in range(80):
+            k = 0.5 * (lo + hi)
+            lo, hi = (lo, k) if k + eta * a * k / math.hypot(a * k, eps) > m else (k, hi)
+        return 0.5 * (lo + hi)
+
+    def shoot(tip):  # s from the tip (0) to the root (ratio); y = psi, m, x, y
+        rhs = lambda s, y: [-kappa(y[1]), s * math.cos(y[0]), -math.cos(y[0]),
+                            -math.sin(y[0])]
+        return solve_ivp(rhs, (0.0, ratio), [tip, 0.0, 0.0, 0.0], rtol=1e-10, atol=1e-12)
+
+    tip = brentq(lambda t: shoot(t).y[0, -1], 0.0, 1.5, xtol=1e-12)
+    y = shoot(tip).y[:, -1]
+    return math.degrees(math.atan2(-y[3], -y[2]))
+
+
+@pytest.mark.parametrize("ratio, eta, a, eps", [(2.0, 0.0, 1.0, 0.1), (2.3, 0.4, 1.0, 0.04),
+                                                (2.6, 1.2, 1.2, 0.12)])
+def test_the_frictional_cantilever_is_the_exact_strip(ratio, eta, a, eps):
+    """The kit's expectation for a fabric with bending friction: its collocation agrees with
+    shooting, and with the elastica when there is no friction."""
+    assert kit.friction_tip_angle(ratio, eta, a, eps) == pytest.approx(
+        _shot_tip_angle(ratio, eta, a, eps), abs=2e-4)
+    if eta == 0.0:
+        assert kit.friction_tip_angle(ratio, eta, a, eps) == pytest.approx(
+            kit.elastica_tip_angle(ratio), abs=1e-6)
+
+
+def test_bending_friction_lengthens_the_expected_reading():
+    import dataclasses
+
+    fab = get_fabric("cotton_shirting")
+    c = (fab.bending_warp / (fab.density * 9.80665)) ** (1 / 3)
+    assert kit.expected_reading(fab, "warp") == (pytest.approx(c), pytest.approx(c))
+    readings = [kit.expected_reading(dataclasses.replace(fab, bending_hysteresis=hb),
+                                     "warp")[0] for hb in (1e-5, 1e-4, 1e-3)]
+    # monotone, and the friction's size: a couple of B / c (1e-3 N here) reads ~1.4 c
+    assert c < readings[0] < readings[1] < readings[2]
+    assert readings[0] == pytest.approx(c, rel=0.02)
+    assert 1.2 * c < readings[2] < 1.8 * c
+
+
+def test_cantilever_with_bending_friction_reads_the_frictional_strip():
+    """A knit given a 2HB reads 12 % longer than (B / (rho g))^(1/3): the kit holds it to
+    the exact strip under the same friction law, read as the elastic one is (0.93 / 0.955 of
+    it at 4 / 8 edges per c, as the elastic reading converges from below)."""
+    import dataclasses
+
+    fab = dataclasses.replace(get_fabric("jersey_knit"), bending_hysteresis=3e-4)
+    r = kit.cantilever_test(fab, meshes=(4, 8))
+    assert r.converged
+    assert r.bending_length_elastic_m == pytest.approx(
+        (fab.bending_warp / (fab.density * 9.80665)) ** (1 / 3))
+    assert r.bending_length_expected_m > 1.12 * r.bending_length_elastic_m
+    assert r.bending_length_measured_m == pytest.approx(r.bending_length_expected_m, rel=0.06)
+    assert r.bending_length_measured_m > 1.08 * r.bending_length_elastic_m
+    assert r.to_dict()["bending_length_elastic_m"] == r.bending_length_elastic_m
 
 
 def test_cantilever_weft_uses_the_weft_rigidity():

@@ -39,6 +39,17 @@ from .fabrics import Fabric
 STICK_BAND = 0.1
 
 
+def couple(fabric: Fabric) -> tuple[float, float, float] | None:
+    """The bending-friction law of ``fabric``: ``(HB, B_geo, eps)``, the couple 2HB / 2 [N],
+    sqrt(B_warp B_weft) [N m] and the stick band [1/m]; None when it gives no 2HB."""
+    two_hb = float(fabric.bending_hysteresis)
+    if two_hb <= 0.0:
+        return None
+    rigidity = float(np.sqrt(fabric.bending_warp * fabric.bending_weft))
+    moment = 0.5 * two_hb
+    return moment, rigidity, STICK_BAND * moment / rigidity
+
+
 @dataclass(frozen=True, eq=False)
 class BendingFriction:
     """The frictional bending couple of one mesh and fabric.
@@ -70,13 +81,10 @@ class BendingFriction:
     def of(cls, terms: MeshTerms, fabric: Fabric) -> BendingFriction | None:
         """The couple of ``fabric`` (its ``bending_hysteresis`` 2HB [N]) on ``terms``; None
         when the fabric has none."""
-        two_hb = float(fabric.bending_hysteresis)
-        if two_hb <= 0.0:
+        law = couple(fabric)
+        if law is None:
             return None
-        rigidity = float(np.sqrt(fabric.bending_warp * fabric.bending_weft))
-        moment = 0.5 * two_hb
-        return cls(terms.bend_local, terms.bend_ids, terms.area, moment, rigidity,
-                   STICK_BAND * moment / rigidity)
+        return cls(terms.bend_local, terms.bend_ids, terms.area, *law)
 
     def _stretch(self, x):
         """(L_t x_t per coordinate (m, 6, 3), s_t = sqrt(|K_t|^2 + eps^2) (m,))."""

@@ -1,6 +1,8 @@
 """Peirce's cantilever (ASTM D1388): the overhang at which the tip has bent down 41.5 deg
 is twice the bending length ``c = (B / (rho g))^(1/3)``, read against the exact heavy elastica
-at several mesh sizes (``patternfit fabric-test cantilever``; docs/fabrics.md).
+at several mesh sizes (``patternfit fabric-test cantilever``; docs/fabrics.md). A fabric with
+bending friction (KES-F 2HB) reads longer, and is held to the exact strip under the same
+friction law.
 
 Units: metres, kilograms, seconds, newtons; ``y`` is up.
 """
@@ -18,6 +20,7 @@ import numpy as np
 from ...arguments import number
 from ...constants import GRAVITY
 from ...figures import pyplot
+from ..bending_friction import couple
 from ..fabrics import Fabric, get_fabric
 from ..settings import SolverSettings
 from ..solver import GarmentSolver
@@ -71,6 +74,78 @@ def elastica_ratio(angle_deg: float) -> float | None:
         return None
     return float(brentq(lambda r: elastica_tip_angle(round(r, 12)) - angle_deg, 0.3, 4.0,
                         xtol=1e-9))
+
+
+def _curvature(moment, eta: float, a: float, eps: float):
+    """Curvature (dimensionless, times c) under the dimensionless moment ``moment`` >= 0 of
+    the bending-friction law ``M = k + eta a k / sqrt(a^2 k^2 + eps^2)`` (bisection: the law
+    rises at least as fast as k, and its friction part lies in [0, eta))."""
+    m = np.maximum(np.asarray(moment, dtype=float), 0.0)
+    lo, hi = np.maximum(m - eta, 0.0), m.copy()
+    for _ in range(60):
+        k = 0.5 * (lo + hi)
+        over = k + eta * a * k / np.sqrt((a * k) ** 2 + eps ** 2) > m
+        hi = np.where(over, k, hi)
+        lo = np.where(over, lo, k)
+    return 0.5 * (lo + hi)
+
+
+@lru_cache(maxsize=256)
+def friction_tip_angle(ratio: float, eta: float, a: float, eps: float) -> float:
+    """Chord angle below the horizontal [deg] from the clamp edge to the tip of a heavy strip
+    ``ratio`` bending lengths c = (B / (rho g))^(1/3) long whose moment is the model's
+    bending law with friction (``sim.bending_friction``), loaded from flat:
+    ``M = B kappa + HB a (a kappa) / sqrt((a kappa)^2 + eps^2)``, written in units of c and
+    ``B / c``: ``eta = HB a c / B``, ``eps`` the stick band times c, ``a`` =
+    ``(B_dir / B_geo)^(1/2)``. Without friction (``eta`` = 0) it is
+    :func:`elastica_tip_angle`. By collocation on ``psi' = kappa(m)``,
+    ``m' = -(ratio - s) cos psi``, ``psi(0) = 0``, ``m(ratio) = 0`` (s in bending lengths)."""
+    from scipy.integrate import solve_bvp
+
+    lam = float(ratio)
+    s = np.linspace(0.0, lam, 401)
+    # start from the frictionless elastica's shape (slopes scaled down by the friction)
+    base = _elastica(lam).sol(s / lam)[0] / (1.0 + eta)
+    guess = np.vstack([base, 0.5 * (lam - s) ** 2])
+    sol = solve_bvp(
+        lambda s, y: np.vstack([_curvature(y[1], eta, a, eps), -(lam - s) * np.cos(y[0])]),
+        lambda y0, y1: np.array([y0[0], y1[1]]), s, guess, tol=1e-8, max_nodes=50000)
+    if sol.status != 0:
+        raise RuntimeError(f"cantilever with friction at overhang/c = {lam}: {sol.message}")
+    grid = np.linspace(0.0, lam, 8001)
+    psi = sol.sol(grid)[0]
+    return float(np.degrees(np.arctan2(np.trapezoid(np.sin(psi), grid),
+                                       np.trapezoid(np.cos(psi), grid))))
+
+
+def expected_reading(fab: Fabric, direction: str) -> tuple[float, float]:
+    """The bending length [m] Peirce's cantilever reads on ``fab`` along ``direction`` (half
+    the overhang at which the tip's chord is at 41.5 deg, corrected to the exact elastica as
+    the kit's readings are), and ``(B / (rho g))^(1/3)`` [m]. They are equal without bending
+    friction; with it (KES-F 2HB) the strip stays straighter than B alone lets it, and the
+    instrument reads a longer bending length, as it would on the real fabric."""
+    from scipy.optimize import brentq
+
+    rigidity = fab.bending_warp if direction == "warp" else fab.bending_weft
+    c = (rigidity / (fab.density * GRAVITY)) ** (1 / 3)
+    law = couple(fab)
+    if law is None:
+        return c, c
+    moment, b_geo, eps = law
+    a = math.sqrt(rigidity / b_geo)
+    eta, eps_c = moment * a * c / rigidity, eps * c
+    target = elastica_ratio(PEIRCE_ANGLE)
+    # the friction only stiffens: the overhang at 41.5 deg lies beyond the elastic one
+    if friction_tip_angle(round(target, 12), eta, a, eps_c) >= PEIRCE_ANGLE:
+        return c, c
+    hi = target
+    while friction_tip_angle(round(hi, 12), eta, a, eps_c) < PEIRCE_ANGLE:
+        hi *= 1.5
+        if hi > 50.0:
+            raise RuntimeError(f"{fab.name}: no overhang bends to {PEIRCE_ANGLE} deg")
+    lam = brentq(lambda r: friction_tip_angle(round(r, 12), eta, a, eps_c) - PEIRCE_ANGLE,
+                 target, hi, xtol=1e-9)
+    return c * lam / target, c
 
 
 def peirce_length(overhang: float, angle_deg: float) -> float | None:
@@ -136,6 +211,10 @@ class CantileverResult:
     density_kg_m2, rigidity_n_m : float
         rho [kg/m^2] and the bending rigidity B along the strip [N m].
     bending_length_expected_m : float
+        What the instrument should read [m]: ``(B / (rho g))^(1/3)``, or with bending
+        friction (2HB) the longer reading of the exact strip under the model's friction law
+        (:func:`expected_reading`).
+    bending_length_elastic_m : float
         ``(B / (rho g))^(1/3)`` [m].
     bending_length_measured_m : float or None
         The finest mesh's reading [m].
@@ -161,6 +240,7 @@ class CantileverResult:
     density_kg_m2: float
     rigidity_n_m: float
     bending_length_expected_m: float
+    bending_length_elastic_m: float
     bending_length_measured_m: float | None
     ratio: float | None
     peirce_length_m: float | None
@@ -258,8 +338,11 @@ def cantilever_test(fabric: Fabric | str = "cotton_shirting", *, direction: str 
     step in the elastica's own variable), starting from twice the expected bending length.
     The bending length of the last overhang is read with the exact elastica (so the search
     tolerance does not enter); the instrument's reading, overhang / 2, is reported beside
-    it. Run at each mesh size in ``meshes`` (edges per expected bending length, coarse to
-    fine); the finest gives the result and ``mesh_change`` says how far the last two differ.
+    it. Run at each mesh size in ``meshes`` (edges per bending length (B / (rho g))^(1/3),
+    coarse to fine); the finest gives the result and ``mesh_change`` says how far the last
+    two differ. The reading is held against :func:`expected_reading`: the elastic bending
+    length, or for a fabric with bending friction (2HB) what the same test reads on the exact
+    strip under the model's friction law.
 
     ``width``: strip width [m] (default 25 mm, ASTM D1388's strip; the membrane has no
     Poisson coupling, so the width changes the bending only through the mesh; narrowed where
@@ -270,7 +353,7 @@ def cantilever_test(fabric: Fabric | str = "cotton_shirting", *, direction: str 
     fab = get_fabric(fabric)
     direction = _direction(direction)
     rigidity = fab.bending_warp if direction == "warp" else fab.bending_weft
-    expected = (rigidity / (fab.density * GRAVITY)) ** (1 / 3)
+    reading, expected = expected_reading(fab, direction)
     width = number(width if width is not None else 0.025, "width", low=1e-3,
                    high=1.0)
     sizes = [number(m, "meshes", low=2, high=60, rule="edges per bending length in 2-60")
@@ -282,13 +365,13 @@ def cantilever_test(fabric: Fabric | str = "cotton_shirting", *, direction: str 
     h_min = expected / max(sizes)
     # (Triangle's quality meshes come out ~1.6 times finer than the area bound says)
     width = min(width, CANTILEVER_TRIANGLES * math.sqrt(3) / 4 * h_min ** 2
-                / (1.6 * (2.4 * expected + 3 * h_min)))
+                / (1.6 * (2.4 * reading + 3 * h_min)))
     settings = _solver_settings(settings, self_collision=False)
     target_ratio = elastica_ratio(PEIRCE_ANGLE)
     out, shape = [], None
     for per in sizes:
         h = expected / per
-        overhang = 2.0 * expected
+        overhang = 2.0 * reading
         clamp = max(3 * h, 0.2 * overhang)
         v, t = _rect_mesh(overhang + clamp, width, h, x0=-clamp, breaks=(0.0,))
         mesh = (v, t, overhang)
@@ -313,8 +396,9 @@ def cantilever_test(fabric: Fabric | str = "cotton_shirting", *, direction: str 
         change = abs(measured / out[-2].bending_length_m - 1.0)
     return CantileverResult(
         fabric=fab.name, direction=direction, density_kg_m2=fab.density, rigidity_n_m=rigidity,
-        bending_length_expected_m=expected, bending_length_measured_m=measured,
-        ratio=None if measured is None else measured / expected,
+        bending_length_expected_m=reading, bending_length_elastic_m=expected,
+        bending_length_measured_m=measured,
+        ratio=None if measured is None else measured / reading,
         peirce_length_m=peirce_length(fin.overhang_m, fin.tip_angle_deg),
         overhang_m=fin.overhang_m, tip_angle_deg=fin.tip_angle_deg, mesh_change=change,
         meshes=tuple(out), width_m=width, seconds=time.perf_counter() - t0,

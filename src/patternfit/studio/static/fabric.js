@@ -104,7 +104,8 @@ export class FabricEditor {
       rows.push(["elongation measured", mm(r.elongation_measured_m)], ["expected ρgL²/2k", mm(r.elongation_expected_m)],
                 ["ratio", r.ratio === null ? "n/a" : r.ratio.toFixed(3)]);
     } else if (j.test === "cantilever") {
-      rows.push(["bending length measured", mm(r.bending_length_measured_m)], ["expected (B/ρg)^⅓", mm(r.bending_length_expected_m)],
+      rows.push(["bending length measured", mm(r.bending_length_measured_m)], [r.bending_length_expected_m === r.bending_length_elastic_m ? "expected (B/ρg)^⅓" : "expected, with its bending friction", mm(r.bending_length_expected_m)],
+                ...(r.bending_length_expected_m === r.bending_length_elastic_m ? [] : [["(B/ρg)^⅓, without it", mm(r.bending_length_elastic_m)]]),
                 ["ratio", r.ratio === null ? "n/a" : r.ratio.toFixed(3)], ["Peirce's formula", mm(r.peirce_length_m)]);
     } else {
       rows.push(["drape coefficient DC", `${r.drape_coefficient.toFixed(3)} (spread ${r.drape_coefficient_spread.toFixed(3)})`],
