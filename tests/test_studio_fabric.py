@@ -76,3 +76,23 @@ def test_the_edited_fabric_goes_into_the_session(client):
     assert client.get("/api/fabric").json()["session"]["friction"] == 0.7
     assert client.post("/api/fabric", json={"fabric": fabric, "revision": rev}
                        ).status_code == 409  # a stale tab
+
+
+def test_a_kes_sheet_uploaded_is_the_sessions_fabric_in_si(client):
+    import json
+
+    sheet = {"name": "wool tropical", "instrument": "KES-F", "W": 16.29, "T": 0.407,
+             "B": 0.067, "2HB": 0.033, "G": 0.62, "EMT": [4.0, 6.5], "friction": 0.4}
+    rev = client.get("/api/state").json()["revision"]
+    r = client.post(f"/api/upload?kind=fabric&revision={rev}",
+                    files={"file": ("wool.json", json.dumps(sheet).encode())})
+    assert r.status_code == 200, r.text
+    f = client.get("/api/fabric").json()["session"]
+    assert f["name"] == "wool tropical"
+    assert f["density"] == pytest.approx(0.1629)
+    assert f["bending_warp"] == pytest.approx(0.067 * 9.80665e-5)
+    assert f["bending_hysteresis"] == pytest.approx(0.033 * 9.80665e-3)
+    rev = client.get("/api/state").json()["revision"]
+    bad = client.post(f"/api/upload?kind=fabric&revision={rev}",
+                      files={"file": ("wool.json", json.dumps({**sheet, "EMT": "4%"}).encode())})
+    assert bad.status_code == 400 and "'EMT'" in bad.json()["error"], bad.text
