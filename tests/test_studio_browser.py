@@ -621,6 +621,8 @@ def test_fabric_editor_tests_and_uses_edited_numbers(page, server, figures, monk
     assert pg.input_value("#fab-name") == "denim"
     pg.fill("#fab-name", "soft denim")
     pg.fill("#fab-bending_warp", "4")  # µN·m
+    assert float(pg.input_value("#fab-bending_hysteresis")) == 0.0
+    pg.fill("#fab-bending_hysteresis", "0.3")  # mN: the friction goes with the numbers
     assert "bending length" in pg.inner_text("#fab-derived")
     pg.click("#fabric-panel button[data-test=strip]")
     pg.wait_for_function("document.getElementById('fab-table').textContent.includes('ratio')",
@@ -638,6 +640,7 @@ def test_fabric_editor_tests_and_uses_edited_numbers(page, server, figures, monk
     pg.wait_for_function("document.getElementById('source').textContent.includes('soft denim')",
                          timeout=30000)
     assert server[1].state.studio.session.fabric.bending_warp == pytest.approx(4e-6)
+    assert server[1].state.studio.session.fabric.bending_hysteresis == pytest.approx(3e-4)
     pg.click("#fabric-close")
     assert not pg.errors
 

@@ -13,6 +13,8 @@ export const FIELDS = {
   bending_weft: ["bending, weft", "µN·m", 1e6],
   friction: ["friction", "", 1],
   thickness: ["thickness", "mm", 1000],
+  // KES-F 2HB, the bending friction (0: none); kept so that a sheet's friction is not lost
+  bending_hysteresis: ["bending hysteresis 2HB", "mN", 1000],
 };
 const G = 9.81;
 const mm = (m) => (m === null || m === undefined ? "n/a" : `${(1000 * m).toFixed(1)} mm`);
