@@ -79,6 +79,7 @@ def test_a_sheets_two_spellings_of_a_direction_agree(tmp_path):
     ({"EMT": 0.0001}, "EMT -> stretch_warp", "plausible range"),
     ({"W": 1600}, "W -> density", "plausible range"),
     ({"T": None}, "T", "missing"),
+    ({"friction": 3.0}, "friction", "plausible range"),
 ])
 def test_a_bad_kes_sheet_is_refused_naming_the_file_and_the_field(tmp_path, change, place,
                                                                    words):
@@ -94,7 +95,7 @@ def test_a_bad_kes_sheet_is_refused_naming_the_file_and_the_field(tmp_path, chan
 
 @pytest.mark.parametrize("change, place, words", [
     ({"B1": 12.0, "B2": 9.0}, "B", "not both"),
-    ({"C": None}, "B", "not neither"),
+    ({"C": None}, "B", "missing: the bending rigidity"),
     ({"C": None, "B1": 12.0}, "B2", "given 'B1'"),
     ({"T": 0.4}, "T2", "both"),
     ({"E100": None}, "E100", "missing"),

@@ -202,10 +202,12 @@ def _fast(data: dict, path) -> tuple[dict, dict]:
     density = w * FAST_MASS
     b, b_from = _pair(data, path, "B", "uN m", optional=True)
     c, c_from = _pair(data, path, "C", "mm", optional=True)
-    if (b is None) == (c is None):
+    if b is not None and c is not None:
         raise FabricError("give the bending rigidity B [uN m] or the bending length C [mm], "
-                          "not " + ("both" if b else "neither"), file=path,
-                          place="field 'B'")
+                          "not both", file=path, place="field 'B'")
+    if b is None and c is None:
+        raise FabricError("missing: the bending rigidity B [uN m] or the bending length C "
+                          "[mm]", file=path, place="field 'B'")
     if b is not None:
         bending = (b[0] * FAST_BENDING, b[1] * FAST_BENDING)
     else:

@@ -203,7 +203,8 @@ def load_fabric(path) -> Fabric:
     if is_sheet(data):
         fields, origin = sheet_fields(data, path)
         for key in RANGES:
-            _check_field(key, fields[key], path, name=f"{origin[key]} -> {key}")
+            name = key if origin[key] == key else f"{origin[key]} -> {key}"
+            _check_field(key, fields[key], path, name=name)
         fabric = {**fields, "name": data["name"]}
         _check_values(fabric, source=path)
         return Fabric(**fabric)
