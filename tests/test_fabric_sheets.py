@@ -18,7 +18,8 @@ from patternfit.sim.fabrics import RANGES, Fabric, FabricError, load_fabric
 #: gf cm/cm, W 162.9 g/m^2, T 0.407 mm; the tensile and shear values are a typical woven's
 WOOL = {"name": "wool tropical", "instrument": "KES-F", "W": 16.29, "T": 0.407, "B": 0.067,
         "2HB": 0.033, "G": [0.60, 0.64], "EMT": [4.0, 6.5], "friction": 0.4,
-        "LT": 0.71, "WT": 7.2, "RT": 68.0, "2HG": 0.9, "MIU": 0.19, "SMD": 3.1}
+        "LT-1": 0.71, "LT-2": 0.74, "WT": 7.2, "RT": 68.0, "2HG": 0.9, "MIU-1": 0.19,
+        "MIU-2": 0.2, "SMD": 3.1}
 SUITING = {"name": "suiting", "instrument": "FAST", "W": 205, "T2": 0.42, "C": [19.8, 17.1],
            "E100": [2.9, 4.1], "G": 32, "friction": 0.4, "F1": 0.3, "EB5": 3.8}
 

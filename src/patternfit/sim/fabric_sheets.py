@@ -92,8 +92,9 @@ def sheet_fields(data: dict, path) -> tuple[dict, dict]:
     not two numbers, or one direction given both ways.
     """
     kind = _instrument(data.get("instrument"), path)
-    known = {"name", "instrument"} | set(_SINGLE[kind]) | UNUSED[kind]
-    for key in _DIRECTIONAL[kind]:
+    known = {"name", "instrument"} | set(_SINGLE[kind])
+    # a sheet lists most properties per direction (LT-1, LT-2, MIU-1, ...)
+    for key in (*_DIRECTIONAL[kind], *UNUSED[kind]):
         known |= {key, f"{key}-1", f"{key}-2", f"{key}1", f"{key}2"}
     for key in data:
         if key not in known:
