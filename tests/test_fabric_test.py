@@ -434,3 +434,51 @@ def test_cli_set_passes_solver_settings_and_refuses_unknown_ones():
     assert kit.kit_settings().compression == 1.0
     assert kit.settings_from_pairs(["compression=0.05", "self_collision=false"]) == \
         kit.kit_settings(compression=0.05, self_collision=False)
+
+
+def test_the_cantilever_preconditions_newton_with_the_bending_across_edges(monkeypatch):
+    """A strip bent by its weight is stiff in bending, not in its membrane: the cantilever's
+    Newton preconditioner keeps the bending between vertices that share no triangle (the
+    garments' trimmed one moved them onto the diagonal, and fine strips crept to a stall,
+    docs/fabrics.md "The strip's preconditioner")."""
+    import scipy.sparse as sp
+
+    from patternfit.sim import preconditioners
+    from patternfit.sim.fabric_test.common import _grain, _rect_mesh
+    from patternfit.sim.settings import SolverSettings
+    from patternfit.sim.solver import GarmentSolver
+    from patternfit.sim.total_energy import hessian, hessian_pattern
+
+    fab = get_fabric("jersey_knit")
+    v, t = _rect_mesh(0.03, 0.01, 2.5e-3, x0=-0.006, breaks=(0.0,))
+    solver = GarmentSolver(v, t, _grain("warp", len(t)), fab,
+                           pinned=np.flatnonzero(v[:, 0] <= 1e-12),
+                           settings=kit.kit_settings(max_iterations=0))
+    x = np.c_[v[:, 0], 1e-3 * v[:, 0] ** 2, v[:, 1]]
+    solver.solve(x)
+    model, state = solver.model, solver.state
+    trimmed, full = hessian_pattern(model), hessian_pattern(model, bending=True)
+    H = hessian(model, state, x, settings=solver.settings, pattern=trimmed)
+    lower = sp.tril(H).tocsr()
+
+    def factored(pattern):
+        indptr, indices, data = preconditioners.newton_preconditioner(H, pattern)
+        return sp.csr_matrix((data, indices, indptr), shape=H.shape)
+
+    # with the bending's pairs nothing is moved onto the diagonal: the factored matrix is
+    # the Hessian; the trimmed one is stiffer on its diagonal by what it dropped
+    assert abs(factored(full) - lower).max() <= 1e-12 * abs(H).max()
+    dropped = factored(trimmed) - lower
+    assert dropped.diagonal().max() > 1e-3 * H.diagonal().max()
+    # the kit's cantilever asks for it, garments do not
+    seen = []
+    original = preconditioners.Factors.pattern_of
+
+    def spy(self, model, *, bending=False):
+        seen.append(bending)
+        return original(self, model, bending=bending)
+
+    monkeypatch.setattr(preconditioners.Factors, "pattern_of", spy)
+    kit.cantilever_test("jersey_knit", meshes=(3,))
+    assert seen and all(seen)
+    assert SolverSettings().newton_bending_preconditioner is False

@@ -84,11 +84,13 @@ def _show_cantilever(r) -> None:
                       f"{m.tip_angle_deg:.2f}°", _mm(m.bending_length_m),
                       _mm(m.astm_length_m))
     console.print(table)
-    expected = "(B/(ρg))^(1/3)" if r.bending_length_expected_m == \
-        r.bending_length_elastic_m else (f"with its bending friction, (B/(ρg))^(1/3) "
-                                          f"{_mm(r.bending_length_elastic_m)} without:")
+    if r.bending_length_expected_m == r.bending_length_elastic_m:
+        expected = f"(B/(ρg))^(1/3) = {_mm(r.bending_length_expected_m)}"
+    else:
+        expected = (f"{_mm(r.bending_length_expected_m)} with its bending friction "
+                    f"((B/(ρg))^(1/3) = {_mm(r.bending_length_elastic_m)} without)")
     console.print(f"bending length measured {_mm(r.bending_length_measured_m)}, expected "
-                  f"{expected} {_mm(r.bending_length_expected_m)}, ratio "
+                  f"{expected}, ratio "
                   f"{_num(r.ratio, '.4f')}; Peirce's formula {_mm(r.peirce_length_m)}; "
                   f"change between the two finest meshes "
                   f"{_num(None if r.mesh_change is None else r.mesh_change * 100, '.2f')} %")

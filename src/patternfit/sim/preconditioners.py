@@ -68,10 +68,11 @@ class Factors:
             self.pattern = None
             self.newton = None
 
-    def pattern_of(self, model: ClothModel) -> HessianPattern:
-        """The Hessian's sparsity of ``model``, made when missing or stale."""
-        if not fits_pattern(self.pattern, model):
-            self.pattern = hessian_pattern(model)
+    def pattern_of(self, model: ClothModel, *, bending: bool = False) -> HessianPattern:
+        """The Hessian's sparsity of ``model``, made when missing or stale; ``bending``: the
+        preconditioner keeps the bending's pairs (:func:`hessian_pattern`)."""
+        if not fits_pattern(self.pattern, model, bending=bending):
+            self.pattern = hessian_pattern(model, bending=bending)
             self.newton = None
         return self.pattern
 
@@ -121,8 +122,9 @@ def precondition(factors: Factors, q) -> np.ndarray:
 def newton_preconditioner(H, pattern: HessianPattern):
     """Lower triangle, as CSR (row starts (3n + 1,), columns, values [N/m]), of the matrix
     factored to precondition Newton's CG: ``H`` (3n x 3n CSR) on the entries
-    between vertices that share a triangle; every other entry (bending across an edge,
-    self-collision pairs) is dropped and its absolute value added to its row's diagonal,
+    between vertices that share a triangle (and, with the pattern's ``bending``, across an
+    edge); every other entry (bending across an edge, self-collision pairs) is dropped and
+    its absolute value added to its row's diagonal,
     which keeps the matrix above ``H`` (positive definite). The factor's fill then is the
     membrane's (15K skirt, then with cholespy: 1.18 -> 0.23 s a factorisation, 13 -> 6 ms a
     solve, as many CG iterations), and its vertex graph is ``pattern``'s, fixed while the
@@ -139,7 +141,7 @@ def newton_direction(factors: Factors, model: ClothModel, state: ContactState, x
     factor of this or an earlier Hessian (refactored when CG was slow). ``lookups``: the
     energy's contact lookup cache (``total_energy.hessian``)."""
     s = settings
-    pattern = factors.pattern_of(model)
+    pattern = factors.pattern_of(model, bending=s.newton_bending_preconditioner)
     H = hessian(model, state, x, settings=s, pattern=pattern, lookups=lookups)
     if factors.newton is None:
         factors.newton = BlockCholesky(pattern.near_indptr, pattern.near_indices)

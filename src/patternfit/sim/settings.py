@@ -60,6 +60,13 @@ class SolverSettings:
     #: the block factor costs some 25: 6, 10 and 25 within the noise on the 22K coat)
     newton_cg_max: int = 100
     newton_refactor: int = 15
+    #: Newton: the preconditioner also keeps the bending's entries between vertices that
+    #: share no triangle (across an edge), instead of moving them onto the diagonal. More
+    #: fill, so slower on a garment (22K coat first drape 65 s against ~30 s), but a
+    #: bending-dominated strip comes to rest: the wool cantilever at 24 edges per bending
+    #: length 7 s against 35 s, and with its bending friction 11.5 s against a stall after
+    #: 250 s (docs/fabrics.md); the fabric kit's cantilever sets it
+    newton_bending_preconditioner: bool = False
     #: Newton: iterations between outer updates (``refresh`` for L-BFGS)
     newton_refresh: int = 4
     #: Newton: a full step is extended (x2 while the energy falls) only when its energy drop

@@ -170,16 +170,19 @@ class HessianPattern(NamedTuple):
     membrane_slots: np.ndarray
     bending_slots: np.ndarray
     block_slots: np.ndarray
-    #: the vertex pairs that share a triangle (and each vertex with itself) as an n x n CSR
-    #: pattern, (n + 1,) row starts and sorted columns: the pattern the Newton
-    #: preconditioner keeps
+    #: the vertex pairs that share a triangle (and each vertex with itself; with
+    #: ``bending`` also the bending's pairs) as an n x n CSR pattern, (n + 1,) row starts and
+    #: sorted columns: the pattern the Newton preconditioner keeps
     near_indptr: np.ndarray
     near_indices: np.ndarray
+    bending: bool = False
 
 
-def hessian_pattern(model: ClothModel) -> HessianPattern:
+def hessian_pattern(model: ClothModel, *, bending: bool = False) -> HessianPattern:
     """The Hessian's sparsity for ``model``'s triangles and bending matrix; made once per
-    mesh topology (the solver keeps it while ``fits_pattern`` holds)."""
+    mesh topology (the solver keeps it while ``fits_pattern`` holds). ``bending``: the
+    preconditioner's pattern keeps the bending's pairs too
+    (``SolverSettings.newton_bending_preconditioner``)."""
     n = model.n
     n3 = 3 * n
     tris = model.terms.tris
@@ -199,16 +202,21 @@ def hessian_pattern(model: ClothModel) -> HessianPattern:
     indices = cols.astype(np.int32)
     k1, k2 = len(r_mem), len(r_mem) + len(r_b)
     slot = slot.astype(np.int32)
-    near = np.unique(np.concatenate([(tris[:, :, None] * n + tris[:, None, :]).ravel(),
-                                     np.arange(n) * (n + 1)]))
+    pairs = [(tris[:, :, None] * n + tris[:, None, :]).ravel(), np.arange(n) * (n + 1)]
+    if bending:
+        pairs.append(Q.row.astype(np.int64) * n + Q.col)
+    near = np.unique(np.concatenate(pairs))
     near_indptr = np.searchsorted(near // n, np.arange(n + 1)).astype(np.int32)
     return HessianPattern(tris.copy(), indptr, indices, slot[:k1], slot[k1:k2], slot[k2:],
-                          near_indptr, (near % n).astype(np.int32))
+                          near_indptr, (near % n).astype(np.int32), bending)
 
 
-def fits_pattern(pattern: HessianPattern | None, model: ClothModel) -> bool:
-    """Whether ``pattern`` is the Hessian sparsity of ``model``'s bending matrix."""
-    return pattern is not None and len(pattern.bending_slots) == 3 * model.terms.bending.nnz
+def fits_pattern(pattern: HessianPattern | None, model: ClothModel, *,
+                 bending: bool = False) -> bool:
+    """Whether ``pattern`` is the Hessian sparsity of ``model``'s bending matrix, with the
+    preconditioner's pattern ``bending`` asks for."""
+    return pattern is not None and len(pattern.bending_slots) == 3 * model.terms.bending.nnz \
+        and pattern.bending == bending
 
 
 def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettings,
