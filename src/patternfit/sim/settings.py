@@ -62,7 +62,7 @@ class SolverSettings:
     newton_refactor: int = 15
     #: Newton: the preconditioner also keeps the bending's entries between vertices that
     #: share no triangle (across an edge), instead of moving them onto the diagonal. More
-    #: fill, so slower on a garment (22K coat first drape 65 s against ~30 s), but a
+    #: fill, so slower on a garment (22K coat first drape 68 s against ~30 s), but a
     #: bending-dominated strip comes to rest: the wool cantilever at 24 edges per bending
     #: length 7 s against 35 s, and with its bending friction 11.5 s against a stall after
     #: 250 s (docs/fabrics.md); the fabric kit's cantilever sets it
