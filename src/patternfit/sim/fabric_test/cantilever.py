@@ -431,7 +431,11 @@ def write_cantilever_picture(result: CantileverResult, path) -> Path:
     ax.set_title(f"cantilever, {result.fabric} ({result.direction}): overhang {ell:.1f} mm, "
                  f"tip {result.tip_angle_deg:.2f}°\nbending length "
                  f"{(result.bending_length_measured_m or 0) * 1e3:.2f} mm measured, "
-                 f"{result.bending_length_expected_m * 1e3:.2f} mm expected", fontsize=9)
+                 f"{result.bending_length_expected_m * 1e3:.2f} mm expected"
+                 + ("" if result.bending_length_expected_m == result.bending_length_elastic_m
+                    else f"\nwith its bending friction "
+                         f"({result.bending_length_elastic_m * 1e3:.2f} mm without)"),
+                 fontsize=9)
     try:
         return _save(fig, path)
     finally:
