@@ -122,10 +122,8 @@ def _positive(value, path, field: str, unit: str) -> float:
                           file=path, place=f"field '{field}'") from None
 
 
-def _single(data: dict, path, field: str, unit: str, *, optional: bool = False):
+def _single(data: dict, path, field: str, unit: str) -> float:
     if field not in data:
-        if optional:
-            return None
         raise FabricError(f"missing [{unit}]", file=path, place=f"field '{field}'")
     return _positive(data[field], path, field, unit)
 

@@ -27,6 +27,7 @@ from ..errors import FabricError
 from ..files import read_json_file
 from .fabric_sheets import KES_BENDING, is_sheet, sheet_fields
 
+
 @dataclass(frozen=True)
 class Fabric:
     """Mechanical constants of a fabric, SI units.
@@ -118,11 +119,13 @@ def _check_field(key: str, v, source, name: str | None = None) -> None:
                           file=source, place=place)
 
 
-def _check_values(values: dict, source) -> None:
+def _check_values(values: dict, source, names: dict | None = None) -> None:
     """Refuse a missing, non-numeric, non-finite or implausible field with a
-    :class:`FabricError` naming ``source`` (a file, or None) and the field."""
+    :class:`FabricError` naming ``source`` (a file, or None) and the field (as ``names``
+    calls it, where given)."""
+    names = names or {}
     for key in RANGES:
-        _check_field(key, values.get(key), source)
+        _check_field(key, values.get(key), source, name=names.get(key))
     name = values.get("name")
     if not isinstance(name, str) or not name.strip() or len(name) > _NAME_LENGTH:
         raise FabricError(f"expected a non-empty string of at most {_NAME_LENGTH} characters",
@@ -202,11 +205,9 @@ def load_fabric(path) -> Fabric:
     data.setdefault("name", path.stem)
     if is_sheet(data):
         fields, origin = sheet_fields(data, path)
-        for key in RANGES:
-            name = key if origin[key] == key else f"{origin[key]} -> {key}"
-            _check_field(key, fields[key], path, name=name)
         fabric = {**fields, "name": data["name"]}
-        _check_values(fabric, source=path)
+        _check_values(fabric, source=path, names={
+            key: key if was == key else f"{was} -> {key}" for key, was in origin.items()})
         return Fabric(**fabric)
     for key, value in OPTIONAL.items():
         data.setdefault(key, value)

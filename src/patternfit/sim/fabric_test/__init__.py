@@ -31,5 +31,6 @@ __all__ = ["AT_REST", "CANTILEVER_TRIANGLES", "CUSICK_DISC", "CUSICK_SPECIMEN", 
            "CantileverMesh", "CantileverResult", "CantileverRun", "CusickResult", "CusickRun",
            "Progress", "SolveInfo", "StripResult", "cantilever_test", "count_nodes",
            "cusick_test", "cusick_triangles", "elastica_ratio", "elastica_tip_angle",
-           "expected_reading", "friction_tip_angle", "kit_settings", "peirce_length", "residual_of", "settings_from_pairs", "shadow_area", "strip_test",
+           "expected_reading", "friction_tip_angle", "kit_settings", "peirce_length",
+           "residual_of", "settings_from_pairs", "shadow_area", "strip_test",
            "write_cantilever_picture", "write_cusick_picture"]

@@ -18,7 +18,6 @@ from pathlib import Path
 import numpy as np
 
 from ...arguments import number
-from ...constants import GRAVITY
 from ...figures import pyplot
 from ..bending_friction import couple
 from ..fabrics import Fabric, get_fabric
@@ -127,7 +126,7 @@ def expected_reading(fab: Fabric, direction: str) -> tuple[float, float]:
     from scipy.optimize import brentq
 
     rigidity = fab.bending_warp if direction == "warp" else fab.bending_weft
-    c = (rigidity / (fab.density * GRAVITY)) ** (1 / 3)
+    c = fab.bending_length if direction == "warp" else fab.bending_length_weft
     law = couple(fab)
     if law is None:
         return c, c
