@@ -96,3 +96,23 @@ def test_a_kes_sheet_uploaded_is_the_sessions_fabric_in_si(client):
     bad = client.post(f"/api/upload?kind=fabric&revision={rev}",
                       files={"file": ("wool.json", json.dumps({**sheet, "EMT": "4%"}).encode())})
     assert bad.status_code == 400 and "'EMT'" in bad.json()["error"], bad.text
+
+
+def test_an_arcsim_material_uploaded_is_named_after_its_file(client):
+    import json
+
+    material = {"density": 0.324,
+                "stretching": [[205.35, 10.23, 1013.89, 53.39]] + [[230.0, 40.0, 1050.0, 70.0]] * 5,
+                "bending": [[64.2e-6] * 5, [73.4e-6] * 5, [96.95e-6] * 5]}
+    rev = client.get("/api/state").json()["revision"]
+    r = client.post(f"/api/upload?kind=fabric&revision={rev}",
+                    files={"file": ("11oz-black-denim.json", json.dumps(material).encode())})
+    assert r.status_code == 200, r.text
+    f = client.get("/api/fabric").json()["session"]
+    assert f["name"] == "11oz-black-denim"
+    assert f["stretch_warp"] == pytest.approx(2 * 1013.89)
+    assert f["bending_weft"] == pytest.approx(96.95e-6 / 4)
+    rev = client.get("/api/state").json()["revision"]
+    bad = client.post(f"/api/upload?kind=fabric&revision={rev}", files={"file": (
+        "m.json", json.dumps({**material, "bending": material["bending"][:2]}).encode())})
+    assert bad.status_code == 400 and "'bending'" in bad.json()["error"], bad.text

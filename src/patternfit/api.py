@@ -53,7 +53,7 @@ from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
 from .sim.drape import CONTACT_MARGIN, Drape, drape
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
-                          get_fabric, published_drapes)
+                          get_fabric, published_drapes, read_fabric_file)
 from .sim.fabrics import RANGES as FABRIC_RANGES
 from .sim.onbody import ON_BODY, area_ratio
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
@@ -123,10 +123,12 @@ def _fabric_row(fab: Fabric, kind: str, source: str) -> dict:
 
 def describe_fabric(source: Fabric | str | Path) -> dict:
     """A fabric as :func:`read_fabric` reads it (a preset, a published test fabric, an SI
-    fabric file, or a KES-F / FAST sheet converted to SI), as a row of
+    fabric file, a KES-F / FAST sheet or an ARCSim material converted to SI), as a row of
     :func:`fabric_catalogue`: ``name``, ``kind`` ("file" for a file), ``constants`` (SI),
     ``bending_length_m`` {warp, weft} [m], ``kit`` (the stored kit reading of a preset or
-    published fabric, else None) and ``source`` (the file, for a file).
+    published fabric, else None) and ``source`` (the file, for a file); a file's row also
+    ``assumed``: a sentence for each value the file did not carry (an ARCSim material's
+    friction and thickness).
 
     Raises :class:`FabricError` naming the file and the field."""
     fab = read_fabric(source)
@@ -135,7 +137,8 @@ def describe_fabric(source: Fabric | str | Path) -> dict:
         return row
     if isinstance(source, Fabric):
         return _fabric_row(fab, "given", "")
-    return _fabric_row(fab, "file", str(source))
+    return _fabric_row(fab, "file", str(source)) | {
+        "assumed": list(read_fabric_file(source)[1])}
 
 
 #: the virtual fabric tests :func:`fabric_test` runs
@@ -368,8 +371,9 @@ def with_distance_field(body: Body) -> Body:
 
 
 def read_fabric(source: Fabric | str | Path) -> Fabric:
-    """A fabric: a :class:`Fabric` as is, a preset name, or a fabric JSON file (SI units, or
-    a KES-F / FAST measurement sheet in its own units: ``patternfit.sim.fabric_sheets``).
+    """A fabric: a :class:`Fabric` as is, a preset name, or a fabric JSON file (SI units, a
+    KES-F / FAST measurement sheet in its own units: ``patternfit.sim.fabric_sheets``, or an
+    ARCSim material file: ``patternfit.sim.fabric_arcsim``).
 
     Raises :class:`FabricError` naming the file and the field."""
     return get_fabric(source)

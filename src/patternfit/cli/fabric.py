@@ -186,6 +186,9 @@ def fabric_test(
     except ValueError as err:
         fail(f"--set: {err}")
     fab = api.read_fabric(fabric)
+    assumed = api.describe_fabric(fabric).get("assumed", [])
+    for note in assumed:
+        console.print(f"{escape(fab.name)}: {escape(note)}", highlight=False)
     with console.status(f"[bold]{test}[/] test of {escape(fab.name)}") as status:
         def progress(text: str) -> None:
             status.update(f"[bold]{escape(text)}")
@@ -205,7 +208,7 @@ def fabric_test(
                 triangles=triangles,
                 seeds=tuple(range(5 if seeds is None else seeds)), settings=settings,
                 progress=progress)
-    report = {**result.to_dict(), "fabric_constants": fab.to_dict()}
+    report = {**result.to_dict(), "fabric_constants": fab.to_dict(), "fabric_assumed": assumed}
     files = []
     if out is not None:
         from ..files import atomic_write_text, dumps_finite_json
@@ -242,7 +245,8 @@ def fabrics(
     sources: Optional[list[str]] = typer.Argument(
         None, metavar="[FABRIC]...",
         help="Show these instead of the catalogue: presets, or fabric files (SI, or a KES-F / "
-             "FAST measurement sheet in its own units, converted to SI)."),
+             "FAST measurement sheet in its own units, or an ARCSim material file, converted "
+             "to SI)."),
     json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON."),
 ) -> None:
     """List the fabric presets and the published test fabrics: Peirce's bending length from
@@ -306,3 +310,5 @@ def _print_constants(rows: list[dict]) -> None:
         if r["kind"] == "file":
             console.print(f"[bold]{escape(r['name'])}[/]: {escape(r['source'])}",
                           highlight=False)
+            for note in r["assumed"]:
+                console.print(f"  {escape(note)}", highlight=False)

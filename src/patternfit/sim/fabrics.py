@@ -1,5 +1,6 @@
-"""Fabric constants in SI units, the built-in presets and user fabrics from JSON (SI, or a
-KES-F / FAST measurement sheet in its own units: ``sim.fabric_sheets``).
+"""Fabric constants in SI units, the built-in presets and user fabrics from JSON (SI, a
+KES-F / FAST measurement sheet in its own units: ``sim.fabric_sheets``, or an ARCSim material
+file such as Wang et al. 2011's measured fabrics: ``sim.fabric_arcsim``).
 
 Every preset value and its published source is listed in ``docs/fabrics.md``. A user fabric
 is a JSON object with the same fields and units, e.g.::
@@ -25,6 +26,7 @@ from ..arguments import number
 from ..constants import GRAVITY
 from ..errors import FabricError
 from ..files import read_json_file
+from .fabric_arcsim import ARCSIM_BENDING_FACTOR, arcsim_fields, is_arcsim
 from .fabric_sheets import KES_BENDING, is_sheet, sheet_fields
 
 
@@ -132,13 +134,6 @@ def _check_values(values: dict, source, names: dict | None = None) -> None:
                           file=source, place="field 'name'")
 
 
-#: Continuum bending rigidity B [N m] per unit of ARCSim's hinge stiffness ``ke`` (the
-#: ``bending`` samples of Wang et al. 2011's material files). ARCSim stores
-#: ``ke l^2 / (2 (A0 + A1)) theta^2 / 4`` per hinge; summed over an equilateral mesh bent on a
-#: cylinder of curvature k this is ``ke k^2 / 8`` per area, against ``B k^2 / 2``; derivation and
-#: the spread over other meshes in docs/fabrics.md.
-ARCSIM_BENDING_FACTOR = 0.25
-
 #: Built-in fabrics (sources in docs/fabrics.md). The knits take Wang et al. 2011's
 #: zero-curvature bending samples: row 0 (hinges along the weft / course, i.e. curvature
 #: along the warp / wale) and row 2 (the other way). The denim's density is the ``density`` of
@@ -189,26 +184,40 @@ _ALIASES = {"cotton": "cotton_shirting", "shirting": "cotton_shirting", "wool": 
 
 def load_fabric(path) -> Fabric:
     """Read a user fabric from a JSON file (SI units, fields as in :class:`Fabric`, each
-    within :data:`RANGES`; ``name`` defaults to the file's stem), or from a KES-F or FAST
+    within :data:`RANGES`; ``name`` defaults to the file's stem), from a KES-F or FAST
     measurement sheet in its instrument's units (a file with an ``instrument`` field,
-    :mod:`patternfit.sim.fabric_sheets`), converted to SI and held to the same ranges.
+    :mod:`patternfit.sim.fabric_sheets`), or from an ARCSim material file (a file with
+    ``stretching``, :mod:`patternfit.sim.fabric_arcsim`), converted to SI and held to the same
+    ranges (:func:`read_fabric_file` also says what was assumed).
 
     Raises :class:`FabricError` with ``file`` the path and ``place`` the field (or the line):
     unreadable, not a regular file (``/dev/zero``), too large, not UTF-8 JSON, not an
     object, a field unknown, missing, of the wrong type or outside its plausible range.
     """
+    return read_fabric_file(path)[0]
+
+
+#: mass per volume of cloth [kg/m^3], for a thickness a file does not give: the median of the
+#: twelve measured fabrics with weight and thickness in docs/fabrics.md (250-470 kg/m^3)
+TYPICAL_BULK_DENSITY = 420.0
+
+
+def read_fabric_file(path) -> tuple[Fabric, tuple[str, ...]]:
+    """:func:`load_fabric`, and what was assumed for values the file does not carry (an
+    ARCSim material's friction and thickness), one sentence each; empty for the others."""
     path = Path(path)
     data = read_json_file(path, error=FabricError)
     if not isinstance(data, dict):
         raise FabricError(f"expected a JSON object, got {type(data).__name__}", file=path)
     data = dict(data)
     data.setdefault("name", path.stem)
-    if is_sheet(data):
-        fields, origin = sheet_fields(data, path)
+    if is_sheet(data) or is_arcsim(data):
+        fields, origin = (sheet_fields if is_sheet(data) else arcsim_fields)(data, path)
+        assumed = _assume_missing(fields, origin)
         fabric = {**fields, "name": data["name"]}
         _check_values(fabric, source=path, names={
             key: key if was == key else f"{was} -> {key}" for key, was in origin.items()})
-        return Fabric(**fabric)
+        return Fabric(**fabric), assumed
     for key, value in OPTIONAL.items():
         data.setdefault(key, value)
     if "bending" in data:
@@ -226,7 +235,24 @@ def load_fabric(path) -> Fabric:
         if key not in data:
             raise FabricError("missing", file=path, place=f"field '{key}'")
     _check_values(data, source=path)
-    return Fabric(**data)
+    return Fabric(**data), ()
+
+
+def _assume_missing(fields: dict, origin: dict) -> tuple[str, ...]:
+    """Fill an ARCSim material's friction and thickness when the file leaves them out (its
+    sources do not report them), recording each in ``origin``; the sentences saying so."""
+    said = []
+    if "friction" not in fields:
+        fields["friction"] = _UNREPORTED_FRICTION
+        origin["friction"] = "friction"
+        said.append(f"friction {_UNREPORTED_FRICTION:g} assumed (not in the file; as for the "
+                    "published fabrics without one)")
+    if "thickness" not in fields:
+        fields["thickness"] = fields["density"] / TYPICAL_BULK_DENSITY
+        origin["thickness"] = f"density / {TYPICAL_BULK_DENSITY:g} kg/m^3"
+        said.append(f"thickness {fields['thickness'] * 1e3:.2f} mm assumed (not in the file; "
+                    f"its weight at a typical {TYPICAL_BULK_DENSITY:g} kg/m^3)")
+    return tuple(said)
 
 
 def get_fabric(name_or_path) -> Fabric:
