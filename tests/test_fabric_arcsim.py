@@ -170,3 +170,18 @@ def test_the_cli_says_what_it_assumed(tmp_path):
     # an SI file says nothing was assumed
     si = _write(tmp_path, row["constants"], "si.json")
     assert api.describe_fabric(si)["assumed"] == []
+
+
+def test_the_kit_tests_a_material_and_reports_what_it_assumed(tmp_path):
+    path = _write(tmp_path, GRAY_INTERLOCK, "gray-interlock.json")
+    out = CliRunner().invoke(app, ["fabric-test", "strip", "--fabric", str(path), "--length",
+                                   "0.3", "--json"])
+    assert out.exit_code == 0, out.output
+    d = json.loads(out.stdout)
+    assert d["fabric"] == "gray-interlock" and d["passed"]
+    assert d["ratio"] == pytest.approx(1.0, abs=0.05)
+    assert len(d["fabric_assumed"]) == 2
+    assert "friction 0.4 assumed" in out.stderr
+    preset = CliRunner().invoke(app, ["fabric-test", "strip", "--fabric", "jersey", "--length",
+                                      "0.3", "--json"])
+    assert json.loads(preset.stdout)["fabric_assumed"] == []

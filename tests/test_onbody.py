@@ -225,11 +225,13 @@ def test_a_drape_started_from_a_saved_one_stays_put(skirt, restarted):
 
 def test_a_garment_that_slips_off_lands_on_the_floor_or_falls(tmp_path):
     """A skirt written in centimetres but labelled millimetres (6 cm wide) slips off the
-    body and lands on the floor the body stands on (``Body.contact_field``): it rests
-    there, nothing below the floor, and the verdict is "failed", not "too loose". Beside
-    the body, past the floor's end, it falls, and once every vertex is below the body's
-    distance field the solve stops ("fell") instead of falling 5 mm an iteration until
-    its limit (it fell 25 m)."""
+    body; it is failed, not "too loose", saying why. Where it lands depends on the rounding
+    of the squeeze that pushes it off (on the floor the body stands on,
+    ``Body.contact_field``, on one CPU; 45 cm out, past the floor's end, on another, where
+    it falls): either way the solve ends (on the floor, or "fell" once every vertex is below
+    the body's distance field, instead of falling 5 mm an iteration until its limit: it
+    fell 25 m). Dropped beside the legs it rests on the floor, nothing below it; beside the
+    body, past the floor's end, it falls."""
     import json
 
     written = tmp_path / "skirt.json"
@@ -239,11 +241,16 @@ def test_a_garment_that_slips_off_lands_on_the_floor_or_falls(tmp_path):
     written.write_text(json.dumps(data))
     outcome = api.drape_and_evaluate(written, BODY, "cotton", triangles=500)
     result = outcome.drape.result
-    assert result.stop_reason == "converged" and result.iterations < 1000
-    assert 0.0 < outcome.positions[:, 1].min() and outcome.positions[:, 1].max() < 0.1
+    assert result.stop_reason in ("converged", "fell") and result.iterations < 1000
     assert not outcome.passed and outcome.verdict == "failed"
     assert any("below the waist" in r for r in outcome.checks["reasons"])
-    beside = outcome.positions + [3.0, 0.5, 0.0]
+    drop = outcome.positions - outcome.positions.mean(axis=0) + [0.35, 0.4, 0.05]
+    landed = api.drape_and_evaluate(written, BODY, "cotton", triangles=500, start=drop)
+    assert landed.drape.result.stop_reason == "converged"
+    assert 0.0 < landed.positions[:, 1].min() and landed.positions[:, 1].max() < 0.1
+    assert not landed.passed and landed.verdict == "failed"
+    assert any("below the waist" in r for r in landed.checks["reasons"])
+    beside = landed.positions + [3.0, 0.5, 0.0]
     gone = api.drape_and_evaluate(written, BODY, "cotton", triangles=500, start=beside)
     assert gone.drape.result.stop_reason == "fell" and gone.drape.result.iterations < 1000
     assert gone.positions[:, 1].max() < gone.drape.solver.model.body.origin[1]
