@@ -163,6 +163,21 @@ def test_export_and_load_back(page, server, tmp_path):
     assert page.evaluate("studio.geometry.panel_names") == ["front", "back"]
 
 
+def test_an_arcsim_fabric_opened_says_what_it_assumed(page, server, tmp_path):
+    import json
+
+    path = tmp_path / "11oz-black-denim.json"
+    path.write_text(json.dumps({
+        "density": 0.324, "stretching": [[205.35, 10.23, 1013.89, 53.39]] * 6,
+        "bending": [[64.2e-6] * 5, [73.4e-6] * 5, [96.95e-6] * 5]}))
+    page.set_input_files("#upload-fabric", str(path))
+    page.wait_for_function("document.getElementById('message').textContent"
+                           ".includes('Opened 11oz')", timeout=20000)
+    text = page.inner_text("#message")
+    assert "friction 0.4 assumed" in text and "thickness 0.77 mm assumed" in text
+    assert server[1].state.studio.session.fabric.name == "11oz-black-denim"
+
+
 def test_malformed_upload_shows_error(page, server, tmp_path):
     bad = tmp_path / "broken.json"
     bad.write_text('{"format": "patternfit-pattern", "panels": [')

@@ -108,6 +108,8 @@ def test_an_arcsim_material_uploaded_is_named_after_its_file(client):
     r = client.post(f"/api/upload?kind=fabric&revision={rev}",
                     files={"file": ("11oz-black-denim.json", json.dumps(material).encode())})
     assert r.status_code == 200, r.text
+    assert [a.split(" assumed")[0] for a in r.json()["assumed"]] == ["friction 0.4",
+                                                                     "thickness 0.77 mm"]
     f = client.get("/api/fabric").json()["session"]
     assert f["name"] == "11oz-black-denim"
     assert f["stretch_warp"] == pytest.approx(2 * 1013.89)

@@ -470,6 +470,8 @@ class Studio:
         try:
             target.write_bytes(data)
             read = _read_upload(kind, target, Path(shown).stem)
+            # what a fabric file did not carry (an ARCSim material's friction, thickness)
+            assumed = api.describe_fabric(target).get("assumed", []) if kind == "fabric" else []
             os.replace(target, uploads / target.name)
         except Exception as exc:
             # the readers (trimesh, NumPy's zip) raise many kinds for a bad file, and every
@@ -484,7 +486,7 @@ class Studio:
                             revision=revision)
             return {"panels": len(read.panels)}
         self.start_from(**{kind: read}, labels={kind: read.name}, revision=revision)
-        return {"name": read.name}
+        return {"name": read.name, **({"assumed": assumed} if kind == "fabric" else {})}
 
     def start_from(self, *, labels: dict, pattern=None, body=None, fabric=None,
                    revision: int | None = None) -> None:

@@ -479,10 +479,12 @@ for (const [id, kind] of [["upload", "pattern"], ["upload-body", "body"], ["uplo
     if (!f) return;
     const form = new FormData(); form.append("file", f);
     try {
-      await api(`/api/upload?kind=${kind}`, { method: "POST", form });
+      const opened = await api(`/api/upload?kind=${kind}`, { method: "POST", form });
       await refresh();
       if (kind === "body") view.setBody(await getArrays("/api/body"));
-      message(`Opened ${f.name}`, "warning", "upload");
+      // a fabric file without friction or thickness (an ARCSim material) says what it took
+      const assumed = (opened && opened.assumed) || [];
+      message(`Opened ${f.name}${assumed.length ? `: ${assumed.join("; ")}` : ""}`, "warning", "upload");
     } catch (e) { if (e.stale) fail(e); else message(`Could not open ${f.name}: ${e.message}`, "error", "upload"); }
     $(id).value = "";
   };
