@@ -53,7 +53,7 @@ from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
 from .sim.drape import CONTACT_MARGIN, Drape, drape
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
-                          get_fabric, published_drapes, read_fabric_file)
+                          fabric_with_notes, get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
 from .sim.onbody import ON_BODY, area_ratio
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
@@ -131,14 +131,13 @@ def describe_fabric(source: Fabric | str | Path) -> dict:
     friction and thickness).
 
     Raises :class:`FabricError` naming the file and the field."""
-    fab = read_fabric(source)
+    fab, assumed = fabric_with_notes(source)
     row = {r["name"]: r for r in fabric_catalogue()}.get(fab.name)
     if row is not None and row["constants"] == fab.to_dict():
         return row
     if isinstance(source, Fabric):
         return _fabric_row(fab, "given", "")
-    return _fabric_row(fab, "file", str(source)) | {
-        "assumed": list(read_fabric_file(source)[1])}
+    return _fabric_row(fab, "file", str(source)) | {"assumed": list(assumed)}
 
 
 #: the virtual fabric tests :func:`fabric_test` runs

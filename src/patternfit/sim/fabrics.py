@@ -259,17 +259,23 @@ def get_fabric(name_or_path) -> Fabric:
     """A preset by name (``cotton_shirting``, ``denim``, ...; ``cotton``, ``wool``, ``jersey``,
     ``stretch`` also work), a published test fabric by id (``petrak_m1`` ...,
     :func:`published_drapes`), a :class:`Fabric` as is, or a user fabric from a JSON file."""
+    return fabric_with_notes(name_or_path)[0]
+
+
+def fabric_with_notes(name_or_path) -> tuple[Fabric, tuple[str, ...]]:
+    """:func:`get_fabric`, and for a file what was assumed for values it does not carry
+    (:func:`read_fabric_file`); empty for a preset, a published fabric or a Fabric."""
     if isinstance(name_or_path, Fabric):
-        return name_or_path
+        return name_or_path, ()
     key = str(name_or_path).strip().lower().replace("-", "_").replace(" ", "_")
     key = _ALIASES.get(key, key)
     if key in FABRICS:
-        return FABRICS[key]
+        return FABRICS[key], ()
     if key in published_drapes():
-        return published_drapes()[key].fabric
+        return published_drapes()[key].fabric, ()
     path = Path(str(name_or_path))
     if path.suffix.lower() == ".json" or path.exists():
-        return load_fabric(path)
+        return read_fabric_file(path)
     raise FabricError(f"unknown preset {name_or_path!r} (presets: {', '.join(FABRICS)}; "
                       f"published test fabrics: {', '.join(published_drapes())}; or a .json "
                       "file)", place="fabric")

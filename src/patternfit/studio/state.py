@@ -469,9 +469,7 @@ class Studio:
         target = part / f"{kind}{suffix}"
         try:
             target.write_bytes(data)
-            read = _read_upload(kind, target, Path(shown).stem)
-            # what a fabric file did not carry (an ARCSim material's friction, thickness)
-            assumed = api.describe_fabric(target).get("assumed", []) if kind == "fabric" else []
+            read, assumed = _read_upload(kind, target, Path(shown).stem)
             os.replace(target, uploads / target.name)
         except Exception as exc:
             # the readers (trimesh, NumPy's zip) raise many kinds for a bad file, and every
@@ -676,15 +674,18 @@ def _drape_id(positions: np.ndarray) -> str:
     return f"{len(positions)}-{zlib.crc32(sample.tobytes()):08x}"
 
 
-def _read_upload(kind: str, path: Path, stem: str):
+def _read_upload(kind: str, path: Path, stem: str) -> tuple[object, list[str]]:
     """The pattern, body or fabric in the uploaded file ``path``, named after ``stem`` (the
-    client's file name) where the file gives no name of its own."""
+    client's file name) where the file gives no name of its own, and what was assumed for
+    values the file does not carry (an ARCSim fabric's friction and thickness)."""
     if kind == "pattern":
-        return api.read_pattern(path)
+        return api.read_pattern(path), []
     if kind == "fabric":
-        fabric = api.read_fabric(path)
-        return replace(fabric, name=stem) if fabric.name == path.stem else fabric
+        described = api.describe_fabric(path)
+        fabric = api.Fabric(**described["constants"])
+        fabric = replace(fabric, name=stem) if fabric.name == path.stem else fabric
+        return fabric, described.get("assumed", [])
     body = api.read_body(path)
     body.name = stem
     body.meta = {**body.meta, "source": f"uploaded {stem}{path.suffix}"}
-    return body
+    return body, []
