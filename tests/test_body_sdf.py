@@ -64,6 +64,17 @@ def test_cache_round_trip(body, tmp_path):
     assert np.allclose(c.origin, a.origin + [0.01, 0, 0])
 
 
+def test_a_field_cached_by_other_code_is_built_anew(body, tmp_path, monkeypatch):
+    from patternfit.body import sdf
+
+    DistanceField.from_mesh(body.vertices, body.faces, spacing=0.04)
+    assert len(list((tmp_path / "cache").glob("sdf-*.npz"))) == 1
+    # the same mesh and grid, cached by another version of the construction
+    monkeypatch.setattr(sdf, "_build_id", lambda: b"an older construction")
+    DistanceField.from_mesh(body.vertices, body.faces, spacing=0.04)
+    assert len(list((tmp_path / "cache").glob("sdf-*.npz"))) == 2
+
+
 def test_query_outside_grid_and_gradient():
     x = np.linspace(-1, 1, 21)
     grid = np.sqrt(sum(c**2 for c in np.meshgrid(x, x, x, indexing="ij"))) - 0.5

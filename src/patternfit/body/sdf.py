@@ -8,7 +8,7 @@ point ``origin + spacing * (i, j, k)``.
 the fast winding number, so it stays right on slightly open or self-touching meshes) in a
 narrow band around the surface, and fills the far field by trilinear upsampling of an exact
 grid four times coarser. Results are cached on disk, keyed by a hash of the mesh and the
-grid settings (see :func:`cache_dir`).
+grid settings and of the code that built them (see :func:`cache_dir`).
 
 The C1 reading (:func:`smooth_distance_at`): the trilinear interpolant of the grid
 (:func:`trilinear_at`) is continuous, but its gradient jumps across every cell face. A
@@ -29,6 +29,8 @@ from __future__ import annotations
 import hashlib
 import io
 import os
+from importlib.metadata import PackageNotFoundError
+from importlib.metadata import version as _version
 from pathlib import Path
 
 import igl
@@ -40,8 +42,24 @@ from ..files import atomic_write_bytes
 
 #: ratio of the far-field grid step to the fine step
 _COARSE = 4
-#: bump when the construction changes, so that old cache files are not used
-_VERSION = 1
+
+
+def _build_id() -> bytes:
+    """What a cached field is built by: this module's source and the versions of libigl and
+    patternfit. Part of the cache key, so that a field cached by other code (an upgrade, a
+    local change) is built anew rather than read, without a version number to remember to
+    bump."""
+    try:
+        source = Path(__file__).read_bytes()
+    except OSError:  # no readable source (a frozen build): the versions stand in
+        source = b""
+    versions = []
+    for package in ("libigl", "patternfit"):
+        try:
+            versions.append(_version(package).encode())
+        except PackageNotFoundError:  # run from a source tree, or installed under another name
+            versions.append(b"")
+    return b"\0".join([source, *versions])
 
 
 def cache_dir() -> Path:
@@ -337,7 +355,8 @@ class DistanceField:
         for sv, sf in solids:
             key.update(sv.tobytes())
             key.update(sf.tobytes())
-        key.update(np.array([spacing, padding, band, _VERSION], dtype=np.float64).tobytes())
+        key.update(np.array([spacing, padding, band], dtype=np.float64).tobytes())
+        key.update(_build_id())
         path = cache_dir() / f"sdf-{key.hexdigest()[:24]}.npz"
         if cache and path.exists():
             try:
