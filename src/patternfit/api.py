@@ -70,7 +70,8 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "fabric_catalogue",
            "fabric_test", "list_bodies", "list_body_sets", "list_engines", "list_fabrics",
            "judge_state", "list_garments", "list_sizes", "mesh_garment", "place_and_evaluate",
-           "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric", "read_pattern",
+           "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric",
+           "read_fabric_with_notes", "read_pattern",
            "remove_seam", "save_any_pattern", "save_garment", "seam_table", "set_seam_ease",
            "suggest_seams", "verdict_rules", "with_distance_field", "write_fabric_test_picture",
            "write_pattern"]
@@ -376,6 +377,16 @@ def read_fabric(source: Fabric | str | Path) -> Fabric:
 
     Raises :class:`FabricError` naming the file and the field."""
     return get_fabric(source)
+
+
+def read_fabric_with_notes(source: Fabric | str | Path) -> tuple[Fabric, list[str]]:
+    """:func:`read_fabric`, and a sentence for each value a fabric file did not carry and was
+    assumed (an ARCSim material's friction and thickness); empty for a preset, a published
+    fabric, a :class:`Fabric` or a file that carries them all.
+
+    Raises :class:`FabricError` naming the file and the field."""
+    fab, assumed = fabric_with_notes(source)
+    return fab, list(assumed)
 
 
 def mesh_garment(pattern: Pattern | str, *, triangles: int = DEFAULTS.triangles,

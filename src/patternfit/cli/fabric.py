@@ -185,8 +185,7 @@ def fabric_test(
         settings = kit.settings_from_pairs(set_ or [])
     except ValueError as err:
         fail(f"--set: {err}")
-    described = api.describe_fabric(fabric)
-    fab, assumed = api.Fabric(**described["constants"]), described.get("assumed", [])
+    fab, assumed = api.read_fabric_with_notes(fabric)
     for note in assumed:
         console.print(f"{escape(fab.name)}: {escape(note)}", highlight=False)
     with console.status(f"[bold]{test}[/] test of {escape(fab.name)}") as status:

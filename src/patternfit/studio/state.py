@@ -681,10 +681,8 @@ def _read_upload(kind: str, path: Path, stem: str) -> tuple[object, list[str]]:
     if kind == "pattern":
         return api.read_pattern(path), []
     if kind == "fabric":
-        described = api.describe_fabric(path)
-        fabric = api.Fabric(**described["constants"])
-        fabric = replace(fabric, name=stem) if fabric.name == path.stem else fabric
-        return fabric, described.get("assumed", [])
+        fabric, assumed = api.read_fabric_with_notes(path)
+        return (replace(fabric, name=stem) if fabric.name == path.stem else fabric), assumed
     body = api.read_body(path)
     body.name = stem
     body.meta = {**body.meta, "source": f"uploaded {stem}{path.suffix}"}
