@@ -49,6 +49,23 @@ def test_missing_files_are_named(tmp_path):
                                 str(tmp_path / "q.json")]), "nowhere.json")
 
 
+def test_a_long_path_is_printed_whole_on_one_line(tmp_path, pattern_file):
+    """A path longer than a terminal (a CI log's 80 columns) is not broken across lines, in
+    an error of ours or of an option check, so that it can be copied from the message."""
+    deep = tmp_path.joinpath(*["a_folder_with_a_long_name"] * 6)
+    deep.mkdir(parents=True)
+    missing, mesh = str(deep / "nowhere.json"), str(deep / "nowhere.npz")
+    for whole, args in ((missing, ["mesh", missing, "-o", str(tmp_path / "m")]),
+                        (missing, ["edit", missing, "grade", "--sx", "2", "-o",
+                                   str(tmp_path / "q.json")]),
+                        (mesh, ["edit", str(pattern_file), "grade", "--sx", "2", "--mesh", mesh,
+                                "-o", str(tmp_path / "q.json")])):
+        r = runner.invoke(app, args)
+        refused(r, whole)
+        assert any(whole in line for line in r.output.splitlines()), r.output
+    assert not (tmp_path / "q.json").exists()  # the missing mesh was refused before writing
+
+
 def test_non_utf8_pattern_is_named(tmp_path):
     bad = tmp_path / "latin1.json"
     bad.write_bytes(b'{"format": "patternfit-pattern", "name": "caf\xe9"}')

@@ -34,8 +34,7 @@ INTERNAL = 3
 
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
     """``warnings.showwarning`` of the commands: ``warning: <message>`` in yellow."""
-    console.print(f"[yellow]warning:[/] {escape(str(message))}", highlight=False,
-                  soft_wrap=True)
+    console.print(f"[yellow]warning:[/] {escape(str(message))}", highlight=False)
 
 
 class _Boundary(TyperGroup):
@@ -70,7 +69,12 @@ app = typer.Typer(name="patternfit", cls=_Boundary, no_args_is_help=True, add_co
                          "option was refused, 3 an internal error (PATTERNFIT_DEBUG=1 shows "
                          "its traceback).")
 
-console = Console(stderr=True)
+# A long path is printed whole on one line (soft wrap), not broken at the width, so that it
+# can be copied; in a pipe or a CI log (no terminal, no COLUMNS) Rich assumes 80 columns and
+# would squeeze the tables until names are cut ("female…"), so there the width is one that
+# every table the commands print fits in
+console = Console(stderr=True, soft_wrap=True,
+                  width=None if sys.stderr.isatty() or os.environ.get("COLUMNS") else 200)
 
 
 def print_json(data) -> None:
@@ -80,7 +84,7 @@ def print_json(data) -> None:
 
 def fail(message: str, code: int = REFUSED) -> None:
     """Print an error in red on standard error and exit with ``code``."""
-    console.print(f"[bold red]error:[/] {escape(message)}", highlight=False, soft_wrap=True)
+    console.print(f"[bold red]error:[/] {escape(message)}", highlight=False)
     raise typer.Exit(code)
 
 

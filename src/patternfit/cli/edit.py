@@ -67,8 +67,7 @@ def _apply(pattern, op: str, o: dict):
 
 @app.command("edit")
 def edit_command(
-    pattern_file: Path = typer.Argument(..., help="Pattern JSON file to edit.", exists=True,
-                                        dir_okay=False),
+    pattern_file: Path = typer.Argument(..., help="Pattern JSON file to edit."),
     operation: str = typer.Argument(..., help="One of: " + ", ".join(OPERATIONS) + "."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Where to write the edited "
                                        "pattern (never the input, unless --in-place)."),
@@ -98,7 +97,7 @@ def edit_command(
     partner: bool = typer.Option(False, help="Edit seam partner edges to keep seams "
                                  "matching."),
     mesh: Optional[Path] = typer.Option(None, "--mesh", help="Mesh (.npz) of the pattern "
-                                        "to carry over to the edited one.", exists=True),
+                                        "to carry over to the edited one."),
     mesh_out: Optional[Path] = typer.Option(None, "--mesh-out", help="Where to write the "
                                             "updated mesh (default: beside --out, .npz)."),
     json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),

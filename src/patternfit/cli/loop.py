@@ -146,7 +146,7 @@ def table2(
     if json_out:
         print_json(results)
         return
-    console.print(format_table(results), highlight=False, soft_wrap=True)
+    console.print(format_table(results), highlight=False)
     console.print(f"total wall time {time.perf_counter() - t0:.1f} s")
 
 
