@@ -60,11 +60,11 @@ def drape(
     """Drape a garment on a body to static equilibrium and evaluate its fit.
 
     Writes the draped garment (GLB/OBJ with fit colours), the 2D and 3D colour maps, the
-    gap and pressure maps, the girth sections and report.json with the fit verdict
-    (too tight, tight, fits, loose, too loose; per region: ease, pressure, stretch), the checks (vertices inside the body, seam gaps, self-intersections,
-    equilibrium, and whether it rests on the body where its pattern says) and the timing;
-    a failed drape exits with status 1 and says why. Ctrl-C stops the drape cleanly and
-    keeps the last state.
+    gap and pressure maps, the girth sections and report.json with the fit verdict (too
+    tight, tight, fits, loose, too loose; per region: ease, pressure, stretch), the checks
+    (vertices inside the body, seam gaps, self-intersections, equilibrium, and whether it
+    rests on the body where its pattern says) and the timing; a failed drape exits with
+    status 1 and says why. Ctrl-C stops the drape cleanly and keeps the last state.
     """
     from .. import api
     from ..sim.newton_engine import ENGINES, NewtonMissingError
