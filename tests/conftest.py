@@ -13,6 +13,58 @@ import scenes
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 
+#: what one test process may take at its peak [bytes] (measured: two processes and their Ray
+#: and browser children peaked at 3.0 GB together)
+WORKER_MEMORY = 1.5e9
+
+
+def _cgroup_value(name: str) -> list[str] | None:
+    try:
+        with open(f"/sys/fs/cgroup/{name}") as f:
+            return f.read().split()
+    except OSError:
+        return None
+
+
+def _cpus() -> int:
+    """The CPUs this process may run on, within its container's quota (cgroup v2 cpu.max)."""
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    quota = _cgroup_value("cpu.max")
+    if quota and quota[0] != "max":
+        cpus = min(cpus or 1, max(1, -(-int(quota[0]) // int(quota[1]))))
+    return cpus or 1
+
+
+def _memory() -> float | None:
+    """Memory available to this process [bytes]: the system's MemAvailable, within its
+    container's limit (cgroup v2 memory.max less memory.current); None when unknown."""
+    free = None
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    free = 1024.0 * int(line.split()[1])
+    except OSError:
+        pass
+    limit, used = _cgroup_value("memory.max"), _cgroup_value("memory.current")
+    if limit and used and limit[0] != "max":
+        room = float(int(limit[0]) - int(used[0]))
+        free = room if free is None else min(free, room)
+    return free
+
+
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto`` (the README's command): one test process a CPU this process may use, not
+    a CPU of the host (pytest-xdist's own count, through psutil when it is installed, sees
+    the host's cores from inside a container), and no more than the memory holds.
+    ``PYTEST_XDIST_AUTO_NUM_WORKERS`` still decides when it is set (pytest-xdist reads it)."""
+    if os.environ.get("PYTEST_XDIST_AUTO_NUM_WORKERS"):
+        return None
+    memory = _memory()
+    fits = int(memory // WORKER_MEMORY) if memory is not None else _cpus()
+    return max(1, min(_cpus(), fits))
+
+
 def pytest_addoption(parser):
     parser.addoption("--slow", action="store_true", default=False,
                      help="also run the slow acceptance drapes (tests marked slow)")
