@@ -53,6 +53,7 @@ def _memory() -> float | None:
     return free
 
 
+@pytest.hookimpl(optionalhook=True)  # without pytest-xdist (`-p no:xdist`) nothing asks
 def pytest_xdist_auto_num_workers(config):
     """``-n auto`` (the README's command): one test process a CPU this process may use, not
     a CPU of the host (pytest-xdist's own count, through psutil when it is installed, sees
