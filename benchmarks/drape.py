@@ -119,6 +119,7 @@ def run_one(garment: str, figures: str | None, edits: int = 1, knobs: dict | Non
                  _moved_mm(again.positions, first.positions)))
     if figures:
         from patternfit.fit.pictures import plot_3d_map
+        os.makedirs(figures, exist_ok=True)  # a new folder: a sample is not lost to its picture
         plot_3d_map(first.positions, mesh, fit, os.path.join(figures, f"drape_{garment}.png"),
                     body=(body.vertices, body.faces),
                     title=f"{garment} M on {body_name}, {len(mesh.triangles)} triangles, cotton")
