@@ -1,12 +1,15 @@
-"""Fixtures only (the scenes they return are built by ``scenes.py``), and the ``--slow``
+"""Fixtures only (the scenes they return are built by ``scenes.py``), the ``--slow``
 option: tests marked ``slow`` (acceptance drapes: full garments draped to rest, Table 2 rows,
-engine comparisons) are skipped unless pytest runs with ``--slow``."""
+engine comparisons) are skipped unless pytest runs with ``--slow``, and the processes
+``-n auto`` starts."""
 
 from __future__ import annotations
 
 import os
 
 import pytest
+
+from patternfit.sim.threads import available_cpus
 
 import scenes
 
@@ -28,11 +31,11 @@ def _cgroup_value(name: str) -> list[str] | None:
 
 def _cpus() -> int:
     """The CPUs this process may run on, within its container's quota (cgroup v2 cpu.max)."""
-    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    cpus = available_cpus()
     quota = _cgroup_value("cpu.max")
     if quota and quota[0] != "max":
-        cpus = min(cpus or 1, max(1, -(-int(quota[0]) // int(quota[1]))))
-    return cpus or 1
+        cpus = min(cpus, max(1, -(-int(quota[0]) // int(quota[1]))))
+    return cpus
 
 
 def _memory() -> float | None:
@@ -61,9 +64,9 @@ def pytest_xdist_auto_num_workers(config):
     ``PYTEST_XDIST_AUTO_NUM_WORKERS`` still decides when it is set (pytest-xdist reads it)."""
     if os.environ.get("PYTEST_XDIST_AUTO_NUM_WORKERS"):
         return None
-    memory = _memory()
-    fits = int(memory // WORKER_MEMORY) if memory is not None else _cpus()
-    return max(1, min(_cpus(), fits))
+    cpus, memory = _cpus(), _memory()
+    fits = cpus if memory is None else int(memory // WORKER_MEMORY)
+    return max(1, min(cpus, fits))
 
 
 def pytest_addoption(parser):

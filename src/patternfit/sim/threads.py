@@ -67,12 +67,17 @@ def solver_threads() -> int:
     own = _whole(ENV)
     if own is not None:
         return min(own, MOST)
-    try:
-        cpus = len(os.sched_getaffinity(0))
-    except AttributeError:  # macOS, Windows
-        cpus = os.cpu_count() or 1
     cap = _omp_cap()
-    return max(1, min(MOST, cpus, cap if cap is not None else MOST))
+    return max(1, min(MOST, available_cpus(), cap if cap is not None else MOST))
+
+
+def available_cpus() -> int:
+    """The CPUs this process may run on (its affinity mask; all of them where the system
+    has none: macOS, Windows)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
 
 
 def threads_for(vertices: int) -> int:
