@@ -26,6 +26,7 @@ the grid step and ``lap(d)`` the sum of the body surface's principal curvatures,
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
 import os
@@ -44,6 +45,7 @@ from ..files import atomic_write_bytes
 _COARSE = 4
 
 
+@functools.cache  # the code and the versions do not change while the process runs
 def _build_id() -> bytes:
     """What a cached field is built by: this module's source and the versions of libigl and
     patternfit. Part of the cache key, so that a field cached by other code (an upgrade, a
