@@ -3,6 +3,7 @@ import json
 import numpy as np
 import pytest
 import trimesh
+import typer
 from typer.testing import CliRunner
 
 from patternfit.cli.main import app
@@ -22,6 +23,18 @@ def test_help_on_every_command():
         assert r.exit_code == 0, name
         assert "Usage" in r.output
 
+
+@pytest.mark.parametrize("group", [[], ["reproduce"]])
+def test_the_command_list_shows_one_line_per_command(group):
+    """Each command's summary is its help's first paragraph joined on one line (Typer kept the
+    docstring's line breaks there, so a summary showed as a ragged three-line entry)."""
+    r = runner.invoke(app, [*group, "--help"], env={"COLUMNS": "300"})
+    assert r.exit_code == 0
+    panel = r.output.split("Commands")[1].split("╰")[0].splitlines()[1:]
+    command = typer.main.get_command(app)
+    for name in group:
+        command = command.commands[name]
+    assert [line.strip("│ ").split()[0] for line in panel] == list(command.commands), panel
 
 def test_patterns_json_and_write(tmp_path):
     r = runner.invoke(app, ["patterns", "--json"])

@@ -7,6 +7,7 @@ went wrong); 2 an input file or option was refused (``error: <message>`` on stan
 
 from __future__ import annotations
 
+import inspect
 import math
 import os
 import sys
@@ -37,7 +38,21 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
     console.print(f"[yellow]warning:[/] {escape(str(message))}", highlight=False)
 
 
-class _Boundary(TyperGroup):
+class Group(TyperGroup):
+    """A command group whose list shows each command's first help paragraph as one line.
+
+    Typer's Rich help keeps the source line breaks of that paragraph in the list (a
+    docstring wrapped at 92 characters showed as a ragged three-line entry)."""
+
+    def get_command(self, ctx, name):
+        command = super().get_command(ctx, name)
+        if command is not None and not command.short_help and command.help:
+            first = inspect.cleandoc(command.help).split("\n\n")[0]
+            command.short_help = " ".join(first.split())
+        return command
+
+
+class _Boundary(Group):
     """The root command group. Every command (sub-groups included) runs inside
     :meth:`invoke`, so ``CliRunner`` and the console script share one error boundary."""
 

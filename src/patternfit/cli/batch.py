@@ -44,9 +44,10 @@ def batch(
                                 "nothing that has a row."),
     json_out: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
 ) -> None:
-    """Drape a pattern in every size on every body in every fabric (one task each, on a
-    Ray cluster), write a row per drape as it arrives, and sum up the fit as a matrix of
-    sizes × bodies with one line per size.
+    """Drape a pattern in every size on every body in every fabric, and sum up the fit.
+
+    One task each, on a Ray cluster; a row per drape is written as it arrives, and the fit
+    is summed up as a matrix of sizes × bodies with one line per size.
 
     A drape that fails (its checks, an error, a time-out) is a failed row, never a failed
     batch. Ctrl-C stops cleanly (the rows written stay; --resume finishes the batch).

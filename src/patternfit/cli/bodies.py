@@ -96,9 +96,11 @@ def body(
                                         callback=finite),
     json_: bool = typer.Option(False, "--json", help="Print the measurements as JSON."),
 ) -> None:
-    """Make a custom body with the anny model and write it with its measurements (needs
-    anny: pip install torch, then pip install "patternfit\\[anny]"). With --from-measurements
-    anny's weight is searched so that bust + waist + hip match, at the height given."""
+    """Make a custom body with the anny model and write it with its measurements.
+
+    Needs anny: pip install torch, then pip install "patternfit\\[anny]". With
+    --from-measurements anny's weight is searched so that bust + waist + hip match, at the
+    height given."""
     girths = dict(height=height, bust=bust, waist=waist, hip=hip)
     if from_measurements and None in girths.values():
         fail("--from-measurements needs " + ", ".join(f"--{k}" for k, v in girths.items()

@@ -118,9 +118,10 @@ def fit(
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     json_out: bool = Json,
 ) -> None:
-    """Evaluate the fit of a saved 3D state: ϖ, colour maps, report.json; with --body also
-    the fit measures (gap, ease, pressure) and the verdict. Exits with status 1 when the
-    evaluation failed its checks (a value such as ϖ is not finite)."""
+    """Evaluate the fit of a saved 3D state: ϖ, colour maps, report.json.
+
+    With --body also the fit measures (gap, ease, pressure) and the verdict. Exits with
+    status 1 when the evaluation failed its checks (a value such as ϖ is not finite)."""
     from .. import api
 
     t0 = time.perf_counter()
@@ -150,9 +151,11 @@ def demo(
                                           "correction); --no-drape only places the garment."),
     json_out: bool = Json,
 ) -> None:
-    """The design loop on a built-in garment drafted too small: drape it, evaluate the fit,
-    name the regions to modify, correct the pattern automatically, write the report with
-    before/after pictures (the paper's Fig. 1 loop; about half a minute on a laptop CPU).
+    """The design loop on a built-in garment drafted too small, from drape to corrected fit.
+
+    Drapes it, evaluates the fit, names the regions to modify, corrects the pattern
+    automatically and writes the report with before/after pictures (the paper's Fig. 1
+    loop; about half a minute on a laptop CPU).
 
     With --no-drape, only mesh and place the garment isometrically (panels rolled onto
     cylinders around the body): its fitting ratio is 100%, the paper's Fig. 8(b).

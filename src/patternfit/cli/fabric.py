@@ -155,9 +155,11 @@ def fabric_test(
                                                   "compression=1.0), e.g. --set "
                                                   "compression=0.05; repeatable."),
 ) -> None:
-    """Test a fabric on the virtual bench: a hanging strip's stretch against ρgL²/(2k),
-    Peirce's cantilever bending length against (B/(ρg))^(1/3), or the Cusick drape
-    coefficient and number of nodes (mean and spread over perturbed starts).
+    """Test a fabric on the virtual bench: hanging strip, cantilever or Cusick drape.
+
+    strip: the hanging strip's stretch against ρgL²/(2k); cantilever: Peirce's bending
+    length against (B/(ρg))^(1/3); cusick: the drape coefficient and number of nodes (mean
+    and spread over perturbed starts).
 
     Exits with status 1 when the result failed its checks: a solve that did not end at
     rest, a strip or bending length more than 5 % off, a drape coefficient outside [0, 1].
@@ -248,11 +250,14 @@ def fabrics(
              "to SI)."),
     json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON."),
 ) -> None:
-    """List the fabric presets and the published test fabrics: Peirce's bending length from
-    their constants and as the virtual cantilever read it, the Cusick drape coefficient and
-    nodes the virtual drape test gave (stored from the runs in docs/fabrics.md), the
-    measured drape coefficient of the published ones, and where the numbers come from.
-    Given fabrics, shows those, with their constants in SI (a sheet's conversion)."""
+    """List the fabric presets and the published test fabrics with their bending length and
+    drape coefficient, or show given fabrics' constants in SI.
+
+    For each: Peirce's bending length from its constants and as the virtual cantilever read
+    it, the Cusick drape coefficient and nodes the virtual drape test gave (stored from the
+    runs in docs/fabrics.md), the measured drape coefficient of the published ones, and
+    where the numbers come from. Given fabrics (names or files), shows those, with their
+    constants in SI (a sheet's conversion)."""
     from .. import api
 
     if sources:

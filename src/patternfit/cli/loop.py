@@ -10,7 +10,7 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import (SIZE_HELP, app, console, fail, finite, print_json, triangles_option,
+from .app import (SIZE_HELP, Group, app, console, fail, finite, print_json, triangles_option,
                   verdict_options)
 from .show import exit_if_correction_failed, run_correction, say_guessed_units, show_iteration
 
@@ -34,7 +34,7 @@ def goal_option(default: str = "tight"):
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
 
-reproduce = typer.Typer(name="reproduce", no_args_is_help=True,
+reproduce = typer.Typer(name="reproduce", cls=Group, no_args_is_help=True,
                         help="Reproduce the paper's experiments.")
 app.add_typer(reproduce)
 
@@ -159,9 +159,10 @@ def variants(
     only: str = typer.Option("", help="Comma-separated figure numbers (e.g. 15a,17c)."),
     json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
 ) -> None:
-    """The variants of the paper's Figs 15–17 (coat small/original/large, lengthened,
-    shortened; skirt stretched; trousers original/stretched/large), each draped once, with
-    its ϖ and a 3D colour map."""
+    """The variants of the paper's Figs 15–17, each draped once, with its ϖ and a 3D map.
+
+    Coat small/original/large, lengthened, shortened; skirt stretched; trousers
+    original/stretched/large."""
     from ..loop.table2 import VARIANTS, run_variant
 
     wanted = {s.strip() for s in only.split(",") if s.strip()}
