@@ -120,6 +120,18 @@ def test_the_anchor_is_one_rule_of_the_pattern():
     assert replace(build("skirt"), meta={"anchor": "neck"}).anchor == "neck"
 
 
+def test_one_panel_sewn_to_nothing_falls_and_fails():
+    """The coat's front alone, without a seam: it falls to the floor and the drape says so
+    (it stopped with an internal error: the solver asked whether the cloth had moved since
+    a self-contact search that had not been made yet)."""
+    coat = build("coat")
+    front = replace(coat, panels=tuple(p for p in coat.panels if p.name == "front"),
+                    seams=())
+    o = api.drape_and_evaluate(front, "female_average", "cotton", triangles=800)
+    assert not o.passed and o.checks["on_body"] is False
+    assert o.checks["below_feet_vertices"] > 0 or o.checks["far_vertices"] > 0, o.checks
+
+
 def test_a_failed_drape_exits_non_zero_and_says_why(skirt, tmp_path):
     """A drape started from the skirt 15 m below the body (a saved state may lie at most
     20 m from the origin) stays there (5 iterations): the command exits 1 naming the

@@ -283,14 +283,15 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     # grain lines: a grain arrow drawn downwards hangs the garment upside down, its hem as
     # its "top" at the waist, and the line check holds; the edges named for the anchor then
     # hang at the bottom (a skirt's waist edge round the thighs, a dress's neckline at the
-    # knees)
+    # knees). A garment failed already lies crumpled anywhere (a panel on the floor): its
+    # named edges' height then says nothing of which way up it was placed
     named = named_anchor_edges(pattern, mesh)
     level = None
     if named:
         ids = np.unique(np.concatenate([mesh.edge_vertices(p, e)[0] for p, e in named]))
         span = float(np.ptp(x[:, 1]))
         level = float((x[ids, 1].mean() - lowest) / span) if span > 0 else 1.0
-        if level < s.named_anchor_level:
+        if level < s.named_anchor_level and not reasons:
             names = ", ".join(f"{p}/{e}" for p, e in named)
             reasons.append(f"upside down: the edges named for the {anchor} ({names}) hang "
                            f"at {level * 100:.0f}% of the garment's height from its hem, "

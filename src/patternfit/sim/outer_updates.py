@@ -100,8 +100,7 @@ def refresh(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
         state.contact_k = contact_k(model, state, s)
     if frozen:
         return diag
-    if s.self_collision and (state.pairs_x is None
-                             or moved_since_pairs(model, state, x, settings=s)):
+    if s.self_collision and moved_since_pairs(model, state, x, settings=s):
         find_pairs(model, state, x, settings=s, newton=newton)
     if model.body is not None and friction_on and model.fabric.friction > 0:
         # the Coulomb limit of a vertex is mu times the normal force it carries: its own
@@ -297,7 +296,10 @@ def untangle(model: ClothModel, state: ContactState, x, crossed):
 def moved_since_pairs(model: ClothModel, state: ContactState, x, *,
                       settings: SolverSettings) -> bool:
     """Whether two vertices may have closed half the detection margin since the pair search
-    (solved positions ``x`` (n, 3) [m])."""
+    (solved positions ``x`` (n, 3) [m]); True before the first search (a garment of one
+    panel sewn to nothing starts its solve without one)."""
+    if state.pairs_x is None:
+        return True
     margin = model.detect(settings) - model.self_gap(settings)
     return kernels.max_relative_move(x, state.pairs_x) > 0.25 * margin
 
