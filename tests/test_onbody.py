@@ -103,6 +103,37 @@ def test_a_garment_off_the_body_fails_with_the_reason_named(skirt, case, expecte
     assert expected[0] in failure(report)
 
 
+def test_a_skirt_below_the_crotch_fell_past_the_hips(skirt):
+    """Its top below the crotch: nothing of the torso holds it (a skirt 125 cm round on
+    96 cm hips ended round her shins and its verdict read "too loose")."""
+    pattern, mesh, body, d = skirt
+    drop = body.measurements["crotch_height"] - body.measurements["waist_height"] - 0.05
+    c = on_body_checks(pattern, mesh, body, _at_anchor_offset(pattern, mesh, body,
+                                                              d.positions, drop))
+    assert c.top_below_crotch and "below the crotch, it fell past the hips" in reasons(c)
+    assert not on_body_checks(pattern, mesh, body, d.positions).top_below_crotch
+
+
+def test_fit_of_a_saved_state_checks_where_it_rests(skirt, tmp_path):
+    """``patternfit fit --body`` of a saved state moved off the body fails (it read "fits",
+    exit 0, for a skirt 3 m aside); the drape's own state passes the same checks."""
+    pattern, mesh, body, d = skirt
+    save_garment(tmp_path / "rest", pattern, mesh, d.positions)
+    save_garment(tmp_path / "aside", pattern, mesh, d.positions + [3.0, 0.0, 0.0])
+    run = CliRunner().invoke
+    r = run(app, ["fit", "-g", str(tmp_path / "rest"), "-b", BODY, "-o", str(tmp_path / "a"),
+                  "--no-pictures", "--json"])
+    assert r.exit_code == 0, r.output
+    report = api.evaluate_saved(tmp_path / "rest", body=BODY)
+    assert report.passed and report.checks["solver_checked"] is False
+    assert report.checks["inside_vertices"] == 0 and report.verdict != "failed"
+    r = run(app, ["fit", "-g", str(tmp_path / "aside"), "-b", BODY, "-o",
+                  str(tmp_path / "b"), "--no-pictures"])
+    assert r.exit_code == 1 and "far from the body" in " ".join(r.output.split()), r.output
+    aside = api.evaluate_saved(tmp_path / "aside", body=BODY)
+    assert not aside.passed and aside.verdict == "failed" and aside.region_verdicts == {}
+
+
 def test_slid_a_little_still_on_the_body(skirt):
     pattern, mesh, body, d = skirt
     x = _at_anchor_offset(pattern, mesh, body, d.positions, -0.04)

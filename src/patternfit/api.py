@@ -55,7 +55,7 @@ from .sim.drape import CONTACT_MARGIN, Drape, drape
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
                           fabric_with_notes, get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
-from .sim.onbody import ON_BODY, area_ratio
+from .sim.onbody import ON_BODY, area_ratio, saved_state_checks
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
 from .sim.placement import checked_clearance, place_on_body, place_on_cylinders
 from .sim.settings import SolverSettings
@@ -673,9 +673,11 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
                    verdict_rules: VerdictRules | None = None) -> FitOutcome:
     """The fit of a saved garment folder's 3D state (``pattern.json``, ``mesh.npz``,
     ``positions.npy``); :class:`InputError` when the folder holds no 3D state. With the
-    ``body`` it was draped on (and its ``fabric``), also the fit measures and the verdict
-    (the drape's checks are not saved: judged as passed; contact distance the drape's
-    default margin)."""
+    ``body`` it was draped on (and its ``fabric``), also the state's checks on that body
+    (:func:`patternfit.sim.onbody.saved_state_checks`: where it rests, vertices inside,
+    seams; a state that fell, slid or was moved off the body fails them and its verdict
+    says so), the fit measures and the verdict (contact distance the drape's default
+    margin). Without a body nothing checks where the state lies: ϖ alone."""
     pat, m, x = load_garment(folder)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): place or drape the garment first",
@@ -684,9 +686,11 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     if body is None:
         return FitOutcome(pat, m, None, None, x, fit, state="saved")
     b, fab = read_body(body, units=units), read_fabric(fabric)
-    measures, judgement = judge_state(pat, m, x, fit, b, fab, verdict_rules=verdict_rules)
-    return FitOutcome(pat, m, b, fab, x, fit, state="saved", measures=measures,
-                      judgement=judgement)
+    checks = saved_state_checks(pat, m, b, x)
+    measures, judgement = judge_state(pat, m, x, fit, b, fab, checks=checks,
+                                      verdict_rules=verdict_rules)
+    return FitOutcome(pat, m, b, fab, x, fit, state="saved", extra={"checks": checks},
+                      measures=measures, judgement=judgement)
 
 
 def judge_state(pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult, body: Body,

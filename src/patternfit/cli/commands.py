@@ -108,8 +108,9 @@ def fit(
     loose: float = typer.Option(DEFAULTS.loose, help="Area loss above which a triangle is "
                                 "loose.", callback=finite),
     body: Optional[str] = typer.Option(None, "--body", "-b", help="The body it was draped "
-                                       "on (built-in name or mesh file): adds the fit "
-                                       "measures and the verdict."),
+                                       "on (built-in name or mesh file): adds the checks "
+                                       "of where it rests, the fit measures and the "
+                                       "verdict."),
     fabric: str = typer.Option(DEFAULTS.fabric, "--fabric", "-f",
                                help="Its fabric (with --body)."),
     pressure_max: float = verdict_options()["pressure_max"],
@@ -120,8 +121,10 @@ def fit(
 ) -> None:
     """Evaluate the fit of a saved 3D state: ϖ, colour maps, report.json.
 
-    With --body also the fit measures (gap, ease, pressure) and the verdict. Exits with
-    status 1 when the evaluation failed its checks (a value such as ϖ is not finite)."""
+    With --body (the body it was draped on) also the state's checks on that body (where it
+    rests, vertices inside, seams open), the fit measures (gap, ease, pressure) and the
+    verdict. Exits with status 1 when the evaluation failed its checks (the garment fell,
+    slid or lies off the body; a value such as ϖ is not finite)."""
     from .. import api
 
     t0 = time.perf_counter()
@@ -134,6 +137,9 @@ def fit(
         print_json(report)
     else:
         print_fit_summary(report, out, time.perf_counter() - t0)
+        if body is None:
+            console.print("[yellow]not checked:[/] without --body nothing says whether the "
+                          "garment rests on a body; ϖ alone is not a fit verdict")
     exit_if_checks_failed(report, out)
 
 

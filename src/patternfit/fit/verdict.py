@@ -17,9 +17,9 @@ warp/weft stretch of :class:`~patternfit.fit.metrics.FitResult`) against the thr
 Overall: the first of too tight, too loose, tight, loose that a region reads, else fits.
 A garment that slid off its anchor (its top more than the on-body tolerance below the
 waist or neck it hangs from, :mod:`patternfit.sim.onbody`), still sewn and on the body, is
-too loose, whatever else it failed; any other failed check (fallen to the floor or below
-the feet, far from the body, collapsed, seams open) makes it "failed", with no region
-verdicts.
+too loose, whatever else it failed; any other failed check (fallen past the hips, to the
+floor or below the feet, far from the body, collapsed, seams open) makes it "failed", with
+no region verdicts.
 """
 
 from __future__ import annotations
@@ -90,7 +90,8 @@ def slid_off(checks: dict | None) -> str | None:
     the feet, not far from the body, not collapsed), or None. A garment that fell or
     never closed its seams is not too loose: its drape failed (a pattern in millimetres
     read as metres fell 25 m, or onto the floor the body stands on, where its top lies
-    within the anchor tolerance of the floor, y = 0)."""
+    within the anchor tolerance of the floor, y = 0, or past the hips, its top below the
+    crotch: a skirt 125 cm round on 96 cm hips, round her shins, its hem on the floor)."""
     checks = checks or {}
     offset = checks.get("anchor_offset_mm")
     if offset is None or offset >= -1000.0 * ON_BODY.anchor_tolerance:
@@ -99,7 +100,7 @@ def slid_off(checks: dict | None) -> str | None:
     gap = checks.get("seam_gap_max_mm")
     top = checks.get("anchor_height_mm")
     if (checks.get("below_feet_vertices") or checks.get("far_vertices")
-            or (top is not None and top < 1000.0 * ON_BODY.anchor_tolerance)
+            or checks.get("top_below_crotch") or (top is not None and top < 1000.0 * ON_BODY.anchor_tolerance)
             or (ratio is not None and not ratio >= ON_BODY.min_area_ratio)
             or (gap is not None and not gap < limits.seam_gap_mm)):
         return None

@@ -17,6 +17,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from ..constants import limits, tol
 from ..geometry import triangle_areas, unique_edges
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
@@ -110,6 +111,9 @@ class OnBodyChecks:
     #: the largest of :func:`side_angles` [degrees]; None without torso panels named for
     #: the front or back
     side_angle_max_deg: float | None = None
+    #: the anchor line ended below the body's crotch: nothing of the torso holds the
+    #: garment there, it fell (a skirt round the shins, its hem on the floor)
+    top_below_crotch: bool = False
 
     @property
     def passed(self) -> bool:
@@ -124,6 +128,7 @@ class OnBodyChecks:
                 "anchor_offset_mm": self.anchor_offset_mm, "area_ratio_3d": self.area_ratio,
                 "named_anchor_level": self.named_anchor_level,
                 "side_angle_max_deg": self.side_angle_max_deg,
+                "top_below_crotch": self.top_below_crotch,
                 "on_body": self.passed, "on_body_reasons": list(self.reasons)}
 
 
@@ -274,24 +279,29 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     line = anchor_line(pattern, mesh, band=s.top_band)
     height = float(x[line, 1].mean()) if len(line) else None
     offset = None if height is None else height - landmark
+    crotch = body.measurements.get("crotch_height")
+    fell = bool(height is not None and crotch is not None and height < crotch)
     if offset is not None and abs(offset) > s.anchor_tolerance:
         where = "below" if offset < 0 else "above"
         what = "waist" if anchor == "waist" else "neck base"
         reasons.append(f"garment top {_length(abs(offset))} {where} the {what} it hangs from "
-                       f"(limit {_length(s.anchor_tolerance)})")
+                       f"(limit {_length(s.anchor_tolerance)})"
+                       + (": below the crotch, it fell past the hips" if fell else ""))
+    # a garment failed already lies anywhere (a panel crumpled on the floor, a skirt moved
+    # 3 m aside): which way up or round it hangs then says nothing of its placement
+    off_body = bool(reasons)
     # the anchor line is the garment's top in the frames placement turned upright by the
     # grain lines: a grain arrow drawn downwards hangs the garment upside down, its hem as
     # its "top" at the waist, and the line check holds; the edges named for the anchor then
     # hang at the bottom (a skirt's waist edge round the thighs, a dress's neckline at the
-    # knees). A garment failed already lies crumpled anywhere (a panel on the floor): its
-    # named edges' height then says nothing of which way up it was placed
+    # knees)
     named = named_anchor_edges(pattern, mesh)
     level = None
     if named:
         ids = np.unique(np.concatenate([mesh.edge_vertices(p, e)[0] for p, e in named]))
         span = float(np.ptp(x[:, 1]))
         level = float((x[ids, 1].mean() - lowest) / span) if span > 0 else 1.0
-        if level < s.named_anchor_level and not reasons:
+        if level < s.named_anchor_level and not off_body:
             names = ", ".join(f"{p}/{e}" for p, e in named)
             reasons.append(f"upside down: the edges named for the {anchor} ({names}) hang "
                            f"at {level * 100:.0f}% of the garment's height from its hem, "
@@ -301,14 +311,46 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     # quarter round hung a dress's front at the side, its neckline a notch on the chest)
     angles = side_angles(pattern, mesh, body, x)
     twisted = {k: a for k, a in angles.items() if a > s.side_angle}
-    if twisted:
+    if twisted and not off_body:
         reasons.append("turned round the body: " + ", ".join(
             f"panel '{k}' hangs {a:.0f}° from the side its name says"
             for k, a in twisted.items()) + f" (limit {s.side_angle:g}°)")
     mm = (lambda v: None if v is None else v * 1e3)
     return OnBodyChecks(below, lowest * 1e3, far, farthest * 1e3, anchor, mm(height),
                         landmark * 1e3, mm(offset), ratio, tuple(reasons), level,
-                        max(angles.values()) if angles else None)
+                        max(angles.values()) if angles else None, fell)
+
+
+def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
+                       spacing: float = 0.005) -> dict:
+    """The checks of a 3D state read back without the solver that made it (``patternfit
+    fit`` of a saved garment folder), as a report's ``checks``: the on-body checks
+    (:func:`on_body_checks`), the vertices inside the body (deeper than
+    ``constants.tol.penetration``) and the seams' widest gap, with ``passed`` and
+    ``reasons`` in words. ``solver_checked`` is False: the force balance and the crossed
+    triangle pairs need the drape's solver and fabric, and are not re-run.
+
+    positions : (n, 3) float, the state of ``mesh`` [m]; ``body`` a
+    :class:`patternfit.body.Body`; ``spacing`` the distance field's grid step [m]."""
+    onbody = on_body_checks(pattern, mesh, body, positions, spacing=spacing)
+    x = np.asarray(positions, dtype=np.float64)
+    reasons = list(onbody.reasons)
+    inside, deepest, gap = 0, 0.0, 0.0
+    if np.isfinite(x).all():
+        d, _ = body.distance_field(spacing).query(x)
+        inside = int((d < -tol.penetration).sum())
+        deepest = float(max(0.0, -d.min()) * 1e3)
+        pairs = np.asarray(mesh.seam_pairs, dtype=np.int64).reshape(-1, 2)
+        gap = (float(np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1).max() * 1e3)
+               if len(pairs) else 0.0)
+    if inside > limits.body_penetrations:
+        reasons.append(f"{inside} vertices inside the body (deepest {deepest:.1f} mm; limit "
+                       f"{limits.body_penetrations})")
+    if not gap < limits.seam_gap_mm:
+        reasons.append(f"seams open by up to {gap:.1f} mm")
+    return {**onbody.to_dict(), "inside_vertices": inside, "max_depth_mm": deepest,
+            "seam_gap_max_mm": gap, "solver_checked": False, "passed": not reasons,
+            "reasons": reasons}
 
 
 def _length(metres: float) -> str:
