@@ -78,7 +78,8 @@ def ring(runs) -> np.ndarray:
 def accumark(path, blocks, *, sample=None, scale=25.4, style="STYLE1", table=None):
     """Blocks written as AccuMark writes AAMA: ``blocks`` are dicts with ``name``, ``size``,
     ``quantity``, ``runs`` (cut line [mm]) and optionally ``sew`` (runs), ``notches`` (pairs
-    of points), ``fold`` (two points), ``lines``, ``drills`` [mm]; file units mm / ``scale``
+    of points), ``fold`` (two points), ``lines``, ``drills``, ``grain`` (the grain line's
+    two ends, as the tool writes them: up the piece by default) [mm]; file units mm / ``scale``
     (25.4: inches, ``UNITS: ENGLISH``; 1: ``UNITS: METRIC``)."""
     doc = ezdxf.new("R12")
     msp = doc.modelspace()
@@ -109,7 +110,8 @@ def accumark(path, blocks, *, sample=None, scale=25.4, style="STYLE1", table=Non
             blk.add_polyline2d((np.asarray(line) / scale).tolist(), dxfattribs={"layer": "8"})
         for d in b.get("drills", []):
             blk.add_point(tuple(np.asarray(d) / scale), dxfattribs={"layer": "13"})
-        blk.add_line((100 / scale, 100 / scale), (100 / scale, 300 / scale),
+        a, c = b.get("grain", ((100, 100), (100, 300)))
+        blk.add_line(tuple(np.asarray(a) / scale), tuple(np.asarray(c) / scale),
                      dxfattribs={"layer": "7"})
         texts = [f"Piece Name: {b['name']}", f"QUANTITY: {b.get('quantity', 1)}",
                  "Category: SHELL"] + ([f"SIZE: {b['size']}"] if b.get("size") else [])

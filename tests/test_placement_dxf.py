@@ -113,11 +113,16 @@ def test_an_accumark_top_with_folds_pairs_and_sizes_is_placed_by_its_names(tmp_p
     assert solver.crossings(x) == 0
 
 
-def test_an_accumark_skirt_with_allowance_hangs_from_the_waist(tmp_path):
+@pytest.mark.parametrize("grain", [((100, 100), (100, 300)), ((100, 300), (100, 100))])
+def test_an_accumark_skirt_with_allowance_hangs_from_the_waist(tmp_path, grain):
+    """Its grain line written either way (a LINE is an axis: which end comes first is the
+    CAD tool's choice; drawn from the waist down, the skirt was hung upside down, its hem
+    at her waist, and passed as a fit)."""
     blocks = []
     for name in ("FRONT SKIRT", "BACK SKIRT"):
         piece = skirt_piece()
         piece["name"] = name
+        piece["grain"] = grain
         blocks.append(piece)
     path = accumark(tmp_path / "skirt.dxf", blocks, scale=1.0)
     pattern, roles, body, mesh, x, at = _placed(path, None)
@@ -129,3 +134,5 @@ def test_an_accumark_skirt_with_allowance_hangs_from_the_waist(tmp_path):
     assert float(x[:, 1].max()) == pytest.approx(body.measurements["waist_height"] + 0.01,
                                                  abs=0.02)
     assert np.median(at["FRONT SKIRT"][:, 2]) > 0 > np.median(at["BACK SKIRT"][:, 2])
+    # the waist (the top of the pieces as drawn) at the top: upright, not upside down
+    assert np.corrcoef(mesh.vertices[:, 1], x[:, 1])[0, 1] > 0.9

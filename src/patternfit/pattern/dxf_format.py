@@ -128,7 +128,7 @@ class RawPiece:
         largest first. turns : turn points (layer 2). notches : one (2, 2) array per notch,
         its two ends (the same point twice for a POINT). lines : internal lines (layer 8),
         open polylines (a closed one ends where it starts). drills : drill holes (layer 13).
-        folds : mirror lines (layer 6), (2, 2) each. grain : the grain line's direction.
+        folds : mirror lines (layer 6), (2, 2) each. grain : the grain line's axis, up the drawing.
         name, size, quantity : the block's ``Piece Name:``, ``Size:``, ``Quantity:`` text
         (quantity None where the block has none: AccuMark states it in the sample size's
         block only, :func:`dxf_grades.share_quantities` gives it to the other sizes).
@@ -264,6 +264,11 @@ def read_piece(block, scale: float) -> RawPiece | None:
     for p, _ in by_layer.get(LAYERS["grain"], []):
         d = p[-1] - p[0]
         if np.linalg.norm(d) > 0:
+            # a grain LINE is an axis, not an arrow: which end a CAD tool writes first is
+            # its own choice, and a skirt whose line ran hem to waist was hung upside down.
+            # Pieces are drawn as worn, so the warp is taken up the drawing
+            if d[1] < 0:
+                d = 0.0 - d
             piece.grain = (float(d[0]), float(d[1]))
             break
     return piece
