@@ -283,3 +283,52 @@ def test_a_library_warning_is_one_plain_line():
     assert r.exit_code == 0, r.output
     assert "warning: the placement of 'front' was replaced" in r.output
     assert "PlacementWarning" not in r.output and ".py:" not in r.output
+
+
+def test_a_journal_that_came_with_a_folder_replaces_nothing_elsewhere(pattern_file, tmp_path):
+    """A ``.patternfit-commit-*.json`` naming a rename outside its folder (as a downloaded
+    pattern folder could hold) is left alone: reading the pattern overwrote the named file."""
+    victim = tmp_path / "elsewhere" / "notes.txt"
+    victim.parent.mkdir()
+    victim.write_text("mine")
+    payload = pattern_file.parent / "payload.txt"
+    payload.write_text("theirs")
+    journal = pattern_file.parent / ".patternfit-commit-abc.json"
+    journal.write_text(json.dumps({"renames": [[str(payload), str(victim)]]}))
+    r = runner.invoke(app, ["seams", str(pattern_file)])
+    assert r.exit_code == 0, r.output
+    assert victim.read_text() == "mine" and payload.exists() and journal.exists()
+
+
+@pytest.mark.parametrize("target", ["folder", "file as folder", "pipe"])
+def test_an_output_that_cannot_be_a_file_is_refused_naming_it(pattern_file, tmp_path, target):
+    """A folder, a file where a folder must be, a named pipe: exit 2 naming the path (they
+    were internal errors, a pipe was replaced by a file) and no journal left behind (an
+    edit whose mesh went to a folder left one, and every later read in the folder failed)."""
+    out = tmp_path / "out"
+    if target == "folder":
+        out.mkdir()
+        mesh = tmp_path / "m.npz"
+        mesh_pattern(load_pattern(pattern_file), triangles=200).save(mesh)
+        args = ["edit", str(pattern_file), "move-edge", "--panel", "A", "--edge", "top",
+                "--dy", "0.01", "--partner", "--out", str(tmp_path / "e.json"),
+                "--mesh", str(mesh), "--mesh-out", str(out)]
+    elif target == "file as folder":
+        out.write_text("mine")
+        args = ["mesh", str(pattern_file), "-n", "200", "--out", str(out)]
+    else:
+        os.mkfifo(out)
+        args = ["convert", str(pattern_file), str(out), "--to", "svg"]
+    refused(runner.invoke(app, args), str(out))
+    assert not [n for n in os.listdir(tmp_path) if n.startswith(".patternfit-commit")]
+    if target == "pipe":
+        assert not out.is_file()
+    r = runner.invoke(app, ["seams", str(pattern_file)])
+    assert r.exit_code == 0, r.output
+
+
+def test_a_named_pipe_as_input_is_refused_not_waited_on(tmp_path):
+    pipe = tmp_path / "in.json"
+    os.mkfifo(pipe)
+    refused(runner.invoke(app, ["convert", str(pipe), str(tmp_path / "o.json")]),
+            "not a regular file")

@@ -20,11 +20,34 @@ _UMASK = os.umask(0)
 os.umask(_UMASK)
 
 
+def writable_target(path) -> Path:
+    """``path`` as a :class:`Path` when a file may be written there by a rename: it does not
+    exist, or it is a regular file (a link to one counts); else :class:`InputError` naming
+    it (a folder, a named pipe or a device such as /dev/null would be replaced by a
+    regular file, or, for a folder, the rename fails after the work is done)."""
+    path = Path(path)
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return path
+    except OSError as exc:
+        raise InputError(f"cannot write there: {exc.strerror or exc}", file=path) from None
+    if stat.S_ISDIR(mode):
+        raise InputError("is a folder: name a file to write", file=path)
+    if not stat.S_ISREG(mode):
+        raise InputError("is not a regular file (a pipe or a device): name a file to write",
+                         file=path)
+    return path
+
+
 def atomic_write_bytes(path, data: bytes) -> Path:
     """Write ``data`` to ``path`` atomically: a temporary file beside it, then a rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    path = writable_target(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as exc:  # the folder cannot hold a file (/proc, read-only, a file)
+        raise InputError(f"cannot write there: {exc.strerror or exc}", file=path) from None
     try:
         os.chmod(tmp, 0o666 & ~_UMASK)  # mkstemp makes 0600; give the file normal permissions
         with os.fdopen(fd, "wb") as f:
@@ -51,7 +74,7 @@ def atomic_write_group(files: dict) -> list[Path]:
     finds a journal (:func:`recover_group_writes`, called by :func:`read_bytes_capped`) finishes
     the renames first.
     """
-    targets = [Path(p) for p in files]
+    targets = [writable_target(p) for p in files]
     if len({t.resolve() for t in targets}) != len(targets):
         raise ValueError("files: the same target is named twice")
     temps: list[tuple[str, str]] = []
@@ -87,9 +110,31 @@ def _finish(renames, journals) -> None:
         Path(j).unlink(missing_ok=True)
 
 
+def _ours(renames, folder) -> bool:
+    """Whether a journal's ``renames`` are ones :func:`atomic_write_group` wrote for a group
+    with a file in ``folder``: each a temporary file named for its target (``.<name>.*.tmp``)
+    in the target's own folder, where it still is a regular file or is gone (renamed)."""
+    here = os.path.realpath(folder)
+    mine = False
+    for tmp, target in renames:
+        t, g = Path(tmp), Path(target)
+        if not (t.is_absolute() and g.is_absolute() and t.parent == g.parent
+                and t.name.startswith(f".{g.name}.") and t.name.endswith(".tmp")):
+            return False
+        if os.path.lexists(t) and not (t.is_file() and not t.is_symlink()):
+            return False
+        mine = mine or os.path.realpath(g.parent) == here
+    return mine
+
+
 def recover_group_writes(folder) -> int:
     """Finish the group writes (:func:`atomic_write_group`) a crash left half done in
-    ``folder``; the number of journals found."""
+    ``folder``; the number of journals found and finished.
+
+    Only a journal that names this group's own renames is carried out (:func:`_ours`): one
+    that came with a downloaded folder and names files elsewhere would otherwise replace
+    them at the next read. A journal that is not ours, or whose renames fail (a target
+    made a folder since), is left for a person to look at, and the read goes on."""
     found = 0
     try:
         names = [n for n in os.listdir(folder) if n.startswith(_JOURNAL) and n.endswith(".json")]
@@ -101,9 +146,14 @@ def recover_group_writes(folder) -> int:
             record = json.loads(path.read_text(encoding="utf-8"))
             renames = [(str(a), str(b)) for a, b in record["renames"]]
         except (OSError, ValueError, KeyError, TypeError):
-            continue  # not ours, or unreadable: leave it for a person to look at
+            continue
+        if not _ours(renames, folder):
+            continue
         others = {str(Path(b).parent / n) for _, b in renames}
-        _finish(renames, [path, *others])
+        try:
+            _finish(renames, [path, *others])
+        except OSError:
+            continue
         found += 1
     return found
 
@@ -129,6 +179,9 @@ def read_bytes_capped(path, *, limit: int, error=None) -> bytes:
     path = Path(path)
     recover_group_writes(path.parent)
     try:
+        # before opening: opening a named pipe waits for a writer, for ever
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            raise error("not a regular file", file=path)
         with open(path, "rb") as f:
             if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
                 raise error("not a regular file", file=path)

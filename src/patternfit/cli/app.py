@@ -1,7 +1,8 @@
 """The Typer application every command module registers on, and its one error boundary.
 
 Exit status of every command: 0 done; 1 the result failed its checks (a drape or fit that
-went wrong); 2 an input file or option was refused (``error: <message>`` on standard error);
+went wrong); 2 an input file or option was refused, or a path could not be read or written
+(``error: <message>`` on standard error, naming it);
 3 an internal error (one line; ``PATTERNFIT_DEBUG=1`` shows the traceback).
 """
 
@@ -68,6 +69,10 @@ class _Boundary(Group):
         except Exception as exc:
             if os.environ.get(DEBUG_ENV):
                 raise
+            if isinstance(exc, OSError) and exc.filename is not None:
+                # a path the system refused (a file named where a folder must be, a folder
+                # where a file must be, /proc): the user's to change, not our error
+                fail(f"{exc.filename}: {exc.strerror or exc}")
             if isinstance(exc, ValueError):
                 # InputError (a file or option refused, naming it) and the argument checks
                 # of the library functions, whose messages name the argument
