@@ -528,3 +528,17 @@ def test_two_pieces_of_one_name_are_read_with_a_warning(tmp_path):
     assert sorted(p.name for p in pattern.panels) == ["FRONT", "FRONT_2"]
     (warning,) = [w for w in pattern.meta["warnings"] if "two pieces" in w]
     assert "'FRONT'" in warning and "block 'P1_FRONT'" in warning and "'FRONT_2'" in warning
+
+
+@pytest.mark.parametrize("ending, bom", [(b"\r\n", b""), (b"\n", b"\xef\xbb\xbf"),
+                                         (b"\r\n", b"\xef\xbb\xbf")])
+def test_windows_line_endings_and_a_byte_order_mark_read_as_the_plain_file(tmp_path, ending,
+                                                                           bom):
+    """A Windows export's CR LF line ends (and a UTF-8 byte order mark) were refused as "not
+    a DXF file"."""
+    plain = _gerber_aama(tmp_path / "aama.dxf")
+    other = tmp_path / "windows.dxf"
+    other.write_bytes(bom + plain.read_bytes().replace(b"\n", ending))
+    a, b = load_dxf(plain), load_dxf(other)
+    assert b.meta["sizes"] == a.meta["sizes"] and len(b.panels) == len(a.panels) == 1
+    assert b.panels[0].area() == pytest.approx(a.panels[0].area(), rel=1e-12)

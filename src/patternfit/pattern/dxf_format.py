@@ -65,6 +65,9 @@ def read_document(data: bytes):
     """The ezdxf document in a DXF file's bytes (ASCII in its own code page, or binary)."""
     if data.startswith(_BINARY_DXF):
         return Drawing.load(binary_tags_loader(data, errors="surrogateescape"))
+    # a Windows export ends its lines in CR LF, and a UTF-8 one may open with a byte order
+    # mark: both were refused as "not a DXF file" (ezdxf's test reads "0\r" as no "0")
+    data = data.removeprefix(b"\xef\xbb\xbf").replace(b"\r\n", b"\n")
     text = data.decode("utf-8", errors="ignore")  # the header's code page is plain ASCII
     if not is_dxf_stream(io.StringIO(text)):
         raise PatternError("not a DXF file (it does not start with a DXF section)")
