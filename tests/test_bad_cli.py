@@ -332,3 +332,29 @@ def test_a_named_pipe_as_input_is_refused_not_waited_on(tmp_path):
     os.mkfifo(pipe)
     refused(runner.invoke(app, ["convert", str(pipe), str(tmp_path / "o.json")]),
             "not a regular file")
+
+
+def test_an_output_that_is_an_input_is_refused(pattern_file, tmp_path):
+    """``convert x.dxf x.dxf`` replaced the CAD file; a mesh written over the pattern read,
+    or over the pattern written, lost it (exit 0)."""
+    before = pattern_file.read_bytes()
+    refused(runner.invoke(app, ["convert", str(pattern_file), str(pattern_file)]),
+            "is the file being converted")
+    mesh = tmp_path / "m.npz"
+    mesh_pattern(load_pattern(pattern_file), triangles=200).save(mesh)
+    out = tmp_path / "e.json"
+    for mesh_out in (out, pattern_file):
+        refused(runner.invoke(app, ["edit", str(pattern_file), "move-edge", "--panel", "A",
+                                    "--edge", "top", "--dy", "0.01", "--partner", "--out",
+                                    str(out), "--mesh", str(mesh), "--mesh-out",
+                                    str(mesh_out)]), "--mesh-out")
+    assert pattern_file.read_bytes() == before and not out.exists()
+
+
+def test_patterns_writes_the_format_its_ending_names(tmp_path):
+    from patternfit.pattern.dxf import load_dxf
+
+    out = tmp_path / "skirt.dxf"
+    r = runner.invoke(app, ["patterns", "skirt", "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    assert {p.name for p in load_dxf(out).panels} == {"front", "back"}  # it held JSON

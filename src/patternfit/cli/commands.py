@@ -26,12 +26,15 @@ Json = typer.Option(False, "--json", help="Print machine-readable results on std
 def patterns(
     name: Optional[str] = typer.Argument(None, help="A built-in garment to write out."),
     size: str = typer.Option(DEFAULTS.size, "--size", "-s", help="Size: S, M, L or XL."),
-    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the pattern JSON here."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the pattern here: "
+                                       ".json (ours), .dxf, .svg, .pdf, or "
+                                       "_specification.json (GarmentCode), by the ending."),
     units: str = typer.Option("cm", help="Units written in the file: m, cm, mm or in."),
     json_out: bool = Json,
 ) -> None:
-    """List the built-in garments, or write one in patternfit's JSON format."""
-    from ..pattern.io import save_pattern
+    """List the built-in garments, or write one in patternfit's JSON format (or another, by
+    the file's ending)."""
+    from ..pattern.formats import save_any_pattern
     from ..pattern.library import GARMENTS, build
 
     if name is None:
@@ -58,7 +61,8 @@ def patterns(
     pattern = build(name, size)
     if out is None:
         fail("give --out FILE.json to write the pattern")
-    save_pattern(pattern, out, units=units)
+    # by the ending: "p.dxf" held JSON
+    save_any_pattern(pattern, out, units=units)
     if json_out:
         print_json({"name": name, "size": size.upper(), "file": str(out),
                     "panels": len(pattern.panels), "seams": len(pattern.seams)})

@@ -8,7 +8,7 @@ from typing import Optional
 
 import typer
 
-from .app import SIZE_HELP, app, console, print_json
+from .app import SIZE_HELP, app, console, fail, print_json
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -35,6 +35,8 @@ def convert(
     """Convert a sewing pattern between formats (lengths keep their true size)."""
     from .. import api
 
+    if target.exists() and target.resolve() == source.resolve():
+        fail(f"{target} is the file being converted: write to another file")
     pattern = api.read_pattern(source, size=size, units=from_units)
     written = api.save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
     # an unsewn import (a DXF without its side file): the seams the user can accept

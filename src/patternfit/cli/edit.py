@@ -124,6 +124,9 @@ def edit_command(
         mesh_out = mesh_out or (mesh if in_place else out.with_suffix(".npz"))
         if mesh_out.resolve() == mesh.resolve() and not in_place:
             fail(f"--mesh-out is the input mesh {mesh}; pass --in-place to overwrite it")
+        if mesh_out.resolve() in (out.resolve(), pattern_file.resolve()):
+            fail(f"--mesh-out {mesh_out} is the pattern file written or read: name another "
+                 "file for the mesh")
     old = load_pattern(pattern_file)
     # the edited pattern is written in the units of the input (load_pattern checked them)
     units = read_json_file(pattern_file, error=PatternError).get("units", "m")
