@@ -542,3 +542,41 @@ def test_windows_line_endings_and_a_byte_order_mark_read_as_the_plain_file(tmp_p
     a, b = load_dxf(plain), load_dxf(other)
     assert b.meta["sizes"] == a.meta["sizes"] and len(b.panels) == len(a.panels) == 1
     assert b.panels[0].area() == pytest.approx(a.panels[0].area(), rel=1e-12)
+
+
+def _two_blocks(path, *, units="METRIC", sample=None, open_gap=None):
+    """A closed 300 × 500 mm piece FRONT in sizes S and M, and, with ``open_gap`` [mm], a
+    piece BACK whose outline stops that far short of closing."""
+    d = _Dxf()
+    for size in ("S", "M"):
+        d.block(f"FRONT_{size}")
+        d.text(1, "Piece Name: FRONT")
+        d.text(1, f"Size: {size}")
+        d.polyline(1, [(0, 0), (300, 0), (300, 500), (0, 500)], closed=True)
+        d.end_block()
+    if open_gap is not None:
+        d.block("BACK")
+        d.text(1, "Piece Name: BACK")
+        d.polyline(1, [(400, 0), (700, 0), (700, 500), (400, 500), (400, open_gap)])
+        d.end_block()
+    style = [f"Units: {units}"] + ([f"Sample Size: {sample}"] if sample else [])
+    return d.save(path, style)
+
+
+@pytest.mark.parametrize("case", ["open outline", "unknown unit", "absent sample size"])
+def test_what_the_reader_cannot_use_is_said_not_dropped(tmp_path, case):
+    """Each was read without a word: a piece whose outline does not close (a 0.5 mm gap)
+    left out, 'Units: FURLONGS' read as millimetres, a sample size the file does not draw
+    replaced by its first size."""
+    kw = {"open outline": {"open_gap": 0.5}, "unknown unit": {"units": "FURLONGS"},
+          "absent sample size": {"sample": "XXL"}}[case]
+    pattern = load_dxf(_two_blocks(tmp_path / "f.dxf", **kw))
+    said = " ".join(pattern.meta.get("warnings", []))
+    expected = {"open outline": "block 'BACK' draws on a boundary layer but holds no closed",
+                "unknown unit": "'Units: FURLONGS' names no unit",
+                "absent sample size": "sample size 'XXL' the file names is not among its "
+                                      "sizes (S, M): size 'S' was read"}[case]
+    assert expected in said, said
+    assert [p.name for p in pattern.panels] == ["FRONT"]
+    clean = load_dxf(_two_blocks(tmp_path / "g.dxf"))
+    assert not clean.meta.get("warnings")

@@ -129,7 +129,7 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
         where = f" in size {size_most}" if size_most is not None else ""
         raise PatternError(f"the DXF has {every + most} blocks with a boundary{where}, more "
                            f"than the limit of {limits.panels} panels")
-    pieces, marks = [], {}
+    pieces, marks, unread = [], {}, []
     for block in blocks:
         try:
             piece = read_piece(block, scale)
@@ -141,6 +141,8 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
             raise PatternError(f"piece cannot be read: {why(exc)}", panel=block.name) from exc
         if piece is not None:
             pieces.append(piece)
+        elif any(layer_of(e) in PIECE_LAYERS for e in block):
+            unread.append(block)
     if not pieces:
         raise PatternError("the DXF has no pattern pieces (no block with a closed boundary "
                            "on layer 1)")
@@ -184,6 +186,19 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     if table:
         meta["grade_rule_table"] = table
     warnings = _size_warnings(panels, scale, unit_says) + renamed
+    # what the file says and the reader could not use, said rather than dropped
+    word = field(msp_texts, "Units")
+    if units is None and word is not None and not unit_says.startswith("the text"):
+        warnings.append(f"the text 'Units: {word}' names no unit the reader knows (METRIC or "
+                        f"ENGLISH); read instead by: {unit_says}; give the unit "
+                        "(--from-units) if that is wrong")
+    if sample is not None and chosen is not None and size is None \
+            and sample.strip().upper() != str(chosen).strip().upper():
+        warnings.append(f"the sample size '{sample}' the file names is not among its sizes "
+                        f"({', '.join(sizes_of(pieces))}): size '{chosen}' was read")
+    warnings += [f"block '{b.name}' draws on a boundary layer but holds no closed outline "
+                 "(a gap, or fewer than 3 points): not read as a piece" for b in unread
+                 if (field(texts(b), "Size") or None) in (None, chosen)]
     warnings += [f"piece '{p.name or p.block}' says 'Quantity: 0' (the marker cuts none of "
                  "it): read as one panel" for p in pieces_in_size(pieces, chosen)
                  if p.quantity == 0]
