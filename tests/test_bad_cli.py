@@ -358,3 +358,11 @@ def test_patterns_writes_the_format_its_ending_names(tmp_path):
     r = runner.invoke(app, ["patterns", "skirt", "--out", str(out)])
     assert r.exit_code == 0, r.output
     assert {p.name for p in load_dxf(out).panels} == {"front", "back"}  # it held JSON
+
+
+def test_a_file_name_is_printed_as_it_is(pattern_file, tmp_path):
+    """Rich read ":fire:" in a file name as an emoji code."""
+    named = tmp_path / "coat:fire:v2.json"
+    named.write_bytes(pattern_file.read_bytes())
+    r = runner.invoke(app, ["convert", str(named), str(tmp_path / "o.json")])
+    assert r.exit_code == 0 and "coat:fire:v2.json" in " ".join(r.output.split()), r.output

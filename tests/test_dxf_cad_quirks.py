@@ -580,3 +580,14 @@ def test_what_the_reader_cannot_use_is_said_not_dropped(tmp_path, case):
     assert [p.name for p in pattern.panels] == ["FRONT"]
     clean = load_dxf(_two_blocks(tmp_path / "g.dxf"))
     assert not clean.meta.get("warnings")
+
+
+def test_control_characters_in_a_piece_name_are_dropped(tmp_path):
+    """An escape sequence in a piece's name reached the terminal that printed it."""
+    d = _Dxf()
+    d.block("F")
+    d.text(1, "Piece Name: FR\x1b[31mONT\x07")
+    d.polyline(1, [(0, 0), (300, 0), (300, 500), (0, 500)], closed=True)
+    d.end_block()
+    (panel,) = load_dxf(d.save(tmp_path / "f.dxf", ["Units: METRIC"])).panels
+    assert panel.name == "FR[31mONT"

@@ -93,7 +93,8 @@ app = typer.Typer(name="patternfit", cls=_Boundary, no_args_is_help=True, add_co
 # can be copied; in a pipe or a CI log (no terminal, no COLUMNS) Rich assumes 80 columns and
 # would squeeze the tables until names are cut ("female…"), so there the width is one that
 # every table the commands print fits in
-console = Console(stderr=True, soft_wrap=True,
+# emoji=False: a file named "coat:fire:v2.dxf" is printed as named, not with an emoji in it
+console = Console(stderr=True, soft_wrap=True, emoji=False,
                   width=None if sys.stderr.isatty() or os.environ.get("COLUMNS") else 200)
 
 

@@ -13,6 +13,7 @@ METRIC`` (millimetres) or ``Units: ENGLISH`` (inches) and ``Sample Size:`` (the 
 from __future__ import annotations
 
 import io
+import re
 from dataclasses import dataclass, field as dc_field
 
 import numpy as np
@@ -45,12 +46,17 @@ _UNIT = {"METRIC": 0.001, "ENGLISH": 0.0254}
 _INSUNITS = {1: 0.0254, 2: 0.3048, 4: 0.001, 5: 0.01, 6: 1.0}
 
 
+#: control characters (an escape sequence in a piece name would reach the terminal)
+_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
+
+
 def texts(entities) -> list[str]:
+    """The texts of ``entities`` (TEXT, ATTRIB, MTEXT, ATTDEF), control characters dropped."""
     out = []
     for e in entities:
         if e.dxftype() in ("TEXT", "ATTRIB", "MTEXT", "ATTDEF"):
             raw = e.dxf.get("text", "") if e.dxftype() != "MTEXT" else e.text
-            out.append(str(raw or "").strip())
+            out.append(_CONTROL.sub("", str(raw or "")).strip())
     return out
 
 
