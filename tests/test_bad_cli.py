@@ -366,3 +366,26 @@ def test_a_file_name_is_printed_as_it_is(pattern_file, tmp_path):
     named.write_bytes(pattern_file.read_bytes())
     r = runner.invoke(app, ["convert", str(named), str(tmp_path / "o.json")])
     assert r.exit_code == 0 and "coat:fire:v2.json" in " ".join(r.output.split()), r.output
+
+
+def test_a_pattern_read_but_not_writable_names_both_files(tmp_path):
+    """A GarmentCode stitch joining a 40 cm edge to an 8 cm one is read (with a warning) but
+    refused by our writer's check: the message said neither file."""
+    from test_garmentcode import _doc, _square
+
+    small = _square()
+    small["vertices"] = [[x / 5, y / 5] for x, y in small["vertices"]]
+    src = tmp_path / "gc_specification.json"
+    src.write_text(json.dumps(_doc({"a": _square(), "b": small},
+                                   [[{"panel": "a", "edge": 0}, {"panel": "b", "edge": 0}]])))
+    out = tmp_path / "o.json"
+    refused(runner.invoke(app, ["convert", str(src), str(out)]), str(src), str(out),
+            "joins sides of different length")
+
+
+def test_edit_of_another_format_says_to_convert_it(tmp_path):
+    dxf = tmp_path / "skirt.dxf"
+    assert runner.invoke(app, ["convert", "skirt", str(dxf)]).exit_code == 0
+    refused(runner.invoke(app, ["edit", str(dxf), "move-edge", "--panel", "front", "--edge",
+                                "hem", "--dy", "0.01", "--out", str(tmp_path / "e.json")]),
+            "edit works on a patternfit JSON pattern", "patternfit convert")

@@ -8,6 +8,7 @@ from typing import Optional
 
 import typer
 
+from ..pattern.errors import PatternError
 from .app import SIZE_HELP, app, console, fail, print_json
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
@@ -38,7 +39,10 @@ def convert(
     if target.exists() and target.resolve() == source.resolve():
         fail(f"{target} is the file being converted: write to another file")
     pattern = api.read_pattern(source, size=size, units=from_units)
-    written = api.save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
+    try:
+        written = api.save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
+    except PatternError as exc:  # the writer's checks, stricter than what a reader keeps
+        fail(f"{source} was read but cannot be written to {target}: {exc}")
     # an unsewn import (a DXF without its side file): the seams the user can accept
     suggested = [{"a": {"panel": g.seam.a.panel, "edge": g.seam.a.edge},
                   "b": {"panel": g.seam.b.panel, "edge": g.seam.b.edge},

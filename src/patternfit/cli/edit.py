@@ -112,6 +112,7 @@ def edit_command(
     from ..mesh import GarmentMesh
     from ..mesh.store import replace_pattern_and_mesh
     from ..pattern import PatternError, load_pattern, save_pattern
+    from ..pattern.formats import sniff_format
 
     if operation not in OPERATIONS:
         fail(f"unknown operation '{operation}' (expected one of {', '.join(OPERATIONS)})")
@@ -127,6 +128,10 @@ def edit_command(
         if mesh_out.resolve() in (out.resolve(), pattern_file.resolve()):
             fail(f"--mesh-out {mesh_out} is the pattern file written or read: name another "
                  "file for the mesh")
+    if sniff_format(pattern_file) != "patternfit":
+        fail(f"{pattern_file}: edit works on a patternfit JSON pattern; convert it first "
+             f"(patternfit convert {pattern_file} "
+             f"{pattern_file.stem.removesuffix('_specification')}.json)")
     old = load_pattern(pattern_file)
     # the edited pattern is written in the units of the input (load_pattern checked them)
     units = read_json_file(pattern_file, error=PatternError).get("units", "m")
