@@ -591,3 +591,21 @@ def test_control_characters_in_a_piece_name_are_dropped(tmp_path):
     d.end_block()
     (panel,) = load_dxf(d.save(tmp_path / "f.dxf", ["Units: METRIC"])).panels
     assert panel.name == "FR[31mONT"
+
+
+def test_a_block_inserted_at_another_scale_is_said(tmp_path):
+    """An INSERT's scale is not applied (AAMA draws each piece at its size in its block):
+    a file that scales one was read at the block's size without a word."""
+    import ezdxf
+
+    doc = ezdxf.new("R12")
+    blk = doc.blocks.new("F")
+    blk.add_polyline2d([(0, 0), (300, 0), (300, 500), (0, 500)], close=True,
+                       dxfattribs={"layer": "1"})
+    blk.add_text("Piece Name: F", dxfattribs={"layer": "1"})
+    doc.modelspace().add_blockref("F", (0, 0), dxfattribs={"xscale": 2.0, "yscale": 0.5})
+    doc.modelspace().add_text("Units: METRIC", dxfattribs={"layer": "1"})
+    doc.saveas(tmp_path / "f.dxf")
+    pattern = load_dxf(tmp_path / "f.dxf")
+    assert pattern.panels[0].area() == pytest.approx(0.15)
+    assert "block 'F' is inserted at scale (2, 0.5)" in " ".join(pattern.meta["warnings"])

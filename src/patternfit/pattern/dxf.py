@@ -196,6 +196,11 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
             and sample.strip().upper() != str(chosen).strip().upper():
         warnings.append(f"the sample size '{sample}' the file names is not among its sizes "
                         f"({', '.join(sizes_of(pieces))}): size '{chosen}' was read")
+    for ref in doc.modelspace().query("INSERT"):
+        sx, sy = ref.dxf.get("xscale", 1.0), ref.dxf.get("yscale", 1.0)
+        if (sx, sy) != (1.0, 1.0):
+            warnings.append(f"block '{ref.dxf.name}' is inserted at scale ({sx:g}, {sy:g}): "
+                            "read at its own size, as drawn in the block")
     warnings += [f"block '{b.name}' draws on a boundary layer but holds no closed outline "
                  "(a gap, or fewer than 3 points): not read as a piece" for b in unread
                  if (field(texts(b), "Size") or None) in (None, chosen)]
