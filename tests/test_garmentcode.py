@@ -269,3 +269,17 @@ def test_builtin_patterns_round_trip_unchanged():
             for ea, eb in zip(a.outline.edges, b.outline.edges, strict=True):
                 assert (ea.name, ea.kind) == (eb.name, eb.kind)
                 assert np.allclose(ea.points, eb.points, atol=1e-12)
+
+
+def test_a_file_in_millimetres_without_its_unit_is_said(tmp_path):
+    """Without ``units_in_meter`` a file is read in centimetres: one drawn in millimetres
+    came in ten times too large, without a word."""
+    big = _square()
+    big["vertices"] = [[x * 10, y * 10] for x, y in big["vertices"]]
+    doc = _doc({"front": big})
+    del doc["properties"]["units_in_meter"]
+    pattern = garmentcode_from_dict(doc)
+    said = " ".join(pattern.meta.get("warnings", []))
+    assert "panel 'front' is 6 m across, read in cm" in said
+    assert "\"units_in_meter\": 1000" in said
+    assert not garmentcode_from_dict(_doc({"front": _square()})).meta.get("warnings")

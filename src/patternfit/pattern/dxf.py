@@ -19,13 +19,10 @@ Everything inside is metres.
 from __future__ import annotations
 
 import json
-import math
 from collections import Counter
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from ..constants import UNITS, limits, tol
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
@@ -42,17 +39,12 @@ from .formats import check_imported
 from .io import (check_notches, json_field, json_placement, json_point, notches_from_json,
                  notches_to_json, seams_from_json, seams_to_json, shown)
 from .model import Loop, Pattern
+from .plausible import PLAUSIBLE, size_warnings
 from .validate import check_pattern
 
 __all__ = ["LAYERS", "PLAUSIBLE", "load_dxf", "notch_marks", "save_dxf", "sidecar_path"]
 
 SIDE_FORMAT = "patternfit-dxf-sidecar"
-#: sizes across (largest side of the bounding box) a garment piece plausibly has; outside
-#: them the file's units are probably misread and the reader warns [m]
-PLAUSIBLE = (0.01, 3.0)
-#: the least size across the largest piece of a garment plausibly has [m]: below it the whole
-#: pattern is probably read in too small a unit (CLO writes ``UNITS: METRIC`` over centimetres)
-PLAUSIBLE_LARGEST = 0.1
 
 
 def sidecar_path(path) -> Path:
@@ -185,7 +177,9 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     table = field(msp_texts, "Grade Rule Table") or (rules.name if rules else None)
     if table:
         meta["grade_rule_table"] = table
-    warnings = _size_warnings(panels, scale, unit_says) + renamed
+    warnings = size_warnings(panels, scale, unit_says, hint=lambda unit: (
+        f"patternfit convert FILE OUT.json --from-units {unit}; "
+        f"load_dxf(..., units={unit!r})")) + renamed
     # what the file says and the reader could not use, said rather than dropped
     word = field(msp_texts, "Units")
     if units is None and word is not None and not unit_says.startswith("the text"):
@@ -212,49 +206,6 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     pattern = Pattern(field(msp_texts, "Style Name") or path.stem, tuple(panels), (), meta)
     check_pattern(pattern)
     return pattern
-
-
-_UNIT_NAMES = {0.001: "mm", 0.01: "cm", 0.0254: "in", 0.3048: "ft", 1.0: "m"}
-
-
-def _size_warnings(panels, scale: float, unit_says: str) -> list[str]:
-    """A warning for every piece whose size is implausible for a garment piece in the unit
-    read (``PLAUSIBLE``), naming the units that would make it plausible; and one when every
-    piece is plausible but even the largest is smaller than ``PLAUSIBLE_LARGEST``."""
-    out = []
-    lo, hi = PLAUSIBLE
-    unit = _UNIT_NAMES.get(scale, f"{scale:g} m")
-    sizes = []
-    for panel in panels:
-        poly = panel.outline.polygon(8)
-        size = float(np.max(poly.max(axis=0) - poly.min(axis=0)))
-        sizes.append(size)
-        if lo <= size <= hi:
-            continue
-        fits = [u for u, m in UNITS.items() if lo <= size / scale * m <= hi]
-        out.append(f"panel '{panel.name}' is {size:.3g} m across, read in {unit} ({unit_says}):"
-                   f" implausible for a garment piece (expected {lo:g} to {hi:g} m); "
-                   + _as_other_units(size / scale, fits))
-    largest = max(sizes, default=PLAUSIBLE_LARGEST)
-    if not out and largest < PLAUSIBLE_LARGEST:
-        fits = [u for u, m in UNITS.items()
-                if PLAUSIBLE_LARGEST <= largest / scale * m <= hi]
-        out.append(f"the largest piece is {largest * 100:.3g} cm across, read in {unit} "
-                   f"({unit_says}): small for a garment (at least {PLAUSIBLE_LARGEST * 100:g}"
-                   " cm expected); " + _as_other_units(largest / scale, fits))
-    return out
-
-
-def _as_other_units(drawn: float, fits: list[str]) -> str:
-    """What a piece ``drawn`` file units across would measure in each unit of ``fits``,
-    and how to read the file so; or to check the units when none fits."""
-    if not fits:
-        return "check the file's units"
-    sizes = ", ".join(f"as {u} {drawn * UNITS[u]:.3g} m" for u in fits)
-    # the reading nearest a typical piece (half a metre) is the one to try first
-    best = min(fits, key=lambda u: abs(math.log(drawn * UNITS[u] / 0.5)))
-    return (f"{sizes} (patternfit convert FILE OUT.json --from-units {best}; "
-            f"load_dxf(..., units={best!r}))")
 
 
 def _renamed(loop: Loop, name: str, names, where: dict) -> Loop:

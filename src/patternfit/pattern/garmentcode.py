@@ -48,13 +48,14 @@ from typing import Any
 import numpy as np
 
 from ..arguments import number
-from ..constants import limits
+from ..constants import UNITS, limits
 from ..files import atomic_write_text, read_json_file
 from ..geometry import euler_xyz_matrix
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
 from .orientation import twisted_cycles
+from .plausible import size_warnings
 from .formats import check_imported
 from .io import json_field, json_number, shown
 from .validate import check_size, measured_ease, seam_slack
@@ -321,7 +322,11 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
             tags[seam_name] = extra
     pattern, notes = _with_ease(Pattern(name, tuple(panels), tuple(seams)),
                                 data.get(_SEAM_EASE))
-    warnings = notes + check_imported(pattern)
+    said = (f"'units_in_meter': {units:g}" if "units_in_meter" in props
+            else "no 'units_in_meter', so centimetres")
+    warnings = notes + check_imported(pattern) + size_warnings(
+        panels, scale, said, hint=lambda unit: (
+            f"set \"units_in_meter\": {1.0 / UNITS[unit]:g} in the file's 'properties'"))
     twisted = twisted_cycles(pattern)
     if twisted:
         warnings.append(
