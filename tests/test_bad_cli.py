@@ -389,3 +389,16 @@ def test_edit_of_another_format_says_to_convert_it(tmp_path):
     refused(runner.invoke(app, ["edit", str(dxf), "move-edge", "--panel", "front", "--edge",
                                 "hem", "--dy", "0.01", "--out", str(tmp_path / "e.json")]),
             "edit works on a patternfit JSON pattern", "patternfit convert")
+
+
+def test_a_users_file_named_as_a_side_file_is_not_replaced(tmp_path):
+    """Writing ``x.dxf`` writes ``x.seams.json`` beside it: a file of the user's own under
+    that name was replaced without a word; one our writer made is replaced as before."""
+    mine = tmp_path / "x.seams.json"
+    mine.write_text("my notes")
+    refused(runner.invoke(app, ["convert", "skirt", str(tmp_path / "x.dxf")]),
+            "is not a side file patternfit wrote")
+    assert mine.read_text() == "my notes" and not (tmp_path / "x.dxf").exists()
+    for _ in range(2):
+        r = runner.invoke(app, ["convert", "skirt", str(tmp_path / "y.dxf")])
+        assert r.exit_code == 0, r.output

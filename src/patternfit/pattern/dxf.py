@@ -86,10 +86,24 @@ def save_dxf(pattern: Pattern, path, *, sidecar: bool = True) -> Path:
         text = dxf_text(pattern)
     except PatternError as exc:  # the grade kept in meta is damaged
         raise exc.located(path) from None
+    side = sidecar_path(path)
+    if sidecar and side.exists() and not _ours(side):
+        raise PatternError("is not a side file patternfit wrote, and the DXF's would replace "
+                           "it: move it, or write the DXF under another name", file=side)
     atomic_write_text(path, text)
     if sidecar:
         atomic_write_text(sidecar_path(path), json.dumps(_sidecar(pattern), indent=1) + "\n")
     return Path(path)
+
+
+def _ours(side: Path) -> bool:
+    """Whether ``side`` is a side file our writer wrote (a user's own file of that name is
+    never replaced)."""
+    try:
+        data = read_json_file(side, error=PatternError)
+    except PatternError:
+        return False
+    return isinstance(data, dict) and data.get("format") == SIDE_FORMAT
 
 
 # -- import ------------------------------------------------------------------------------------
