@@ -387,3 +387,24 @@ def test_damaged_distance_field_cache_is_recomputed(tmp_path, monkeypatch):
         cached.write_bytes(damage)
         again = DistanceField.from_mesh(ball.vertices, ball.faces, spacing=0.02, padding=0.02)
         assert np.array_equal(again.values, first.values)
+
+
+def test_a_body_file_naming_a_pipe_as_its_material_library_is_read(tmp_path):
+    """An OBJ's ``mtllib`` naming a named pipe waited on it for ever; what a mesh file names
+    is read as every input is (regular files only), and a body needs no material."""
+    import os
+    import threading
+
+    from patternfit.body.mesh_io import save_body_mesh
+
+    obj = tmp_path / "body.obj"
+    save_body_mesh(load_body("female_thin"), obj)
+    obj.write_text("mtllib pipe.mtl\n" + obj.read_text())
+    os.mkfifo(tmp_path / "pipe.mtl")
+    out = {}
+    reader = threading.Thread(target=lambda: out.update(body=load_body_mesh(obj)), daemon=True)
+    reader.start()
+    reader.join(60.0)
+    assert not reader.is_alive(), "the reader waited on the pipe"
+    assert out["body"].measurements["height"] == pytest.approx(
+        load_body("female_thin").measurements["height"], rel=1e-3)

@@ -277,13 +277,24 @@ def load_body_mesh(path, *, units: str | None = None, up: str | None = None) -> 
                              error=BodyMeshError)
     try:
         mesh = trimesh.load(io.BytesIO(data), file_type=fmt, force="mesh", process=False,
-                            resolver=trimesh.resolvers.FilePathResolver(path.parent))
+                            resolver=_Resolver(path.parent))
     except Exception as exc:  # trimesh raises many kinds for unreadable files
         raise BodyMeshError(f"cannot read the mesh: {exc}", file=path) from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise BodyMeshError("empty mesh: no triangles", file=path)
     return body_from_arrays(mesh.vertices, mesh.faces, units=units, up=up, name=path.stem,
                             file=path)
+
+
+class _Resolver(trimesh.resolvers.FilePathResolver):
+    """The files a mesh file names (an OBJ's materials, a glTF's buffers), read as every
+    input is: inside the mesh's folder, regular files only (an OBJ naming a pipe as its
+    material library waited on it for ever), within the size limit of a body file."""
+
+    def get(self, name: str) -> bytes:
+        return read_bytes_capped(self.absolute(name),
+                                 limit=_FILE_BYTES_PER_VERTEX * limits.body_vertices,
+                                 error=BodyMeshError)
 
 
 def save_body_mesh(body: Body, path) -> Path:
