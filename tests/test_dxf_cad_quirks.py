@@ -393,6 +393,14 @@ def test_a_negative_quantity_is_still_refused(tmp_path):
         load_dxf(path)
 
 
+@pytest.mark.parametrize("text", ["inf", "-inf", "1e999"])
+def test_an_infinite_quantity_is_no_number(tmp_path, text):
+    """It read "piece cannot be read: OverflowError: cannot convert float infinity"."""
+    path = _accumark_style(tmp_path / "q.dxf", [("SLEEVE", text)])
+    with pytest.raises(PatternError, match=f"'Quantity: {text}' is not a number"):
+        load_dxf(path)
+
+
 @settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(corners=st.sets(st.integers(0, 3), min_size=1, max_size=4))
 def test_accumark_notch_points_with_elevation_read_once_per_corner(tmp_path, corners):

@@ -203,7 +203,7 @@ def _quantity(text: str | None, where: dict) -> int | None:
         return None
     try:
         q = sum(int(float(part)) for part in text.strip().split(","))
-    except ValueError:
+    except (ValueError, OverflowError):  # "inf" is a float but no count
         raise PatternError(f"'Quantity: {text}' is not a number", **where) from None
     if not 0 <= q <= 64:
         raise PatternError(f"'Quantity: {text}' is not a piece count (0 to 64)", **where)
