@@ -179,10 +179,11 @@ def read_bytes_capped(path, *, limit: int, error=None) -> bytes:
     path = Path(path)
     recover_group_writes(path.parent)
     try:
-        # before opening: opening a named pipe waits for a writer, for ever
-        if not stat.S_ISREG(os.stat(path).st_mode):
-            raise error("not a regular file", file=path)
-        with open(path, "rb") as f:
+        # opened without blocking: a blocking open of a named pipe waits for a writer, for
+        # ever; what was opened is then checked (no race with a stat before the open), and
+        # a regular file reads the same either way
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with os.fdopen(fd, "rb") as f:
             if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
                 raise error("not a regular file", file=path)
             data = f.read(limit + 1)
