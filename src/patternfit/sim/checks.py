@@ -175,6 +175,14 @@ def _pierced_faces(model: ClothModel, x, d_end, deep_edge, step: float, depth: f
     return pierced
 
 
+def seam_gap_mm(pairs, x) -> float:
+    """The widest gap between the two vertices of a seam pair [mm]: ``pairs`` (k, 2) int,
+    ``x`` (n, 3) float positions [m]; 0 without pairs."""
+    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    return (float(np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1).max() * 1e3)
+            if len(pairs) else 0.0)
+
+
 def drape_checks(model: ClothModel, x, *, settings: SolverSettings, converged: bool = False,
                  residual=None) -> DrapeChecks:
     """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`.
@@ -190,9 +198,7 @@ def drape_checks(model: ClothModel, x, *, settings: SolverSettings, converged: b
     else:
         inside, depth, clearance = 0, 0.0, None
     through, pierced = through_body(model, x)
-    pairs = model.seam_pairs
-    gap = (float(np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1).max() * 1e3)
-           if len(pairs) else 0.0)
+    gap = seam_gap_mm(model.seam_pairs, x)
     crossing = crossings(model, x)
     rms = p99 = None
     at_rest = bool(converged)

@@ -22,6 +22,7 @@ from ..geometry import triangle_areas, unique_edges
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
 from ..pattern.roles import panel_roles
+from .checks import seam_gap_mm
 from .panel_frames import ANCHOR_HEIGHT, upright_frames
 
 #: a body panel whose top lies this far [m] below the garment's top does not hold the
@@ -340,9 +341,7 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
         d, _ = body.distance_field(spacing).query(x)
         inside = int((d < -tol.penetration).sum())
         deepest = float(max(0.0, -d.min()) * 1e3)
-        pairs = np.asarray(mesh.seam_pairs, dtype=np.int64).reshape(-1, 2)
-        gap = (float(np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1).max() * 1e3)
-               if len(pairs) else 0.0)
+        gap = seam_gap_mm(mesh.seam_pairs, x)
     if inside > limits.body_penetrations:
         reasons.append(f"{inside} vertices inside the body (deepest {deepest:.1f} mm; limit "
                        f"{limits.body_penetrations})")
