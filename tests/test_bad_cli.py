@@ -339,7 +339,7 @@ def test_an_output_that_is_an_input_is_refused(pattern_file, tmp_path):
     or over the pattern written, lost it (exit 0)."""
     before = pattern_file.read_bytes()
     refused(runner.invoke(app, ["convert", str(pattern_file), str(pattern_file)]),
-            "is the file being converted")
+            str(pattern_file), "is the input pattern")
     mesh = tmp_path / "m.npz"
     mesh_pattern(load_pattern(pattern_file), triangles=200).save(mesh)
     out = tmp_path / "e.json"

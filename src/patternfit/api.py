@@ -268,16 +268,16 @@ def _side_row(side, length: float) -> dict:
             "length_cm": round(length * 100, 2)}
 
 
-def write_pattern(pattern: Pattern, out, *, source=None, units: str = "m") -> list[Path]:
-    """Write ``pattern`` to ``out`` (format from the ending, see
-    :func:`save_any_pattern`; atomically) and return the files written; refuses to
-    overwrite ``source``, the file it was read from."""
+def write_pattern(pattern: Pattern, out, *, source=None, fmt: str | None = None,
+                  units: str = "m", paper: str = "a4") -> list[Path]:
+    """Write ``pattern`` to ``out`` (format ``fmt`` or from the ending, ``units`` and
+    ``paper`` as :func:`save_any_pattern` takes them; atomically) and return the files
+    written; refuses to overwrite ``source``, the file it was read from."""
     out = Path(out)
     if source is not None and Path(source).exists() and out.exists() and \
             out.resolve() == Path(source).resolve():
-        raise InputError("is the input pattern: write the result to another file (--out)",
-                         file=out)
-    return save_any_pattern(pattern, out, units=units)
+        raise InputError("is the input pattern: write the result to another file", file=out)
+    return save_any_pattern(pattern, out, fmt=fmt, units=units, paper=paper)
 
 
 def read_body(source: Body | str | Path, *, units: str | None = None) -> Body:

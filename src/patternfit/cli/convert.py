@@ -36,11 +36,10 @@ def convert(
     """Convert a sewing pattern between formats (lengths keep their true size)."""
     from .. import api
 
-    if target.exists() and target.resolve() == source.resolve():
-        fail(f"{target} is the file being converted: write to another file")
     pattern = api.read_pattern(source, size=size, units=from_units)
     try:
-        written = api.save_any_pattern(pattern, target, fmt=to, units=units, paper=paper)
+        written = api.write_pattern(pattern, target, source=source, fmt=to, units=units,
+                                    paper=paper)
     except PatternError as exc:  # the writer's checks, stricter than what a reader keeps
         fail(f"{source} was read but cannot be written to {target}: {exc}")
     # an unsewn import (a DXF without its side file): the seams the user can accept
