@@ -100,7 +100,8 @@ def slid_off(checks: dict | None) -> str | None:
     gap = checks.get("seam_gap_max_mm")
     top = checks.get("anchor_height_mm")
     if (checks.get("below_feet_vertices") or checks.get("far_vertices")
-            or checks.get("top_below_crotch") or (top is not None and top < 1000.0 * ON_BODY.anchor_tolerance)
+            or checks.get("top_below_crotch")
+            or (top is not None and top < 1000.0 * ON_BODY.anchor_tolerance)
             or (ratio is not None and not ratio >= ON_BODY.min_area_ratio)
             or (gap is not None and not gap < limits.seam_gap_mm)):
         return None

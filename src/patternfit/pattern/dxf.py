@@ -92,7 +92,7 @@ def save_dxf(pattern: Pattern, path, *, sidecar: bool = True) -> Path:
                            "it: move it, or write the DXF under another name", file=side)
     atomic_write_text(path, text)
     if sidecar:
-        atomic_write_text(sidecar_path(path), json.dumps(_sidecar(pattern), indent=1) + "\n")
+        atomic_write_text(side, json.dumps(_sidecar(pattern), indent=1) + "\n")
     return Path(path)
 
 
