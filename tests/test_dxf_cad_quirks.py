@@ -617,3 +617,66 @@ def test_a_block_inserted_at_another_scale_is_said(tmp_path):
     pattern = load_dxf(tmp_path / "f.dxf")
     assert pattern.panels[0].area() == pytest.approx(0.15)
     assert "block 'F' is inserted at scale (2, 0.5)" in " ".join(pattern.meta["warnings"])
+
+
+def _square_block(d, name, side=300.0):
+    d.block(name)
+    d.text(1, f"Piece Name: {name}")
+    d.polyline(1, [(0, 0), (side, 0), (side, 500), (0, 500)], closed=True)
+    d.end_block()
+
+
+def test_a_piece_block_the_drawing_does_not_insert_is_not_read(tmp_path):
+    """A piece deleted in the CAD tool stays in the block table until purged: it was read
+    as a panel of the pattern."""
+    d = _Dxf()
+    _square_block(d, "FRONT")
+    _square_block(d, "OLD_FRONT", 200.0)
+    d.blocks.remove("OLD_FRONT")  # in the BLOCKS section, never inserted
+    pattern = load_dxf(d.save(tmp_path / "f.dxf", ["Units: METRIC"]))
+    assert [p.name for p in pattern.panels] == ["FRONT"]
+    assert "block 'OLD_FRONT' draws a piece but is not inserted" in \
+        " ".join(pattern.meta["warnings"])
+
+
+def test_a_bare_block_table_without_inserts_is_read_whole(tmp_path):
+    d = _Dxf()
+    _square_block(d, "FRONT")
+    _square_block(d, "BACK")
+    d.blocks.clear()
+    pattern = load_dxf(d.save(tmp_path / "f.dxf", ["Units: METRIC"]))
+    assert sorted(p.name for p in pattern.panels) == ["BACK", "FRONT"]
+
+
+def test_a_second_outline_in_one_block_is_said(tmp_path):
+    """Two pieces drawn in one block: the smaller was dropped without a word."""
+    d = _Dxf()
+    d.block("TWO")
+    d.polyline(1, [(0, 0), (300, 0), (300, 500), (0, 500)], closed=True)
+    d.polyline(1, [(400, 0), (600, 0), (600, 200), (400, 200)], closed=True)
+    d.end_block()
+    pattern = load_dxf(d.save(tmp_path / "f.dxf", ["Units: METRIC"]))
+    assert pattern.panels[0].area() == pytest.approx(0.15)
+    assert "piece 'TWO' draws 2 closed cut lines" in " ".join(pattern.meta["warnings"])
+
+
+def test_outlines_drawn_outside_any_block_are_said(tmp_path):
+    d = _Dxf()
+    _square_block(d, "FRONT")
+    d.out += ["  0", "ENDSEC", "  0", "SECTION", "  2", "ENTITIES"]
+    d.polyline(1, [(0, 0), (200, 0), (200, 200)], closed=True)
+    d.out += ["  0", "INSERT", "  8", "1", "  2", "FRONT", " 10", "0.0", " 20", "0.0",
+              "  0", "ENDSEC", "  0", "EOF", ""]
+    (tmp_path / "f.dxf").write_text("\n".join(d.out))
+    pattern = load_dxf(tmp_path / "f.dxf", units="mm")
+    assert [p.name for p in pattern.panels] == ["FRONT"]
+    assert "1 line(s) on the piece layers outside any block" in \
+        " ".join(pattern.meta["warnings"])
+    # with no block at all, the error says where the outlines are
+    bare = _Dxf()
+    bare.out += ["  0", "ENDSEC", "  0", "SECTION", "  2", "ENTITIES"]
+    bare.polyline(1, [(0, 0), (200, 0), (200, 200)], closed=True)
+    bare.out += ["  0", "ENDSEC", "  0", "EOF", ""]
+    (tmp_path / "g.dxf").write_text("\n".join(bare.out))
+    with pytest.raises(PatternError, match="outside any block"):
+        load_dxf(tmp_path / "g.dxf", units="mm")

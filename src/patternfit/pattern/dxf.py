@@ -26,7 +26,7 @@ from typing import Any
 
 from ..constants import UNITS, limits, tol
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
-from .dxf_entities import layer_of, why
+from .dxf_entities import LINE_KINDS, layer_of, why
 from .dxf_format import (LAYERS, PIECE_LAYERS, curve_tolerance, field, file_scale, read_document,
                          read_piece, texts)
 from .dxf_grades import graded_meta, pick_size, pieces_in_size, share_quantities, sizes_of
@@ -115,8 +115,10 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     doc = read_document(data)
     # ezdxf makes up a header (metres) for a file without one: only what the file says counts
     said = {v for v in ("$INSUNITS", "$MEASUREMENT") if v.encode() in data}
-    msp_texts = texts(doc.modelspace())
+    msp = doc.modelspace()
+    msp_texts = texts(msp)
     blocks = [b for b in doc.blocks if not b.name.startswith("*")]
+    blocks, stray = _inserted_only(msp, blocks)
     scale, unit_says = file_scale(doc, said, msp_texts, blocks) if units is None else \
         (UNITS[units], f"units={units!r}")
     # fitted curves stay as close to the file's polylines as the file says its polylines stay
@@ -149,9 +151,12 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
             pieces.append(piece)
         elif any(layer_of(e) in PIECE_LAYERS for e in block):
             unread.append(block)
+    loose = sum(1 for e in msp if e.dxftype() in LINE_KINDS and layer_of(e) in PIECE_LAYERS)
     if not pieces:
         raise PatternError("the DXF has no pattern pieces (no block with a closed boundary "
-                           "on layer 1)")
+                           "on layer 1)" + (f"; it draws {loose} line(s) on the piece layers "
+                           "outside any block, which DXF-AAMA does not read as pieces"
+                           if loose else ""))
     share_quantities(pieces)
     marked = any(p.ours for p in pieces)
     sample = field(msp_texts, "Sample Size") or None
@@ -204,7 +209,7 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
             and sample.strip().upper() != str(chosen).strip().upper():
         warnings.append(f"the sample size '{sample}' the file names is not among its sizes "
                         f"({', '.join(sizes_of(pieces))}): size '{chosen}' was read")
-    for ref in doc.modelspace().query("INSERT"):
+    for ref in msp.query("INSERT"):
         sx, sy = ref.dxf.get("xscale", 1.0), ref.dxf.get("yscale", 1.0)
         if (sx, sy) != (1.0, 1.0):
             warnings.append(f"block '{ref.dxf.name}' is inserted at scale ({sx:g}, {sy:g}): "
@@ -212,6 +217,16 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     warnings += [f"block '{b.name}' draws on a boundary layer but holds no closed outline "
                  "(a gap, or fewer than 3 points): not read as a piece" for b in unread
                  if (field(texts(b), "Size") or None) in (None, chosen)]
+    warnings += [f"block '{b.name}' draws a piece but is not inserted in the drawing (a piece "
+                 "deleted in the CAD tool stays in the file until it is purged): not read"
+                 for b in stray if (field(texts(b), "Size") or None) in (None, chosen)]
+    warnings += [f"piece '{p.name or p.block}' draws {len(p.cut)} closed cut lines (layer 1)"
+                 f" and {len(p.sew)} sew lines (layer 14): the largest of each is read, the "
+                 "others are not (one piece per block)"
+                 for p in pieces_in_size(pieces, chosen) if max(len(p.cut), len(p.sew)) > 1]
+    if loose:
+        warnings.append(f"the drawing has {loose} line(s) on the piece layers outside any "
+                        "block: not read (DXF-AAMA draws each piece in a block of its own)")
     warnings += [f"piece '{p.name or p.block}' says 'Quantity: 0' (the marker cuts none of "
                  "it): read as one panel" for p in pieces_in_size(pieces, chosen)
                  if p.quantity == 0]
@@ -220,6 +235,18 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     pattern = Pattern(field(msp_texts, "Style Name") or path.stem, tuple(panels), (), meta)
     check_pattern(pattern)
     return pattern
+
+
+def _inserted_only(msp, blocks: list) -> tuple[list, list]:
+    """``blocks`` without the piece blocks that no INSERT places in the drawing, and those.
+
+    A drawing that inserts none of its piece blocks keeps them all (a bare block table)."""
+    inserted = {ref.dxf.name for layout in (msp, *blocks) for ref in layout.query("INSERT")}
+    pieces = [b for b in blocks if any(layer_of(e) in PIECE_LAYERS for e in b)]
+    if not any(b.name in inserted for b in pieces):
+        return blocks, []
+    stray = [b for b in pieces if b.name not in inserted]
+    return [b for b in blocks if b not in stray], stray
 
 
 def _renamed(loop: Loop, name: str, names, where: dict) -> Loop:
