@@ -632,9 +632,11 @@ def test_a_piece_block_the_drawing_does_not_insert_is_not_read(tmp_path):
     d = _Dxf()
     _square_block(d, "FRONT")
     _square_block(d, "OLD_FRONT", 200.0)
+    _square_block(d, "Back")
     d.blocks.remove("OLD_FRONT")  # in the BLOCKS section, never inserted
+    d.blocks[d.blocks.index("Back")] = "BACK"  # DXF compares block names without case
     pattern = load_dxf(d.save(tmp_path / "f.dxf", ["Units: METRIC"]))
-    assert [p.name for p in pattern.panels] == ["FRONT"]
+    assert [p.name for p in pattern.panels] == ["FRONT", "Back"]
     assert "block 'OLD_FRONT' draws a piece but is not inserted" in \
         " ".join(pattern.meta["warnings"])
 

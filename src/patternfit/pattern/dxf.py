@@ -240,12 +240,14 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
 def _inserted_only(msp, blocks: list) -> tuple[list, list]:
     """``blocks`` without the piece blocks that no INSERT places in the drawing, and those.
 
-    A drawing that inserts none of its piece blocks keeps them all (a bare block table)."""
-    inserted = {ref.dxf.name for layout in (msp, *blocks) for ref in layout.query("INSERT")}
+    A drawing that inserts none of its piece blocks keeps them all (a bare block table).
+    Block names are compared without case, as DXF compares them."""
+    inserted = {ref.dxf.name.upper() for layout in (msp, *blocks)
+                for ref in layout.query("INSERT")}
     pieces = [b for b in blocks if any(layer_of(e) in PIECE_LAYERS for e in b)]
-    if not any(b.name in inserted for b in pieces):
+    if not any(b.name.upper() in inserted for b in pieces):
         return blocks, []
-    stray = [b for b in pieces if b.name not in inserted]
+    stray = [b for b in pieces if b.name.upper() not in inserted]
     return [b for b in blocks if b not in stray], stray
 
 
