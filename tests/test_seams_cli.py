@@ -57,6 +57,13 @@ def test_suggest_accept_writes_a_new_file_never_the_input(bare_skirt, tmp_path):
     r = run("seams", bare_skirt, "--accept", "--out", bare_skirt)
     assert r.exit_code == 2 and "input pattern" in r.output
     assert bare_skirt.read_bytes() == before
+    # run again, the default file is not replaced; named, it is
+    out.write_text("the user's own notes")
+    r = run("seams", bare_skirt, "--accept")
+    assert r.exit_code == 2 and "already exists" in r.output and "--out" in r.output
+    assert out.read_text() == "the user's own notes"
+    r = run("seams", bare_skirt, "--accept", "--out", out)
+    assert r.exit_code == 0 and load_pattern(out).seams
 
 
 def test_set_and_remove_seams(bare_skirt, tmp_path):

@@ -66,7 +66,8 @@ def seams(
     json_out: bool = typer.Option(False, "--json", help="Print machine-readable results."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Where to write the edited "
                                        "pattern (.json, .dxf...; default <name>-sewn.json "
-                                       "beside the input; never the input itself)."),
+                                       "beside the input, never replaced; never the input "
+                                       "itself)."),
 ) -> None:
     """List a pattern's seams (sides, lengths, difference, ease); suggest, accept or edit
     them and write the pattern."""
@@ -89,6 +90,10 @@ def seams(
         source = Path(pattern) if Path(pattern).suffix else None
         target = out if out is not None else Path(
             f"{source.with_suffix('') if source else pattern}-sewn.json")
+        if out is None and target.exists():
+            # a file the user named is theirs to overwrite; one named for them is not
+            fail(f"{target} already exists (an earlier run's?): name the file to write with "
+                 "--out, that one to replace it")
         written = api.write_pattern(p, target, source=source)
     rows = api.seam_table(p)
     if json_out:
