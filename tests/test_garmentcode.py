@@ -221,7 +221,15 @@ def test_euler_convention_matches_maya_xyz():
      "front", "e1", "out of range"),
     (lambda d: d["properties"].update(units_in_meter=0), None, None, "bad units"),
     (lambda d: d["properties"].update(units_in_meter="cm"), None, None, "bad units"),
+    # absurd units and sizes, refused before any arithmetic overflows on them
+    (lambda d: d["properties"].update(units_in_meter=1e300), None, None, "bad units"),
+    (lambda d: d["properties"].update(units_in_meter=1e-300), None, None, "bad units"),
+    (lambda d: d["pattern"]["panels"]["front"]["vertices"].__setitem__(0, [1e300, 0]),
+     "front", None, "vertex #0 [1e+300, 0] lies"),
+    (lambda d: d["pattern"]["panels"]["front"].update(translation=[1e300, 0, 0]),
+     "front", None, "translation must lie within"),
 ])
+@pytest.mark.filterwarnings("error")
 def test_malformed_files_name_file_panel_edge(tmp_path, mutate, panel, edge, text):
     doc = _doc({"front": _square()})
     mutate(doc)

@@ -75,6 +75,9 @@ class Limits:
     panels: int = 500
     #: the largest coordinate (absolute) a pattern point may have [m]
     extent: float = 20.0
+    #: the farthest a placement may put a panel [m]: far placements (GarmentCode files put
+    #: panels 25 m below) are placed anew, absurd ones refused
+    translation: float = 1_000.0
     #: triangles a mesh may be asked for [-]
     triangles: int = 2_000_000
     #: a saved garment's mesh.npz, as a file and unpacked (about 50 bytes a triangle) [bytes]

@@ -63,6 +63,8 @@ from .validate import check_size, measured_ease, seam_slack
 __all__ = ["euler_xyz_matrix", "garmentcode_from_dict", "garmentcode_to_dict", "is_garmentcode",
            "load_garmentcode", "panel_points_3d", "save_garmentcode"]
 
+#: the file units a metre may hold (a file unit of 1 km to 1 µm): beyond, no pattern tool's
+UNITS_IN_METER = (1e-3, 1e6)
 _RIGHT_WRONG = "right_wrong"
 # an extra panel key (ignored by GarmentCode) keeping our body part and side for a round trip
 _HINT = "patternfit_placement"
@@ -185,6 +187,11 @@ def _panel_from_gc(name: str, p: Any, scale: float, relative: bool):
     if not isinstance(raw, list) or len(raw) < 2:
         raise PatternError("panel needs a list of at least two 'vertices'", **where)
     verts = np.array([_pair(v, "vertex", **where) for v in raw])
+    far = np.flatnonzero(np.abs(verts).max(axis=1) * scale > limits.extent)
+    if len(far):  # refused before any length is taken of it
+        raise PatternError(f"vertex #{far[0]} {shown(raw[far[0]])} lies "
+                           f"{np.abs(verts[far[0]]).max() * scale:.3g} m from the origin, beyond "
+                           f"the limit of {limits.extent:g} m", **where)
     edges_raw = p.get("edges")
     if not isinstance(edges_raw, list) or not edges_raw:
         raise PatternError("panel needs a non-empty list of 'edges'", **where)
@@ -281,6 +288,11 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
             or not math.isfinite(units) or units <= 0):
         raise PatternError(f"bad units: 'units_in_meter' must be a positive number, "
                            f"got {shown(units)}")
+    if not UNITS_IN_METER[0] <= units <= UNITS_IN_METER[1]:
+        raise PatternError(f"bad units: 'units_in_meter' {units:g} makes a file unit "
+                           f"{1.0 / units:.3g} m, no length a pattern is drawn in (1 km to "
+                           f"1 µm: 'units_in_meter' {UNITS_IN_METER[0]:g} to "
+                           f"{UNITS_IN_METER[1]:g}; 100 is centimetres)")
     coords = props.get("curvature_coords", "relative")
     if coords not in ("relative", "absolute"):
         raise PatternError(f"bad 'curvature_coords' {shown(coords)} (expected 'relative' or "
@@ -412,10 +424,9 @@ def garmentcode_to_dict(pattern: Pattern, *, units_in_meter: float = 100.0) -> d
 
     Edges are split where a seam covers only part of them (GarmentCode stitches join whole
     edges). Raises :class:`PatternError` for a panel with inner loops, which GarmentCode cannot
-    express, and ``ValueError`` for a non-positive ``units_in_meter``.
+    express, and ``ValueError`` for a ``units_in_meter`` outside :data:`UNITS_IN_METER`.
     """
-    number(units_in_meter, "units_in_meter", low=0.0, low_open=True,
-           rule="expected a positive number")
+    number(units_in_meter, "units_in_meter", low=UNITS_IN_METER[0], high=UNITS_IN_METER[1])
     scale = 1.0 / units_in_meter
     gc = pattern.meta.get("garmentcode", {}) if isinstance(pattern.meta, dict) else {}
     breaks: dict[tuple[str, str], set[float]] = {}

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from ..constants import limits
 from ..geometry import euler_xyz_matrix, polygon_area
 from .edges import Edge
 from .errors import PatternError
@@ -80,6 +81,10 @@ class Placement:
         for what, v in (("translation", self.translation), ("rotation", self.rotation)):
             if v is not None and not (len(v) == 3 and all(math.isfinite(c) for c in v)):
                 raise ValueError(f"placement: {what} must be 3 finite numbers, got {v!r:.60}")
+        if self.translation is not None and \
+                max(map(abs, self.translation)) > limits.translation:
+            raise ValueError(f"placement: translation must lie within ±{limits.translation:g} "
+                             f"m of the body, got {self.translation!r:.60}")
         if self.rotation is not None and max(abs(c) for c in self.rotation) > MAX_ROTATION:
             raise ValueError(f"placement: rotation angles must lie within ±{MAX_ROTATION:g} "
                              f"degrees, got {self.rotation!r:.60}")
