@@ -111,8 +111,9 @@ def edit_command(
     from ..edit import update_mesh
     from ..mesh import GarmentMesh
     from ..mesh.store import replace_pattern_and_mesh
-    from ..pattern import PatternError, load_pattern, save_pattern
+    from ..pattern import PatternError, pattern_from_dict, save_pattern
     from ..pattern.formats import sniff_format
+    from ..pattern.io import FORMAT
 
     if operation not in OPERATIONS:
         fail(f"unknown operation '{operation}' (expected one of {', '.join(OPERATIONS)})")
@@ -128,13 +129,21 @@ def edit_command(
         if mesh_out.resolve() in (out.resolve(), pattern_file.resolve()):
             fail(f"--mesh-out {mesh_out} is the pattern file written or read: name another "
                  "file for the mesh")
-    if sniff_format(pattern_file) != "patternfit":
+    # the file is read once: its format, its pattern and its units from one reading
+    json_file = pattern_file.suffix.lower() == ".json"
+    if not json_file:
+        sniff_format(pattern_file)  # refuses an ending no reader takes, naming the file
+    data = read_json_file(pattern_file, error=PatternError) if json_file else None
+    if not (isinstance(data, dict) and data.get("format") == FORMAT):
         fail(f"{pattern_file}: edit works on a patternfit JSON pattern; convert it first "
              f"(patternfit convert {pattern_file} "
              f"{pattern_file.stem.removesuffix('_specification')}.json)")
-    old = load_pattern(pattern_file)
-    # the edited pattern is written in the units of the input (load_pattern checked them)
-    units = read_json_file(pattern_file, error=PatternError).get("units", "m")
+    try:
+        old = pattern_from_dict(data)
+    except PatternError as exc:
+        raise exc.located(pattern_file) from None
+    # the edited pattern is written in the units of the input (pattern_from_dict checked them)
+    units = data.get("units", "m")
     opts = dict(panel=panel, edge=edge, dx=dx, dy=dy, control=control, a=_pair(a, "--a"),
                 b=_pair(b, "--b"), amount=amount, sx=sx, sy=sy, about=_pair(about, "--about"),
                 dart=dart, centre=_pair(centre, "--centre"), length=length, width=width,
