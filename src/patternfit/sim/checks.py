@@ -183,6 +183,19 @@ def seam_gap_mm(pairs, x) -> float:
             if len(pairs) else 0.0)
 
 
+def inside_reason(inside: int, deepest_mm: float) -> str | None:
+    """The vertices inside the body in words when more than ``limits.body_penetrations``."""
+    if inside <= limits.body_penetrations:
+        return None
+    return (f"{inside} vertices inside the body (deepest {deepest_mm:.1f} mm; limit "
+            f"{limits.body_penetrations})")
+
+
+def seam_gap_reason(gap_mm: float) -> str | None:
+    """The seams' widest gap [mm] in words when it is not below ``limits.seam_gap_mm``."""
+    return None if gap_mm < limits.seam_gap_mm else f"seams open by up to {gap_mm:.1f} mm"
+
+
 def drape_checks(model: ClothModel, x, *, settings: SolverSettings, converged: bool = False,
                  residual=None) -> DrapeChecks:
     """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`.

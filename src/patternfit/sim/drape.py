@@ -17,7 +17,7 @@ from ..mesh.garment import GarmentMesh
 from ..mesh.transfer import transfer
 from ..mesh.triangulate import mesh_pattern
 from ..pattern.model import Pattern
-from .checks import through_body
+from .checks import inside_reason, seam_gap_reason, through_body
 from .fabrics import Fabric, get_fabric
 from .onbody import OnBodyChecks, on_body_checks
 from .placement import MAX_CLEARANCE, place_on_body
@@ -129,24 +129,20 @@ def solver_reasons(checks, stop_reason: str | None = None) -> list[str]:
     """The solver's failed checks (:class:`DrapeChecks`) in words; empty when they passed."""
     if checks.passed:
         return []
-    out = []
-    if checks.inside_vertices > limits.body_penetrations:
-        out.append(f"{checks.inside_vertices} vertices inside the body (deepest "
-                   f"{checks.max_depth_mm:.1f} mm; limit {limits.body_penetrations})")
+    out = [inside_reason(checks.inside_vertices, checks.max_depth_mm)]
     if checks.edges_in_body > limits.body_penetrations:
         out.append(f"{checks.edges_in_body} cloth edges through the body between their "
                    f"vertices (limit {limits.body_penetrations})")
     if checks.faces_in_body > limits.body_penetrations:
         out.append(f"{checks.faces_in_body} cloth triangles with the body through them, "
                    f"their edges clear (limit {limits.body_penetrations})")
-    if not checks.seam_gap_max_mm < limits.seam_gap_mm:
-        out.append(f"seams open by up to {checks.seam_gap_max_mm:.1f} mm")
+    out.append(seam_gap_reason(checks.seam_gap_max_mm))
     if checks.self_intersections > limits.self_intersections:
         out.append(f"{checks.self_intersections} crossed triangle pairs (limit "
                    f"{limits.self_intersections})")
     if not checks.equilibrium:
         out.append("no equilibrium" + (f" (stopped: {stop_reason})" if stop_reason else ""))
-    return out or ["the solver's checks failed"]
+    return [r for r in out if r] or ["the solver's checks failed"]
 
 
 def _grain_per_triangle(mesh: GarmentMesh) -> np.ndarray:

@@ -17,12 +17,12 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from ..constants import limits, tol
+from ..constants import tol
 from ..geometry import triangle_areas, unique_edges
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
 from ..pattern.roles import panel_roles
-from .checks import seam_gap_mm
+from .checks import inside_reason, seam_gap_mm, seam_gap_reason
 from .panel_frames import ANCHOR_HEIGHT, upright_frames
 
 #: a body panel whose top lies this far [m] below the garment's top does not hold the
@@ -342,11 +342,7 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
         inside = int((d < -tol.penetration).sum())
         deepest = float(max(0.0, -d.min()) * 1e3)
         gap = seam_gap_mm(mesh.seam_pairs, x)
-    if inside > limits.body_penetrations:
-        reasons.append(f"{inside} vertices inside the body (deepest {deepest:.1f} mm; limit "
-                       f"{limits.body_penetrations})")
-    if not gap < limits.seam_gap_mm:
-        reasons.append(f"seams open by up to {gap:.1f} mm")
+    reasons += [r for r in (inside_reason(inside, deepest), seam_gap_reason(gap)) if r]
     return {**onbody.to_dict(), "inside_vertices": inside, "max_depth_mm": deepest,
             "seam_gap_max_mm": gap, "solver_checked": False, "passed": not reasons,
             "reasons": reasons}
