@@ -144,6 +144,32 @@ def test_a_drape_that_raises_is_a_failed_row(tmp_path):
     assert failed_row(task, "x")["failed_checks"] == "error"
 
 
+def test_ctrl_c_in_a_drape_stops_the_batch_without_a_row(tmp_path, monkeypatch):
+    """The solver stops on Ctrl-C with its last state; the batch recorded that state as a
+    failed row ("no equilibrium (stopped: interrupted)"), which --resume never redid, and
+    went on with the next task."""
+    from patternfit.batch import work
+
+    real, seen = work.drape_and_evaluate, []
+
+    def interrupted(*args, **kwargs):
+        def progress(iteration, *rest, **kw):
+            if iteration >= 3:
+                raise KeyboardInterrupt
+        outcome = real(*args, progress=progress, **kwargs)
+        seen.append(outcome.interrupted)
+        return outcome
+
+    monkeypatch.setattr(work, "drape_and_evaluate", interrupted)
+    tasks = [Task("skirt", s, "female_average", "cotton_shirting") for s in ("S", "M")]
+    log = ResultLog(tmp_path / "batch", resume=False)
+    with pytest.raises(KeyboardInterrupt):
+        run_local(tasks, Inputs({"female_average": "female_average"}, {}, {}), log,
+                  TaskOptions(triangles=300, time_limit=5.0))
+    assert seen == [True]
+    assert not log.path.exists() or read_rows(log.path) == []
+
+
 def test_the_command_line_loads_neither_ray_nor_the_solver_for_help():
     import subprocess
     import sys

@@ -83,3 +83,28 @@ def test_an_iteration_that_stepped_back_says_why(capsys):
                              stepped_back=["too tight at forearm_left"]))
     out = " ".join(capsys.readouterr().err.split())  # the console writes to stderr
     assert "stepped back (the edit halved)" in out and "too tight at forearm_left" in out
+
+
+def test_ctrl_c_in_a_drape_stops_correct_with_nothing_written(tmp_path, monkeypatch):
+    """The solver stops on Ctrl-C with its last state; correct went on for a minute, made
+    a correction round from that half-finished drape and wrote its pattern."""
+    import patternfit.loop.session as session_module
+
+    real, seen = session_module.drape, []
+
+    def interrupted(*args, progress=None, **kwargs):
+        def stop(iteration, *rest, **kw):
+            if iteration >= 3:
+                raise KeyboardInterrupt
+        d = real(*args, progress=stop, **kwargs)
+        seen.append(d.result.interrupted)
+        return d
+
+    monkeypatch.setattr(session_module, "drape", interrupted)
+    out = tmp_path / "run"
+    res = runner.invoke(app, ["correct", "--body", "female_thin", "--pattern", "skirt",
+                              "--size", "S", "--triangles", "300", "--no-pictures",
+                              "--out", str(out)])
+    assert seen == [True]
+    assert res.exit_code == 130 and "interrupted" in res.output, res.output
+    assert not (out / "pattern.json").exists() and not (out / "report.json").exists()

@@ -131,3 +131,15 @@ def test_a_carried_start_through_the_body_is_draped_cold():
     with pytest.raises(ValueError, match="start_rest"):
         drape(s.pattern, s.mesh, s.body, s.fabric, start=s.positions,
               start_rest=s.mesh.vertices[:-1])
+
+
+def test_a_drape_stopped_by_ctrl_c_is_not_recorded():
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=300)
+
+    def stop(iteration, *rest, **kw):
+        if iteration >= 3:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        s.redrape(progress=stop)
+    assert s.state.positions is None and s.state.fitting_ratio is None

@@ -461,6 +461,12 @@ class FitOutcome:
         return self.extra.get("checks", {})
 
     @property
+    def interrupted(self) -> bool:
+        """Whether Ctrl-C (KeyboardInterrupt) stopped the drape before its end: the state is
+        the last one reached, neither a result nor a failure of the garment."""
+        return bool(self.drape is not None and self.drape.result.interrupted)
+
+    @property
     def passed(self) -> bool:
         """Whether the result is a fit at all: the drape's checks passed and ϖ is finite."""
         ok = bool(self.checks.get("passed", True))

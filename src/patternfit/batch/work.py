@@ -129,6 +129,10 @@ def run_task(task: Task, body, options: TaskOptions, pattern=None, fabric=None) 
                                      task.fabric if fabric is None else fabric,
                                      size=task.size, triangles=options.triangles,
                                      settings=SolverSettings(time_limit=options.time_limit))
+        if outcome.interrupted:
+            # Ctrl-C inside the solve, which stops with its last state: that state is no
+            # result of the task, so no row (--resume drapes it again), and the batch stops
+            raise KeyboardInterrupt
         row = outcome_row(task, outcome, seconds=time.perf_counter() - t0, worker=worker)
         if options.thumbnails:
             row["thumbnail"] = f"{THUMBS}/{thumbnail_name(task)}"

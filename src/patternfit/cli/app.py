@@ -3,7 +3,8 @@
 Exit status of every command: 0 done; 1 the result failed its checks (a drape or fit that
 went wrong); 2 an input file or option was refused, or a path could not be read or written
 (``error: <message>`` on standard error, naming it);
-3 an internal error (one line; ``PATTERNFIT_DEBUG=1`` shows the traceback).
+3 an internal error (one line; ``PATTERNFIT_DEBUG=1`` shows the traceback); 130 stopped by
+Ctrl-C.
 """
 
 from __future__ import annotations
@@ -32,6 +33,8 @@ CHECKS_FAILED = 1
 REFUSED = 2
 #: exit status of an internal error
 INTERNAL = 3
+#: exit status after Ctrl-C (128 + SIGINT, as a shell reports it)
+INTERRUPTED = 130
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -66,6 +69,12 @@ class _Boundary(Group):
                 return super().invoke(ctx)
         except (typer.Exit, typer.Abort, TyperException):
             raise  # exits, usage errors: Typer prints these itself
+        except KeyboardInterrupt:
+            # Ctrl-C: the shell's status for SIGINT, not Click's "Aborted!" with status 1,
+            # which scripts read as a result that failed its checks
+            console.print("interrupted: stopped before the end; nothing more was written",
+                          highlight=False)
+            raise typer.Exit(INTERRUPTED) from None
         except Exception as exc:
             if os.environ.get(DEBUG_ENV):
                 raise
@@ -87,7 +96,7 @@ app = typer.Typer(name="patternfit", cls=_Boundary, no_args_is_help=True, add_co
                        "edit the pattern. Lengths in metres unless an option says otherwise.",
                   epilog="Exit status: 0 done, 1 the result failed its checks, 2 an input or "
                          "option was refused, 3 an internal error (PATTERNFIT_DEBUG=1 shows "
-                         "its traceback).")
+                         "its traceback), 130 stopped by Ctrl-C.")
 
 # A long path is printed whole on one line (soft wrap), not broken at the width, so that it
 # can be copied; in a pipe or a CI log (no terminal, no COLUMNS) Rich assumes 80 columns and

@@ -9,7 +9,7 @@ from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
                            TimeElapsedColumn, TimeRemainingColumn)
 
 from ..defaults import DEFAULTS
-from .app import app, console, fail, positive, print_json, triangles_option
+from .app import INTERRUPTED, app, console, fail, positive, print_json, triangles_option
 
 # the batch (and through it patternfit.api and Ray) is imported inside the command, when it
 # runs: `patternfit --help` should not wait for them (see commands.py)
@@ -77,7 +77,7 @@ def batch(
     except KeyboardInterrupt:
         console.print(f"interrupted: the rows written stay in {out}; finish the batch with "
                       "--resume")
-        raise typer.Exit(130)
+        raise typer.Exit(INTERRUPTED)
     except ImportError as exc:  # Ray, an optional extra; the message says how to get it
         fail(str(exc))
     result["files"] = {k: str(v) for k, v in result["files"].items() if v}

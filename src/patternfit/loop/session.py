@@ -209,7 +209,8 @@ class DesignSession:
         last drape when the mesh kept its topology, from an earlier drape carried over when
         a panel was re-meshed, from the placement otherwise. Records ϖ and the checks in
         the history. A pattern of several pieces not sewn together is refused
-        (:func:`~patternfit.pattern.seam_suggest.check_sewn`)."""
+        (:func:`~patternfit.pattern.seam_suggest.check_sewn`). Ctrl-C in the solve raises
+        KeyboardInterrupt with nothing of the stopped drape recorded."""
         st = self.state
         check_sewn(st.pattern)
         how = self.next_start()
@@ -220,7 +221,8 @@ class DesignSession:
                            start_rest=st.start_rest, progress=progress)
         elif how == "relaxed":
             wide_pattern, wide_mesh = _widened(st.pattern, st.mesh, self.relax)
-            first = drape(wide_pattern, wide_mesh, self.body, self.fabric, progress=progress)
+            first = _finished(drape(wide_pattern, wide_mesh, self.body, self.fabric,
+                                    progress=progress))
             # the true rest shapes are reached in stages, as after a large edit: in one step
             # from 1 / 0.6 of the width the force stop ran out of iterations (the demo)
             self._drape = first
@@ -230,7 +232,7 @@ class DesignSession:
             result.timing = {**first.timing, "relaxed_sewing_seconds": first.seconds}
         else:
             result = drape(st.pattern, st.mesh, self.body, self.fabric, progress=progress)
-        self._drape = result
+        self._drape = _finished(result)
         st.positions, st.start_rest = result.positions, None
         st.fitting_ratio = FitEvaluator(st.mesh).metrics(result.positions)[1]
         st.checks = result.report_extra()["checks"]  # solver and on-body checks, reasons
@@ -562,6 +564,15 @@ def _load_array(path: Path, shape: tuple) -> np.ndarray:
         raise SessionError(f"expected finite {shape} {what}, got {x.dtype} {x.shape}",
                            file=path)
     return x.astype(np.float64)
+
+
+def _finished(result: Drape) -> Drape:
+    """``result``, unless Ctrl-C stopped its solve (which then returns its last state): a
+    session records no stopped drape and the loop edits from none, so the interrupt goes
+    on to the caller."""
+    if result.result.interrupted:
+        raise KeyboardInterrupt
+    return result
 
 
 def _widened(pattern: Pattern, mesh: GarmentMesh, factor: float):
