@@ -107,3 +107,31 @@ def test_drape_progress_shows_how_far_from_rest():
     assert "force residual 1234 × weight" in bar.tasks[0].fields["info"]
     callback(9, -0.5, 1e-4, 1.1)  # the Newton engine: no residual
     assert "residual" not in bar.tasks[0].fields["info"]
+
+
+@pytest.mark.parametrize("args", [
+    ["drape", "--pattern", "skirt", "--body", "female_average"],
+    ["correct", "--pattern", "skirt", "--body", "female_average"],
+    ["demo"],
+    ["mesh", "skirt"],
+    ["batch", "--pattern", "skirt", "--sizes", "S", "--bodies", "female_average",
+     "--workers", "0"],
+    ["fabric-test", "strip", "--fabric", "cotton_shirting"],
+])
+def test_an_output_folder_that_is_a_file_is_refused_before_any_work(tmp_path, args,
+                                                                      monkeypatch):
+    """correct, demo and drape failed with "afile: File exists" only after the whole drape."""
+    import patternfit.api as api
+
+    def no_work(*a, **k):
+        raise AssertionError("work started before --out was checked")
+
+    for name in ("drape_and_evaluate", "design_session", "drafted_too_small", "read_pattern",
+                 "read_fabric_with_notes"):
+        monkeypatch.setattr(api, name, no_work)
+    mine = tmp_path / "notes.txt"
+    mine.write_text("mine")
+    res = runner.invoke(app, [*args, "--out", str(mine)])
+    said = " ".join(res.output.replace("│", " ").split())  # Rich's box, wrapped
+    assert res.exit_code == 2 and "is a file, not a folder" in said, res.output
+    assert mine.read_text() == "mine"

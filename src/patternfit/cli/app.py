@@ -14,6 +14,7 @@ import math
 import os
 import sys
 import warnings
+from pathlib import Path
 
 import typer
 from rich.console import Console
@@ -116,6 +117,21 @@ def fail(message: str, code: int = REFUSED) -> None:
     """Print an error in red on standard error and exit with ``code``."""
     console.print(f"[bold red]error:[/] {escape(message)}", highlight=False)
     raise typer.Exit(code)
+
+
+def output_folder(out: Path | None) -> Path | None:
+    """Option callback making the output folder before any work is done, or refusing it (a
+    file of that name, or a folder that cannot be made, failed only when the results were
+    written, after the drape)."""
+    if out is None:
+        return None
+    if out.exists() and not out.is_dir():
+        raise typer.BadParameter(f"{out} is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise typer.BadParameter(f"cannot make the folder {out}: {e.strerror or e}") from None
+    return out
 
 
 def finite(value):

@@ -13,12 +13,13 @@ import typer
 from rich.table import Table
 
 from ..defaults import DEFAULTS
-from .app import (SIZE_HELP, app, console, fail, finite, print_json, triangles_option,
-                  verdict_options)
+from .app import (SIZE_HELP, app, console, fail, finite, output_folder, print_json,
+                  triangles_option, verdict_options)
 from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
                    run_correction)
 
-Out = typer.Option(..., "--out", "-o", help="Output folder (created if missing).")
+Out = typer.Option(..., "--out", "-o", help="Output folder (created if missing).",
+                   callback=output_folder)
 Json = typer.Option(False, "--json", help="Print machine-readable results on stdout.")
 
 
@@ -149,7 +150,8 @@ def fit(
 
 @app.command()
 def demo(
-    out: Path = typer.Option(Path("patternfit-demo"), "--out", "-o", help="Output folder."),
+    out: Path = typer.Option(Path("patternfit-demo"), "--out", "-o", help="Output folder.",
+                              callback=output_folder),
     garment: Optional[str] = typer.Option(None, help="Built-in garment (default: skirt; coat "
                                                       "with --no-drape)."),
     size: Optional[str] = typer.Option(None, "--size", "-s",

@@ -8,8 +8,8 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import (SIZE_HELP, app, console, fail, finite, positive, print_json,
-                  triangles_option, verdict_options)
+from .app import (SIZE_HELP, app, console, fail, finite, output_folder, positive,
+                  print_json, triangles_option, verdict_options)
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
                    say_guessed_units)
 
@@ -54,7 +54,8 @@ def drape(
     pressure_max: float = verdict_options()["pressure_max"],
     stretch_limit: float = verdict_options()["stretch_limit"],
     style: str = verdict_options()["style"],
-    out: Path = typer.Option(..., "--out", "-o", help="Output folder."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output folder.",
+                             callback=output_folder),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
 ) -> None:
     """Drape a garment on a body to static equilibrium and evaluate its fit.

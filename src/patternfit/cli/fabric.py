@@ -11,7 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from ..defaults import DEFAULTS
-from .app import CHECKS_FAILED, app, console, fail, finite, print_json
+from .app import CHECKS_FAILED, app, console, fail, finite, output_folder, print_json
 
 # patternfit.api and the stage modules are imported inside the command, when it runs:
 # `patternfit --help` should not wait for the solver's compiled kernels
@@ -49,16 +49,6 @@ def _meshes(text: str) -> tuple[int, ...]:
         # the reading is the finest mesh's and the convergence check the two finest
         fail(f"--meshes: distinct sizes from coarse to fine, e.g. 6,12,24; got {text!r}")
     return sizes
-
-
-def _out_folder(out: Path) -> None:
-    """Make the folder ``--out`` names before any test runs, or refuse it."""
-    if out.exists() and not out.is_dir():
-        fail(f"--out: {out} is a file, not a folder")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        fail(f"--out: cannot make the folder {out}: {e.strerror or e}")
 
 
 def _show_strip(r) -> None:
@@ -147,7 +137,8 @@ def fabric_test(
                                               "(default 0.18)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result "
                                        "(fabric_test_<test>.json) and the pictures here "
-                                       "(cusick: top view; cantilever: side view)."),
+                                       "(cusick: top view; cantilever: side view).",
+                                       callback=output_folder),
     json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
     set_: Optional[list[str]] = typer.Option(None, "--set", metavar="KEY=VALUE",
                                              help="A solver setting for every solve, over "
@@ -177,9 +168,6 @@ def fabric_test(
     sizes = _meshes(meshes) if meshes is not None else None
     if not fabric.strip():
         fail("--fabric: empty; a preset name or a fabric JSON file")
-    if out is not None:
-        _out_folder(out)
-
     from .. import api
     from ..sim import fabric_test as kit
 

@@ -10,8 +10,8 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import (SIZE_HELP, Group, app, console, fail, finite, print_json, triangles_option,
-                  verdict_options)
+from .app import (SIZE_HELP, Group, app, console, fail, finite, output_folder, print_json,
+                  triangles_option, verdict_options)
 from .show import exit_if_correction_failed, run_correction, say_guessed_units, show_iteration
 
 #: the correction's goals (``loop.correct.GOALS``; not imported here: the CLI loads the
@@ -65,7 +65,8 @@ def correct_command(
     stretch_limit: float = verdict_options()["stretch_limit"],
     style: str = verdict_options()["style"],
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
-    out: Path = typer.Option(..., "--out", "-o", help="Output folder (new pattern, report)."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output folder (new pattern, report).",
+                             callback=output_folder),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
 ) -> None:
     """Drape, find where the garment is too tight, correct the pattern automatically.
