@@ -108,3 +108,21 @@ def test_ctrl_c_in_a_drape_stops_correct_with_nothing_written(tmp_path, monkeypa
     assert seen == [True]
     assert res.exit_code == 130 and "interrupted" in res.output, res.output
     assert not (out / "pattern.json").exists() and not (out / "report.json").exists()
+
+
+def test_a_stopped_correction_says_what_the_pattern_holds(tmp_path, capsys):
+    """After edits, a later drape off the body was reported as "no correction made"."""
+    import typer
+
+    from patternfit.cli.show import exit_if_correction_failed
+
+    with pytest.raises(typer.Exit) as info:
+        exit_if_correction_failed({"failed": "the drape after round 2's 6 edits failed",
+                                   "edits_made": 18}, tmp_path)
+    said = " ".join(capsys.readouterr().err.split())
+    assert info.value.exit_code == 1 and "correction stopped" in said
+    assert "holds the 18 edits made before" in said and "no correction made" not in said
+    with pytest.raises(typer.Exit):
+        exit_if_correction_failed({"failed": "the drape failed: x", "edits_made": 0}, tmp_path)
+    assert "no correction made" in capsys.readouterr().err
+    exit_if_correction_failed({"failed": None, "edits_made": 3}, tmp_path)  # no exit

@@ -137,3 +137,31 @@ def test_left_and_right_legs_are_found_mirrored():
     pairs = dict(mirror(t.panel("front_r"), t.panel("front_l"), np.array([0, 1.0])).corners)
     assert pairs["waist"] == "crotch"  # front_r: waist starts at the side; front_l: crotch
     assert mirror(t.panel("front_r"), t.panel("back_r"), np.array([0, 1.0])) is None
+
+
+def test_a_round_whose_redrape_falls_off_the_body_is_stepped_back_then_undone(monkeypatch):
+    """The loop stopped on a re-drape that slid off the body and gave back that round's
+    pattern (the one that slides off) as the corrected one, with "no correction made"."""
+    s = DesignSession(SKIRT.pattern(), load_body(SKIRT.body), SKIRT.fabric, 600, 0.95,
+                      relax=SKIRT.relax)
+    real, drapes = s.redrape, []
+
+    def slid_after_the_first(**kwargs):
+        d = real(**kwargs)
+        drapes.append(s.position)
+        if len(drapes) > 1:  # every re-drape after an edit reads as slid off the waist
+            s.state.checks = {**s.state.checks, "on_body": False, "passed": False,
+                              "on_body_reasons": ["garment top 24.2 cm below the waist"]}
+        return d
+
+    monkeypatch.setattr(s, "redrape", slid_after_the_first)
+    start = s.pattern
+    result = correct(s, settings=CorrectionSettings(threshold=0.95, max_iterations=3,
+                                                    step_backs=1))
+    # drape, re-drape after round 1, the halved edit re-draped once: then undone
+    assert len(drapes) == 3
+    assert [it.index for it in result.iterations] == [0] and not result.iterations[0].edits
+    assert s.position == 0 and s.pattern == start and result.pattern == start
+    assert "round 1's" in result.failed and "undone" in result.failed
+    assert "24.2 cm below the waist" in result.failed and not result.reached
+    assert result.to_dict()["edits_made"] == 0

@@ -120,10 +120,16 @@ def exit_if_checks_failed(report: dict, out: Path) -> None:
 
 
 def exit_if_correction_failed(report: dict, out: Path) -> None:
-    """Exit with status 1, saying why, when the correction loop refused to edit (its drape
-    fell off the body or its ϖ is not finite: ``report["failed"]``)."""
-    if report.get("failed"):
-        fail(f"no correction made ({out}/report.json): {report['failed']}", CHECKS_FAILED)
+    """Exit with status 1, saying why, when the correction loop stopped on a drape that is
+    no fit (off the body or ϖ not finite: ``report["failed"]``): the first, with no
+    correction made, or a later one, whose round was undone."""
+    if not report.get("failed"):
+        return
+    if report.get("edits_made"):
+        fail(f"correction stopped ({out}/report.json): {report['failed']}; "
+             f"{out}/pattern.json holds the {report['edits_made']} edits made before, fit not "
+             "reached", CHECKS_FAILED)
+    fail(f"no correction made ({out}/report.json): {report['failed']}", CHECKS_FAILED)
 
 
 def say_guessed_units(body, source) -> None:

@@ -375,11 +375,13 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
     ``progress(iteration: Iteration)`` is called after each drape is evaluated;
     ``drape_progress`` goes to the solver. Returns the :class:`Correction`; the session
     holds every state (one per round) for undo. A re-drape worse than the drape its edit
-    was made from (failed its checks where that one passed, or a region turned too tight)
-    steps back: the edit is undone and made again at half its size (:func:`_step_back`;
-    ``Iteration.stepped_back`` says why). A drape that
-    is no fit at all (:func:`refusal`) stops the loop without an edit,
-    ``Correction.failed`` saying why. A sleeve or trouser leg (a limb with a hem of its
+    was made from (off the body where that one was on it, failed its checks where that one
+    passed, or a region turned too tight) steps back: the edit is undone and made again at
+    half its size (:func:`_step_back`; ``Iteration.stepped_back`` says why). A drape that
+    is no fit at all (:func:`refusal`) stops the loop, ``Correction.failed`` saying why:
+    the first drape without an edit; a re-drape still off the body after the step-backs
+    with its round's edits undone, the session and the pattern given back at the last
+    drape on the body. A drape that failed only the solver's checks is edited from. A sleeve or trouser leg (a limb with a hem of its
     own, :func:`~patternfit.loop.lengthen.hem_edges`) whose end rose along the limb by
     more than ``settings.rules.length_tolerance_cm`` from the first drape is no fit: the
     next round lengthens it at its hem (:func:`~patternfit.loop.lengthen.
@@ -407,6 +409,16 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
         it = Iteration(index, fit.fitting_ratio, regions, [], 0.0, session.state.checks,
                        verdict, measures.report(), measures, stepped, rises)
         out.failed = refusal(session.state.checks, fit.fitting_ratio)
+        if out.failed and index > 0:
+            # the last round's edits, halved as often as allowed, still drape off the body:
+            # undone, so that the pattern given back is the last one on the body
+            session.undo()
+            last = out.iterations[-1]
+            out.failed = (f"the drape after round {index}'s {len(last.edits)} edits failed "
+                          f"({out.failed.removeprefix('the drape failed: ')}): they were "
+                          f"undone, the pattern is the one draped in round {index - 1}")
+            last.edits = []
+            break
         if out.failed:
             reached = False
         elif not reached and index < settings.max_iterations:
@@ -572,10 +584,15 @@ def _halved(moves: list) -> list:
     return [replace(m, offset=(0.5 * m.offset[0], 0.5 * m.offset[1])) for m in moves]
 
 
-def _worse(last: Iteration, checks: dict | None, verdict: Verdict) -> str | None:
-    """Why the drape with ``checks`` and ``verdict``, made from ``last``'s drape by its
-    edits, is worse than that one, or None: it failed its checks where ``last``'s passed,
-    or a region reads too tight where none did."""
+def _worse(last: Iteration, checks: dict | None, verdict: Verdict,
+           fitting_ratio: float) -> str | None:
+    """Why the drape with ``checks``, ``verdict`` and ϖ, made from ``last``'s drape by its
+    edits, is worse than that one, or None: it is no fit at all (:func:`refusal`: off the
+    body) where ``last``'s was one, it failed its checks where ``last``'s passed, or a
+    region reads too tight where none did."""
+    off = refusal(checks, fitting_ratio)
+    if off and not refusal(last.checks, last.fitting_ratio):
+        return off
     if (last.checks or {}).get("passed") and (checks or {}).get("passed") is False:
         return "; ".join(str(r) for r in checks.get("reasons") or ["its checks failed"])
     before = last.verdict
@@ -597,7 +614,7 @@ def _step_back(session, last: Iteration, measured: tuple, settings: CorrectionSe
     kept."""
     why: list[str] = []
     while last.edits and len(why) < settings.step_backs:
-        reason = _worse(last, session.state.checks, measured[2])
+        reason = _worse(last, session.state.checks, measured[2], measured[0].fitting_ratio)
         if reason is None:
             break
         why.append(reason)
