@@ -126,3 +126,24 @@ def test_a_stopped_correction_says_what_the_pattern_holds(tmp_path, capsys):
         exit_if_correction_failed({"failed": "the drape failed: x", "edits_made": 0}, tmp_path)
     assert "no correction made" in capsys.readouterr().err
     exit_if_correction_failed({"failed": None, "edits_made": 3}, tmp_path)  # no exit
+
+
+def test_a_correction_whose_last_drape_failed_its_checks_exits_1(tmp_path, capsys):
+    """Three rounds from drapes that all failed their checks ended "verdict failed" with
+    exit status 0."""
+    import typer
+
+    from patternfit.cli.show import exit_if_correction_failed
+
+    report = {"failed": None, "edits_made": 36, "fitting_ratio": 0.4113,
+              "iterations": [{"fitting_ratio": 0.639, "checks": {"passed": False}},
+                             {"fitting_ratio": 0.4113,
+                              "checks": {"passed": False,
+                                         "reasons": ["973 crossed triangle pairs (limit 0)"]}}]}
+    with pytest.raises(typer.Exit) as info:
+        exit_if_correction_failed(report, tmp_path)
+    said = " ".join(capsys.readouterr().err.split())
+    assert info.value.exit_code == 1 and "the last drape failed its checks" in said
+    assert "973 crossed triangle pairs" in said and "63.90% → 41.13%" in said
+    report["iterations"][-1]["checks"] = {"passed": True}
+    exit_if_correction_failed(report, tmp_path)  # passed: no exit

@@ -83,7 +83,8 @@ def correct_command(
     checks in the report. From a first drape that is not on the body where the pattern
     says (fell, slid off its anchor, collapsed) it corrects nothing, writes no pattern and
     exits with status 1; a round whose re-drape falls off the body is stepped back, then
-    undone: the pattern written holds the edits before it, and the status is 1.
+    undone: the pattern written holds the edits before it, and the status is 1, as it is
+    when the last drape failed its checks.
     """
     from .. import api
 

@@ -122,7 +122,15 @@ def exit_if_checks_failed(report: dict, out: Path) -> None:
 def exit_if_correction_failed(report: dict, out: Path) -> None:
     """Exit with status 1, saying why, when the correction loop stopped on a drape that is
     no fit (off the body or ϖ not finite: ``report["failed"]``): the first, with no
-    correction made, or a later one, whose round was undone."""
+    correction made, or a later one, whose round was undone; or when its last drape failed
+    its checks (the edits were made from drapes that failed theirs)."""
+    last = (report.get("iterations") or [{}])[-1].get("checks") or {}
+    if not report.get("failed") and last.get("passed") is False:
+        why = "; ".join(str(r) for r in last.get("reasons") or []) or "see report.json"
+        fail(f"the last drape failed its checks ({why}): fit not reached; "
+             f"{out}/pattern.json holds {report.get('edits_made', 0)} edits made from drapes "
+             f"that failed theirs, ϖ {report['iterations'][0]['fitting_ratio'] * 100:.2f}% → "
+             f"{report['fitting_ratio'] * 100:.2f}%", CHECKS_FAILED)
     if not report.get("failed"):
         return
     if report.get("edits_made"):
