@@ -215,3 +215,38 @@ def test_a_failed_drapes_thumbnail_has_no_fit_colours():
         return (rgb.max(axis=2) - rgb.min(axis=2) > 40).mean()
 
     assert colourful(True) > 0.2 and colourful(False) == 0.0
+
+
+def test_a_resume_with_other_settings_or_files_is_refused(tmp_path):
+    """A resume at 300 triangles of a batch draped at 1,200 put both kinds of rows under
+    one matrix, nothing in them to tell which; the summary counted the old batch's rows."""
+    from patternfit import edit
+    from patternfit.api import read_pattern, write_pattern
+    from patternfit.batch import run_batch
+
+    pattern = tmp_path / "skirt.json"
+    write_pattern(read_pattern("skirt", size="M"), pattern)
+    out = tmp_path / "b"
+    first = run_batch(str(pattern), "M", "female_average,female_thin", "cotton_shirting", out,
+                      triangles=300, workers=0, thumbnails=False)
+    assert first["rows"] == 2 and (out / "batch.json").is_file()
+    with pytest.raises(InputError, match="triangles = 300, this run with 200"):
+        run_batch(str(pattern), "M", "female_average", "cotton_shirting", out,
+                  triangles=200, workers=0, thumbnails=False, resume=True)
+    # fewer bodies: the rows stay in the file, the answer is this run's task only
+    again = run_batch(str(pattern), "M", "female_average", "cotton_shirting", out,
+                      triangles=300, workers=0, thumbnails=False, resume=True)
+    assert again["skipped"] == 1 and again["rows"] == 1 and len(read_rows(out / CSV_NAME)) == 2
+    edited = read_pattern(str(pattern))  # the pattern file edited since: its hem let down
+    write_pattern(edit.move_edge(edited, "front", "hem", (0.0, -0.02), partner=True), pattern)
+    with pytest.raises(InputError, match="the file .*skirt.json is not the one"):
+        run_batch(str(pattern), "M", "female_average", "cotton_shirting", out,
+                  triangles=300, workers=0, thumbnails=False, resume=True)
+    # a user's own batch.json is never replaced
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "batch.json").write_text('{"my": "notes"}')
+    with pytest.raises(InputError, match="not a batch settings file"):
+        run_batch("skirt", "M", "female_average", "cotton_shirting", mine, triangles=300,
+                  workers=0, thumbnails=False)
+    assert (mine / "batch.json").read_text() == '{"my": "notes"}'

@@ -10,7 +10,8 @@ from ..api import (DEFAULTS, list_garments, list_sizes, read_bodies, read_fabric
 from ..arguments import number
 from .cluster import run_local, run_on_ray
 from .matrix import write_matrix
-from .rows import ResultLog, plan
+from .rows import ResultLog, plan, task_of
+from .settings import file_digests, keep_settings
 from .work import Inputs, TaskOptions
 
 
@@ -67,6 +68,8 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     body_list = read_bodies(bodies)
     tasks = plan([pattern], size_list, [b.name for b in body_list], fabric_list)
     log = ResultLog(out, resume=resume)
+    keep_settings(out, {"triangles": int(triangles), "time_limit": float(time_limit),
+                        "files": file_digests([pattern, *fabric_list])}, resume=resume)
     done = log.done()
     todo = [t for t in tasks if t not in done]
     if on_plan:
@@ -83,11 +86,14 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
                        progress=progress)
     finally:  # also after Ctrl-C: the rows so far in Parquet and in the matrix
         files = {"csv": log.path, "parquet": log.write_parquet()}
-        matrix = write_matrix(out, log.rows, tasks=tasks) if log.rows \
-            else None
+        # the matrix and the counts are this run's tasks: a resume with fewer sizes or
+        # bodies keeps the other rows in the files, not in the answer
+        wanted = set(tasks)
+        rows = [r for r in log.rows if task_of(r) in wanted]
+        matrix = write_matrix(out, rows, tasks=tasks) if rows else None
     if matrix:
         files |= {"png": matrix["png"], "html": matrix["html"]}
-    return {"tasks": len(tasks), "skipped": len(tasks) - len(todo), "rows": len(log.rows),
-            "failed": sum(r["status"] != "ok" for r in log.rows), "files": files,
+    return {"tasks": len(tasks), "skipped": len(tasks) - len(todo), "rows": len(rows),
+            "failed": sum(r["status"] != "ok" for r in rows), "files": files,
             "lines": matrix["lines"] if matrix else []}
 
