@@ -135,3 +135,20 @@ def test_an_output_folder_that_is_a_file_is_refused_before_any_work(tmp_path, ar
     said = " ".join(res.output.replace("│", " ").split())  # Rich's box, wrapped
     assert res.exit_code == 2 and "is a file, not a folder" in said, res.output
     assert mine.read_text() == "mine"
+
+
+@pytest.mark.parametrize("error", [KeyboardInterrupt(), SystemError("returned a result")])
+def test_ctrl_c_anywhere_exits_130_in_one_line(monkeypatch, error):
+    """Click said "Aborted!" with status 1; an interrupt inside a numba kernel (a
+    SystemError caused by it) was an "internal error", status 3."""
+    import patternfit.api as api
+
+    def interrupted(*args, **kwargs):
+        if isinstance(error, SystemError):
+            raise error from KeyboardInterrupt()
+        raise error
+
+    monkeypatch.setattr(api, "read_pattern", interrupted)
+    res = runner.invoke(app, ["seams", "skirt"])
+    assert res.exit_code == 130 and "interrupted" in res.output, res.output
+    assert "internal error" not in res.output and "Aborted" not in res.output

@@ -117,6 +117,27 @@ def test_interrupt_returns_the_last_state(dropped):
     assert np.array_equal(res.x, short.x)
 
 
+def _in_numba(iteration, *rest):
+    """What Ctrl-C becomes when it arrives while a compiled numba function runs."""
+    if iteration == 12:
+        raise SystemError("CPUDispatcher(<function near_pairs>) returned a result with an "
+                          "exception set") from KeyboardInterrupt()
+
+
+def test_ctrl_c_inside_a_compiled_kernel_is_an_interrupt_too(dropped):
+    """The SystemError left the solve and `correct` ended in "internal error", status 3."""
+    v, t, x0, make, *_ = dropped
+    res = make().solve(x0, progress=_in_numba)
+    assert res.interrupted and res.iterations == 12 and res.stop_reason == "interrupted"
+
+    def broken(iteration, *rest):
+        if iteration == 3:
+            raise SystemError("another fault")
+
+    with pytest.raises(SystemError, match="another fault"):
+        make().solve(x0, progress=broken)
+
+
 def test_progress_gets_the_residual_when_it_asks(dropped):
     """A callback with a ``residual`` parameter gets the force residual's rms at every
     iteration: it falls to the rest the result reports, and asking changes nothing."""

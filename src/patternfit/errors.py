@@ -47,3 +47,11 @@ class FabricError(InputError):
 
 class SessionError(InputError):
     """A design-session folder that cannot be used."""
+
+
+def ctrl_c(exc: BaseException) -> bool:
+    """Whether ``exc`` is Ctrl-C: a KeyboardInterrupt, or the SystemError ("returned a
+    result with an exception set") a compiled numba function raises when the interrupt
+    arrives while it runs, the KeyboardInterrupt as its cause."""
+    return isinstance(exc, KeyboardInterrupt) or (
+        isinstance(exc, SystemError) and isinstance(exc.__cause__, KeyboardInterrupt))

@@ -23,6 +23,7 @@ from typer.core import TyperGroup
 from typer.exceptions import TyperException
 
 from ..constants import limits
+from ..errors import ctrl_c
 from ..files import dumps_finite_json
 
 #: set (to anything but empty) to get the traceback of an error instead of one line
@@ -70,14 +71,14 @@ class _Boundary(Group):
                 return super().invoke(ctx)
         except (typer.Exit, typer.Abort, TyperException):
             raise  # exits, usage errors: Typer prints these itself
-        except KeyboardInterrupt:
-            # Ctrl-C: the shell's status for SIGINT, not Click's "Aborted!" with status 1,
-            # which scripts read as a result that failed its checks
-            console.print("interrupted: stopped before the end; nothing more was written",
-                          highlight=False)
-            raise typer.Exit(INTERRUPTED) from None
-        except Exception as exc:
-            if os.environ.get(DEBUG_ENV):
+        except (KeyboardInterrupt, Exception) as exc:
+            if ctrl_c(exc):
+                # the shell's status for SIGINT, not Click's "Aborted!" with status 1, which
+                # scripts read as a result that failed its checks
+                console.print("interrupted: stopped before the end; nothing more was "
+                              "written", highlight=False)
+                raise typer.Exit(INTERRUPTED) from None
+            if os.environ.get(DEBUG_ENV) or not isinstance(exc, Exception):
                 raise
             if isinstance(exc, OSError) and exc.filename is not None:
                 # a path the system refused (a file named where a folder must be, a folder

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..geometry import face_adjacency, face_cross
 from ..defaults import DEFAULTS
+from ..errors import ctrl_c
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
 from .drape import CONTACT_MARGIN, Drape, drape
@@ -434,7 +435,9 @@ def run_to_rest(scene: NewtonScene, *, field=None, points=None, progress=None) -
                         break
                 if reason == "time":
                     break
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, SystemError) as exc:
+        if not ctrl_c(exc):
+            raise
         reason = "interrupted"
     x = scene.state.particle_q.numpy().astype(np.float64)
     return RunResult(x=x, frames=frame, at_rest=at_rest, max_speed=speed,

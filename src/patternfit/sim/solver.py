@@ -29,6 +29,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..arguments import array
+from ..errors import ctrl_c
 from . import kernels, outer_updates, total_energy
 from .checks import DrapeChecks, compressed_share, crossings, drape_checks
 from .lbfgs import LBFGS
@@ -320,7 +321,9 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
                     continue
                 converged, reason = True, "converged"
                 break
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, SystemError) as exc:
+        if not ctrl_c(exc):
+            raise
         interrupted, reason = True, "interrupted"
     x_out = x[model.group]
     # remember the end state when friction was on: a solve from exactly here is warm
