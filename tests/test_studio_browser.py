@@ -298,6 +298,11 @@ def test_ctrl_z_undoes_the_pattern_and_escape_cancels_a_drag(page, server):
 
 def test_a_stale_tab_is_told_to_reload(page, server):
     studio = server[1].state.studio
+    # an edit to undo of its own: run first on its worker (pytest -n 2), the session had none
+    studio.apply("move_edge", {"panel": "front", "edge": "hem", "offset": [0.0, -0.002],
+                               "partner": True})
+    page.reload()
+    page.wait_for_selector("body[data-ready='1']", timeout=30000)
     second = page.context.browser.new_page(viewport={"width": 1500, "height": 850})
     try:
         second.goto(server[0] + "/")

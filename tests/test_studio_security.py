@@ -202,6 +202,72 @@ def test_malformed_bodies_are_answered_400(client, body):
     assert client.get("/api/state").json()["history"] == history
 
 
+CURVE = {"op": "edit_curve", "args": {"panel": "front", "edge": "hem", "offset": [0.0, -0.002],
+                                      "control": 1, "partner": True}}
+
+
+@pytest.mark.parametrize("edit, change, error", [
+    # truthy strings the tools would take as "the partner follows"
+    (EDIT, {"partner": "yes"}, "args.partner: expected true or false, got 'yes'"),
+    (EDIT, {"partner": "false"}, "args.partner: expected true or false, got 'false'"),
+    (EDIT, {"partner": 0}, "args.partner: expected true or false, got 0"),
+    # a bool is control point 1 to the tool, a float an index error about the outline
+    (CURVE, {"control": True}, "args.control: expected a whole number, got True"),
+    (CURVE, {"control": 1.0}, "args.control: expected a whole number, got 1.0"),
+    (EDIT, {"offset": [0, "1"]}, "args.offset[1]: expected a number, got '1'"),
+    (EDIT, {"offset": [True, 0]}, "args.offset[0]: expected a number, got True"),
+    (EDIT, {"offset": {"x": 0, "y": 1}}, "args.offset: expected a point [x, y]"),
+    (EDIT, {"panel": ["front"]}, "args.panel: expected a name (text), got ['front']"),
+    (EDIT, {"corner": "waist"}, "args.corner: move_edge takes no such argument (it takes "
+                                "panel, edge, offset, partner)"),
+    ({"op": "grade", "args": {"panel": "front", "sx": "1.1", "sy": 1.0}},
+     {}, "args.sx: expected a number, got '1.1'"),
+    ({"op": "set_seam_ease", "args": {"name": "side_l", "ease": None}},
+     {}, "args.ease: expected a number, got None"),
+    ({"op": "add_seam", "args": {"a": ["front", "hem"], "b": {"panel": "back", "edge": "hem"}}},
+     {}, "args.a: expected a seam side"),
+    ({"op": "add_seam", "args": {"a": {"panel": "front", "edge": "hem"},
+                                 "b": {"panel": "back", "edge": "hem"}, "reverse": "no"}},
+     {}, "args.reverse: expected true or false, got 'no'"),
+])
+def test_edit_arguments_of_the_wrong_kind_are_refused_naming_them(client, edit, change, error):
+    history = client.get("/api/state").json()["history"]
+    body = {**edit, "args": {**edit["args"], **change}}
+    paths = ("/api/edit", "/api/drag") if edit["op"] in ("move_edge", "edit_curve") \
+        else ("/api/edit",)
+    for path in paths:
+        r = client.post(path, json=body)
+        assert r.status_code == 400, (path, r.text)
+        assert r.json()["error"].startswith(error), (path, r.json())
+    assert client.get("/api/state").json()["history"] == history
+
+
+def test_edit_arguments_of_the_right_kind_pass():
+    """Each tool's arguments as the page sends them, null where the tool's default is None,
+    pass the check; the check lists exactly the arguments each editing tool takes."""
+    import inspect
+
+    from patternfit import edit as tools
+    from patternfit.loop.session import EDIT_OPS
+    from patternfit.studio.requests import EDIT_ARGS, Edit
+
+    assert set(EDIT_ARGS) == set(EDIT_OPS)
+    for op, kinds in EDIT_ARGS.items():
+        assert list(kinds) == list(inspect.signature(getattr(tools, op)).parameters)[1:], op
+    for op, args in (("grade", {"panel": None, "sx": 1, "sy": 1.0, "about": None,
+                                "partner": False}),
+                     ("edit_curve", CURVE["args"]),
+                     ("insert_dart", {"panel": "front", "name": "d1", "centre": [0, 0.1],
+                                      "length": 0.1, "width": 0.02, "axis": [0, 1],
+                                      "shape": "diamond"}),
+                     ("resize_dart", {"panel": "front", "name": "d1", "length": None,
+                                      "width": 0.03}),
+                     ("add_seam", {"a": {"panel": "front", "edge": "hem", "start": 0},
+                                   "b": {"panel": "back", "edge": "hem"}, "name": None,
+                                   "ease": None, "reverse": True})):
+        assert Edit.model_validate({"op": op, "args": args}).args == args
+
+
 @pytest.mark.parametrize("body", [{"triangles": "many"}, {"triangles": True},
                                   {"triangles": 10 ** 9}, {"triangles": 1.5},
                                   {"garment": None}, {"size": 3}])

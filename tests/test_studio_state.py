@@ -4,6 +4,8 @@ progress, and the version every change carries (a stale tab is refused with 409)
 
 from __future__ import annotations
 
+import json
+import threading
 from itertools import pairwise
 from types import SimpleNamespace
 
@@ -206,3 +208,75 @@ def test_a_stale_version_is_refused_with_409(client):
     assert client.post("/api/undo", json={"revision": rev + 1}).status_code == 200
     assert client.post("/api/upload?kind=fabric&revision=x",
                        files={"file": ("f.json", b"{}")}).status_code == 400
+
+
+def states_on_disk(session_folder) -> int:
+    return sum(1 for p in (session_folder / "states").iterdir() if not p.name.startswith("."))
+
+
+def test_a_replaced_session_is_kept_in_the_archive(client):
+    """A new session, an opened file and a fabric used each start a new history; the one
+    they replace, with its last edit (not yet written by the background saver), is moved to
+    archive/<time>/ in the session folder, a session folder of its own, and the answer
+    says where. Before, the next save deleted every state of the old history."""
+    folder = client.app.state.studio.folder
+    for _ in range(3):
+        assert client.post("/api/edit", json=EDIT).status_code == 200
+    r = client.post("/api/new", json={"garment": "skirt", "size": "L"})
+    assert r.status_code == 200
+    first = r.json()["archived"]
+    assert first.startswith("archive/") and states_on_disk(folder / first / "session") == 4
+    assert states_on_disk(folder / "session") == 1
+    assert client.post("/api/undo", json={}).status_code == 400  # a new history
+    # the archive is a session folder the studio continues: the 3 edits, the last current
+    kept = make_client(folder / first).get("/api/state").json()
+    assert len(kept["history"]) == 4 and kept["position"] == 3
+    assert kept["fields"]["size"] == "M"  # its own studio.json went with it
+    # an opened pattern and a fabric used replace the session too: each kept apart
+    pattern = client.get("/api/export/pattern.json").content
+    assert client.post("/api/edit", json=EDIT).status_code == 200
+    opened = client.post("/api/upload", files={"file": ("mine.json", pattern)}).json()
+    fabric = client.get("/api/fabric").json()["presets"]["denim"]
+    used = client.post("/api/fabric", json={"fabric": fabric}).json()
+    assert len({first, opened["archived"], used["archived"]}) == 3
+    assert states_on_disk(folder / opened["archived"] / "session") == 2
+    assert len(list((folder / "archive").iterdir())) == 3
+
+
+def test_an_upload_refused_while_draping_changes_nothing(client, monkeypatch):
+    """An upload refused with 409 because a drape runs, whether the drape was running when
+    it came or started while the file was read, leaves the session's stored copy of the
+    last opened file as it was (it was replaced before the refusal)."""
+    studio = client.app.state.studio
+    folder = studio.folder
+    pattern = client.get("/api/export/pattern.json").content
+    assert client.post("/api/upload", files={"file": ("mine.json", pattern)}).status_code == 200
+    stored = (folder / "uploads" / "pattern.json").read_bytes()
+    other = json.loads(pattern)
+    other["name"] = "another"
+    other = json.dumps(other).encode()
+    gate = threading.Event()
+    monkeypatch.setattr(studio_state.Studio, "_run_drape", lambda self, job: gate.wait(30))
+    read_upload = studio_state._read_upload
+
+    def drape_starts_meanwhile(*args):
+        studio.start_drape()
+        return read_upload(*args)
+
+    try:
+        assert client.post("/api/drape").status_code == 200  # running from here
+        state = client.get("/api/state").json()
+        r = client.post("/api/upload", files={"file": ("other.json", other)})
+        assert r.status_code == 409 and "drape is running" in r.json()["error"]
+        gate.set()
+        studio.wait(10)
+        gate.clear()
+        monkeypatch.setattr(studio_state, "_read_upload", drape_starts_meanwhile)
+        r = client.post("/api/upload", files={"file": ("other.json", other)})
+        assert r.status_code == 409 and "drape is running" in r.json()["error"]
+    finally:
+        gate.set()
+        studio.wait(10)
+    assert (folder / "uploads" / "pattern.json").read_bytes() == stored
+    assert [p.name for p in (folder / "uploads").iterdir()] == ["pattern.json"]
+    assert client.get("/api/state").json()["history"] == state["history"]

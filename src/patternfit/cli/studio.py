@@ -14,15 +14,16 @@ from .app import app, console, fail
 
 @app.command()
 def studio(
-    port: int = typer.Option(None, "--port", help="TCP port on 127.0.0.1 (default: a free one)."),
+    port: int = typer.Option(None, "--port",
+                             help="TCP port on 127.0.0.1 (default, or 0: a free one)."),
     no_browser: bool = typer.Option(False, "--no-browser", help="Do not open a browser."),
     session: Path = typer.Option(Path("patternfit-session"), "--session",
                                  help="Session folder: created, or continued if it holds one."),
 ):
     """Start the studio web app on 127.0.0.1 over a design session folder and print its
     address; stop it with Ctrl+C (the session is saved after every change)."""
-    if port is not None and not 1 <= port <= 65535:
-        fail("--port: expected 1..65535")
+    if port is not None and not 0 <= port <= 65535:
+        fail("--port: expected 0..65535 (0: a free one)")
     try:
         from ..studio import serve
     except ImportError as err:  # pragma: no cover - fastapi/uvicorn are dependencies

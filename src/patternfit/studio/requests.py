@@ -10,15 +10,18 @@ given is always checked).
 
 from __future__ import annotations
 
+import reprlib
 from typing import Annotated, Any
 
 import anyio
 from fastapi import HTTPException, Request
 from pydantic import (BaseModel, BeforeValidator, ConfigDict, StrictInt, StrictStr,
-                      ValidationError, field_validator)
+                      ValidationError, field_validator, model_validator)
 
+from ..arguments import number
 from ..body.builtin import list_bodies
 from ..constants import limits
+from ..edit import seam_side
 from ..errors import InputError
 from ..files import parse_json_text
 from ..pattern.library import GARMENTS
@@ -75,9 +78,59 @@ class NewSession(Revisioned):
         return {k: v for k, v in self.model_dump(exclude={"revision"}).items() if v is not None}
 
 
+def _flag(value, name: str) -> None:
+    if not isinstance(value, bool):
+        raise ValueError(f"{name}: expected true or false, got {reprlib.repr(value)}")
+
+
+def _whole(value, name: str) -> None:
+    # a bool is an int to Python, and a JSON 1.0 would reach the tool as a float index
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ValueError(f"{name}: expected a whole number, got {reprlib.repr(value)}")
+
+
+def _point(value, name: str) -> None:
+    if not isinstance(value, list) or len(value) != 2:
+        raise ValueError(f"{name}: expected a point [x, y], got {reprlib.repr(value)}")
+    for i, c in enumerate(value):
+        number(c, f"{name}[{i}]")
+
+
+def _name(value, name: str) -> None:
+    if not isinstance(value, str):
+        raise ValueError(f"{name}: expected a name (text), got {reprlib.repr(value)}")
+
+
+#: how each kind of editing-tool argument is checked (a refusal names the argument)
+_KINDS = {"flag": _flag, "whole": _whole, "number": number, "point": _point, "name": _name,
+          "side": seam_side}
+#: the arguments of each editing tool (``patternfit.edit``'s signatures) and their kinds;
+#: ``?``: null is taken too (the tool's default)
+EDIT_ARGS = {
+    "move_point": {"panel": "name", "corner": "name", "offset": "point", "partner": "flag"},
+    "move_edge": {"panel": "name", "edge": "name", "offset": "point", "partner": "flag"},
+    "edit_curve": {"panel": "name", "edge": "name", "offset": "point", "control": "whole",
+                   "partner": "flag"},
+    "lengthen": {"panel": "name", "a": "point", "b": "point", "amount": "number",
+                 "partner": "flag"},
+    "grade": {"panel": "name?", "sx": "number", "sy": "number", "about": "point?",
+              "partner": "flag"},
+    "insert_dart": {"panel": "name", "name": "name", "centre": "point", "length": "number",
+                    "width": "number", "axis": "point", "shape": "name"},
+    "move_dart": {"panel": "name", "name": "name", "offset": "point"},
+    "resize_dart": {"panel": "name", "name": "name", "length": "number?", "width": "number?"},
+    "add_seam": {"a": "side", "b": "side", "name": "name?", "ease": "number?",
+                 "reverse": "flag"},
+    "remove_seam": {"name": "name"},
+    "set_seam_ease": {"name": "name", "ease": "number"},
+}
+
+
 class Edit(Revisioned):
     """``POST /api/edit``, ``/api/drag``, ``/api/drag/basis``: an editing tool and its
-    arguments (lengths [m])."""
+    arguments (lengths [m]), each checked for the kind the tool takes (:data:`EDIT_ARGS`):
+    the tools themselves would apply ``"partner": "no"`` as true and ``"control": true`` as
+    control point 1."""
 
     op: StrictStr
     args: dict[str, Any] = {}
@@ -89,15 +142,31 @@ class Edit(Revisioned):
             raise ValueError("'label' is not an argument of an editing tool")
         return args
 
+    @model_validator(mode="after")
+    def _kinds(self):
+        kinds = EDIT_ARGS.get(self.op)
+        if kinds is None:  # no such tool: refused by name where the tool is looked up
+            return self
+        for key, value in self.args.items():
+            where = f"args.{key}"
+            if key not in kinds:
+                raise ValueError(f"{where}: {self.op} takes no such argument (it takes "
+                                 f"{', '.join(kinds)})")
+            kind = kinds[key]
+            if not (value is None and kind.endswith("?")):
+                _KINDS[kind.rstrip("?")](value, where)
+        return self
+
 
 def _message(exc: ValidationError) -> str:
     """``field: what is wrong`` for the first problem of a model check."""
     err = exc.errors()[0]
-    where = ".".join(str(p) for p in err["loc"]) or "request body"
+    where = ".".join(str(p) for p in err["loc"])
     text = err["msg"].removeprefix("Value error, ")
     if err["type"] == "missing":
         text = "missing"
-    return f"{where}: {text}"
+    # a check of the whole body (no location) names the fields in its own message
+    return f"{where}: {text}" if where else text
 
 
 def parse_body(raw: bytes, model: type[BaseModel]) -> BaseModel:

@@ -12,6 +12,7 @@ Body and fabric are chosen by preset name or by an uploaded file, never by a pat
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import shutil
@@ -426,10 +427,11 @@ class Studio:
     def new(self, *, garment: str = DEFAULTS.garment, size: str = DEFAULTS.size,
             body: str = DEFAULTS.body, fabric: str = DEFAULTS.fabric,
             triangles: int = DEFAULTS.studio_triangles, engine: str = ENGINES[0],
-            revision: int | None = None) -> None:
+            revision: int | None = None) -> str | None:
         """Start a new session on a built-in garment, body and fabric, each named as in
-        ``/api/options`` (replaces the current session). ``revision``: the one the asking
-        tab saw (see :meth:`check_revision`)."""
+        ``/api/options`` (replaces the current session, which is kept: see :meth:`_archive`,
+        whose answer this returns). ``revision``: the one the asking tab saw (see
+        :meth:`check_revision`)."""
         for what, value, known in (("garment", garment, GARMENTS), ("size", size, SIZE_NAMES),
                                    ("body", body, list_bodies()), ("fabric", fabric, FABRICS),
                                    ("engine", engine, ENGINES)):
@@ -444,17 +446,21 @@ class Studio:
         with self.lock:
             self._refuse_while_draping()
             self.check_revision(revision)
+            archived = self._archive()
             self.session = session
             self.info = {"garment": garment, "size": size, "body": body, "fabric": fabric,
                          "engine": engine, "source": f"built-in {garment} {size}"}
             self._save()
+            return archived
 
     def upload(self, kind: str, filename: str, data: bytes, revision: int | None = None
                ) -> dict:
         """Start a new session on an uploaded pattern, body or fabric (``kind``), keeping the
         rest of the current one. The file is read from the session folder under a name of
-        the studio's choosing (``uploads/<kind><ending>``); only the ending of the client's
-        ``filename`` is used, to pick the reader, and its last part names it in messages."""
+        the studio's choosing (``uploads/<kind><ending>``, replaced only once the new session
+        is); only the ending of the client's ``filename`` is used, to pick the reader, and
+        its last part names it in messages. The answer's ``archived``: where the replaced
+        session was kept (:meth:`start_from`)."""
         shown = filename.replace("\\", "/").rsplit("/", 1)[-1][:100] or kind
         suffix = Path(shown).suffix.lower()
         self.check_revision(revision)
@@ -462,35 +468,41 @@ class Studio:
             raise ValueError(f"kind: expected one of {', '.join(UPLOAD_SUFFIXES)}")
         if suffix not in UPLOAD_SUFFIXES[kind]:
             raise ValueError(f"upload: expected a {' or '.join(UPLOAD_SUFFIXES[kind])} file")
+        self._refuse_while_draping()  # before the file is read: start_from would refuse it
         uploads = self.folder / "uploads"
         uploads.mkdir(exist_ok=True)
         # each upload is read in a folder of its own: two at once never share a file
         part = Path(tempfile.mkdtemp(prefix=".incoming-", dir=uploads))
         target = part / f"{kind}{suffix}"
         try:
-            target.write_bytes(data)
-            read, assumed = _read_upload(kind, target, Path(shown).stem)
-            os.replace(target, uploads / target.name)
-        except Exception as exc:
-            # the readers (trimesh, NumPy's zip) raise many kinds for a bad file, and every
-            # one means the upload cannot be used; the message names the client's file, not
-            # the server's folder
-            raise InputError(designer_message(exc).replace(str(target), shown)) from None
+            try:
+                target.write_bytes(data)
+                read, assumed = _read_upload(kind, target, Path(shown).stem)
+            except Exception as exc:
+                # the readers (trimesh, NumPy's zip) raise many kinds for a bad file, and
+                # every one means the upload cannot be used; the message names the client's
+                # file, not the server's folder
+                raise InputError(designer_message(exc).replace(str(target), shown)) from None
+            if kind == "pattern":
+                archived = self.start_from(pattern=read, upload=target,
+                                           labels={"garment": read.name,
+                                                   "source": f"uploaded {shown}"},
+                                           revision=revision)
+                return {"panels": len(read.panels), "archived": archived}
+            archived = self.start_from(**{kind: read}, upload=target, labels={kind: read.name},
+                                       revision=revision)
+            return {"name": read.name, "archived": archived,
+                    **({"assumed": assumed} if kind == "fabric" else {})}
         finally:
             shutil.rmtree(part, ignore_errors=True)
-        if kind == "pattern":
-            self.start_from(pattern=read, labels={"garment": read.name,
-                                                  "source": f"uploaded {shown}"},
-                            revision=revision)
-            return {"panels": len(read.panels)}
-        self.start_from(**{kind: read}, labels={kind: read.name}, revision=revision)
-        return {"name": read.name, **({"assumed": assumed} if kind == "fabric" else {})}
 
     def start_from(self, *, labels: dict, pattern=None, body=None, fabric=None,
-                   revision: int | None = None) -> None:
+                   upload: Path | None = None, revision: int | None = None) -> str | None:
         """Start a new session on ``pattern``, ``body`` or ``fabric`` (uploaded), keeping the
         rest of the current session (its pattern, body, fabric, mesh size, threshold);
-        ``labels`` update what the page shows of the session (``info``)."""
+        ``labels`` update what the page shows of the session (``info``). ``upload``: the
+        file it was read from, kept as ``uploads/<its name>`` once the session is replaced.
+        The replaced session is kept (:meth:`_archive`, whose answer this returns)."""
         self._refuse_while_draping()
         with self.lock:
             old = self.ensure()
@@ -501,13 +513,41 @@ class Studio:
         with self.lock:
             self._refuse_while_draping()
             self.check_revision(revision)
+            archived = self._archive()
+            if upload is not None:
+                os.replace(upload, self.folder / "uploads" / upload.name)
             self.session = session
             self.info = {**self.info, **labels}
             self._save()
+            return archived
 
     def _refuse_while_draping(self) -> None:
         if self.job.running:
             raise Refused(_DRAPING)
+
+    def _archive(self) -> str | None:
+        """Move the saved session about to be replaced (``session/`` and ``studio.json``)
+        into ``archive/<date>_<time>/``, a session folder of its own (``patternfit studio
+        --session`` continues it), and return that folder relative to the studio's; None
+        when there is no session yet. Called under the lock, once the replacing request
+        passed its checks: saving the new session into ``session/`` would delete every state
+        of the old history (``DesignSession.save`` removes the states it does not name)."""
+        if self.session is None:
+            return None
+        self._write()  # the last edits, which the background saver may not have written yet
+        stamp = time.strftime("%Y-%m-%d_%H-%M-%S")
+        archive = self.folder / "archive"
+        archive.mkdir(exist_ok=True)
+        for n in itertools.count(1):  # two replacements within a second
+            kept = archive / (stamp if n == 1 else f"{stamp}-{n}")
+            try:
+                kept.mkdir()
+                break
+            except FileExistsError:
+                continue
+        os.replace(self.folder / "session", kept / "session")
+        os.replace(self.folder / "studio.json", kept / "studio.json")
+        return kept.relative_to(self.folder).as_posix()
 
     # -- edits ---------------------------------------------------------------------------
     def apply(self, op: str, args: dict, revision: int | None = None) -> dict:

@@ -99,7 +99,8 @@ _PHRASES = [
     (re.compile(r"\bs([xy]): expected a number in \[([\d.e+-]+), ([\d.e+-]+)\], got ([\d.e+-]+)"),
      lambda m: f"the {'width' if m[1] == 'x' else 'length'} must stay between "
                f"{float(m[2]) * 100:g} % and {float(m[3]) * 100:g} %, not {float(m[4]) * 100:g} %"),
-    (re.compile(r"\boffset: "), "the move: "),
+    # (not a request's "args.offset: ", which names the field for the script that sent it)
+    (re.compile(r"(?<![.\w])offset: "), "the move: "),
 ]
 
 

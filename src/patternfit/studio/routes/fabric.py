@@ -87,7 +87,8 @@ async def use_fabric(req: UseFabric = Depends(body(UseFabric)),
                      studio: Studio = Depends(studio_of)):
     def run():
         fabric = req.fabric
-        studio.start_from(fabric=fabric, labels={"fabric": fabric.name},
-                          revision=req.revision)
-        return {"ok": True, "revision": studio.revision, "name": fabric.name}
+        archived = studio.start_from(fabric=fabric, labels={"fabric": fabric.name},
+                                     revision=req.revision)
+        return {"ok": True, "revision": studio.revision, "name": fabric.name,
+                "archived": archived}
     return await in_worker(run)

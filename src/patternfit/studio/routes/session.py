@@ -60,8 +60,8 @@ async def body_mesh(request: Request, studio: Studio = Depends(studio_of)):
 @router.post("/new")
 async def new(req: NewSession = Depends(body(NewSession)),
               studio: Studio = Depends(studio_of)):
-    await in_worker(lambda: studio.new(**req.given(), revision=req.revision))
-    return {"ok": True, "revision": studio.revision}
+    archived = await in_worker(lambda: studio.new(**req.given(), revision=req.revision))
+    return {"ok": True, "revision": studio.revision, "archived": archived}
 
 
 @router.post("/upload")

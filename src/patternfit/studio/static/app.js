@@ -459,17 +459,24 @@ async function pollDrape() {
 }
 
 // -- session, files ---------------------------------------------------------------------
+// A session replaced (new, a file opened, a fabric used) is moved into the session folder's
+// archive, never deleted: the page says where (the server's answer ``archived``).
+const keptIn = (answer) => (answer && answer.archived ? `the previous session was kept in ${answer.archived} in the session folder` : "");
 const fabricEditor = new FabricEditor({
   api, onError: fail,
-  onUsed: async () => { studio.fields = null; await refresh(); done("session", "edit", "drape"); },
+  onUsed: async (answer) => {
+    studio.fields = null; await refresh(); done("session", "edit", "drape");
+    if (keptIn(answer)) message(`Now in ${answer.name}: ${keptIn(answer)}`, "warning", "session");
+  },
 });
 studio.fabricEditor = fabricEditor;
 $("fabric-open").onclick = () => fabricEditor.open().catch(fail);
 $("new-btn").onclick = async () => {
   try {
-    await api("/api/new", { method: "POST", json: { garment: $("garment").value, size: $("size").value,
+    const answer = await api("/api/new", { method: "POST", json: { garment: $("garment").value, size: $("size").value,
       body: $("body").value, fabric: $("fabric").value, engine: $("engine").value, triangles: +$("triangles").value } });
     done("session", "edit", "drape", "upload", "export");
+    if (keptIn(answer)) message(`New session: ${keptIn(answer)}`, "warning", "session");
   } catch (e) { fail(e, "session"); if (e.stale) return; }
   await refresh(); view.setBody(await getArrays("/api/body"));
 };
@@ -484,7 +491,7 @@ for (const [id, kind] of [["upload", "pattern"], ["upload-body", "body"], ["uplo
       if (kind === "body") view.setBody(await getArrays("/api/body"));
       // a fabric file without friction or thickness (an ARCSim material) says what it took
       const assumed = (opened && opened.assumed) || [];
-      message(`Opened ${f.name}${assumed.length ? `: ${assumed.join("; ")}` : ""}`, "warning", "upload");
+      message(`Opened ${f.name}${assumed.length ? `: ${assumed.join("; ")}` : ""}${keptIn(opened) ? `; ${keptIn(opened)}` : ""}`, "warning", "upload");
     } catch (e) { if (e.stale) fail(e); else message(`Could not open ${f.name}: ${e.message}`, "error", "upload"); }
     $(id).value = "";
   };

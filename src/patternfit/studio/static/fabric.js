@@ -20,7 +20,7 @@ const G = 9.81;
 const mm = (m) => (m === null || m === undefined ? "n/a" : `${(1000 * m).toFixed(1)} mm`);
 
 export class FabricEditor {
-  // api(path, opts): the page's request function; onUsed(): after the session changed
+  // api(path, opts): the page's request function; onUsed(answer): after the session changed
   constructor({ api, onUsed, onError }) {
     this.api = api; this.onUsed = onUsed; this.onError = onError;
     this.presets = {}; this.polling = false;
@@ -131,9 +131,9 @@ export class FabricEditor {
     const fabric = this.values();
     if (!fabric) return;
     try {
-      await this.api("/api/fabric", { method: "POST", json: { fabric } });
+      const answer = await this.api("/api/fabric", { method: "POST", json: { fabric } });
       this.status(`the session now drapes in ${fabric.name} (a new history)`);
-      await this.onUsed();
+      await this.onUsed(answer);
     } catch (e) { this.status(`Not used: ${e.message}`); if (e.stale) this.onError(e); }
   }
 }
