@@ -183,14 +183,20 @@ def test_a_re_drape_is_worse_when_it_fails_or_a_region_turns_too_tight():
     ok = {"passed": True}
     bad = {"passed": False, "reasons": ["no equilibrium (stopped: time)"]}
     tight = Iteration(1, 0.95, [], [], 0.0, ok, verdict("tight", "fits"))
-    assert _worse(tight, ok, verdict("tight", "tight")) is None
-    assert _worse(tight, bad, verdict("fits")) == "no equilibrium (stopped: time)"
-    assert _worse(tight, ok, verdict("too tight", "fits")) == "('too tight', 'fits')"
+    assert _worse(tight, ok, verdict("tight", "tight"), 0.95) is None
+    assert _worse(tight, bad, verdict("fits"), 0.95) == "no equilibrium (stopped: time)"
+    assert _worse(tight, ok, verdict("too tight", "fits"), 0.95) == "('too tight', 'fits')"
     # from a drape that was too tight or failed already, nothing is worse
     worse_already = Iteration(1, 0.95, [], [], 0.0, ok, verdict("too tight"))
-    assert _worse(worse_already, ok, verdict("too tight")) is None
+    assert _worse(worse_already, ok, verdict("too tight"), 0.95) is None
     failed = Iteration(1, 0.95, [], [], 0.0, bad, Verdict("failed"))
-    assert _worse(failed, bad, verdict("too tight")) is None
+    assert _worse(failed, bad, verdict("too tight"), 0.95) is None
+    # but off the body is worse than on it, even from a drape that failed the solver's checks
+    off = {"passed": False, "on_body": False, "on_body_reasons": ["garment top 24.2 cm below"]}
+    assert _worse(failed, off, Verdict("failed"), 0.95) == \
+        "the drape failed: garment top 24.2 cm below"
+    assert _worse(Iteration(1, 0.95, [], [], 0.0, off, Verdict("failed")), off,
+                  Verdict("failed"), 0.95) is None
 
 
 def test_a_re_drape_that_fails_after_an_edit_steps_back_to_half_the_edit():
