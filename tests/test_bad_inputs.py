@@ -408,3 +408,57 @@ def test_a_body_file_naming_a_pipe_as_its_material_library_is_read(tmp_path):
     assert not reader.is_alive(), "the reader waited on the pipe"
     assert out["body"].measurements["height"] == pytest.approx(
         load_body("female_thin").measurements["height"], rel=1e-3)
+
+
+def _without_checks(mesh, **arrays) -> GarmentMesh:
+    fields = {k: getattr(mesh, k) for k in mesh.__dataclass_fields__}
+    return GarmentMesh(**{**fields, **arrays})
+
+
+@pytest.mark.parametrize("case", ["another size", "another garment", "shrunk", "pairs",
+                                  "twice"])
+def test_a_folder_whose_mesh_is_not_of_its_pattern_is_refused(tmp_path, case):
+    """Only the panel names were compared: the M skirt's mesh under the L skirt's
+    pattern.json, or a dress's mesh under a skirt's, read as that pattern's drape."""
+    from patternfit.pattern.library import build
+
+    skirt = build("skirt", "M")
+    mesh = mesh_pattern(skirt, triangles=300)
+    pattern = skirt
+    if case == "another size":
+        pattern = build("skirt", "L")
+    elif case == "another garment":  # the dress's panels are named as the skirt's
+        mesh = mesh_pattern(build("dress", "M"), triangles=300)
+    elif case == "shrunk":
+        mesh = mesh.with_vertices(mesh.vertices * 0.9)
+    elif case == "pairs":  # every pair sewn to one vertex of the front
+        one = mesh.panel_vertices(0)[0]
+        mesh = _without_checks(mesh, seam_pairs=np.full_like(mesh.seam_pairs, one))
+    else:
+        mesh = _without_checks(mesh, triangles=np.vstack([mesh.triangles, mesh.triangles[:1]]),
+                               triangle_panel=np.r_[mesh.triangle_panel, 0])
+    save_garment(tmp_path / "g", pattern, mesh, np.c_[mesh.vertices, np.zeros(mesh.n_vertices)])
+    expected = {"twice": "a triangle given twice", "pairs": "is not on"}.get(
+        case, "is not a mesh of pattern.json")
+    with pytest.raises(GarmentFileError, match=expected):
+        load_garment(tmp_path / "g")
+    # the folder it was made from, unchanged, reads
+    save_garment(tmp_path / "ok", skirt, mesh_pattern(skirt, triangles=300))
+    assert load_garment(tmp_path / "ok")[0] == skirt
+
+
+def test_a_drapes_output_folder_reads_as_its_garment_folder(tmp_path):
+    """fit --garment refused the folder a drape writes ("no mesh.npz here"), which drape
+    --start took; a mesh.npz there that is no file (a link to /dev/zero) was said missing."""
+    from patternfit.pattern.library import build
+
+    skirt = build("skirt", "M")
+    mesh = mesh_pattern(skirt, triangles=300)
+    save_garment(tmp_path / "out" / "garment", skirt, mesh, np.c_[mesh.vertices,
+                                                                  np.zeros(mesh.n_vertices)])
+    pattern, _, x = load_garment(tmp_path / "out")
+    assert pattern == skirt and x.shape == (mesh.n_vertices, 3)
+    (tmp_path / "zero").mkdir()
+    (tmp_path / "zero" / MESH).symlink_to("/dev/zero")
+    with pytest.raises(GarmentFileError, match="not a regular file"):
+        load_garment(tmp_path / "zero")

@@ -42,7 +42,7 @@ from .loop.outputs import write_correction_outputs
 from .loop.session import DesignSession
 from .loop.table2 import ROWS
 from .mesh.garment import GarmentMesh
-from .mesh.store import CONTACT, load_contact, load_garment, save_garment
+from .mesh.store import CONTACT, garment_folder, load_contact, load_garment, save_garment
 from .mesh.triangulate import mesh_pattern
 from .pattern.errors import PatternError
 from .pattern.formats import load_any_pattern, save_any_pattern
@@ -602,8 +602,8 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
             if not isinstance(start, (str, Path)):
                 raise
             raise GarmentFileError(f"does not fit this drape's mesh: {e.reason}",
-                                   file=Path(start) / CONTACT, place=f"array '{e.array}'") \
-                from None
+                                   file=garment_folder(start) / CONTACT,
+                                   place=f"array '{e.array}'") from None
     else:
         m = mesh_pattern(pat, triangles=triangles)
         d = drape_with(engine, pat, m, b, fab, settings=settings, device=device,
@@ -643,6 +643,7 @@ def _start_state(start, pattern: Pattern, triangles: int):
         return x, None, mesh
     if not Path(start).exists():
         raise InputError("does not exist", file=start)
+    start = garment_folder(start)
     saved, saved_mesh, x = load_garment(start)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): drape the garment first",

@@ -41,6 +41,10 @@ class Tolerances:
     #: field puts it deeper than this [m]: the field is trilinear on a 5 mm grid, and the
     #: contact keeps cloth 3 mm clear, so a drape at rest sits well above it
     penetration: float = 1e-3
+    #: a saved mesh's boundary vertex may lie this far from the point of its pattern edge
+    #: its arc-length fraction names (meshing and the mesh update put it there exactly;
+    #: the mesh of another size lies centimetres off) [m]
+    mesh_on_edge: float = 1e-5
     #: a mesh's boundary segment may be this much longer than the one before it along a
     #: loop, where a short edge (GarmentCode's 0.9 mm stitched edges) meets a long one:
     #: Triangle may not split boundary segments (to keep seam sides paired), so an abrupt

@@ -106,7 +106,8 @@ def mesh(
 @app.command()
 def fit(
     garment: Path = typer.Option(..., "--garment", "-g",
-                                 help="Saved garment folder with a 3D state (positions.npy)."),
+                                 help="Saved garment folder with a 3D state (positions.npy), "
+                                 "or the output folder of a drape holding it."),
     out: Path = Out,
     tight: float = typer.Option(DEFAULTS.tight, help="Area growth above which a triangle is "
                                 "tight.", callback=finite),

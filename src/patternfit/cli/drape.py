@@ -76,8 +76,6 @@ def drape(
     if start is not None:
         if engine != "static":
             fail("--start: a saved drape is continued by the static engine only")
-        if not (start / "positions.npy").exists() and (start / "garment").is_dir():
-            start = start / "garment"  # the drape's output folder
     b = api.read_body(body, units=units)
     say_guessed_units(b, body)
     settings = SolverSettings(max_iterations=max_iterations, time_limit=time_limit)

@@ -9,7 +9,7 @@ import numpy as np
 from typing import Any
 
 from ..mesh.garment import GarmentMesh
-from ..mesh.store import save_garment
+from ..mesh.store import GARMENT, save_garment
 from ..pattern.model import Pattern
 from .colormap import FitScale, vertex_values
 from .export import export_garment
@@ -50,7 +50,7 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     say = progress or (lambda msg: None)
     scale = FitScale(band=fit.thresholds[0])
     say("garment state")
-    save_garment(folder / "garment", pattern, mesh, positions, contact=contact)
+    save_garment(folder / GARMENT, pattern, mesh, positions, contact=contact)
     rgb = scale.colors(vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices,
                                      fit.area_2d))
     files = {"garment": "garment/"}

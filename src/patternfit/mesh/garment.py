@@ -180,7 +180,12 @@ class GarmentMesh:
                                        f"of range: there are {sizes[size]} {size}", file=path,
                                        place=f"array '{key}'")
         param = fields["boundary_param"]
-        checks = (("vertices", np.abs(fields["vertices"]).max(initial=0.0) <= limits.extent,
+        tri = np.sort(fields["triangles"], axis=1)
+        checks = (("triangles", len(np.unique(tri, axis=0)) == len(tri),
+                   "a triangle given twice"),
+                  ("triangles", (np.diff(tri, axis=1) != 0).all(),
+                   "a triangle with a vertex twice"),
+                  ("vertices", np.abs(fields["vertices"]).max(initial=0.0) <= limits.extent,
                    f"coordinates beyond {limits.extent} m"),
                   ("boundary_param", ((param >= 0) & (param <= 1)).all(),
                    "fractions outside [0, 1]"),

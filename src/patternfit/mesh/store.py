@@ -13,11 +13,12 @@ readers every saved-array format uses.
 from __future__ import annotations
 
 import io
+import os
 from pathlib import Path
 
 import numpy as np
 
-from ..constants import limits
+from ..constants import limits, tol
 from ..errors import GarmentFileError
 from ..arguments import array
 from ..files import atomic_write_group, dumps_finite_json, read_npy, read_npz
@@ -27,6 +28,8 @@ from ..pattern.validate import check_pattern
 from .garment import GarmentMesh
 
 PATTERN, MESH, POSITIONS, CONTACT = "pattern.json", "mesh.npz", "positions.npy", "contact.npz"
+#: the garment folder inside a drape's or a fit's output folder
+GARMENT = "garment"
 
 def _pattern_bytes(pattern: Pattern, units: str) -> bytes:
     check_pattern(pattern)
@@ -85,17 +88,25 @@ def replace_pattern_and_mesh(pattern_path, pattern: Pattern, mesh_path, mesh: Ga
                                Path(mesh_path): mesh.to_bytes()})
 
 
+def garment_folder(folder) -> Path:
+    """``folder``, or the ``garment/`` folder in it when it is the output folder of a drape
+    or a fit (which holds its garment folder under that name, and no mesh of its own)."""
+    folder = Path(folder)
+    inner = folder / GARMENT
+    return inner if not os.path.lexists(folder / MESH) and inner.is_dir() else folder
+
+
 def load_garment(folder) -> tuple[Pattern, GarmentMesh, np.ndarray | None]:
-    """Read a folder written by :func:`save_garment`: (pattern, mesh, positions (n, 3) [m] or
-    None).
+    """Read a folder written by :func:`save_garment` (or the output folder holding it:
+    :func:`garment_folder`): (pattern, mesh, positions (n, 3) [m] or None).
 
     Raises :class:`~patternfit.errors.GarmentFileError` naming the file and the array for a
     missing, damaged or inconsistent ``mesh.npz`` or ``positions.npy`` (see
     :meth:`GarmentMesh.load`; positions must be finite and within ``limits.extent`` of the
     origin), and :class:`~patternfit.pattern.errors.PatternError` for the pattern.
     """
-    folder = Path(folder)
-    if not (folder / MESH).is_file():
+    folder = garment_folder(folder)
+    if not os.path.lexists(folder / MESH):  # one that is there but no file is read, and said
         raise GarmentFileError(f"no {MESH} here: not a saved garment folder", file=folder)
     mesh = GarmentMesh.load(folder / MESH)
     pattern = load_pattern(folder / PATTERN)
@@ -116,4 +127,41 @@ def load_garment(folder) -> tuple[Pattern, GarmentMesh, np.ndarray | None]:
     if tuple(p.name for p in pattern.panels) != mesh.panel_names:
         raise GarmentFileError(f"{PATTERN} and {MESH} do not belong together (panels differ)",
                                file=folder)
+    why = foreign_mesh(pattern, mesh)
+    if why:
+        raise GarmentFileError(f"{MESH} is not a mesh of {PATTERN}: {why}", file=folder)
     return pattern, mesh, positions
+
+
+def foreign_mesh(pattern: Pattern, mesh: GarmentMesh) -> str | None:
+    """Why ``mesh`` is not a mesh of ``pattern`` (the same panel names are not enough: a
+    skirt's sizes and a dress share them), or None: an edge the pattern lacks, a boundary
+    vertex farther than ``tol.mesh_on_edge`` from its edge's point at its arc-length
+    fraction, other seams, or a seam pair whose vertex is not on its side's edge."""
+    edges = {(p.name, e.name): e for p in pattern.panels for lp in p.loops for e in lp.edges}
+    for k, name in enumerate(mesh.edge_names):
+        if name not in edges:
+            return f"its edge {name[0]}.{name[1]} is not one of the pattern's"
+        on = np.flatnonzero(mesh.boundary_edge == k)
+        flat = mesh.vertices[mesh.boundary_vertices[on]]
+        off = float(np.abs(edges[name].point_at(mesh.boundary_param[on]) - flat).max(initial=0))
+        if off > tol.mesh_on_edge:
+            return (f"its vertices on {name[0]}.{name[1]} lie up to {off * 1e3:.1f} mm from "
+                    "that edge (another size or garment)")
+    if mesh.seam_names != tuple(s.name for s in pattern.seams):
+        return "its seams are not the pattern's"
+    # a seam pair joins a vertex of each side's edge (a corner lies on the edge ending there
+    # too: a dart's tip is sewn to itself)
+    before = {(p.name, e.name): (p.name, lp.edges[i - 1].name)
+              for p in pattern.panels for lp in p.loops for i, e in enumerate(lp.edges)}
+    lies_on: dict[int, set] = {}
+    for v, k, t in zip(mesh.boundary_vertices, mesh.boundary_edge, mesh.boundary_param):
+        lies_on.setdefault(int(v), set()).update(
+            [mesh.edge_names[k], *([before[mesh.edge_names[k]]] if t == 0.0 else [])])
+    for (a, b), k in zip(mesh.seam_pairs, mesh.seam_index):
+        seam = pattern.seams[k]
+        for v, side in ((a, seam.a), (b, seam.b)):
+            if (side.panel, side.edge) not in lies_on.get(int(v), ()):
+                return (f"seam '{seam.name}' joins vertex {int(v)}, which is not on "
+                        f"{side.panel}.{side.edge}")
+    return None
