@@ -169,6 +169,30 @@ def test_bending_friction_lengthens_the_expected_reading():
     assert 1.2 * c < readings[2] < 1.8 * c
 
 
+def test_strong_bending_friction_is_read_on_a_long_overhang():
+    """A heavy denim with KES 2HB = 1.02 gf cm/cm bends to 41.5 deg only beyond 4 bending
+    lengths, where the elastica's start did not converge: "internal error", status 3."""
+    import dataclasses
+
+    assert kit.elastica_tip_angle(8.0) == pytest.approx(86.2, abs=0.1)
+    assert 41.5 < kit.elastica_tip_angle(4.4) < kit.elastica_tip_angle(6.0) < 90.0
+    fab = dataclasses.replace(get_fabric("denim"), bending_hysteresis=0.01)
+    reading, elastic = kit.expected_reading(fab, "warp")
+    assert reading > 1.5 * elastic
+    assert kit.friction_tip_angle(round(reading / elastic * kit.elastica_ratio(41.5), 12),
+                                  *_friction_args(fab)) == pytest.approx(41.5, abs=0.05)
+
+
+def _friction_args(fab):
+    """(eta, a, eps) of ``fab``'s warp bending friction, as ``expected_reading`` takes them."""
+    from patternfit.sim.bending_friction import couple
+
+    moment, b_geo, eps = couple(fab)
+    a = math.sqrt(fab.bending_warp / b_geo)
+    c = fab.bending_length
+    return moment * a * c / fab.bending_warp, a, eps * c
+
+
 def test_cantilever_with_bending_friction_reads_the_frictional_strip():
     """A knit given a 2HB reads 12 % longer than (B / (rho g))^(1/3): the kit holds it to
     the exact strip under the same friction law, read as the elastic one is (0.93 / 0.955 of

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ...arguments import number
+from ...errors import FabricError
 from ...figures import pyplot
 from ..bending_friction import couple
 from ..fabrics import Fabric, get_fabric
@@ -32,6 +33,7 @@ PEIRCE_ANGLE = 41.5
 CANTILEVER_TRIANGLES = 20_000
 
 
+@lru_cache(maxsize=64)
 def _elastica(lam: float):
     """The heavy inextensible elastica clamped horizontally: ``psi'' = -lam^3 (1 - s)
     cos psi`` on s in [0, 1], ``psi(0) = 0``, ``psi'(1) = 0`` (psi the slope below the
@@ -40,7 +42,13 @@ def _elastica(lam: float):
 
     q = lam ** 3
     s = np.linspace(0.0, 1.0, 201)
-    guess = np.vstack([q * (s / 2 - s ** 2 / 2 + s ** 3 / 6) * 0.5, np.zeros_like(s)])
+    if lam > 3.0:
+        # a long overhang hangs nearly straight down from a short bend at the clamp, which
+        # the polynomial guess misses beyond about 4 bending lengths (a strip with strong
+        # bending friction is read there): started from a shorter overhang's shape
+        guess = _elastica(round(lam / 1.2, 12)).sol(s)
+    else:
+        guess = np.vstack([q * (s / 2 - s ** 2 / 2 + s ** 3 / 6) * 0.5, np.zeros_like(s)])
     sol = solve_bvp(lambda s, y: np.vstack([y[1], -q * (1 - s) * np.cos(y[0])]),
                     lambda a, b: np.array([a[0], b[1]]), s, guess, tol=1e-9,
                     max_nodes=20000)
@@ -141,7 +149,10 @@ def expected_reading(fab: Fabric, direction: str) -> tuple[float, float]:
     while friction_tip_angle(round(hi, 12), eta, a, eps_c) < PEIRCE_ANGLE:
         hi *= 1.5
         if hi > 50.0:
-            raise RuntimeError(f"{fab.name}: no overhang bends to {PEIRCE_ANGLE} deg")
+            raise FabricError(f"its bending friction (bending_hysteresis, KES 2HB) holds a "
+                              f"strip straighter than {PEIRCE_ANGLE} deg at every overhang "
+                              "up to 50 bending lengths: Peirce's cantilever cannot read it",
+                              place=f"fabric '{fab.name}'")
     lam = brentq(lambda r: friction_tip_angle(round(r, 12), eta, a, eps_c) - PEIRCE_ANGLE,
                  target, hi, xtol=1e-9)
     return c * lam / target, c
