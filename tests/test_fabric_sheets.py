@@ -6,13 +6,13 @@ import json
 import math
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from patternfit import api
 from patternfit.cli.main import app
-from patternfit.sim.fabrics import Fabric, FabricError, load_fabric
+from patternfit.sim.fabrics import MAX_BULK_DENSITY, Fabric, FabricError, load_fabric
 
 from fabric_files import read_or_refused_by_name, within, write
 
@@ -41,6 +41,15 @@ def test_a_kes_sheet_reads_in_si(tmp_path):
     assert fab.stretch_weft == pytest.approx(490.3325 / 0.065)
     # the bending length the docs give for this fabric (16.0 mm)
     assert fab.bending_length == pytest.approx(0.0160, abs=5e-5)
+
+
+def test_a_weight_in_grams_per_square_metre_written_as_kes_w_is_refused(tmp_path):
+    """W is mg/cm²: 162.9 g/m² written there is ten times the wool's weight, in range
+    field by field, and draped without a word (4,000 kg/m³ of cloth)."""
+    with pytest.raises(FabricError, match=r"fields 'W -> density' and 'T -> thickness': "
+                                          r".*4,002 kg/m³ of cloth"):
+        load_fabric(write(tmp_path, {**WOOL, "W": 162.9}))
+    assert load_fabric(write(tmp_path, WOOL)).density * 1e3 / 0.407 < 1600  # 400 kg/m³
 
 
 def test_a_fast_sheet_takes_the_bending_length_it_reports(tmp_path):
@@ -111,6 +120,7 @@ def test_a_bad_fast_sheet_is_refused_naming_the_field(tmp_path, change, place, w
        thick=within("thickness"), hb=within("bending_hysteresis"))
 def test_a_fabric_written_as_a_kes_sheet_reads_back(tmp_path, density, warp, weft, shear, bw,
                                                      bf, thick, hb):
+    assume(density <= MAX_BULK_DENSITY * thick)  # no cloth is denser
     fab = Fabric("x", density, warp, weft, shear, bw, bf, 0.3, thick, hb)
     gf = 9.80665e-3
     sheet = {"name": "x", "instrument": "kes-f", "W": density / 0.01, "T": thick * 1e3,

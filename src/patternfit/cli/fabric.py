@@ -236,7 +236,8 @@ def fabrics(
         help="Show these instead of the catalogue: presets, or fabric files (SI, or a KES-F / "
              "FAST measurement sheet in its own units, or an ARCSim material file, converted "
              "to SI)."),
-    json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON."),
+    json_out: bool = typer.Option(False, "--json", help="Print the catalogue as JSON (each "
+                                  "fabric's 'constants': an SI fabric file)."),
 ) -> None:
     """List the fabric presets and the published test fabrics with their bending length and
     drape coefficient, or show given fabrics' constants in SI.

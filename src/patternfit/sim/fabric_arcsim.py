@@ -16,7 +16,8 @@ for hinges along axis 0 (row 0: curvature along the warp), at 45 degrees (row 1)
 axis 1 (row 2), each at five curvatures (column 0: none); B = ``ARCSIM_BENDING_FACTOR`` x the
 zero-curvature sample. Derivations: docs/fabrics.md, "Conversions used". Rows 1-5 of
 ``stretching`` (the stiffening with strain) and columns 1-4 of ``bending`` are checked and not
-used: the model is linear.
+used: the model is linear. The coupling c1 of row 0 is not used either (the membrane has no
+Poisson coupling); a c1 that makes the material unstable (c1² ≥ c0 c2) is refused.
 
 The files carry neither friction nor thickness (an ARCSim scene sets friction). A file may add
 ``friction`` [-] and ``thickness`` [m] (ARCSim ignores other fields), and ``name``; without
@@ -71,6 +72,13 @@ def arcsim_fields(data: dict, path) -> tuple[dict, dict]:
     density = _number(data["density"], path, "density")
     stretch = _table(data, path, "stretching")
     bend = _table(data, path, "bending")
+    c0, c1, c2 = stretch[0][:3]
+    if c0 > 0 and c2 > 0 and c1 * c1 >= c0 * c2:  # (a negative c0 or c2: out of range)
+        # the zero-strain membrane is not positive definite: the material is unstable, a
+        # file no measurement gives (the coupling itself is not used: see the module)
+        raise FabricError(f"c1 = {c1:g} couples the stretches more than c0 = {c0:g} and c2 = "
+                          f"{c2:g} allow (c1² must be below c0 c2): no stable material",
+                          file=path, place="field 'stretching[0][1]'")
     fields = {"density": density, "stretch_warp": 2.0 * stretch[0][2],
               "stretch_weft": 2.0 * stretch[0][0], "shear": stretch[0][3] / 2.0,
               "bending_warp": ARCSIM_BENDING_FACTOR * bend[0][0],

@@ -98,6 +98,9 @@ RANGES = {
     "thickness": (1e-5, 0.02, "m"),
     "bending_hysteresis": (0.0, 0.1, "N"),
 }
+#: the densest a cloth may be: its weight over its thickness [kg/m^3]; its fibres are
+#: denser (cotton 1,540, polyester 1,380, wool 1,310, nylon 1,140) and it holds air
+MAX_BULK_DENSITY = 1600.0
 #: fields a fabric file may leave out, with the value they then take
 OPTIONAL = {"bending_hysteresis": 0.0}
 #: the longest fabric name [characters]
@@ -128,6 +131,16 @@ def _check_values(values: dict, source, names: dict | None = None) -> None:
     names = names or {}
     for key in RANGES:
         _check_field(key, values.get(key), source, name=names.get(key))
+    # each field in its range is not enough: a KES weight in g/m² written where mg/cm² go
+    # (ten times too heavy) stays in it, and drapes a wool at ten times its weight
+    bulk = values["density"] / values["thickness"]
+    if bulk > MAX_BULK_DENSITY:
+        said = [names.get(k, k) for k in ("density", "thickness")]
+        raise FabricError(f"{values['density']:g} kg/m² over {values['thickness'] * 1e3:g} mm "
+                          f"is {bulk:,.0f} kg/m³ of cloth, denser than the fibres it is made "
+                          f"of (at most {MAX_BULK_DENSITY:,.0f} kg/m³; cloth holds air "
+                          "between them): a weight or a thickness in another unit?",
+                          file=source, place=f"fields '{said[0]}' and '{said[1]}'")
     name = values.get("name")
     if not isinstance(name, str) or not name.strip() or len(name) > _NAME_LENGTH:
         raise FabricError(f"expected a non-empty string of at most {_NAME_LENGTH} characters",
