@@ -52,6 +52,18 @@ def test_a_weight_in_grams_per_square_metre_written_as_kes_w_is_refused(tmp_path
     assert load_fabric(write(tmp_path, WOOL)).density * 1e3 / 0.407 < 1600  # 400 kg/m³
 
 
+def test_a_kes_sheet_without_bending_friction_and_a_windows_byte_order_mark(tmp_path):
+    """2HB 0 (no bending friction, as the SI field allows) was refused as not positive, and
+    a file Notepad saved with a byte-order mark was "not valid JSON ... utf-8-sig"."""
+    fab = load_fabric(write(tmp_path, {**WOOL, "2HB": 0}))
+    assert fab.bending_hysteresis == 0.0
+    path = tmp_path / "notepad.json"
+    path.write_bytes(b"\xef\xbb\xbf" + json.dumps(WOOL).encode())
+    assert load_fabric(path) == load_fabric(write(tmp_path, WOOL))
+    with pytest.raises(FabricError, match=r"field '2HB': expected a number >= 0"):
+        load_fabric(write(tmp_path, {**WOOL, "2HB": -0.1}))
+
+
 def test_a_fast_sheet_takes_the_bending_length_it_reports(tmp_path):
     fab = load_fabric(write(tmp_path, SUITING))
     assert fab.density == pytest.approx(0.205)

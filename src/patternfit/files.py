@@ -375,14 +375,17 @@ def parse_json_text(text: str, *, file=None, error=None):
 
 
 def read_json_file(path, *, error=None, limit: int = MAX_JSON_BYTES):
-    """The parsed JSON document in the file ``path`` (UTF-8, at most ``limit`` bytes), refused
+    """The parsed JSON document in the file ``path`` (UTF-8, a byte-order mark allowed, at
+    most ``limit`` bytes), refused
     with ``error`` (an :class:`~patternfit.errors.InputError` class) naming the file and the
     place: unreadable, not a regular file, too large, not UTF-8, or as :func:`parse_json_text`.
     """
     error = error or InputError
     data = read_bytes_capped(path, limit=limit, error=error)
     try:
-        text = data.decode("utf-8")
+        # "utf-8-sig": the byte-order mark Windows tools (Notepad, Excel) put first is not
+        # text (RFC 8259 lets a reader ignore it)
+        text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise error(f"not UTF-8 text (byte {exc.start}: {data[exc.start]:#04x})",
                     file=path) from None

@@ -114,11 +114,13 @@ def _instrument(value, path) -> str:
     return INSTRUMENTS[key]
 
 
-def _positive(value, path, field: str, unit: str) -> float:
+def _positive(value, path, field: str, unit: str, *, zero: bool = False) -> float:
+    """``value`` as a number above 0 (``zero``: at least 0), else a :class:`FabricError`."""
     try:
-        return number(value, field, low=0.0, low_open=True)
+        return number(value, field, low=0.0, low_open=not zero)
     except ValueError:
-        raise FabricError(f"expected a positive number [{unit}], got {value!r:.40}",
+        want = "a number >= 0" if zero else "a positive number"
+        raise FabricError(f"expected {want} [{unit}], got {value!r:.40}",
                           file=path, place=f"field '{field}'") from None
 
 
@@ -128,9 +130,10 @@ def _single(data: dict, path, field: str, unit: str) -> float:
     return _positive(data[field], path, field, unit)
 
 
-def _pair(data: dict, path, field: str, unit: str, *, optional: bool = False):
-    """``(warp, weft)`` of the directional field ``field``, and the name it came from; None
-    when ``optional`` and absent."""
+def _pair(data: dict, path, field: str, unit: str, *, optional: bool = False,
+          zero: bool = False):
+    """``(warp, weft)`` of the directional field ``field`` (above 0; ``zero``: at least 0),
+    and the name it came from; None when ``optional`` and absent."""
     split = [k for k in (f"{field}-1", f"{field}-2", f"{field}1", f"{field}2") if k in data]
     if field in data and split:
         raise FabricError(f"given both as '{field}' and as {split}", file=path,
@@ -141,9 +144,9 @@ def _pair(data: dict, path, field: str, unit: str, *, optional: bool = False):
             if len(v) != 2:
                 raise FabricError(f"expected one number or [warp, weft], got {len(v)} values",
                                   file=path, place=f"field '{field}'")
-            return (_positive(v[0], path, f"{field}[0]", unit),
-                    _positive(v[1], path, f"{field}[1]", unit)), field
-        x = _positive(v, path, field, unit)
+            return (_positive(v[0], path, f"{field}[0]", unit, zero=zero),
+                    _positive(v[1], path, f"{field}[1]", unit, zero=zero)), field
+        x = _positive(v, path, field, unit, zero=zero)
         return (x, x), field
     for warp, weft in ((f"{field}-1", f"{field}-2"), (f"{field}1", f"{field}2")):
         if warp in data or weft in data:
@@ -151,8 +154,8 @@ def _pair(data: dict, path, field: str, unit: str, *, optional: bool = False):
                 given, missing = (warp, weft) if warp in data else (weft, warp)
                 raise FabricError(f"missing (given '{given}'); give both directions",
                                   file=path, place=f"field '{missing}'")
-            return (_positive(data[warp], path, warp, unit),
-                    _positive(data[weft], path, weft, unit)), f"{warp}/{weft}"
+            return (_positive(data[warp], path, warp, unit, zero=zero),
+                    _positive(data[weft], path, weft, unit, zero=zero)), f"{warp}/{weft}"
     if optional:
         return None, field
     raise FabricError(f"missing [{unit}] (one number, [warp, weft], or {field}-1 and "
@@ -177,7 +180,8 @@ def _kes(data: dict, path) -> tuple[dict, dict]:
     b, b_from = _pair(data, path, "B", "gf cm^2/cm")
     g, g_from = _pair(data, path, "G", "gf/(cm deg)")
     emt, emt_from = _pair(data, path, "EMT", "%")
-    hb, hb_from = _pair(data, path, "2HB", "gf cm/cm", optional=True)
+    # (2HB 0: a fabric without bending friction, as its SI field allows)
+    hb, hb_from = _pair(data, path, "2HB", "gf cm/cm", optional=True, zero=True)
     fields = {"density": w * KES_MASS, "thickness": t * MM,
               "bending_warp": b[0] * KES_BENDING, "bending_weft": b[1] * KES_BENDING,
               "shear": (g[0] + g[1]) / 2 * KES_SHEAR,
