@@ -152,3 +152,10 @@ def test_ctrl_c_anywhere_exits_130_in_one_line(monkeypatch, error):
     res = runner.invoke(app, ["seams", "skirt"])
     assert res.exit_code == 130 and "interrupted" in res.output, res.output
     assert "internal error" not in res.output and "Aborted" not in res.output
+
+
+def test_fit_refuses_a_fabric_without_a_body(tmp_path):
+    """--fabric was never read without --body: a file that does not exist exited 0."""
+    res = runner.invoke(app, ["fit", "--garment", str(tmp_path), "--fabric", "nonexistent.json",
+                              "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and "--fabric is used with --body only" in res.output, res.output

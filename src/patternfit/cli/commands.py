@@ -117,8 +117,9 @@ def fit(
                                        "on (built-in name or mesh file): adds the checks "
                                        "of where it rests, the fit measures and the "
                                        "verdict."),
-    fabric: str = typer.Option(DEFAULTS.fabric, "--fabric", "-f",
-                               help="Its fabric (with --body)."),
+    fabric: Optional[str] = typer.Option(None, "--fabric", "-f",
+                                         help=f"Its fabric (with --body; default "
+                                              f"{DEFAULTS.fabric})."),
     pressure_max: float = verdict_options()["pressure_max"],
     stretch_limit: float = verdict_options()["stretch_limit"],
     style: str = verdict_options()["style"],
@@ -133,11 +134,14 @@ def fit(
     slid or lies off the body; a value such as ϖ is not finite)."""
     from .. import api
 
+    if fabric is not None and body is None:
+        fail("--fabric is used with --body only (the fit measures and the verdict on the "
+             "body); give the body it was draped on, or leave --fabric out")
     t0 = time.perf_counter()
     rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
                               style=style)
-    outcome = api.evaluate_saved(garment, tight=tight, loose=loose, body=body, fabric=fabric,
-                                 verdict_rules=rules)
+    outcome = api.evaluate_saved(garment, tight=tight, loose=loose, body=body,
+                                 fabric=fabric or DEFAULTS.fabric, verdict_rules=rules)
     report = outcome.write(out, pictures=pictures)
     if json_out:
         print_json(report)
