@@ -143,3 +143,20 @@ def test_a_drape_stopped_by_ctrl_c_is_not_recorded():
     with pytest.raises(KeyboardInterrupt):
         s.redrape(progress=stop)
     assert s.state.positions is None and s.state.fitting_ratio is None
+
+
+def test_a_session_saved_with_a_fabric_denser_than_cloth_still_opens(tmp_path):
+    """The weight-over-thickness check refuses such a fabric where fabrics come in; in
+    Fabric itself it made a session saved with one (the studio's editor allowed it) refuse
+    to open, its history out of reach."""
+    from dataclasses import replace
+
+    from patternfit.sim.fabrics import FabricError, check_bulk, get_fabric
+
+    dense = replace(get_fabric("cotton_shirting"), name="dense", density=0.2, thickness=1e-4)
+    with pytest.raises(FabricError, match="2,000 kg/m³ of cloth"):
+        check_bulk(dense)
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", fabric=dense,
+                          triangles=300)
+    s.save(tmp_path / "s")
+    assert DesignSession.load(tmp_path / "s").fabric == dense

@@ -56,7 +56,10 @@ def test_a_cusick_test_gives_its_coefficient_and_top_view(client, monkeypatch):
 @pytest.mark.parametrize("changes, field", [({"density": 30.0}, "density"),
                                             ({"friction": -0.5}, "friction"),
                                             ({"name": "../x"}, "name"),
-                                            ({"shear": "stiff"}, "shear")])
+                                            ({"shear": "stiff"}, "shear"),
+                                            # each in range, 2,000 kg/m³ of cloth together
+                                            ({"density": 0.2, "thickness": 1e-4},
+                                             "'density' and 'thickness'")])
 def test_implausible_numbers_are_refused(client, changes, field):
     fabric = edited(client, **changes)
     r = client.post("/api/fabric/test", json={"test": "strip", "fabric": fabric})

@@ -53,7 +53,7 @@ from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
 from .sim.drape import CONTACT_MARGIN, Drape, drape
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
-                          fabric_with_notes, get_fabric, published_drapes)
+                          check_bulk, fabric_with_notes, get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
 from .sim.onbody import ON_BODY, area_ratio, saved_state_checks
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
@@ -64,7 +64,8 @@ from .sim.state import SavedStateError
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
            "DesignSession", "FABRIC_RANGES", "FABRIC_TESTS", "Fabric", "FabricError", "FitOutcome",
            "GIRTHS", "InputError", "PatternError", "SeamSuggestion", "SolverSettings", "Verdict",
-           "VerdictRules", "accept_seams", "add_seam", "body_from_measurements", "check_sewn",
+           "VerdictRules", "accept_seams", "add_seam", "body_from_measurements", "check_bulk",
+           "check_sewn",
            "correct", "correct_design", "design_session", "drafted_too_small",
            "describe_fabric", "drape_and_evaluate", "evaluate_drape", "evaluate_saved",
            "fabric_catalogue",

@@ -131,20 +131,28 @@ def _check_values(values: dict, source, names: dict | None = None) -> None:
     names = names or {}
     for key in RANGES:
         _check_field(key, values.get(key), source, name=names.get(key))
-    # each field in its range is not enough: a KES weight in g/m² written where mg/cm² go
-    # (ten times too heavy) stays in it, and drapes a wool at ten times its weight
-    bulk = values["density"] / values["thickness"]
-    if bulk > MAX_BULK_DENSITY:
-        said = [names.get(k, k) for k in ("density", "thickness")]
-        raise FabricError(f"{values['density']:g} kg/m² over {values['thickness'] * 1e3:g} mm "
-                          f"is {bulk:,.0f} kg/m³ of cloth, denser than the fibres it is made "
-                          f"of (at most {MAX_BULK_DENSITY:,.0f} kg/m³; cloth holds air "
-                          "between them): a weight or a thickness in another unit?",
-                          file=source, place=f"fields '{said[0]}' and '{said[1]}'")
     name = values.get("name")
     if not isinstance(name, str) or not name.strip() or len(name) > _NAME_LENGTH:
         raise FabricError(f"expected a non-empty string of at most {_NAME_LENGTH} characters",
                           file=source, place="field 'name'")
+
+
+def check_bulk(fabric, source=None, names: dict | None = None):
+    """``fabric`` (a :class:`Fabric`), refused with a :class:`FabricError` naming ``source``
+    and the weight and thickness fields (as ``names`` calls them) when their ratio is denser
+    than :data:`MAX_BULK_DENSITY`. Each field in its range is not enough: a KES weight in
+    g/m² written where mg/cm² go (ten times too heavy) stays in it, and drapes a wool at ten
+    times its weight. Held where fabrics come in (files, the studio's editor), not by
+    :class:`Fabric` itself: a design session saved with such a fabric still opens."""
+    bulk = fabric.density / fabric.thickness
+    if bulk > MAX_BULK_DENSITY:
+        said = [(names or {}).get(k, k) for k in ("density", "thickness")]
+        raise FabricError(f"{fabric.density:g} kg/m² over {fabric.thickness * 1e3:g} mm is "
+                          f"{bulk:,.0f} kg/m³ of cloth, denser than the fibres it is made of "
+                          f"(at most {MAX_BULK_DENSITY:,.0f} kg/m³; cloth holds air between "
+                          "them): a weight or a thickness in another unit?",
+                          file=source, place=f"fields '{said[0]}' and '{said[1]}'")
+    return fabric
 
 
 #: Built-in fabrics (sources in docs/fabrics.md). The knits take Wang et al. 2011's
@@ -228,9 +236,9 @@ def read_fabric_file(path) -> tuple[Fabric, tuple[str, ...]]:
         fields, origin = (sheet_fields if is_sheet(data) else arcsim_fields)(data, path)
         assumed = _assume_missing(fields, origin)
         fabric = {**fields, "name": data["name"]}
-        _check_values(fabric, source=path, names={
-            key: key if was == key else f"{was} -> {key}" for key, was in origin.items()})
-        return Fabric(**fabric), assumed
+        names = {key: key if was == key else f"{was} -> {key}" for key, was in origin.items()}
+        _check_values(fabric, source=path, names=names)
+        return check_bulk(Fabric(**fabric), path, names), assumed
     for key, value in OPTIONAL.items():
         data.setdefault(key, value)
     if "bending" in data:
@@ -248,7 +256,7 @@ def read_fabric_file(path) -> tuple[Fabric, tuple[str, ...]]:
         if key not in data:
             raise FabricError("missing", file=path, place=f"field '{key}'")
     _check_values(data, source=path)
-    return Fabric(**data), ()
+    return check_bulk(Fabric(**data), path), ()
 
 
 def _assume_missing(fields: dict, origin: dict) -> tuple[str, ...]:

@@ -21,11 +21,12 @@ router = APIRouter(prefix="/api/fabric")
 
 def _named(fabric):
     """A fabric's name as the page shows it and the session stores it: 1 to 60 characters,
-    no slashes (a ``Fabric``'s numbers are checked by ``Fabric`` itself)."""
+    no slashes (a ``Fabric``'s numbers are checked by ``Fabric`` itself, their weight over
+    their thickness by :func:`~patternfit.api.check_bulk`)."""
     name = fabric.name.strip() if isinstance(fabric.name, str) else ""
     if not name or len(name) > 60 or any(c in name for c in "/\\\0"):
         raise ValueError("name: a name of 1 to 60 characters, without slashes")
-    return replace(fabric, name=name)
+    return api.check_bulk(replace(fabric, name=name))
 
 
 #: a fabric's constants in a request, SI units as ``Fabric`` (kg/m^2, N/m, N m, -, m): the
