@@ -250,3 +250,23 @@ def test_a_resume_with_other_settings_or_files_is_refused(tmp_path):
         run_batch("skirt", "M", "female_average", "cotton_shirting", mine, triangles=300,
                   workers=0, thumbnails=False)
     assert (mine / "batch.json").read_text() == '{"my": "notes"}'
+
+
+def test_a_resume_may_name_fewer_or_more_files(tmp_path):
+    """Only a file given both times with other contents is refused (one fabric left out
+    was refused as "not the one the batch was draped with")."""
+    import json
+
+    from patternfit.batch.settings import SETTINGS_NAME, keep_settings
+
+    def run(files, resume=True):
+        keep_settings(tmp_path, {"triangles": 300, "time_limit": 5.0, "files": files},
+                      resume=resume)
+
+    run({"a.json": "1", "b.json": "2"}, resume=False)
+    run({"a.json": "1"})
+    run({"a.json": "1", "c.json": "3"})
+    kept = json.loads((tmp_path / SETTINGS_NAME).read_text())["files"]
+    assert kept == {"a.json": "1", "b.json": "2", "c.json": "3"}
+    with pytest.raises(InputError, match="the file b.json is not the one .* changed since"):
+        run({"b.json": "9"})

@@ -69,7 +69,9 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     tasks = plan([pattern], size_list, [b.name for b in body_list], fabric_list)
     log = ResultLog(out, resume=resume)
     keep_settings(out, {"triangles": int(triangles), "time_limit": float(time_limit),
-                        "files": file_digests([pattern, *fabric_list])}, resume=resume)
+                        "files": file_digests([pattern, *fabric_list,
+                                               *(b.meta.get("source", "") for b in body_list)])},
+                  resume=resume)
     done = log.done()
     todo = [t for t in tasks if t not in done]
     if on_plan:

@@ -1,5 +1,5 @@
 """What every row of a batch folder was draped with, kept in ``batch.json`` beside the rows:
-the mesh size, the solver's time limit and a digest of each pattern or fabric file. A resume
+the mesh size, the solver's time limit and a digest of each pattern, fabric or body file. A resume
 with other settings would put the rows of two batches side by side under one matrix (rows at
 1,200 and at 300 triangles, nothing in them to tell which), so it is refused.
 """
@@ -47,19 +47,23 @@ def keep_settings(folder, settings: dict, *, resume: bool) -> None:
                              file=path)
     if resume:
         for key, value in settings.items():
-            if saved.get(key) != value:
-                raise InputError(_differs(key, saved.get(key), value) + ": resume it with the "
-                                 "same settings and files, or give another --out folder",
-                                 file=path)
-        return
+            why = _differs(key, saved.get(key), value)
+            if why:
+                raise InputError(why + ": resume it with the same settings and files, or give "
+                                 "another --out folder", file=path)
+        # a resume may name fewer inputs or more: every file a row was draped from is kept
+        settings = {**settings, "files": {**saved.get("files", {}), **settings["files"]}}
     atomic_write_text(path, json.dumps({"format": SETTINGS_FORMAT, "version": 1, **settings},
                                        indent=1) + "\n")
 
 
-def _differs(key: str, saved, value) -> str:
-    """A setting of the batch that this run changes, in words."""
+def _differs(key: str, saved, value) -> str | None:
+    """A setting of the batch that this run changes, in words, or None. Of the files, only
+    one given both times with other contents: a resume may leave inputs out or add some."""
     if key == "files" and isinstance(saved, dict):
-        changed = sorted(n for n in {*saved, *value} if saved.get(n) != value.get(n))
-        return (f"the file {changed[0]} is not the one the batch was draped with (changed, "
-                "or not one of its inputs then)")
+        changed = sorted(n for n in value if n in saved and saved[n] != value[n])
+        return (f"the file {changed[0]} is not the one the batch was draped with (its "
+                "contents changed since)") if changed else None
+    if saved == value:
+        return None
     return f"the batch in this folder was draped with {key} = {saved!r}, this run with {value!r}"
