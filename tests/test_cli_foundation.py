@@ -159,3 +159,24 @@ def test_fit_refuses_a_fabric_without_a_body(tmp_path):
     res = runner.invoke(app, ["fit", "--garment", str(tmp_path), "--fabric", "nonexistent.json",
                               "--out", str(tmp_path / "o")])
     assert res.exit_code == 2 and "--fabric is used with --body only" in res.output, res.output
+
+
+def test_ctrl_c_in_a_drape_writes_the_state_reached_and_exits_130(tmp_path, monkeypatch):
+    """The stopped drape was written and the command exited 1, a failed garment's status."""
+    import contextlib
+
+    import patternfit.cli.drape as drape_cli
+
+    def stop(iteration, *rest, **kw):
+        if iteration >= 3:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(drape_cli, "drape_progress",
+                        lambda **kw: (contextlib.nullcontext(), stop))
+    out = tmp_path / "d"
+    res = runner.invoke(app, ["drape", "--pattern", "skirt", "--body", "female_average",
+                              "--triangles", "300", "--no-pictures", "--out", str(out)])
+    assert res.exit_code == 130 and "interrupted: the state reached" in res.output, res.output
+    report = json.loads((out / "report.json").read_text())
+    assert report["checks"]["passed"] is False and report["verdict"] == "failed"
+    assert "interrupted" in json.dumps(report["checks"]["reasons"])

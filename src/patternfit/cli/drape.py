@@ -8,7 +8,7 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import (SIZE_HELP, app, console, fail, finite, output_folder, positive,
+from .app import (INTERRUPTED, SIZE_HELP, app, console, fail, finite, output_folder, positive,
                   print_json, triangles_option, verdict_options)
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
                    say_guessed_units)
@@ -99,4 +99,10 @@ def drape(
             console.print(f"[yellow]warning:[/] {w}", highlight=False)
         print_fit_summary(report, out, outcome.seconds)
         print_drape_checks(report)
+    if outcome.interrupted:
+        # the state reached is written (--start continues it), marked failed; the status
+        # is Ctrl-C's, not a garment's failed checks
+        console.print(f"interrupted: the state reached is in {out}/ (no equilibrium: not a "
+                      f"fit); continue it with --start {out}", highlight=False)
+        raise typer.Exit(INTERRUPTED)
     exit_if_checks_failed(report, out)
