@@ -25,11 +25,12 @@ def within(key: str):
 
 def read_or_refused_by_name(path) -> None:
     """The fabric file ``path`` reads to finite values, or is refused naming the file and a
-    field (or, for an infinity, which JSON does not allow, the line and column)."""
+    field or two (weight and thickness; or, for an infinity, which JSON does not allow, the
+    line and column)."""
     try:
         fab = load_fabric(path)
     except FabricError as err:
         assert err.file == str(path)
-        assert (err.place or "").startswith("field ") or "line 1, column" in str(err)
+        assert (err.place or "").startswith(("field ", "fields ")) or "line 1, column" in str(err)
     else:
         assert all(math.isfinite(v) for v in fab.to_dict().values() if not isinstance(v, str))
