@@ -135,6 +135,9 @@ def test_an_output_folder_that_is_a_file_is_refused_before_any_work(tmp_path, ar
     said = " ".join(res.output.replace("│", " ").split())  # Rich's box, wrapped
     assert res.exit_code == 2 and "is a file, not a folder" in said, res.output
     assert mine.read_text() == "mine"
+    res = runner.invoke(app, [*args, "--out", str(mine / "inside")])
+    said = " ".join(res.output.replace("│", " ").split())
+    assert res.exit_code == 2 and "cannot make the folder" in said, res.output
 
 
 @pytest.mark.parametrize("error", [KeyboardInterrupt(), SystemError("returned a result")])
@@ -159,6 +162,7 @@ def test_fit_refuses_a_fabric_without_a_body(tmp_path):
     res = runner.invoke(app, ["fit", "--garment", str(tmp_path), "--fabric", "nonexistent.json",
                               "--out", str(tmp_path / "o")])
     assert res.exit_code == 2 and "--fabric is used with --body only" in res.output, res.output
+    assert not (tmp_path / "o").exists()  # a refused command leaves no output folder behind
 
 
 def test_ctrl_c_in_a_drape_writes_the_state_reached_and_exits_130(tmp_path, monkeypatch):

@@ -682,3 +682,23 @@ def test_outlines_drawn_outside_any_block_are_said(tmp_path):
     (tmp_path / "g.dxf").write_text("\n".join(bare.out))
     with pytest.raises(PatternError, match="outside any block"):
         load_dxf(tmp_path / "g.dxf", units="mm")
+
+
+def test_a_piece_inserted_in_paper_space_is_read(tmp_path):
+    """Only model space and named blocks were searched for INSERTs: a piece placed on a
+    paper-space layout, beside one in model space, was dropped as never inserted."""
+    import ezdxf
+
+    doc = ezdxf.new("R12")
+    for name in ("FRONT", "BACK"):
+        blk = doc.blocks.new(name)
+        blk.add_polyline2d([(0, 0), (300, 0), (300, 500), (0, 500)], close=True,
+                           dxfattribs={"layer": "1"})
+        blk.add_text(f"Piece Name: {name}", dxfattribs={"layer": "1"})
+    doc.modelspace().add_blockref("FRONT", (0, 0))
+    doc.paperspace().add_blockref("BACK", (0, 0))
+    doc.modelspace().add_text("Units: METRIC", dxfattribs={"layer": "1"})
+    doc.saveas(tmp_path / "f.dxf")
+    pattern = load_dxf(tmp_path / "f.dxf")
+    assert sorted(p.name for p in pattern.panels) == ["BACK", "FRONT"]
+    assert "not inserted" not in " ".join(pattern.meta.get("warnings", []))

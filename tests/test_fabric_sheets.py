@@ -62,6 +62,10 @@ def test_a_kes_sheet_without_bending_friction_and_a_windows_byte_order_mark(tmp_
     assert load_fabric(path) == load_fabric(write(tmp_path, WOOL))
     with pytest.raises(FabricError, match=r"field '2HB': expected a number >= 0"):
         load_fabric(write(tmp_path, {**WOOL, "2HB": -0.1}))
+    # a byte that is not UTF-8 after the mark is named where it is in the file
+    path.write_bytes(b"\xef\xbb\xbf" + b'{"name": "\xff"}')
+    with pytest.raises(FabricError, match=r"not UTF-8 text \(byte 13: 0xff\)"):
+        load_fabric(path)
 
 
 def test_a_fast_sheet_takes_the_bending_length_it_reports(tmp_path):

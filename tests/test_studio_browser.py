@@ -35,12 +35,13 @@ def server(tmp_path_factory):
     import uvicorn
 
     from patternfit.studio import create_app
-    from patternfit.studio.server import HOST, free_port
+    from patternfit.studio.server import HOST, bind
 
     app = create_app(tmp_path_factory.mktemp("studio"))
-    port = free_port()
-    srv = uvicorn.Server(uvicorn.Config(app, host=HOST, port=port, log_level="warning"))
-    th = threading.Thread(target=srv.run, daemon=True)
+    sock = bind(0)  # a free port, held from here on, as the studio command holds it
+    port = sock.getsockname()[1]
+    srv = uvicorn.Server(uvicorn.Config(app, log_level="warning"))
+    th = threading.Thread(target=srv.run, kwargs={"sockets": [sock]}, daemon=True)
     th.start()
     while not srv.started:
         time.sleep(0.05)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import codecs
 import io
 import json
 import math
@@ -382,13 +383,14 @@ def read_json_file(path, *, error=None, limit: int = MAX_JSON_BYTES):
     """
     error = error or InputError
     data = read_bytes_capped(path, limit=limit, error=error)
+    # the byte-order mark Windows tools (Notepad, Excel) put first is not text (RFC 8259
+    # lets a reader ignore it)
+    skip = len(codecs.BOM_UTF8) if data.startswith(codecs.BOM_UTF8) else 0
     try:
-        # "utf-8-sig": the byte-order mark Windows tools (Notepad, Excel) put first is not
-        # text (RFC 8259 lets a reader ignore it)
-        text = data.decode("utf-8-sig")
+        text = data[skip:].decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise error(f"not UTF-8 text (byte {exc.start}: {data[exc.start]:#04x})",
-                    file=path) from None
+        at = skip + exc.start
+        raise error(f"not UTF-8 text (byte {at}: {data[at]:#04x})", file=path) from None
     return parse_json_text(text, file=path, error=error)
 
 

@@ -121,17 +121,20 @@ def fail(message: str, code: int = REFUSED) -> None:
 
 
 def output_folder(out: Path | None) -> Path | None:
-    """Option callback making the output folder before any work is done, or refusing it (a
-    file of that name, or a folder that cannot be made, failed only when the results were
-    written, after the drape)."""
+    """Option callback refusing an output folder before any work is done: a file of that
+    name, or a place where no folder can be made, failed only when the results were
+    written, after the drape. Nothing is made here: a command refused later leaves none."""
     if out is None:
         return None
     if out.exists() and not out.is_dir():
         raise typer.BadParameter(f"{out} is a file, not a folder")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise typer.BadParameter(f"cannot make the folder {out}: {e.strerror or e}") from None
+    above = out
+    while not above.exists():
+        above = above.parent
+    if not above.is_dir():
+        raise typer.BadParameter(f"cannot make the folder {out}: {above} is a file")
+    if not os.access(above, os.W_OK | os.X_OK):
+        raise typer.BadParameter(f"cannot make the folder {out}: {above} is not writable")
     return out
 
 

@@ -111,9 +111,9 @@ def edit_command(
     from ..edit import update_mesh
     from ..mesh import GarmentMesh
     from ..mesh.store import replace_pattern_and_mesh
-    from ..pattern import PatternError, pattern_from_dict, save_pattern
-    from ..pattern.formats import sniff_format
-    from ..pattern.io import FORMAT
+    from ..pattern import PatternError, save_pattern
+    from ..pattern.formats import json_kind, sniff_format
+    from ..pattern.io import pattern_from_document
 
     if operation not in OPERATIONS:
         fail(f"unknown operation '{operation}' (expected one of {', '.join(OPERATIONS)})")
@@ -130,19 +130,17 @@ def edit_command(
             fail(f"--mesh-out {mesh_out} is the pattern file written or read: name another "
                  "file for the mesh")
     # the file is read once: its format, its pattern and its units from one reading
-    json_file = pattern_file.suffix.lower() == ".json"
-    if not json_file:
-        sniff_format(pattern_file)  # refuses an ending no reader takes, naming the file
-    data = read_json_file(pattern_file, error=PatternError) if json_file else None
-    if not (isinstance(data, dict) and data.get("format") == FORMAT):
+    if pattern_file.suffix.lower() == ".json":
+        data = read_json_file(pattern_file, error=PatternError)
+        kind = json_kind(data, pattern_file)
+    else:
+        data, kind = None, sniff_format(pattern_file)  # (an ending no reader takes: refused)
+    if kind != "patternfit":
         fail(f"{pattern_file}: edit works on a patternfit JSON pattern; convert it first "
              f"(patternfit convert {pattern_file} "
              f"{pattern_file.stem.removesuffix('_specification')}.json)")
-    try:
-        old = pattern_from_dict(data)
-    except PatternError as exc:
-        raise exc.located(pattern_file) from None
-    # the edited pattern is written in the units of the input (pattern_from_dict checked them)
+    old = pattern_from_document(data, pattern_file)
+    # the edited pattern is written in the units of the input (the reader checked them)
     units = data.get("units", "m")
     opts = dict(panel=panel, edge=edge, dx=dx, dy=dy, control=control, a=_pair(a, "--a"),
                 b=_pair(b, "--b"), amount=amount, sx=sx, sy=sy, about=_pair(about, "--about"),

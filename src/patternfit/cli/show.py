@@ -128,8 +128,8 @@ def exit_if_correction_failed(report: dict, out: Path) -> None:
     if not report.get("failed") and last.get("passed") is False:
         why = "; ".join(str(r) for r in last.get("reasons") or []) or "see report.json"
         fail(f"the last drape failed its checks ({why}): fit not reached; "
-             f"{out}/pattern.json holds {report.get('edits_made', 0)} edits made from drapes "
-             f"that failed theirs, ϖ {report['iterations'][0]['fitting_ratio'] * 100:.2f}% → "
+             f"{out}/pattern.json holds {report.get('edits_made', 0)} edits, ϖ "
+             f"{report['iterations'][0]['fitting_ratio'] * 100:.2f}% → "
              f"{report['fitting_ratio'] * 100:.2f}%", CHECKS_FAILED)
     if not report.get("failed"):
         return

@@ -53,7 +53,7 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     save_garment(folder / GARMENT, pattern, mesh, positions, contact=contact)
     rgb = scale.colors(vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices,
                                      fit.area_2d))
-    files = {"garment": "garment/"}
+    files = {"garment": f"{GARMENT}/"}
     files.update({f"garment_{kind}": f"garment.{kind}" for kind in ("glb", "obj")})
     if pictures:
         files.update(fit_2d_png="fit_2d.png", fit_2d_svg="fit_2d.svg", fit_3d_png="fit_3d.png")

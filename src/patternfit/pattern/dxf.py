@@ -118,7 +118,7 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     msp = doc.modelspace()
     msp_texts = texts(msp)
     blocks = [b for b in doc.blocks if not b.name.startswith("*")]
-    blocks, stray = _inserted_only(msp, blocks)
+    blocks, stray = _inserted_only(doc, blocks)
     scale, unit_says = file_scale(doc, said, msp_texts, blocks) if units is None else \
         (UNITS[units], f"units={units!r}")
     # fitted curves stay as close to the file's polylines as the file says its polylines stay
@@ -237,12 +237,13 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
     return pattern
 
 
-def _inserted_only(msp, blocks: list) -> tuple[list, list]:
-    """``blocks`` without the piece blocks that no INSERT places in the drawing, and those.
+def _inserted_only(doc, blocks: list) -> tuple[list, list]:
+    """``blocks`` without the piece blocks that no INSERT places in the drawing (in model
+    space, a paper-space layout or any block, anonymous ones too), and those.
 
     A drawing that inserts none of its piece blocks keeps them all (a bare block table).
     Block names are compared without case, as DXF compares them."""
-    inserted = {ref.dxf.name.upper() for layout in (msp, *blocks)
+    inserted = {ref.dxf.name.upper() for layout in doc.blocks
                 for ref in layout.query("INSERT")}
     pieces = [b for b in blocks if any(layer_of(e) in PIECE_LAYERS for e in b)]
     if not any(b.name.upper() in inserted for b in pieces):

@@ -45,8 +45,6 @@ def sniff_format(path) -> str:
 
     Raises :class:`PatternError` naming the file for an unknown ending or JSON content.
     """
-    from .garmentcode import is_garmentcode
-
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".dxf":
@@ -54,7 +52,14 @@ def sniff_format(path) -> str:
     if suffix != ".json":
         raise PatternError(f"cannot read '{suffix or path.name}' files (readable: "
                            f"{', '.join(READ_SUFFIXES)})", file=path)
-    data = read_json_file(path, error=PatternError)
+    return json_kind(read_json_file(path, error=PatternError), path)
+
+
+def json_kind(data, path) -> str:
+    """``"patternfit"`` or ``"garmentcode"`` for the parsed JSON document ``data`` of the
+    file ``path``; a :class:`PatternError` naming the file for any other JSON."""
+    from .garmentcode import is_garmentcode
+
     if isinstance(data, dict) and data.get("format") == FORMAT:
         return "patternfit"
     if is_garmentcode(data):

@@ -187,7 +187,7 @@ def _panel_from_gc(name: str, p: Any, scale: float, relative: bool):
     if not isinstance(raw, list) or len(raw) < 2:
         raise PatternError("panel needs a list of at least two 'vertices'", **where)
     verts = np.array([_pair(v, "vertex", **where) for v in raw])
-    far = np.flatnonzero(np.abs(verts).max(axis=1) * scale > limits.extent)
+    far = np.flatnonzero(np.abs(verts).max(axis=1) > limits.extent / scale)
     if len(far):  # refused before any length is taken of it
         raise PatternError(f"vertex #{far[0]} {shown(raw[far[0]])} lies "
                            f"{np.abs(verts[far[0]]).max() * scale:.3g} m from the origin, beyond "

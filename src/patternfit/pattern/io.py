@@ -350,7 +350,12 @@ def load_pattern(path) -> Pattern:
     """Read and validate a pattern JSON file; every error is a :class:`PatternError` naming
     the file and, where it applies, the line and column or the panel and edge."""
     path = Path(path)
-    data = read_json_file(path, error=PatternError)
+    return pattern_from_document(read_json_file(path, error=PatternError), path)
+
+
+def pattern_from_document(data: Any, path) -> Pattern:
+    """:func:`pattern_from_dict` of the document ``data`` read from the file ``path``, its
+    errors naming that file (for a caller that needs the document too: its ``units``)."""
     try:
         return pattern_from_dict(data)
     except PatternError as exc:

@@ -14,21 +14,18 @@ from .app import create_app
 HOST = "127.0.0.1"
 
 
-def free_port() -> int:
-    """A TCP port nobody listens on at 127.0.0.1 right now."""
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind((HOST, 0))
-        return s.getsockname()[1]
-
-
 def bind(port: int | None) -> socket.socket:
     """A socket bound to ``port`` at 127.0.0.1 (None or 0: a free port), for the server to
     listen on; an :class:`~patternfit.errors.InputError` naming ``--port`` when the port
     cannot be had (another studio on it, a port reserved to the system)."""
     sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-    # as uvicorn binds: a port left in TIME_WAIT by a studio just stopped can be taken again
-    # at once, while one another server listens on stays refused
-    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    if hasattr(socket, "SO_EXCLUSIVEADDRUSE"):
+        # Windows: SO_REUSEADDR there lets a second server take a port another listens on
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_EXCLUSIVEADDRUSE, 1)
+    else:
+        # as uvicorn binds: a port left in TIME_WAIT by a studio just stopped can be taken
+        # again at once, while one another server listens on stays refused
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     try:
         sock.bind((HOST, port or 0))
     except OSError as err:
