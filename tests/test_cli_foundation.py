@@ -184,3 +184,27 @@ def test_ctrl_c_in_a_drape_writes_the_state_reached_and_exits_130(tmp_path, monk
     report = json.loads((out / "report.json").read_text())
     assert report["checks"]["passed"] is False and report["verdict"] == "failed"
     assert "interrupted" in json.dumps(report["checks"]["reasons"])
+
+
+def test_a_saved_state_read_alone_is_not_checked_and_one_not_at_rest_fails(tmp_path):
+    """fit without --body wrote checks.passed true, exit 0, green maps, for a skirt that had
+    fallen past the hips; with --body, a drape saved before it came to rest read "too
+    loose", exit 0 (contact.npz said at_rest false)."""
+    from patternfit.mesh.triangulate import mesh_pattern
+    from patternfit.mesh.store import save_garment
+    from patternfit.pattern.library import build
+
+    skirt = build("skirt", "M")
+    mesh = mesh_pattern(skirt, triangles=300)
+    x = np.c_[mesh.vertices, np.ones(mesh.n_vertices)]
+    save_garment(tmp_path / "g", skirt, mesh, x, contact={"at_rest": np.asarray(True)})
+    res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
+                              str(tmp_path / "a"), "--json", "--no-pictures"])
+    assert res.exit_code == 0, res.output
+    checks = json.loads(res.stdout)["checks"]
+    assert checks["passed"] is None and "not checked" in checks["reasons"][-1]
+    save_garment(tmp_path / "g", skirt, mesh, x, contact={"at_rest": np.asarray(False)})
+    for body in ([], ["--body", "female_average"]):
+        res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
+                                  str(tmp_path / "b"), "--no-pictures", *body])
+        assert res.exit_code == 1 and "had not come to rest" in res.output, res.output

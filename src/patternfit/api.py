@@ -55,7 +55,7 @@ from .sim.drape import CONTACT_MARGIN, Drape, drape
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
                           check_bulk, fabric_with_notes, get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
-from .sim.onbody import ON_BODY, area_ratio, saved_state_checks
+from .sim.onbody import ON_BODY, area_ratio, saved_state_checks, unchecked_state
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
 from .sim.placement import checked_clearance, place_on_body, place_on_cylinders
 from .sim.settings import SolverSettings
@@ -685,16 +685,23 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     (:func:`patternfit.sim.onbody.saved_state_checks`: where it rests, vertices inside,
     seams; a state that fell, slid or was moved off the body fails them and its verdict
     says so), the fit measures and the verdict (contact distance the drape's default
-    margin). Without a body nothing checks where the state lies: ϖ alone."""
+    margin). Without a body nothing checks where the state lies: ϖ alone, its checks'
+    ``passed`` None ("not checked"). A state its drape saved before it came to rest
+    (``contact.npz``'s ``at_rest`` false) fails either way."""
     pat, m, x = load_garment(folder)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): place or drape the garment first",
                          file=folder)
     fit = FitEvaluator(m, tight=tight, loose=loose)(x)
+    # the drape that saved the state said whether it had come to rest (contact.npz)
+    contact = load_contact(garment_folder(folder))
+    at_rest = None if contact is None or "at_rest" not in contact \
+        else bool(np.asarray(contact["at_rest"]).reshape(-1)[:1].all())
     if body is None:
-        return FitOutcome(pat, m, None, None, x, fit, state="saved")
+        return FitOutcome(pat, m, None, None, x, fit, state="saved",
+                          extra={"checks": unchecked_state(at_rest)})
     b, fab = read_body(body, units=units), read_fabric(fabric)
-    checks = saved_state_checks(pat, m, b, x)
+    checks = saved_state_checks(pat, m, b, x, at_rest=at_rest)
     measures, judgement = judge_state(pat, m, x, fit, b, fab, checks=checks,
                                       verdict_rules=verdict_rules)
     return FitOutcome(pat, m, b, fab, x, fit, state="saved", extra={"checks": checks},

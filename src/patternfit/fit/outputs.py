@@ -71,16 +71,19 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     failed = failure(report)
     if failed:  # the exported garment is grey too: its colours would read as a fit
         rgb = np.broadcast_to(FAILED_GREY, rgb.shape).copy()
+    # a state nobody checked on a body (a saved one read back alone) says so on its maps
+    name = pattern.name if report["checks"].get("passed") is not None else \
+        f"{pattern.name} (NOT CHECKED on a body: ϖ alone)"
     for kind in ("glb", "obj"):
         say(f"garment.{kind}")
         export_garment(positions, mesh.triangles, rgb, folder / f"garment.{kind}")
     if pictures:
         say("2D colour map")
         plot_flat_map(mesh, fit, [folder / "fit_2d.png", folder / "fit_2d.svg"], scale=scale,
-                      title=pattern.name, failed=failed)
+                      title=name, failed=failed)
         say("3D picture")
         plot_3d_map(positions, mesh, fit, folder / "fit_3d.png", scale=scale, body=body,
-                    title=pattern.name, failed=failed)
+                    title=name, failed=failed)
         if measures is not None:
             verdict = report.get("verdict")
             head = f"{pattern.name}: {verdict}" if verdict else pattern.name

@@ -79,7 +79,11 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
     report = _finite_or_none(report, "", non_finite)
     checks = report["checks"]
     checks["fit_finite"] = not non_finite
-    checks["passed"] = checks.get("passed", True) is not False and not non_finite
+    said = checks.get("passed", True)
+    # None: nothing checked where the state rests (a saved state without its body), never
+    # turned into a pass
+    checks["passed"] = False if said is False or non_finite else (None if said is None
+                                                                  else True)
     if non_finite:
         checks["non_finite"] = non_finite
         more = f" and {len(non_finite) - 5} more" if len(non_finite) > 5 else ""

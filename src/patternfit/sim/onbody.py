@@ -322,8 +322,25 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                         max(angles.values()) if angles else None, fell)
 
 
+#: why a saved state known not to be at rest is no fit
+NOT_AT_REST = ("the drape that saved this state had not come to rest (no force balance): "
+               "its shape is no fit")
+
+
+def unchecked_state(at_rest: bool | None) -> dict:
+    """The checks of a saved 3D state read back without a body: nothing says where it rests,
+    so ``passed`` is None ("not checked"), False when its drape saved it before it came to
+    rest (``at_rest`` False; None: not known)."""
+    reasons = ["not checked: without the body it was draped on nothing says whether it rests "
+               "on it"]
+    if at_rest is False:
+        reasons.insert(0, NOT_AT_REST)
+    return {"solver_checked": False, "on_body": None, "equilibrium": at_rest,
+            "passed": False if at_rest is False else None, "reasons": reasons}
+
+
 def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
-                       spacing: float = 0.005) -> dict:
+                       spacing: float = 0.005, at_rest: bool | None = None) -> dict:
     """The checks of a 3D state read back without the solver that made it (``patternfit
     fit`` of a saved garment folder), as a report's ``checks``: the on-body checks
     (:func:`on_body_checks`), the vertices inside the body (deeper than
@@ -332,7 +349,9 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     triangle pairs need the drape's solver and fabric, and are not re-run.
 
     positions : (n, 3) float, the state of ``mesh`` [m]; ``body`` a
-    :class:`patternfit.body.Body`; ``spacing`` the distance field's grid step [m]."""
+    :class:`patternfit.body.Body`; ``spacing`` the distance field's grid step [m];
+    ``at_rest`` what the drape that saved the state said of it (``contact.npz``; None: not
+    known): False fails the checks."""
     onbody = on_body_checks(pattern, mesh, body, positions, spacing=spacing)
     x = np.asarray(positions, dtype=np.float64)
     reasons = list(onbody.reasons)
@@ -343,8 +362,11 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
         deepest = float(max(0.0, -d.min()) * 1e3)
         gap = seam_gap_mm(mesh.seam_pairs, x)
     reasons += [r for r in (inside_reason(inside, deepest), seam_gap_reason(gap)) if r]
+    if at_rest is False:
+        reasons.append(NOT_AT_REST)
     return {**onbody.to_dict(), "inside_vertices": inside, "max_depth_mm": deepest,
-            "seam_gap_max_mm": gap, "solver_checked": False, "passed": not reasons,
+            "seam_gap_max_mm": gap, "solver_checked": False, "equilibrium": at_rest,
+            "passed": not reasons,
             "reasons": reasons}
 
 
