@@ -181,6 +181,13 @@ def test_a_failed_drape_has_no_verdict_but_failed_and_a_slid_one_is_too_loose():
     v = judge(fit, m, style="trousers", limit=0.1, checks=slid)
     assert v.overall == "too loose" and "21.5 cm below the waist" in v.reason
     assert slid_off({"anchor_offset_mm": -50.0}) is None and slid_off(None) is None
+    # slid and still moving: no verdict but failed (it read "too loose" beside a hip "too
+    # tight"); slid at rest with crossed pairs pooled in its hem: still too loose
+    v = judge(fit, m, style="trousers", limit=0.1, checks=slid | {"equilibrium": False})
+    assert v.overall == "failed" and v.regions == {}
+    v = judge(fit, m, style="trousers", limit=0.1,
+              checks=slid | {"equilibrium": True, "solver_passed": False})
+    assert v.overall == "too loose"
 
 
 def test_a_waist_whose_top_slid_more_than_slid_cm_below_it_reads_loose_by_its_ease():

@@ -91,7 +91,10 @@ def slid_off(checks: dict | None) -> str | None:
     never closed its seams is not too loose: its drape failed (a pattern in millimetres
     read as metres fell 25 m, or onto the floor the body stands on, where its top lies
     within the anchor tolerance of the floor, y = 0, or past the hips, its top below the
-    crotch: a skirt 125 cm round on 96 cm hips, round her shins, its hem on the floor)."""
+    crotch: a skirt 125 cm round on 96 cm hips, round her shins, its hem on the floor); nor
+    is one that never came to rest (its ease and regions are of a state still moving: it
+    read "too loose" beside a hip "too tight"). Crossed pairs pooled in a hem do not stop a
+    slide from reading too loose."""
     checks = checks or {}
     offset = checks.get("anchor_offset_mm")
     if offset is None or offset >= -1000.0 * ON_BODY.anchor_tolerance:
@@ -101,6 +104,8 @@ def slid_off(checks: dict | None) -> str | None:
     top = checks.get("anchor_height_mm")
     if (checks.get("below_feet_vertices") or checks.get("far_vertices")
             or checks.get("top_below_crotch")
+            # a drape still moving is no fit to judge: its ease and regions are passing
+            or checks.get("equilibrium") is False
             or (top is not None and top < 1000.0 * ON_BODY.anchor_tolerance)
             or (ratio is not None and not ratio >= ON_BODY.min_area_ratio)
             or (gap is not None and not gap < limits.seam_gap_mm)):
