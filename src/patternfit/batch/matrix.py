@@ -24,12 +24,16 @@ MISSING = "#f0f0f0"
 
 
 def verdict_of(row: dict) -> str:
-    """A row's verdict: ``failed`` for a failed drape (whatever it reads), else the drape's
-    own (``FitOutcome.verdict``, judged by :class:`~patternfit.fit.verdict_rules.VerdictRules`),
-    or ``no verdict`` for a row written without one."""
+    """A row's verdict: the drape's own (``FitOutcome.verdict``, judged by
+    :class:`~patternfit.fit.verdict_rules.VerdictRules`), ``failed`` for a failed drape
+    whatever else it reads, or ``no verdict`` for a row written without one. A failed drape
+    that reads ``too loose`` slid off its anchor, still on the body and at rest (the verdict
+    says so whatever else failed: docs/fit-correction.md): too loose, as its CSV row says
+    (the matrix said "failed" beside it)."""
+    verdict = row.get("verdict")
     if row["status"] != "ok":
-        return "failed"
-    return row.get("verdict") or "no verdict"
+        return "too loose" if verdict == "too loose" else "failed"
+    return verdict or "no verdict"
 
 
 def tightest_girth(row: dict) -> str | None:
