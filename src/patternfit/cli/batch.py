@@ -35,7 +35,8 @@ def batch(
     address: str = typer.Option(None, "--address", help="Join a running Ray cluster "
                                 "(ray://HOST:10001 or HOST:6379) instead of starting one."),
     time_limit: float = typer.Option(DEFAULTS.time_limit, help="The solver's time limit per "
-                                     "drape, in seconds; a task running far past it is "
+                                     "solve, in seconds (a drape sews, relaxes and drapes); "
+                                     "a task running past twice it plus a minute is "
                                      "cancelled.",
                                      callback=positive),
     thumbnails: bool = typer.Option(True, help="Draw a thumbnail per drape for the matrix."),

@@ -33,7 +33,10 @@ def drape(
     max_iterations: int = typer.Option(DEFAULTS.max_iterations, min=0,
                                        help="Iteration limit of the drape under gravity "
                                             "(sewing and relaxing have their own)."),
-    time_limit: float = typer.Option(DEFAULTS.time_limit, help="Time limit of the drape \\[s].",
+    time_limit: float = typer.Option(DEFAULTS.time_limit,
+                                     help="Time limit of each solve of the drape \\[s] "
+                                          "(sewing, relaxing, draping, each retried sewing: a "
+                                          "drape that sews again takes several times it).",
                                      callback=positive),
     units: str = typer.Option(None, help="Units of a body mesh file (m, cm, mm, in); guessed "
                                          "from its height when not given."),
