@@ -147,3 +147,21 @@ def test_a_correction_whose_last_drape_failed_its_checks_exits_1(tmp_path, capsy
     assert "973 crossed triangle pairs" in said and "63.90% → 41.13%" in said
     report["iterations"][-1]["checks"] = {"passed": True}
     exit_if_correction_failed(report, tmp_path)  # passed: no exit
+
+
+def test_a_failed_verdict_prints_no_measure_and_n_a_has_no_unit(capsys):
+    """"verdict: failed (...); ϖ 100.01%" printed a failed drape's ϖ like a result, and a
+    value not measured read "n/a cm"."""
+    from patternfit.cli.show import print_verdict
+
+    print_verdict({"verdict": "failed", "verdict_reason": "fell past the hips",
+                   "fitting_ratio": 1.0001, "pressure_kpa": {"p99": 0.04}})
+    said = capsys.readouterr().err
+    assert "fell past the hips" in said and "ϖ" not in said and "kPa" not in said
+    print_verdict({"verdict": "fits", "verdict_reason": "", "fitting_ratio": 0.97,
+                   "pressure_kpa": {}, "region_verdicts": {"hip": {
+                       "verdict": "fits", "ease_cm": None, "pressure_kpa_p95": 0.5,
+                       "stretch_p90": 0.01, "reason": "r"}}})
+    said = capsys.readouterr().err
+    assert "ϖ 97.00%" in said and "n/a kPa" not in said
+    assert "ease n/a  pressure 0.50 kPa  stretch 1.0%" in said and "n/a cm" not in said

@@ -13,10 +13,12 @@ from rich.table import Table
 from .app import CHECKS_FAILED, console, fail
 
 
-def num(value, spec: str, scale: float = 1.0) -> str:
-    """``value * scale`` formatted with ``spec``, or ``n/a`` for a value the report could
-    not give (None: it was not finite)."""
-    return "n/a" if value is None else format(value * scale, spec)
+def num(value, spec: str, scale: float = 1.0, unit: str = "") -> str:
+    """``value * scale`` formatted with ``spec`` and followed by `` unit``, or ``n/a`` (no
+    unit) for a value the report could not give (None: it was not finite)."""
+    if value is None:
+        return "n/a"
+    return format(value * scale, spec) + (unit if unit in ("", "%") else f" {unit}")
 
 
 def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
@@ -34,11 +36,14 @@ def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
     if failed:  # a failed drape's ϖ is no fit: never printed as one
         console.print(f"[bold red]FAILED[/]: the drape failed its checks (below), so ϖ = "
                       f"{num(report['fitting_ratio'], '.2f', 100)}% is not a fit")
+    # a failed drape's area shares are no fit either: "fit 100% of the area" read as one
+    shares = "" if failed else (f"  tight {num(fc['tight'], '.1f', 100)}% · fit "
+                                f"{num(fc['fit'], '.1f', 100)}% · loose "
+                                f"{num(fc['loose'], '.1f', 100)}% of the area")
     console.print(f"{'(not a fit) ' if failed else ''}"
                   f"fitting ratio ϖ = [bold]{num(report['fitting_ratio'], '.2f', 100)}%[/]  "
-                  f"(symmetric {num(report['fitting_ratio_symmetric'], '.2f', 100)}%)  tight "
-                  f"{num(fc['tight'], '.1f', 100)}% · fit {num(fc['fit'], '.1f', 100)}% · loose "
-                  f"{num(fc['loose'], '.1f', 100)}% of the area")
+                  f"(symmetric {num(report['fitting_ratio_symmetric'], '.2f', 100)}%)"
+                  + shares)
     print_verdict(report)
     console.print(f"mesh: {report['mesh']['vertices']} vertices, {report['mesh']['triangles']} "
                   f"triangles, min angle {num(report['mesh']['min_angle_deg'], '.1f')}°")
@@ -63,15 +68,16 @@ def print_verdict(report: dict) -> None:
     if "verdict" not in report:
         return
     p = report.get("pressure_kpa") or {}
+    measured = "" if report["verdict"] == "failed" else (
+        f"; ϖ {num(report.get('fitting_ratio'), '.2f', 100, '%')}; pressure p99 "
+        f"{num(p.get('p99'), '.2f', unit='kPa')}")
     console.print(f"verdict: [bold]{verdict_text(report['verdict'])}[/] "
-                  f"({escape(report.get('verdict_reason') or '')}); ϖ "
-                  f"{num(report.get('fitting_ratio'), '.2f', 100)}%; pressure p99 "
-                  f"{num(p.get('p99'), '.2f')} kPa", highlight=False)
+                  f"({escape(report.get('verdict_reason') or '')}){measured}", highlight=False)
     for name, r in (report.get("region_verdicts") or {}).items():
         console.print(f"   {name:15} {verdict_text(r['verdict']):>20}  ease "
-                      f"{num(r['ease_cm'], '+.1f')} cm  pressure "
-                      f"{num(r['pressure_kpa_p95'], '.2f')} kPa  stretch "
-                      f"{num(r['stretch_p90'], '.1f', 100)}%  {escape(r['reason'])}",
+                      f"{num(r['ease_cm'], '+.1f', unit='cm')}  pressure "
+                      f"{num(r['pressure_kpa_p95'], '.2f', unit='kPa')}  stretch "
+                      f"{num(r['stretch_p90'], '.1f', 100, '%')}  {escape(r['reason'])}",
                       highlight=False)
 
 

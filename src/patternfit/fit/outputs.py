@@ -15,7 +15,7 @@ from .colormap import FitScale, vertex_values
 from .export import export_garment
 from .maps import gap_scale, plot_measure_maps, pressure_scale
 from .metrics import FitResult
-from .pictures import FAILED_GREY, plot_3d_map, plot_flat_map, plot_sections
+from .pictures import FAILED_GREY, picture_title, plot_3d_map, plot_flat_map, plot_sections
 from .report import failure, fit_report, write_report
 
 
@@ -86,7 +86,10 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
                     title=name, failed=failed)
         if measures is not None:
             verdict = report.get("verdict")
-            head = f"{pattern.name}: {verdict}" if verdict else pattern.name
+            # a failed drape's gap and pressure say why it failed, as its fit maps do (a
+            # skirt round the shins read "comfortable" under a small "failed")
+            head = picture_title(fit, pattern.name, failed) if failed else \
+                f"{pattern.name}: {verdict}" if verdict else pattern.name
             say("girth sections")
             plot_sections(measures.sections, folder / "sections.png", title=head)
             say("gap and pressure maps")
