@@ -155,6 +155,12 @@ def _synthetic(stretch_by_region: dict, pressure_by_region: dict, ease=None):
     return fit, m
 
 
+def test_a_plural_style_takes_an_apostrophe_alone():
+    word, why = judge_region(30.0, 0.1, 0.0, style="trousers", girth="hip", limit=0.1,
+                             rules=VerdictRules())
+    assert word == "too loose" and "the trousers' " in why and "trousers's" not in why
+
+
 def test_overall_verdict_is_the_worst_region_and_names_it():
     fit, m = _synthetic({"shoulders": 0.2}, {"hip": 1.5}, {"hip": 30.0})
     v = judge(fit, m, style="coat", limit=0.1)

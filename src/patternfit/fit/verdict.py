@@ -150,11 +150,12 @@ def judge_region(ease_cm, pressure, stretch, *, style: str, girth: str, limit: f
     if stretch is not None and stretch > rules.tight_share * limit:
         return "tight", (f"stretched {stretch * 100:.0f}%, over {rules.tight_share:.0%} of "
                          f"the fabric's {limit * 100:.0f}%")
+    owner = f"{style}'" if style.endswith("s") else f"{style}'s"  # the trousers' 5 cm
     if ease_cm is not None and lo is not None and ease_cm < lo:
-        return "tight", f"ease {ease_cm:+.1f} cm below the {style}'s {lo:.1f} cm"
+        return "tight", f"ease {ease_cm:+.1f} cm below the {owner} {lo:.1f} cm"
     if ease_cm is not None and hi is not None and ease_cm > hi:
         word = "loose" if ease_cm <= hi + rules.loose_tolerance_cm else "too loose"
-        return word, f"ease {ease_cm:+.1f} cm above the {style}'s {hi:g} cm"
+        return word, f"ease {ease_cm:+.1f} cm above the {owner} {hi:g} cm"
     what = f"ease {ease_cm:+.1f} cm, " if ease_cm is not None else ""
     return "fits", f"{what}within limits"
 
