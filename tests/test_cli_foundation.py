@@ -208,3 +208,9 @@ def test_a_saved_state_read_alone_is_not_checked_and_one_not_at_rest_fails(tmp_p
         res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
                                   str(tmp_path / "b"), "--no-pictures", *body])
         assert res.exit_code == 1 and "had not come to rest" in res.output, res.output
+    # the exported garment says so too, parted from its report
+    head = (tmp_path / "b" / "garment.obj").read_text().splitlines()[0]
+    assert head.startswith("# patternfit ") and json.loads(head[13:])["checks_passed"] is False
+    (glb,) = trimesh.load(tmp_path / "b" / "garment.glb").geometry.values()
+    assert glb.metadata["patternfit"]["checks_passed"] is False
+    assert "had not come to rest" in glb.metadata["patternfit"]["reasons"][0]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -36,13 +37,25 @@ def colored_mesh(positions, triangles, vertex_rgb) -> trimesh.Trimesh:
     return trimesh.Trimesh(vertices=x, faces=t, vertex_colors=rgba, process=False)
 
 
-def export_garment(positions, triangles, vertex_rgb, path) -> Path:
-    """Write the coloured garment to ``path``; the format follows the ending (.glb, .obj, .ply)."""
+def export_garment(positions, triangles, vertex_rgb, path, *, status: dict | None = None
+                   ) -> Path:
+    """Write the coloured garment to ``path``; the format follows the ending (.glb, .obj, .ply).
+
+    ``status`` (JSON values: whether the drape passed its checks, its verdict, ϖ, why it
+    failed) goes with the garment: the GLB mesh's ``extras`` under ``patternfit``, the
+    OBJ's first comment line. A file parted from its report still says whether it is a fit."""
     path = Path(path)
     kind = path.suffix.lower().lstrip(".")
     if kind not in ("glb", "obj", "ply"):
         raise ValueError(f"path: expected a .glb, .obj or .ply file, got {path.name}")
     mesh = colored_mesh(positions, triangles, vertex_rgb)
-    data = mesh.export(file_type=kind, **({"include_color": True} if kind == "obj" else {}))
+    options: dict = {}
+    if status is not None:
+        mesh.metadata["patternfit"] = status
+        if kind == "obj":
+            options["header"] = "patternfit " + json.dumps(status, ensure_ascii=False)
+    if kind == "obj":
+        options["include_color"] = True
+    data = mesh.export(file_type=kind, **options)
     atomic_write_bytes(path, data if isinstance(data, bytes) else data.encode("utf-8"))
     return path

@@ -74,9 +74,15 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     # a state nobody checked on a body (a saved one read back alone) says so on its maps
     name = pattern.name if report["checks"].get("passed") is not None else \
         f"{pattern.name} (NOT CHECKED on a body: ϖ alone)"
+    checks = report["checks"]
+    status = {"garment": pattern.name, "state": state, "checks_passed": checks.get("passed"),
+              "verdict": report.get("verdict"),
+              "fitting_ratio": None if failed else report.get("fitting_ratio"),
+              "reasons": [str(r) for r in checks.get("reasons") or []]}
     for kind in ("glb", "obj"):
         say(f"garment.{kind}")
-        export_garment(positions, mesh.triangles, rgb, folder / f"garment.{kind}")
+        export_garment(positions, mesh.triangles, rgb, folder / f"garment.{kind}",
+                       status=status)
     if pictures:
         say("2D colour map")
         plot_flat_map(mesh, fit, [folder / "fit_2d.png", folder / "fit_2d.svg"], scale=scale,
