@@ -213,4 +213,4 @@ def test_a_saved_state_read_alone_is_not_checked_and_one_not_at_rest_fails(tmp_p
     assert head.startswith("# patternfit ") and json.loads(head[13:])["checks_passed"] is False
     (glb,) = trimesh.load(tmp_path / "b" / "garment.glb").geometry.values()
     assert glb.metadata["patternfit"]["checks_passed"] is False
-    assert "had not come to rest" in glb.metadata["patternfit"]["reasons"][0]
+    assert any("had not come to rest" in r for r in glb.metadata["patternfit"]["reasons"])
