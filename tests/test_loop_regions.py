@@ -1,5 +1,7 @@
 """Where to modify: connected tight/loose regions named after the pattern's edges."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -65,6 +67,9 @@ def test_a_known_tight_band_is_found_as_the_band(skirt):
     assert "front" in text and "too small" in text and band.edge in text
     d = band.to_dict()
     assert d["triangles"] == len(band.triangles) and d["description"] == text
+    # a region whose span rounds to one place says so ("22–22 cm along it" before)
+    point = dataclasses.replace(band, span_cm=(22.2, 21.8))
+    assert "at 22 cm along it" in point.describe() and "22–22" not in point.describe()
 
 
 def test_untouched_garment_has_no_region(skirt):

@@ -65,7 +65,9 @@ class Region:
         where = f"{self.edge} (seam {self.seam})" if self.seam else self.edge
         amount = abs(self.area_change) * 100
         what = "too small" if self.kind == "tight" else "too large"
-        return (f"{self.panel}, near {where}, {self.span_cm[0]:.0f}–{self.span_cm[1]:.0f} cm "
+        a, b = (f"{s:.0f}" for s in self.span_cm)
+        span = f"{a}–{b} cm" if a != b else f"at {a} cm"  # not "22–22 cm": one place
+        return (f"{self.panel}, near {where}, {span} "
                 f"along it, {self.distance_cm:.0f} cm in: {amount:.0f}% {what} (stretch "
                 f"{self.weft:.2f} across the grain, {self.warp:.2f} along it), "
                 f"{self.area_cm2:.0f} cm²")
