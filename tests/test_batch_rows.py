@@ -133,6 +133,7 @@ def test_the_matrix_has_a_cell_per_task(tmp_path):
     assert page.count("<td") == 4 and page.count("no result yet") == 2
     assert "ϖ 97.0%" in page and "seams: open" in page
     assert "ϖ" not in page.split("seams: open")[0].rsplit("<td", 1)[1]  # no ϖ on a failure
+    assert "thumbnails: the garment coloured by its area change, not its verdict" in page
 
 
 def test_a_drape_that_raises_is_a_failed_row(tmp_path):

@@ -152,6 +152,12 @@ def _rect(x, y, colour):
     return Rectangle((x + 0.04, y + 0.04), 0.92, 0.92, facecolor=colour, edgecolor="none")
 
 
+#: what a cell's thumbnail shows (``work.thumbnail_png``), which is not its verdict
+THUMBNAIL_LEGEND = ("thumbnails: the garment coloured by its area change, not its verdict: "
+                    "red stretched, yellow unchanged, blue compressed (±10%); a failed "
+                    "drape's in grey")
+
+
 def _legend() -> str:
     words = ("too tight dark red, tight orange, fits green, loose light blue, too loose blue; "
              "dark grey: failed drape (no fit); ϖ % in the cells")
@@ -167,7 +173,9 @@ def _html(rows, panels, sizes, bodies, lines) -> str:
            "td img{display:block;height:120px;margin:auto}"
            "td div{font-size:11px;padding:2px}</style></head><body>",
            "<h1>Fit matrix</h1><ul>", *(f"<li>{esc(s)}</li>" for s in lines), "</ul>",
-           f"<p>{esc(_legend())}</p>"]
+           f"<p>{esc(_legend())}</p>",
+           # the thumbnails show another measure than the cells' colour: said beside them
+           f"<p>{esc(THUMBNAIL_LEGEND)}</p>"]
     for pattern, fabric in panels:
         out.append(f"<h2>{esc(Path(pattern).stem)} in {esc(fabric)}</h2><table><tr><th></th>")
         out += [f"<th>{esc(b)}</th>" for b in bodies]
