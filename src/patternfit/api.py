@@ -32,7 +32,7 @@ from .constants import UNITS
 from .defaults import DEFAULTS, Defaults
 from .errors import GarmentFileError, InputError
 from .fit.measures import GIRTHS, FitMeasures, fit_measures
-from .fit.metrics import FitEvaluator, FitResult
+from .fit.metrics import FitEvaluator, FitResult, fit_bands
 from .fit.outputs import write_fit_outputs
 from .edit import add_seam, grade, remove_seam, set_seam_ease
 from .fit.verdict import Verdict, judge_garment
@@ -216,6 +216,8 @@ def read_pattern(source: Pattern | str | Path, *, size: str | None = None,
     have: naming the sizes it has)."""
     if units is not None and (isinstance(source, Pattern) or str(source) in GARMENTS):
         raise ValueError("units: set for a DXF file only")
+    if size is not None and not isinstance(size, str):
+        raise ValueError(f"size: expected a size name such as 'M', got {size!r:.40}")
     if isinstance(source, Pattern):
         return source
     name = str(source)
@@ -587,6 +589,12 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     """
     t0 = time.perf_counter()
     checked_clearance(clearance)
+    # every option checked before minutes of draping, not by the stage that first uses it
+    fit_bands(tight, loose)
+    _of_kind(settings, SolverSettings, "settings", "a SolverSettings")
+    _of_kind(verdict_rules, VerdictRules, "verdict_rules", "api.verdict_rules(...)")
+    if progress is not None and not callable(progress):
+        raise ValueError(f"progress: expected a function, got {progress!r:.60}")
     pat = read_pattern(pattern, size=size)
     check_sewn(pat, source=None if isinstance(pattern, Pattern) or str(pattern) in GARMENTS
                else pattern)
@@ -620,6 +628,12 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                       seconds=time.perf_counter() - t0, measures=measures,
                       judgement=judge_garment(pat, fit, measures, fab, extra.get("checks"),
                                               verdict_rules))
+
+
+def _of_kind(value, kind: type, name: str, what: str) -> None:
+    """Refuse ``value`` unless it is None or a ``kind``, naming the argument ``name``."""
+    if value is not None and not isinstance(value, kind):
+        raise ValueError(f"{name}: expected {what} or None, got {type(value).__name__}")
 
 
 def _start_state(start, pattern: Pattern, triangles: int):
@@ -727,6 +741,7 @@ def place_and_evaluate(pattern: Pattern | str | Path = "coat", *, triangles: int
     """Mesh ``pattern`` and place it isometrically (every panel rolled onto a cylinder), with
     its fit: ϖ is 100% and the map one neutral colour (the paper's Fig. 8(b))."""
     t0 = time.perf_counter()
+    fit_bands(tight, loose)
     pat = read_pattern(pattern, size=size)
     m = mesh_pattern(pat, triangles=triangles)
     x = place_on_cylinders(pat, m)
@@ -752,10 +767,11 @@ def design_session(pattern: Pattern | str | Path = DEFAULTS.garment,
     :func:`read_fabric` for what each may be. ``threshold`` is the ϖ at which the design
     fits [-]; ``relax`` (>= 1) sews the first drape that much wider, then restores the true
     width (for a garment drafted too small to be sewn on the body)."""
-    if not (isinstance(threshold, (int, float)) and 0 < threshold <= 1.5):
-        raise ValueError(f"threshold: expected a fraction such as 0.9, got {threshold!r}")
+    threshold = number(threshold, "threshold", low=0.0, low_open=True, high=1.5,
+                       rule="expected a fraction such as 0.9")
+    relax = number(relax, "relax", low=1.0, high=10.0, rule="expected a factor of 1 to 10")
     return DesignSession(read_pattern(pattern, size=size), read_body(body, units=units),
-                         read_fabric(fabric), triangles, float(threshold), relax=relax)
+                         read_fabric(fabric), triangles, threshold, relax=relax)
 
 
 def drafted_too_small(garment: str = DEFAULTS.garment, size: str | None = None) -> dict:
@@ -792,6 +808,12 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
 
     ``progress(iteration)`` is called after each drape is evaluated, ``drape_progress`` goes
     to the solver, ``write_progress(message)`` is called per output written."""
+    # checked before the first drape: max_iterations -1 failed after pattern.json was written
+    if threshold is not None:
+        threshold = number(threshold, "threshold", low=0.0, low_open=True, high=1.5,
+                           rule="expected a fraction such as 0.9")
+    number(max_iterations, "max_iterations", low=0, integer=True)
+    _of_kind(verdict_rules, VerdictRules, "verdict_rules", "api.verdict_rules(...)")
     settings = CorrectionSettings(threshold=session.threshold if threshold is None
                                   else threshold, max_iterations=max_iterations,
                                   take_in=bool(take_in), goal=goal,

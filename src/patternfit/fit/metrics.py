@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..arguments import array
+from ..arguments import array, number
 from ..geometry import triangle_areas
 from ..mesh.garment import GarmentMesh
 
@@ -67,6 +67,12 @@ class FitResult:
                 for c, name in CLASS_NAMES.items()}
 
 
+def fit_bands(tight, loose) -> tuple[float, float]:
+    """The area-change bands ``tight`` and ``loose`` [-] as floats >= 0; a ``ValueError``
+    naming the one that is not a number (a bool, a string, NaN) or is negative."""
+    return number(tight, "tight", low=0.0), number(loose, "loose", low=0.0)
+
+
 class FitEvaluator:
     """Evaluates the fit of any 3D state of one garment mesh; the flat side is computed once.
 
@@ -81,10 +87,8 @@ class FitEvaluator:
     """
 
     def __init__(self, mesh: GarmentMesh, *, tight: float = 0.02, loose: float = 0.02):
-        if not (tight >= 0 and loose >= 0):
-            raise ValueError(f"tight/loose: thresholds must be >= 0, got {tight}, {loose}")
         self.mesh = mesh
-        self.thresholds = (float(tight), float(loose))
+        self.thresholds = fit_bands(tight, loose)
         v, t = mesh.vertices, mesh.triangles
         self.tri = np.ascontiguousarray(t)
         self.area_2d = triangle_areas(v, t)
