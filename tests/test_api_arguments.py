@@ -18,6 +18,10 @@ import patternfit.api as api
     (lambda: api.design_session("skirt", threshold=True), "threshold"),
     (lambda: api.design_session("skirt", relax="x"), "relax"),
     (lambda: api.place_and_evaluate("skirt", triangles=300, loose=True), "loose"),
+    (lambda: api.suggest_seams("skirt", min_score=float("nan")), "min_score"),
+    (lambda: api.accept_seams(api.read_pattern("skirt"), None), "suggestions"),
+    (lambda: api.accept_seams(None, []), "pattern"),
+    (lambda: api.read_bodies(""), "bodies"),
 ])
 def test_a_bad_argument_is_named_before_any_work(call, name, monkeypatch):
     monkeypatch.setattr(api, "mesh_pattern", lambda *a, **k: pytest.fail("work started"))

@@ -236,6 +236,7 @@ def suggest_seams(pattern: Pattern | str | Path, *, size: str = DEFAULTS.size,
     name or file), best first: each a :class:`SeamSuggestion` (``seam``, ``score`` in [0, 1],
     ``reasons`` in words) from lengths (with ease), piece and edge names, notches, grain and
     the outlines' directions (:mod:`patternfit.pattern.seam_suggest`)."""
+    min_score = number(min_score, "min_score", low=0.0, high=1.0)  # NaN suggested nothing
     return _suggest(read_pattern(pattern, size=size), min_score=min_score)
 
 
@@ -243,6 +244,11 @@ def accept_seams(pattern: Pattern, suggestions) -> Pattern:
     """``pattern`` with the suggested seams sewn (:class:`SeamSuggestion` or
     :class:`Seam` items, each added by :func:`add_seam` with its name, ease and
     direction)."""
+    if not isinstance(pattern, Pattern):
+        raise ValueError(f"pattern: expected a Pattern, got {type(pattern).__name__}")
+    if isinstance(suggestions, (str, bytes)) or not hasattr(suggestions, "__iter__"):
+        raise ValueError(f"suggestions: expected a list of SeamSuggestion or Seam, got "
+                         f"{type(suggestions).__name__}")
     for item in suggestions:
         s = item.seam if isinstance(item, SeamSuggestion) else item
         if not isinstance(s, Seam):
@@ -315,6 +321,9 @@ def read_bodies(spec: str | Path, *, units: str | None = None) -> list[Body]:
     Returns the bodies in order, each once. Raises :class:`BodyMeshError` naming the item
     that is none of these, or a folder without body meshes, and ``ValueError`` when two
     bodies share a name (a batch tells its rows apart by it)."""
+    if not isinstance(spec, (str, Path)) or not str(spec).strip():
+        # "" is the current folder to Path: every mesh there was read as a body
+        raise ValueError(f"bodies: expected a set, names, files or a folder, got {spec!r:.60}")
     path = Path(str(spec))
     if path.is_dir():
         files = sorted(p for p in path.iterdir() if p.suffix.lower() in BODY_SUFFIXES)
