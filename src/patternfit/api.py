@@ -645,6 +645,12 @@ def _of_kind(value, kind: type, name: str, what: str) -> None:
         raise ValueError(f"{name}: expected {what} or None, got {type(value).__name__}")
 
 
+def _threshold(value) -> float:
+    """The ϖ at which a design fits [-], in (0, 1.5]; a ``ValueError`` naming it."""
+    return number(value, "threshold", low=0.0, low_open=True, high=1.5,
+                  rule="expected a fraction such as 0.9")
+
+
 def _start_state(start, pattern: Pattern, triangles: int):
     """What a drape of ``pattern`` continues from: positions (n, 3) [m], the contact state
     saved with them (named arrays, or None) and their mesh. ``start`` is a saved garment
@@ -776,8 +782,7 @@ def design_session(pattern: Pattern | str | Path = DEFAULTS.garment,
     :func:`read_fabric` for what each may be. ``threshold`` is the ϖ at which the design
     fits [-]; ``relax`` (>= 1) sews the first drape that much wider, then restores the true
     width (for a garment drafted too small to be sewn on the body)."""
-    threshold = number(threshold, "threshold", low=0.0, low_open=True, high=1.5,
-                       rule="expected a fraction such as 0.9")
+    threshold = _threshold(threshold)
     relax = number(relax, "relax", low=1.0, high=10.0, rule="expected a factor of 1 to 10")
     return DesignSession(read_pattern(pattern, size=size), read_body(body, units=units),
                          read_fabric(fabric), triangles, threshold, relax=relax)
@@ -819,8 +824,7 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
     to the solver, ``write_progress(message)`` is called per output written."""
     # checked before the first drape: max_iterations -1 failed after pattern.json was written
     if threshold is not None:
-        threshold = number(threshold, "threshold", low=0.0, low_open=True, high=1.5,
-                           rule="expected a fraction such as 0.9")
+        threshold = _threshold(threshold)
     number(max_iterations, "max_iterations", low=0, integer=True)
     _of_kind(verdict_rules, VerdictRules, "verdict_rules", "api.verdict_rules(...)")
     settings = CorrectionSettings(threshold=session.threshold if threshold is None

@@ -71,10 +71,10 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     failed = failure(report)
     if failed:  # the exported garment is grey too: its colours would read as a fit
         rgb = np.broadcast_to(FAILED_GREY, rgb.shape).copy()
-    # a state nobody checked on a body (a saved one read back alone) says so on its maps
-    name = pattern.name if report["checks"].get("passed") is not None else \
-        f"{pattern.name} (NOT CHECKED on a body: ϖ alone)"
     checks = report["checks"]
+    # a state nobody checked on a body (a saved one read back alone) says so on its maps
+    name = pattern.name if checks.get("passed") is not None else \
+        f"{pattern.name} (NOT CHECKED on a body: ϖ alone)"
     status = {"garment": pattern.name, "state": state, "checks_passed": checks.get("passed"),
               "verdict": report.get("verdict"),
               "fitting_ratio": None if failed else report.get("fitting_ratio"),

@@ -381,11 +381,12 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
     is no fit at all (:func:`refusal`) stops the loop, ``Correction.failed`` saying why:
     the first drape without an edit; a re-drape still off the body after the step-backs
     with its round's edits undone, the session and the pattern given back at the last
-    drape on the body. A drape that failed only the solver's checks is edited from. A sleeve or trouser leg (a limb with a hem of its
-    own, :func:`~patternfit.loop.lengthen.hem_edges`) whose end rose along the limb by
-    more than ``settings.rules.length_tolerance_cm`` from the first drape is no fit: the
-    next round lengthens it at its hem (:func:`~patternfit.loop.lengthen.
-    hem_moves`; ``Iteration.risen``).
+    drape on the body. A drape that failed only the solver's checks is edited from. A sleeve
+    or trouser leg (a limb with a hem of its own,
+    :func:`~patternfit.loop.lengthen.hem_edges`) whose end rose along the limb by more than
+    ``settings.rules.length_tolerance_cm`` from the first drape is no fit: the next round
+    lengthens it at its hem (:func:`~patternfit.loop.lengthen.hem_moves`;
+    ``Iteration.risen``).
     """
     out = Correction()
     t_all = time.perf_counter()
