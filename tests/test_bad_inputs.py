@@ -33,7 +33,7 @@ from patternfit.fit.outputs import write_fit_outputs
 from patternfit.mesh import GarmentMesh, mesh_pattern
 from patternfit.mesh.store import (MESH, POSITIONS, load_garment, replace_pattern_and_mesh,
                                    save_garment)
-from patternfit.pattern import Pattern, PatternError, load_pattern
+from patternfit.pattern import Pattern, PatternError, load_pattern, save_pattern
 from patternfit.sim.fabrics import FABRICS, RANGES, Fabric, FabricError, get_fabric, load_fabric
 
 from scenes import rectangle_panel
@@ -437,7 +437,16 @@ def test_a_folder_whose_mesh_is_not_of_its_pattern_is_refused(tmp_path, case):
     else:
         mesh = _without_checks(mesh, triangles=np.vstack([mesh.triangles, mesh.triangles[:1]]),
                                triangle_panel=np.r_[mesh.triangle_panel, 0])
-    save_garment(tmp_path / "g", pattern, mesh, np.c_[mesh.vertices, np.zeros(mesh.n_vertices)])
+    # written as another tool (or a hand) would: save_garment refuses such a pair itself
+    skirt_mesh = mesh_pattern(skirt, triangles=300)
+    save_garment(tmp_path / "g", skirt, skirt_mesh,
+                 np.c_[skirt_mesh.vertices, np.zeros(skirt_mesh.n_vertices)])
+    save_pattern(pattern, tmp_path / "g" / "pattern.json")
+    (tmp_path / "g" / MESH).write_bytes(mesh.to_bytes())
+    np.save(tmp_path / "g" / POSITIONS, np.c_[mesh.vertices, np.zeros(mesh.n_vertices)])
+    if case != "twice":  # a mesh built past GarmentMesh's own checks
+        with pytest.raises(ValueError, match="^mesh: not a mesh of this pattern"):
+            save_garment(tmp_path / "h", pattern, mesh)
     expected = {"twice": "a triangle given twice", "pairs": "is not on"}.get(
         case, "is not a mesh of pattern.json")
     with pytest.raises(GarmentFileError, match=expected):

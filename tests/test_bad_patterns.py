@@ -208,11 +208,12 @@ def test_crash_prone_outlines_never_reach_triangle():
 
 
 @pytest.mark.parametrize("kwargs, words", [
-    ({"triangles": 1e23}, "triangles: must be a number from 1 to"),
-    ({"triangles": 0}, "triangles: must be a number"),
-    ({"triangles": math.nan}, "triangles: must be a number"),
-    ({"triangles": True}, "triangles: must be a number"),
-    ({"triangles": "2000"}, "triangles: must be a number"),
+    ({"triangles": 1e23}, "triangles: must be a whole number from 1 to"),
+    ({"triangles": 0}, "triangles: must be a whole number"),
+    ({"triangles": math.nan}, "triangles: must be a whole number"),
+    ({"triangles": True}, "triangles: must be a whole number"),
+    ({"triangles": "2000"}, "triangles: must be a whole number"),
+    ({"triangles": 300.5}, "triangles: must be a whole number"),
     ({"edge_length": 1e-9}, "edge_length: .* more than the limit"),
     ({"edge_length": math.inf}, "edge_length: must be a positive number"),
     ({"edge_length": math.nan}, "edge_length: must be a positive number"),

@@ -13,6 +13,7 @@ Lengths are metres, times seconds inside; pattern files state their own units.
 
 from __future__ import annotations
 
+import inspect
 import time
 from fnmatch import fnmatchcase
 from dataclasses import dataclass, field
@@ -27,7 +28,8 @@ from .body.model import Body
 from .body.sdf import DistanceField
 from .body.builtin import list_body_sets
 from .body.anny import anny_body_from_girths
-from .arguments import number
+from .arguments import array, instance, number
+from .arguments import path as path_arg, source as source_arg
 from .constants import UNITS
 from .defaults import DEFAULTS, Defaults
 from .errors import GarmentFileError, InputError
@@ -117,6 +119,25 @@ def fabric_catalogue() -> list[dict]:
     return rows
 
 
+#: what a pattern, body or fabric argument may be, for the refusal of anything else
+_PATTERN = "a Pattern, a built-in garment name or a pattern file"
+_BODY = "a Body, a built-in body name or a body mesh file"
+_FABRIC = "a Fabric, a preset name or a fabric file"
+
+
+def _options(options: dict, inner: Callable, public: str, taken: tuple = ()) -> dict:
+    """``options`` when every one is a keyword option of ``inner`` that ``public`` passes on
+    (not one of ``taken``, which it sets itself); else the ``TypeError`` Python raises for
+    an unknown keyword, naming ``public`` and what it takes instead of an inner function."""
+    known = [n for n, q in inspect.signature(inner).parameters.items()
+             if q.kind is q.KEYWORD_ONLY and n not in taken]
+    for name in options:
+        if name not in known:
+            raise TypeError(f"{public}() got an unexpected keyword argument {name!r} "
+                            f"(options: {', '.join(known)})")
+    return options
+
+
 def _fabric_row(fab: Fabric, kind: str, source: str) -> dict:
     return {"name": fab.name, "kind": kind, "constants": fab.to_dict(),
             "bending_length_m": {"warp": fab.bending_length, "weft": fab.bending_length_weft},
@@ -133,7 +154,7 @@ def describe_fabric(source: Fabric | str | Path) -> dict:
     friction and thickness).
 
     Raises :class:`FabricError` naming the file and the field."""
-    fab, assumed = fabric_with_notes(source)
+    fab, assumed = fabric_with_notes(source_arg(source, Fabric, "fabric", _FABRIC))
     row = {r["name"]: r for r in fabric_catalogue()}.get(fab.name)
     if row is not None and row["constants"] == fab.to_dict():
         return row
@@ -170,7 +191,8 @@ def fabric_test(test: str, fabric: Fabric | str | Path = DEFAULTS.fabric, *,
         raise ValueError(f"test: expected one of {', '.join(FABRIC_TESTS)}, got {test!r}")
     run = {"strip": kit.strip_test, "cantilever": kit.cantilever_test,
            "cusick": kit.cusick_test}[test]
-    return run(read_fabric(fabric), progress=progress, **options)
+    return run(read_fabric(fabric), progress=progress,
+               **_options(options, run, "fabric_test", ("progress",)))
 
 
 def write_fabric_test_picture(result, path) -> Path | None:
@@ -179,6 +201,9 @@ def write_fabric_test_picture(result, path) -> Path | None:
     None for a test without one (the strip)."""
     from .sim import fabric_test as kit
 
+    instance(result, (kit.StripResult, kit.CantileverResult, kit.CusickResult), "result",
+             "a fabric_test result")
+    path = path_arg(path, "path", what="a PNG file path")
     if isinstance(result, kit.CusickResult):
         return kit.write_cusick_picture(result, path)
     if isinstance(result, kit.CantileverResult) and result.shape is not None:
@@ -190,8 +215,12 @@ def evaluate_drape(mesh: GarmentMesh, positions: np.ndarray, *, tight: float = 0
                    loose: float = 0.02) -> FitResult:
     """The fit of ``mesh`` draped at ``positions`` ((n, 3) [m], one row per flat vertex):
     area change, warp/weft stretch per triangle and ϖ, as ``DesignSession.evaluate`` gives
-    for its current state (``tight``/``loose``: the fit bands [-])."""
-    return FitEvaluator(mesh, tight=tight, loose=loose)(positions)
+    for its current state (``tight``/``loose``: the fit bands [-]). ϖ is infinite for a
+    state whose 3D area has collapsed to nothing (a failed drape, never a fit: the on-body
+    checks of :func:`drape_and_evaluate` fail it and the studio shows it as failed)."""
+    instance(mesh, GarmentMesh, "mesh", "a GarmentMesh (api.mesh_garment)")
+    x = array(positions, "positions", shape=(mesh.n_vertices, 3), finite=True)
+    return FitEvaluator(mesh, tight=tight, loose=loose)(x)
 
 
 def list_engines() -> dict[str, str | None]:
@@ -214,10 +243,10 @@ def read_pattern(source: Pattern | str | Path, *, size: str | None = None,
 
     Raises :class:`PatternError` naming the file and the place (a size the file does not
     have: naming the sizes it has)."""
+    source_arg(source, Pattern, "pattern", _PATTERN)
     if units is not None and (isinstance(source, Pattern) or str(source) in GARMENTS):
         raise ValueError("units: set for a DXF file only")
-    if size is not None and not isinstance(size, str):
-        raise ValueError(f"size: expected a size name such as 'M', got {size!r:.40}")
+    _size(size)
     if isinstance(source, Pattern):
         return source
     name = str(source)
@@ -228,6 +257,12 @@ def read_pattern(source: Pattern | str | Path, *, size: str | None = None,
         raise PatternError(f"neither a built-in garment ({', '.join(GARMENTS)}) nor a file",
                            file=name)
     return load_any_pattern(path, size=size, units=units)
+
+
+def _size(size) -> None:
+    """Refuse a ``size`` that is neither None nor a size name (``""`` read as the default)."""
+    if size is not None and (not isinstance(size, str) or not size.strip()):
+        raise ValueError(f"size: expected a size name such as 'M', got {size!r:.40}")
 
 
 def suggest_seams(pattern: Pattern | str | Path, *, size: str = DEFAULTS.size,
@@ -244,8 +279,7 @@ def accept_seams(pattern: Pattern, suggestions) -> Pattern:
     """``pattern`` with the suggested seams sewn (:class:`SeamSuggestion` or
     :class:`Seam` items, each added by :func:`add_seam` with its name, ease and
     direction)."""
-    if not isinstance(pattern, Pattern):
-        raise ValueError(f"pattern: expected a Pattern, got {type(pattern).__name__}")
+    instance(pattern, Pattern, "pattern", "a Pattern")
     if isinstance(suggestions, (str, bytes)) or not hasattr(suggestions, "__iter__"):
         raise ValueError(f"suggestions: expected a list of SeamSuggestion or Seam, got "
                          f"{type(suggestions).__name__}")
@@ -258,10 +292,11 @@ def accept_seams(pattern: Pattern, suggestions) -> Pattern:
     return pattern
 
 
-def seam_table(pattern: Pattern) -> list[dict]:
-    """One row per seam of ``pattern``: ``name``, sides ``a``/``b`` (``panel``, ``edge``,
-    ``start``, ``end``, ``length_cm``), ``difference_mm`` (b - a), ``ratio`` (longer /
-    shorter - 1), the stated ``ease`` and ``reverse``."""
+def seam_table(pattern: Pattern | str | Path) -> list[dict]:
+    """One row per seam of ``pattern`` (a pattern, built-in name or file): ``name``, sides
+    ``a``/``b`` (``panel``, ``edge``, ``start``, ``end``, ``length_cm``), ``difference_mm``
+    (b - a), ``ratio`` (longer / shorter - 1), the stated ``ease`` and ``reverse``."""
+    pattern = read_pattern(pattern)
     rows = []
     for s in pattern.seams:
         la, lb = pattern.seam_side_length(s.a), pattern.seam_side_length(s.b)
@@ -282,7 +317,8 @@ def write_pattern(pattern: Pattern, out, *, source=None, fmt: str | None = None,
     """Write ``pattern`` to ``out`` (format ``fmt`` or from the ending, ``units`` and
     ``paper`` as :func:`save_any_pattern` takes them; atomically) and return the files
     written; refuses to overwrite ``source``, the file it was read from."""
-    out = Path(out)
+    instance(pattern, Pattern, "pattern", "a Pattern")
+    out = path_arg(out, "out", what="a file path")
     if source is not None and Path(source).exists() and out.exists() and \
             out.resolve() == Path(source).resolve():
         raise InputError("is the input pattern: write the result to another file", file=out)
@@ -294,13 +330,16 @@ def read_body(source: Body | str | Path, *, units: str | None = None) -> Body:
     (OBJ, PLY, STL, GLB, ...; ``units`` m, cm, mm or in, guessed from its height when None).
 
     Raises :class:`BodyMeshError` naming the file."""
-    if units is not None and units not in UNITS:
-        raise ValueError(f"units: expected one of {', '.join(UNITS)}, got {units!r}")
-    if isinstance(source, Body):
+    source_arg(source, Body, "body", _BODY)
+    if units is not None and (not isinstance(units, str) or units not in UNITS):
+        raise ValueError(f"units: expected one of {', '.join(UNITS)}, got {units!r:.40}")
+    file = None if isinstance(source, Body) else Path(str(source))
+    if units is not None and not (file and (file.suffix or file.exists())):
+        raise ValueError("units: set for a body mesh file only")
+    if file is None:
         return source
-    path = Path(str(source))
-    if path.suffix or path.exists():
-        return load_body_mesh(path, units=units)
+    if file.suffix or file.exists():
+        return load_body_mesh(file, units=units)
     try:
         return load_body(str(source))
     except ValueError:
@@ -378,6 +417,7 @@ def with_distance_field(body: Body) -> Body:
     """``body`` with the distance field that the drape, the placement and the fit measures
     use computed and kept on it, so that a copy sent to another process (pickled, as a
     batch shares it) carries the field instead of building it again. Returns ``body``."""
+    instance(body, Body, "body", "a Body (api.read_body)")
     body.distance_field()
     return body
 
@@ -388,7 +428,7 @@ def read_fabric(source: Fabric | str | Path) -> Fabric:
     ARCSim material file: ``patternfit.sim.fabric_arcsim``).
 
     Raises :class:`FabricError` naming the file and the field."""
-    return get_fabric(source)
+    return get_fabric(source_arg(source, Fabric, "fabric", _FABRIC))
 
 
 def read_fabric_with_notes(source: Fabric | str | Path) -> tuple[Fabric, list[str]]:
@@ -397,7 +437,7 @@ def read_fabric_with_notes(source: Fabric | str | Path) -> tuple[Fabric, list[st
     fabric, a :class:`Fabric` or a file that carries them all.
 
     Raises :class:`FabricError` naming the file and the field."""
-    fab, assumed = fabric_with_notes(source)
+    fab, assumed = fabric_with_notes(source_arg(source, Fabric, "fabric", _FABRIC))
     return fab, list(assumed)
 
 
@@ -405,7 +445,8 @@ def mesh_garment(pattern: Pattern | str, *, triangles: int = DEFAULTS.triangles,
                  size: str | None = None, **options) -> GarmentMesh:
     """The garment mesh of ``pattern`` (a pattern, built-in name or file): every panel
     triangulated to about ``triangles`` triangles in all, seams matched."""
-    return mesh_pattern(read_pattern(pattern, size=size), triangles=triangles, **options)
+    return mesh_pattern(read_pattern(pattern, size=size), triangles=triangles,
+                        **_options(options, mesh_pattern, "mesh_garment", ("triangles",)))
 
 
 @dataclass(eq=False)
@@ -600,8 +641,9 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     checked_clearance(clearance)
     # every option checked before minutes of draping, not by the stage that first uses it
     fit_bands(tight, loose)
-    _of_kind(settings, SolverSettings, "settings", "a SolverSettings")
-    _of_kind(verdict_rules, VerdictRules, "verdict_rules", "api.verdict_rules(...)")
+    instance(settings, SolverSettings, "settings", "a SolverSettings", optional=True)
+    instance(verdict_rules, VerdictRules, "verdict_rules", "api.verdict_rules(...)",
+             optional=True)
     if progress is not None and not callable(progress):
         raise ValueError(f"progress: expected a function, got {progress!r:.60}")
     pat = read_pattern(pattern, size=size)
@@ -637,12 +679,6 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                       seconds=time.perf_counter() - t0, measures=measures,
                       judgement=judge_garment(pat, fit, measures, fab, extra.get("checks"),
                                               verdict_rules))
-
-
-def _of_kind(value, kind: type, name: str, what: str) -> None:
-    """Refuse ``value`` unless it is None or a ``kind``, naming the argument ``name``."""
-    if value is not None and not isinstance(value, kind):
-        raise ValueError(f"{name}: expected {what} or None, got {type(value).__name__}")
 
 
 def _threshold(value) -> float:
@@ -717,6 +753,7 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     margin). Without a body nothing checks where the state lies: ϖ alone, its checks'
     ``passed`` None ("not checked"). A state its drape saved before it came to rest
     (``contact.npz``'s ``at_rest`` false) fails either way."""
+    folder = path_arg(folder, "folder", what="a garment folder")
     pat, m, x = load_garment(folder)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): place or drape the garment first",
@@ -745,6 +782,12 @@ def judge_state(pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult, 
     (:func:`evaluate_drape`), ``checks`` its drape's checks (None: judged as passed; failed:
     the verdict is "failed"), contact at the drape's default margin (3 mm) or the fabric's
     thickness. About 0.1 s at 1.5K triangles."""
+    instance(pattern, Pattern, "pattern", "a Pattern")
+    instance(mesh, GarmentMesh, "mesh", "a GarmentMesh")
+    positions = array(positions, "positions", shape=(mesh.n_vertices, 3), finite=True)
+    instance(fit, FitResult, "fit", "a FitResult (api.evaluate_drape)")
+    instance(body, Body, "body", "a Body")
+    instance(fabric, Fabric, "fabric", "a Fabric")
     measures = fit_measures(mesh, positions, body, fabric,
                             reach=max(fabric.thickness, CONTACT_MARGIN))
     return measures, judge_garment(pattern, fit, measures, fabric, checks, verdict_rules)
@@ -767,6 +810,7 @@ def place_and_evaluate(pattern: Pattern | str | Path = "coat", *, triangles: int
 def placed_fitting_ratio(session: DesignSession) -> float:
     """ϖ of the session's current mesh placed around its body before any drape [-]
     (about 1.0: the placement is isometric)."""
+    instance(session, DesignSession, "session", "a DesignSession (api.design_session)")
     placed = place_on_body(session.pattern, session.mesh, session.body)
     return float(FitEvaluator(session.mesh).metrics(placed)[1])
 
@@ -798,6 +842,7 @@ def drafted_too_small(garment: str = DEFAULTS.garment, size: str | None = None) 
     row = {r.garment: r for r in ROWS}.get(garment)
     body, narrow, fabric, relax = (row.body, row.narrow, row.fabric, row.relax) if row \
         else (DEFAULTS.body, 0.8, "stretch_knit", 1.0)
+    _size(size)
     size = size or (row.size if row else DEFAULTS.size)
     pattern = grade(build(garment, size), None, narrow, 1.0)
     return {"pattern": pattern, "body": body, "fabric": fabric, "narrow": narrow,
@@ -823,10 +868,13 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
     ``progress(iteration)`` is called after each drape is evaluated, ``drape_progress`` goes
     to the solver, ``write_progress(message)`` is called per output written."""
     # checked before the first drape: max_iterations -1 failed after pattern.json was written
+    instance(session, DesignSession, "session", "a DesignSession (api.design_session)")
+    out = path_arg(out, "out", what="an output folder")
     if threshold is not None:
         threshold = _threshold(threshold)
     number(max_iterations, "max_iterations", low=0, integer=True)
-    _of_kind(verdict_rules, VerdictRules, "verdict_rules", "api.verdict_rules(...)")
+    instance(verdict_rules, VerdictRules, "verdict_rules", "api.verdict_rules(...)",
+             optional=True)
     settings = CorrectionSettings(threshold=session.threshold if threshold is None
                                   else threshold, max_iterations=max_iterations,
                                   take_in=bool(take_in), goal=goal,

@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 
 import numpy as np
 
-__all__ = ["array", "number"]
+__all__ = ["array", "instance", "number", "path", "source"]
 
 #: the longest value repr shown in a message [characters]
 _SHOWN = 60
@@ -110,6 +111,9 @@ def array(value, name: str, *, shape: tuple = (None, 3), dtype=np.float64, finit
         what += " of finite values"
     many = "" if shape == () else "both values " if shape == (2,) else "every value "
     want = f"expected {what}{_span(low, high, low_open, high_open, unit, many=many)}"
+    if np.iscomplexobj(value) and not np.issubdtype(np.dtype(dtype), np.complexfloating):
+        # numpy casts complex to real with only a warning: the imaginary part was dropped
+        raise ValueError(f"{name}: {want}, got complex values")
     try:
         a = np.asanyarray(value, dtype=dtype)
     except (TypeError, ValueError, OverflowError) as exc:
@@ -125,3 +129,37 @@ def array(value, name: str, *, shape: tuple = (None, 3), dtype=np.float64, finit
         if not _within(a, low, high, low_open, high_open):
             raise ValueError(f"{name}: {want}, got {_shown(value)}")
     return np.ascontiguousarray(a) if contiguous else a
+
+
+def _kind_name(value) -> str:
+    return _shown(value) if isinstance(value, str) else type(value).__name__
+
+
+def instance(value, kind: type | tuple, name: str, what: str, *, optional: bool = False):
+    """``value`` when it is a ``kind`` (or None, with ``optional``); else a ``ValueError``
+    ``"{name}: expected {what}[ or None], got {type}"``, where an attribute error from deep
+    inside would otherwise name nothing the caller wrote."""
+    if isinstance(value, kind) or (optional and value is None):
+        return value
+    raise ValueError(f"{name}: expected {what}{' or None' if optional else ''}, "
+                     f"got {_kind_name(value)}")
+
+
+def path(value, name: str, *, what: str = "a file or folder path"):
+    """``value`` as a ``pathlib.Path`` when it is a non-empty string or path-like; else a
+    ``ValueError`` naming ``name`` ("" is the current folder to ``Path``)."""
+    from pathlib import Path
+
+    if isinstance(value, os.PathLike) or (isinstance(value, str) and value.strip()):
+        return Path(value)
+    raise ValueError(f"{name}: expected {what}, got {_kind_name(value)}")
+
+
+def source(value, kind: type, name: str, what: str):
+    """``value`` when it is a ``kind`` object, a non-empty name or a path (what a ``read_*``
+    function takes); else a ``ValueError`` ``"{name}: expected {what}, got ..."``, not a
+    file error whose "file name" is the object's repr."""
+    if isinstance(value, kind) or isinstance(value, os.PathLike) \
+            or (isinstance(value, str) and value.strip()):
+        return value
+    raise ValueError(f"{name}: expected {what}, got {_kind_name(value)}")

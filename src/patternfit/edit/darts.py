@@ -13,7 +13,7 @@ import numpy as np
 
 from ..constants import limits, tol
 from ..pattern import Edge, Loop, Pattern, PatternError, Seam, SeamSide
-from .tools import _arg, _finish, _panel, _said
+from .tools import _arg, _finish, _panel, _said, pattern_edit
 
 SHAPES = ("diamond", "triangle")
 
@@ -41,6 +41,7 @@ def _dart_seams(panel, name, shape):
     return (Seam(name, side(0), side(2)),)
 
 
+@pattern_edit
 def insert_dart(pattern: Pattern, panel: str, name: str, centre, *, length: float,
                 width: float, axis=(0.0, 1.0), shape: str = "diamond") -> Pattern:
     """Insert a dart of ``length`` x ``width`` [m] centred at ``centre`` (2,), its long axis
@@ -78,6 +79,7 @@ def _dart(pattern, panel, name):
     raise PatternError(f"no dart '{name}'", panel=panel)
 
 
+@pattern_edit
 def move_dart(pattern: Pattern, panel: str, name: str, offset) -> Pattern:
     """Translate dart ``name`` by ``offset`` (2,) [m]; topology (and the mesh's) unchanged."""
     d = _arg(offset, "offset", panel, vector=True)
@@ -89,6 +91,7 @@ def move_dart(pattern: Pattern, panel: str, name: str, offset) -> Pattern:
                    _said("offset", d))
 
 
+@pattern_edit
 def resize_dart(pattern: Pattern, panel: str, name: str, *, length: float | None = None,
                 width: float | None = None) -> Pattern:
     """Widen/narrow or lengthen/shorten dart ``name`` about its centre [m]."""

@@ -15,6 +15,7 @@ from ..arguments import number
 from ..constants import limits, tol
 from ..pattern import Pattern, PatternError, Seam, SeamSide
 from ..pattern.validate import check_seams, measured_ease, seam_slack
+from .tools import pattern_edit
 
 __all__ = ["add_seam", "remove_seam", "seam_side", "set_seam_ease"]
 
@@ -59,6 +60,7 @@ def _overlaps(a: SeamSide, b: SeamSide) -> bool:
         min(a.end, b.end) - max(a.start, b.start) > tol.seam_range_overlap
 
 
+@pattern_edit
 def add_seam(pattern: Pattern, a, b, *, name: str | None = None, ease: float | None = None,
              reverse: bool = True) -> Pattern:
     """``pattern`` with a new seam sewing side ``a`` to side ``b``.
@@ -137,6 +139,7 @@ def _check(pattern: Pattern, name: str) -> None:
                            edge=err.edge) from None
 
 
+@pattern_edit
 def remove_seam(pattern: Pattern, name: str) -> Pattern:
     """``pattern`` without the seam called ``name`` (refused, listing the seams, when there
     is none)."""
@@ -144,6 +147,7 @@ def remove_seam(pattern: Pattern, name: str) -> Pattern:
     return replace(pattern, seams=tuple(s for s in pattern.seams if s is not gone))
 
 
+@pattern_edit
 def set_seam_ease(pattern: Pattern, name: str, ease: float) -> Pattern:
     """``pattern`` with seam ``name``'s ease set to ``ease`` (longer / shorter - 1, in [0,
     ``limits.seam_ease``]); refused when the sides already differ by more than it allows."""

@@ -14,11 +14,12 @@ in metres, in the panel's flat frame.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import replace
 
 import numpy as np
 
-from ..arguments import array
+from ..arguments import array, instance
 from ..constants import limits, tol
 from ..pattern import Edge, Loop, Panel, Pattern, PatternError
 from ..pattern.validate import check_panel, check_seams
@@ -27,6 +28,16 @@ from ..pattern.validate import check_panel, check_seams
 #: the largest move an edit may ask for, per coordinate [m]: any two points of a pattern
 #: within ``limits.extent`` of the origin are at most this far apart
 REACH = 2.0 * limits.extent
+
+
+def pattern_edit(edit):
+    """Mark ``edit`` as a public edit: its first argument must be a :class:`Pattern` (a
+    ``ValueError`` naming ``pattern``, not an AttributeError from inside the edit)."""
+    @functools.wraps(edit)
+    def checked(pattern, *args, **kwargs):
+        instance(pattern, Pattern, "pattern", "a Pattern")
+        return edit(pattern, *args, **kwargs)
+    return checked
 
 
 def _arg(x, name: str, panel: str | None, *, lo: float = -REACH, hi: float = REACH,
@@ -336,6 +347,7 @@ def _finish(old: Pattern, new: Pattern, edited: set, partner: bool, cause: str) 
     return new
 
 
+@pattern_edit
 def close_seams(pattern: Pattern, *, like: Pattern | None = None,
                 iterations: int = 12) -> Pattern:
     """Make every seam's two sides equally long by the smallest moves (least squares) of
@@ -365,6 +377,7 @@ def _panel_edges(panel: Panel) -> set:
     return {(panel.name, e.name) for lp in panel.loops for e in lp.edges}
 
 
+@pattern_edit
 def move_point(pattern: Pattern, panel: str, corner: str, offset, *,
                partner: bool = False) -> Pattern:
     """Move the corner where edge ``corner`` starts by ``offset`` (2,) [m]."""
@@ -376,6 +389,7 @@ def move_point(pattern: Pattern, panel: str, corner: str, offset, *,
                    _said("offset", d))
 
 
+@pattern_edit
 def move_edge(pattern: Pattern, panel: str, edge: str, offset, *,
               partner: bool = False) -> Pattern:
     """Translate edge ``edge`` by ``offset`` (2,) [m]; its neighbours' ends follow."""
@@ -398,6 +412,7 @@ def _move_corner_neighbour(p: Panel, li: int, k: int, d) -> Panel:
     return _with_loop(p, li, replace(p.loops[li], edges=tuple(edges)))
 
 
+@pattern_edit
 def edit_curve(pattern: Pattern, panel: str, edge: str, offset, *, control: int = 1,
                partner: bool = False) -> Pattern:
     """Move Bézier control point ``control`` of ``edge`` by ``offset`` (2,) [m]; a straight
@@ -419,6 +434,7 @@ def edit_curve(pattern: Pattern, panel: str, edge: str, offset, *, control: int 
                    {(panel, edge)}, partner, _said("offset", d))
 
 
+@pattern_edit
 def lengthen(pattern: Pattern, panel: str, a, b, amount: float, *,
              partner: bool = False) -> Pattern:
     """Lengthen (``amount`` > 0) or shorten the panel between points ``a`` and ``b`` (2,) [m].
@@ -456,6 +472,7 @@ def lengthen(pattern: Pattern, panel: str, a, b, amount: float, *,
     return _finish(pattern, pattern.with_panel(p), changed, partner, _said("amount", amount))
 
 
+@pattern_edit
 def grade(pattern: Pattern, panel: str | None, sx: float, sy: float, *, about=None,
           partner: bool = False) -> Pattern:
     """Scale one panel (or all, ``panel=None``) by ``sx``, ``sy`` about ``about`` (2,) [m]

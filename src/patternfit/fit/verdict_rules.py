@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from ..arguments import number
+
 #: the verdict words, tightest first; a drape that failed its checks reads :data:`FAILED`
 VERDICTS = ("too tight", "tight", "fits", "loose", "too loose")
 FAILED = "failed"
@@ -65,25 +67,26 @@ class VerdictRules:
     slid_cm: float = 5.0
 
     def __post_init__(self):
-        if not 0 < self.pressure_comfort_kpa <= self.pressure_max_kpa:
-            raise ValueError("pressure_comfort_kpa, pressure_max_kpa: need 0 < comfort <= max, "
-                             f"got {self.pressure_comfort_kpa}, {self.pressure_max_kpa}")
-        if self.stretch_limit is not None and not 0 < self.stretch_limit < 5:
-            raise ValueError(f"stretch_limit: expected a fraction such as 0.05, got "
-                             f"{self.stretch_limit}")
-        if not 0 < self.tight_share <= 1:
-            raise ValueError(f"tight_share: expected a share in (0, 1], got {self.tight_share}")
-        if not self.loose_tolerance_cm >= 0:
-            raise ValueError(f"loose_tolerance_cm: must be >= 0, got {self.loose_tolerance_cm}")
-        if not self.length_tolerance_cm >= 0:
-            raise ValueError(f"length_tolerance_cm: must be >= 0, got {self.length_tolerance_cm}")
-        if not self.slid_cm >= 0:
-            raise ValueError(f"slid_cm: must be >= 0, got {self.slid_cm}")
-        if self.style is not None and self.style not in EASE_RANGES:
-            raise ValueError(f"style: one of {', '.join(EASE_RANGES)}, got {self.style!r}")
+        # number() refuses a bool, a string or NaN, which the comparisons let through or
+        # failed on with a TypeError
+        number(self.pressure_max_kpa, "pressure_max_kpa", low=0.0, low_open=True, unit="kPa")
+        number(self.pressure_comfort_kpa, "pressure_comfort_kpa", low=0.0, low_open=True,
+               high=self.pressure_max_kpa, unit="kPa",
+               rule=f"need 0 < comfort <= max ({self.pressure_max_kpa} kPa)")
+        if self.stretch_limit is not None:
+            number(self.stretch_limit, "stretch_limit", low=0.0, low_open=True, high=5.0,
+                   high_open=True, rule="expected a fraction such as 0.05")
+        number(self.tight_share, "tight_share", low=0.0, low_open=True, high=1.0,
+               rule="expected a share in (0, 1]")
+        for name in ("loose_tolerance_cm", "length_tolerance_cm", "slid_cm"):
+            number(getattr(self, name), name, low=0.0, unit="cm")
+        number(self.region_share, "region_share", low=0.0, high=1.0)
+        if self.style is not None and (not isinstance(self.style, str)
+                                       or self.style not in EASE_RANGES):
+            raise ValueError(f"style: one of {', '.join(EASE_RANGES)}, got {self.style!r:.60}")
         for name in ("pressure_percentile", "stretch_percentile"):
-            if not 0 < getattr(self, name) <= 100:
-                raise ValueError(f"{name}: a percentile in (0, 100], got {getattr(self, name)}")
+            number(getattr(self, name), name, low=0.0, low_open=True, high=100.0,
+                   rule="a percentile in (0, 100]")
 
     def with_options(self, **options) -> "VerdictRules":
         """These rules with the options that are not None replaced."""

@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from ..constants import limits, tol
-from ..errors import GarmentFileError
-from ..arguments import array
+from ..errors import GarmentFileError, InputError
+from ..arguments import array, instance, path
 from ..files import atomic_write_group, dumps_finite_json, read_npy, read_npz
 from ..pattern.io import load_pattern, pattern_to_dict
 from ..pattern.model import Pattern
@@ -49,8 +49,19 @@ def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None, *,
     """Write the pattern, its mesh and optionally a 3D state (n, 3) [m] into ``folder``, as
     one step; ``contact`` (named arrays: a drape's contact state at ``positions``) goes with
     that state. An older ``positions.npy`` or ``contact.npz`` that is not replaced is removed
-    (it belongs to the old mesh or state)."""
-    folder = Path(folder)
+    (it belongs to the old mesh or state).
+
+    A ``mesh`` that is not a mesh of ``pattern`` (:func:`foreign_mesh`) is refused with a
+    ``ValueError``, as reading the folder back would refuse it; ``folder`` naming a file is
+    an :class:`~patternfit.errors.InputError`."""
+    folder = path(folder, "folder", what="a folder path")
+    instance(pattern, Pattern, "pattern", "a Pattern")
+    instance(mesh, GarmentMesh, "mesh", "a GarmentMesh")
+    why = foreign_mesh(pattern, mesh)
+    if why:
+        raise ValueError(f"mesh: not a mesh of this pattern: {why}")
+    if folder.exists() and not folder.is_dir():
+        raise InputError("is a file: expected a folder for the garment", file=folder)
     files = {folder / PATTERN: _pattern_bytes(pattern, "m"), folder / MESH: mesh.to_bytes()}
     if positions is not None:
         files[folder / POSITIONS] = _positions_bytes(positions, mesh)

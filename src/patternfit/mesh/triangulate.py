@@ -313,8 +313,8 @@ def mesh_pattern(pattern: Pattern, *, triangles: int = 20000, min_angle: float =
             raise ValueError(f"edge_length: {h:.3g} m makes about {estimate:.3g} triangles, "
                              f"more than the limit of {limits.triangles}")
         return _mesh_all(pattern, h, min_angle)
-    number(triangles, "triangles", low=1, high=limits.triangles,
-           rule=f"must be a number from 1 to {limits.triangles}")
+    triangles = number(triangles, "triangles", low=1, high=limits.triangles, integer=True,
+                       rule=f"must be a whole number from 1 to {limits.triangles}")
     if int(triangles) < 2 * len(pattern.panels):
         raise ValueError(f"triangles: at least {2 * len(pattern.panels)} needed, got {triangles}")
     # Triangle's refinement makes triangles smaller than the area bound: calibrate the edge

@@ -43,6 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..arguments import instance
 from ..constants import limits, tol
 from ..defaults import DEFAULTS
 from .errors import PatternError
@@ -621,6 +622,7 @@ def check_sewn(pattern: Pattern, *, source=None) -> None:
     (its own darts do not count). A one-piece garment (a wrap) passes. The message names
     the fix: ``patternfit seams <source> --suggest --accept`` (``source``: the file the
     pattern came from, if any)."""
+    instance(pattern, Pattern, "pattern", "a Pattern")
     if len(pattern.panels) < 2:
         return
     fix = f"patternfit seams {source or 'PATTERN'} --suggest --accept"

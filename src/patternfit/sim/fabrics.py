@@ -22,7 +22,7 @@ from functools import lru_cache
 from importlib.resources import files
 from pathlib import Path
 
-from ..arguments import number
+from ..arguments import instance, number
 from ..constants import GRAVITY
 from ..errors import FabricError
 from ..files import read_json_file
@@ -144,6 +144,7 @@ def check_bulk(fabric, source=None, names: dict | None = None):
     g/m² written where mg/cm² go (ten times too heavy) stays in it, and drapes a wool at ten
     times its weight. Held where fabrics come in (files, the studio's editor), not by
     :class:`Fabric` itself: a design session saved with such a fabric still opens."""
+    instance(fabric, Fabric, "fabric", "a Fabric")
     bulk = fabric.density / fabric.thickness
     if bulk > MAX_BULK_DENSITY:
         said = [(names or {}).get(k, k) for k in ("density", "thickness")]
