@@ -116,3 +116,16 @@ def test_save_garment_refuses_a_mesh_of_another_pattern(tmp_path):
     mesh = api.mesh_garment(skirt, triangles=300)
     pattern, back, x = load_garment(api.save_garment(tmp_path / "ok", skirt, mesh))
     assert pattern == skirt and back.n_triangles == mesh.n_triangles and x is None
+
+
+def test_units_go_to_body_mesh_files_only(tmp_path):
+    """A built-in body's units were ignored without a word; in a list, they are the files'."""
+    from patternfit.body.mesh_io import save_body_mesh
+
+    save_body_mesh(api.read_body("female_thin"), tmp_path / "thin.obj")
+    spec = f"female_average,{tmp_path / 'thin.obj'}"
+    assert [b.name for b in api.read_bodies(spec, units="m")] == ["female_average", "thin"]
+    for call in (lambda: api.read_bodies("female_average", units="cm"),
+                 lambda: api.read_body("female_average", units="cm")):
+        with pytest.raises(ValueError, match="^units: set for .*body mesh file"):
+            call()

@@ -252,11 +252,17 @@ def read_pattern(source: Pattern | str | Path, *, size: str | None = None,
     name = str(source)
     if name in GARMENTS:
         return build(name, size or DEFAULTS.size)
-    path = Path(name)
-    if not (path.suffix or path.exists()):
+    if not _names_file(name):
         raise PatternError(f"neither a built-in garment ({', '.join(GARMENTS)}) nor a file",
                            file=name)
-    return load_any_pattern(path, size=size, units=units)
+    return load_any_pattern(Path(name), size=size, units=units)
+
+
+def _names_file(source) -> bool:
+    """Whether ``source`` (not an object) is read as a file rather than a built-in name:
+    it has an ending or exists."""
+    path = Path(str(source))
+    return bool(path.suffix) or path.exists()
 
 
 def _size(size) -> None:
@@ -333,13 +339,13 @@ def read_body(source: Body | str | Path, *, units: str | None = None) -> Body:
     source_arg(source, Body, "body", _BODY)
     if units is not None and (not isinstance(units, str) or units not in UNITS):
         raise ValueError(f"units: expected one of {', '.join(UNITS)}, got {units!r:.40}")
-    file = None if isinstance(source, Body) else Path(str(source))
-    if units is not None and not (file and (file.suffix or file.exists())):
+    file = not isinstance(source, Body) and _names_file(source)
+    if units is not None and not file:
         raise ValueError("units: set for a body mesh file only")
-    if file is None:
+    if isinstance(source, Body):
         return source
-    if file.suffix or file.exists():
-        return load_body_mesh(file, units=units)
+    if file:
+        return load_body_mesh(Path(str(source)), units=units)
     try:
         return load_body(str(source))
     except ValueError:
@@ -387,7 +393,12 @@ def read_bodies(spec: str | Path, *, units: str | None = None) -> list[Body]:
                 names += hits
             else:
                 names.append(item)
-        bodies = [read_body(n, units=units) for n in dict.fromkeys(names)]
+        # units are a mesh file's: the built-in bodies among files keep their own
+        files = {n for n in names if _names_file(n)}
+        if units is not None and not files:
+            raise ValueError("units: set for body mesh files only")
+        bodies = [read_body(n, units=units if n in files else None)
+                  for n in dict.fromkeys(names)]
     seen: dict[str, int] = {}
     for b in bodies:
         seen[b.name] = seen.get(b.name, 0) + 1
