@@ -114,3 +114,14 @@ def test_front_ends_run_the_pipeline_through_the_api(front):
     direct = [f"{rel}: {'.'.join(full)} {n}" for pkg, rel, tgt, full, names in IMPORTS
               if pkg == front and tgt not in ("api", pkg) for n in names if n in PIPELINE]
     assert not direct, "\n".join(direct)
+
+
+def test_the_package_re_exports_every_api_name():
+    """README: the names of patternfit.api are re-exported from patternfit; eight of them
+    (suggest_seams, write_pattern, ...) were not."""
+    import patternfit
+    import patternfit.api
+
+    assert sorted(patternfit.__all__) == sorted(["__version__", *patternfit.api.__all__])
+    assert all(getattr(patternfit, n) is getattr(patternfit.api, n)
+               for n in patternfit.api.__all__)

@@ -39,6 +39,15 @@ def test_dispatch_by_ending_and_content(tmp_path):
     assert load_any_pattern(gc).meta["source_format"] == "garmentcode"
 
 
+def test_a_converted_file_is_read_by_the_json_reader_and_keeps_its_origin(tmp_path):
+    """convert coat.dxf coat.json, then coat.json read back said "(dxf-aama)"."""
+    dxf, _ = save_any_pattern(_pattern(), tmp_path / "p.dxf")
+    (back,) = save_any_pattern(load_any_pattern(dxf), tmp_path / "p.json")
+    q = load_any_pattern(back)
+    assert q.meta["source_format"] == "patternfit" and q.meta["converted_from"] == "dxf-aama"
+    assert "converted_from" not in load_any_pattern(save_pattern(_pattern(), tmp_path / "o.json")).meta
+
+
 def test_unknown_inputs_are_refused(tmp_path):
     (tmp_path / "a.json").write_text(json.dumps({"hello": 1}))
     with pytest.raises(PatternError, match="neither") as info:

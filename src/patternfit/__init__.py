@@ -12,13 +12,20 @@ kilograms. See docs/architecture.md.
 
 __version__ = "0.1.0"
 
-__all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
-           "DesignSession", "FabricError", "FitOutcome", "InputError", "PatternError",
-           "__version__", "correct", "correct_design", "design_session", "drafted_too_small",
-           "drape_and_evaluate", "evaluate_saved", "fabric_catalogue", "list_bodies",
-           "list_fabrics", "list_garments", "mesh_garment", "place_and_evaluate",
-           "placed_fitting_ratio", "read_body", "read_fabric", "read_pattern", "save_any_pattern",
-           "save_garment"]
+# every name of patternfit.api (tests/test_architecture.py holds the two lists equal)
+__all__ = ["__version__", "BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS",
+           "Defaults", "DesignSession", "FABRIC_RANGES", "FABRIC_TESTS", "Fabric",
+           "FabricError", "FitOutcome", "GIRTHS", "InputError", "PatternError",
+           "SeamSuggestion", "SolverSettings", "Verdict", "VerdictRules", "accept_seams",
+           "add_seam", "body_from_measurements", "check_bulk", "check_sewn", "correct",
+           "correct_design", "describe_fabric", "design_session", "drafted_too_small",
+           "drape_and_evaluate", "evaluate_drape", "evaluate_saved", "fabric_catalogue",
+           "fabric_test", "judge_state", "list_bodies", "list_body_sets", "list_engines",
+           "list_fabrics", "list_garments", "list_sizes", "mesh_garment", "place_and_evaluate",
+           "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric",
+           "read_fabric_with_notes", "read_pattern", "remove_seam", "save_any_pattern",
+           "save_garment", "seam_table", "set_seam_ease", "suggest_seams", "verdict_rules",
+           "with_distance_field", "write_fabric_test_picture", "write_pattern"]
 
 
 def __getattr__(name: str):

@@ -123,7 +123,8 @@ def table2(
     triangles: int = triangles_option(None, "Override the paper's triangle counts (for a "
                                             "quick run)."),
     garments: str = typer.Option("coat,skirt,trousers", help="Comma-separated rows to run."),
-    figures: Path = typer.Option(Path("docs/figures"), help="Where the colour maps go."),
+    figures: Path = typer.Option(Path("reproduce"), help="Folder the colour maps go to.",
+                                 callback=output_folder),
     max_iterations: int = typer.Option(DEFAULTS.table2_rounds, "--max-iterations", "-k",
                                        min=0, help="Correction rounds at most."),
     goal: str = goal_option(DEFAULTS.table2_goal),
@@ -161,7 +162,8 @@ def variants(
     triangles: int = triangles_option(DEFAULTS.triangles),
     fabric: str = typer.Option("stretch_knit", "--fabric", "-f",
                                help="Fabric preset or JSON file."),
-    figures: Path = typer.Option(Path("docs/figures"), help="Where the 3D maps go."),
+    figures: Path = typer.Option(Path("reproduce"), help="Folder the 3D maps go to.",
+                                 callback=output_folder),
     only: str = typer.Option("", help="Comma-separated figure numbers (e.g. 15a,17c)."),
     json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
 ) -> None:
@@ -186,7 +188,7 @@ def variants(
         r = rows[-1]
         console.print(f"Fig. {r['figure']:4} {r['garment']:9} {r['variant']:24} ϖ "
                       f"{r['fitting_ratio'] * 100:6.2f}%  checks "
-                      f"{'passed' if r['checks_passed'] else 'failed'}  {r['seconds']:.1f} s",
-                      highlight=False)
+                      f"{'passed' if r['checks_passed'] else 'failed'}  {r['seconds']:.1f} s"
+                      + "".join(f"\n    {why}" for why in r["reasons"]), highlight=False)
     if json_out:
         print_json(rows)

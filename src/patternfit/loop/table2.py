@@ -23,6 +23,7 @@ from ..edit import grade
 from ..fit.metrics import FitEvaluator
 from ..fit.maps import gap_scale, plot_measure_maps, pressure_scale
 from ..fit.pictures import plot_3d_map, plot_sections
+from ..fit.report import failure
 from ..pattern.library import build
 from ..sim.placement import place_on_body
 from .correct import CorrectionSettings, correct
@@ -91,10 +92,11 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
                                 ("after", session.state, result.iterations[-1])):
             fit = FitEvaluator(state.mesh)(state.positions)
             stem = figures / f"table2_{row.garment}_{name}"
+            failed = failure(state.checks)  # a failed drape's maps say so, never a fit
             plot_regions(state.mesh, fit, it.regions, f"{stem}_2d.png",
-                         title=f"{row.garment} on {row.body} ({name})")
+                         title=f"{row.garment} on {row.body} ({name})", failed=failed)
             plot_3d_map(state.positions, state.mesh, fit, f"{stem}_3d.png", body=body,
-                        title=f"{row.garment} on {row.body} ({name})")
+                        title=f"{row.garment} on {row.body} ({name})", failed=failed)
             compress_png(f"{stem}_3d.png", f"{stem}_3d.png")
             if it.measured is not None:
                 head = (f"{row.garment} on {row.body} ({name}): "
@@ -174,20 +176,22 @@ def format_table(rows: list[dict]) -> str:
 
 
 #: The variants of the paper's Figs 15–17: (figure, garment, body, label, size, (sx, sy)),
-#: (sx, sy) a grading of every panel across / along the grain about its centre.
+#: (sx, sy) a grading of every panel across / along the grain about its centre. The original
+#: size is the Table 2 row's (the thin bodies wear S: an M skirt or trousers slides more than
+#: 10 cm below their waist), the large one the next size up.
 VARIANTS = (
     ("15a", "coat", "male_heavy", "original size", "M", (1.0, 1.0)),
     ("15b", "coat", "male_heavy", "small (65% width)", "M", (0.65, 1.0)),
     ("15c", "coat", "male_heavy", "large size", "L", (1.0, 1.0)),
     ("15d", "coat", "male_heavy", "lengthened 10%", "M", (1.0, 1.1)),
     ("15e", "coat", "male_heavy", "shortened 10%", "M", (1.0, 0.9)),
-    ("16a", "skirt", "female_thin", "original size", "M", (1.0, 1.0)),
-    ("16b", "skirt", "female_thin", "stretched 15% in length", "M", (1.0, 1.15)),
+    ("16a", "skirt", "female_thin", "original size", "S", (1.0, 1.0)),
+    ("16b", "skirt", "female_thin", "stretched 15% in length", "S", (1.0, 1.15)),
     ("16c", "skirt", "female_thin", "small (size S, 60% width)", "S", (0.6, 1.0)),
-    ("17a", "trousers", "male_thin", "original size", "M", (1.0, 1.0)),
-    ("17b", "trousers", "male_thin", "stretched 10% in length", "M", (1.0, 1.1)),
+    ("17a", "trousers", "male_thin", "original size", "S", (1.0, 1.0)),
+    ("17b", "trousers", "male_thin", "stretched 10% in length", "S", (1.0, 1.1)),
     ("17d", "trousers", "male_thin", "small (size S, 50% width)", "S", (0.5, 1.0)),
-    ("17c", "trousers", "male_thin", "large size", "L", (1.0, 1.0)),
+    ("17c", "trousers", "male_thin", "large size (M)", "M", (1.0, 1.0)),
 )
 
 
@@ -212,9 +216,11 @@ def run_variant(variant, *, triangles: int = 3000, fabric: str = "stretch_knit",
         path = figures / f"fig{fig}_{garment}_{label.split()[0]}.png"
         plot_3d_map(session.positions, session.mesh, fit, path,
                     body=(session.body.vertices, session.body.faces),
-                    title=f"Fig. {fig}: {garment}, {label}")
+                    title=f"Fig. {fig}: {garment}, {label}",
+                    failed=failure(session.state.checks))
         compress_png(path, path)
     return {"figure": fig, "garment": garment, "body": body, "variant": label, "size": size,
             "fabric": fabric, "fitting_ratio": fit.fitting_ratio,
             "checks_passed": bool(session.state.checks["passed"]),
+            "reasons": list(session.state.checks.get("reasons", [])),
             "seconds": time.perf_counter() - t0}

@@ -78,7 +78,8 @@ def load_any_pattern(path, *, size: str | None = None, units: str | None = None)
     units : a DXF's length unit ("mm", "cm", "in", "m"), over what the file says or the
         reader guesses; refused for a JSON file, which states its own.
 
-    ``pattern.meta["source_format"]`` says which reader was used.
+    ``pattern.meta["source_format"]`` says which reader was used; a patternfit JSON file
+    converted from another format keeps that format in ``meta["converted_from"]``.
     """
     kind = sniff_format(path)
     if kind == "dxf":
@@ -94,7 +95,11 @@ def load_any_pattern(path, *, size: str | None = None, units: str | None = None)
         pattern = load_garmentcode(path)
     else:
         pattern = load_pattern(path)
-        pattern.meta.setdefault("source_format", "patternfit")
+        # a file converted from a DXF keeps what it came from, apart from the reader used now
+        before = pattern.meta.get("source_format")
+        if before not in (None, "patternfit"):
+            pattern.meta.setdefault("converted_from", before)
+        pattern.meta["source_format"] = "patternfit"
     has = pattern.meta.get("size")
     if size is not None and str(size).strip().upper() != str(has).strip().upper():
         graded = pattern.meta.get("sizes")
