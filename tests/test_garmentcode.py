@@ -288,6 +288,6 @@ def test_a_file_in_millimetres_without_its_unit_is_said(tmp_path):
     del doc["properties"]["units_in_meter"]
     pattern = garmentcode_from_dict(doc)
     said = " ".join(pattern.meta.get("warnings", []))
-    assert "panel 'front' is 6 m across, read in cm" in said
+    assert "panel 'front' is 6 m across, read in centimetres" in said
     assert "\"units_in_meter\": 1000" in said
     assert not garmentcode_from_dict(_doc({"front": _square()})).meta.get("warnings")

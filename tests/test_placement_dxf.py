@@ -3,6 +3,7 @@ round trip of the built-in dress and coat once slid them to the hips, their anch
 in ``meta``, which a DXF does not carry. The round trip is the user's:
 ``patternfit convert X.json X.dxf``, then the DXF read back (with its side file)."""
 
+import json
 import warnings
 
 import numpy as np
@@ -136,3 +137,35 @@ def test_an_accumark_skirt_with_allowance_hangs_from_the_waist(tmp_path, grain):
     assert np.median(at["FRONT SKIRT"][:, 2]) > 0 > np.median(at["BACK SKIRT"][:, 2])
     # the waist (the top of the pieces as drawn) at the top: upright, not upside down
     assert np.corrcoef(mesh.vertices[:, 1], x[:, 1])[0, 1] > 0.9
+
+
+@pytest.mark.parametrize("grain, warned", [(((100, 200), (300, 200)), True),
+                                           (((300, 230), (100, 200)), True),
+                                           (((100, 100), (140, 300)), False)])
+def test_a_grain_line_lying_on_its_side_is_warned(tmp_path, grain, warned):
+    """AccuMark draws many pieces on their side: a horizontal grain line says nothing of
+    which end is up, and the order of its two points decided it without a word (a real
+    AccuMark half back hung with its hem up, or not, by which point came first)."""
+    piece = skirt_piece()
+    piece["grain"] = grain
+    pattern = load_any_pattern(accumark(tmp_path / "s.dxf", [piece], scale=1.0))
+    said = [w for w in pattern.meta.get("warnings", []) if "grain line within 20°" in w]
+    assert bool(said) == warned
+    if warned:
+        assert f"piece '{piece['name']}'" in said[0] and "side file" in said[0]
+
+
+def test_every_command_that_reads_a_pattern_says_its_warnings(tmp_path):
+    """convert and drape printed what the reader noticed; mesh and seams said nothing,
+    even with --json."""
+    piece = skirt_piece()
+    piece["grain"] = ((100, 200), (300, 200))
+    path = accumark(tmp_path / "s.dxf", [piece], scale=1.0)
+    runner = CliRunner()
+    for args in (["mesh", str(path), "--triangles", "200", "--out", str(tmp_path / "m")],
+                 ["seams", str(path)]):
+        said = runner.invoke(app, args)
+        assert said.exit_code == 0, said.output
+        assert "warning:" in said.output and "grain line within 20°" in said.output
+        as_json = json.loads(runner.invoke(app, [*args, "--json"]).output)
+        assert any("grain line within 20°" in w for w in as_json["warnings"])

@@ -16,7 +16,7 @@ from ..defaults import DEFAULTS
 from .app import (SIZE_HELP, app, console, fail, finite, output_folder, print_json,
                   triangles_option, verdict_options)
 from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
-                   run_correction)
+                   print_pattern_warnings, run_correction)
 
 Out = typer.Option(..., "--out", "-o", help="Output folder (created if missing).",
                    callback=output_folder)
@@ -94,10 +94,12 @@ def mesh(
     info = {"garment": pat.name, "folder": str(out), "vertices": m.n_vertices,
             "triangles": m.n_triangles, "panels": len(m.panel_names), "seams": len(m.seam_names),
             "seam_pairs": int(len(m.seam_pairs)),
-            "min_angle_deg": smallest_angle(m.vertices, m.triangles), "seconds": seconds}
+            "min_angle_deg": smallest_angle(m.vertices, m.triangles), "seconds": seconds,
+            "warnings": list(pat.meta.get("warnings", []))}
     if json_out:
         print_json(info)
     else:
+        print_pattern_warnings(info["warnings"])
         console.print(f"meshed '{pat.name}': {m.n_vertices} vertices, {m.n_triangles} triangles, "
                       f"min angle {info['min_angle_deg']:.1f}°, {info['seam_pairs']} seam pairs "
                       f"in {seconds * 1000:.0f} ms → {out}/")

@@ -10,6 +10,7 @@ import typer
 
 from ..pattern.errors import PatternError
 from .app import SIZE_HELP, app, console, fail, print_json
+from .show import print_pattern_warnings
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -60,8 +61,7 @@ def convert(
               "for another)" if len(result["sizes"]) > 1 else "")
     console.print(f"read {source} ({result['source_format']}): {len(pattern.panels)} pieces, "
                   f"{len(pattern.seams)} seams{graded}", highlight=False)
-    for w in warnings:
-        console.print(f"[yellow]warning:[/] {w}", highlight=False)
+    print_pattern_warnings(warnings)
     if suggested:
         console.print(f"{len(suggested)} seams suggested (not applied; review and sew them "
                       f"with: patternfit seams {source} --suggest --accept):",

@@ -11,7 +11,7 @@ from ..defaults import DEFAULTS
 from .app import (INTERRUPTED, SIZE_HELP, app, console, fail, finite, output_folder, positive,
                   print_json, triangles_option, verdict_options)
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
-                   say_guessed_units)
+                   print_pattern_warnings, say_guessed_units)
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -98,8 +98,7 @@ def drape(
     if json_out:
         print_json(report)
     else:
-        for w in report.get("pattern_warnings", []):
-            console.print(f"[yellow]warning:[/] {w}", highlight=False)
+        print_pattern_warnings(report.get("pattern_warnings"))
         print_fit_summary(report, out, outcome.seconds)
         print_drape_checks(report)
     if outcome.interrupted:

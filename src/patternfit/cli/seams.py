@@ -10,7 +10,7 @@ from typing import List, Optional
 import typer
 
 from .app import app, console, fail, print_json
-from .show import print_seam_suggestions, print_seams
+from .show import print_pattern_warnings, print_seam_suggestions, print_seams
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -102,8 +102,10 @@ def seams(
                                      "score": s.score, "reasons": list(s.reasons)}
                                     for s in suggestions],
                     "accepted": bool(accept and suggestions),
-                    "written": [str(w) for w in written]})
+                    "written": [str(w) for w in written],
+                    "warnings": list(p.meta.get("warnings", []))})
         return
+    print_pattern_warnings(p.meta.get("warnings"))
     print_seams(p.name, rows, len(p.panels))
     if suggest or accept:
         print_seam_suggestions([(api.seam_table(_one(p, s.seam))[-1], s.score, s.reasons)

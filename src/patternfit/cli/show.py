@@ -21,6 +21,14 @@ def num(value, spec: str, scale: float = 1.0, unit: str = "") -> str:
     return format(value * scale, spec) + (unit if unit in ("", "%") else f" {unit}")
 
 
+def print_pattern_warnings(warnings) -> None:
+    """What the reader noticed in a pattern file (``meta["warnings"]``: a piece of an
+    implausible size, a grain line on its side...), one yellow line each; every command
+    that reads a pattern says it, not only some."""
+    for w in warnings or ():
+        console.print(f"[yellow]warning:[/] {w}", highlight=False)
+
+
 def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
     """The per-panel table, ϖ, fit classes and mesh of a fit ``report`` written to ``out``."""
     failed = (report.get("checks") or {}).get("passed") is False

@@ -27,8 +27,8 @@ from typing import Any
 from ..constants import UNITS, limits, tol
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
 from .dxf_entities import LINE_KINDS, layer_of, why
-from .dxf_format import (LAYERS, PIECE_LAYERS, curve_tolerance, field, file_scale, read_document,
-                         read_piece, texts)
+from .dxf_format import (LAYERS, PIECE_LAYERS, SIDEWAYS_GRAIN, curve_tolerance, field,
+                         file_scale, read_document, read_piece, sideways, texts)
 from .dxf_grades import graded_meta, pick_size, pieces_in_size, share_quantities, sizes_of
 from .dxf_notches import notch_marks
 from .dxf_pieces import copy_names, panels_from_piece
@@ -224,6 +224,11 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
                  f" and {len(p.sew)} sew lines (layer 14): the largest of each is read, the "
                  "others are not (one piece per block)"
                  for p in pieces_in_size(pieces, chosen) if max(len(p.cut), len(p.sew)) > 1]
+    warnings += [f"piece '{p.name or p.block}' has its grain line within {SIDEWAYS_GRAIN:g}° of "
+                 "horizontal: drawn on its side, so which end is up was taken from the order "
+                 "the file writes the line's two points; if it drapes upside down, give its "
+                 "'grainline' in the side file (docs/interchange.md)"
+                 for p in pieces_in_size(pieces, chosen) if not p.ours and sideways(p.grain)]
     if loose:
         warnings.append(f"the drawing has {loose} line(s) on the piece layers outside any "
                         "block: not read (DXF-AAMA draws each piece in a block of its own)")

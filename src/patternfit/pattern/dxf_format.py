@@ -281,3 +281,14 @@ def read_piece(block, scale: float) -> RawPiece | None:
             piece.grain = (float(d[0]), float(d[1]))
             break
     return piece
+
+
+#: a grain line closer than this to the drawing's horizontal [degrees] says nothing of
+#: which of the piece's ends is up (AccuMark draws many pieces on their side)
+SIDEWAYS_GRAIN = 20.0
+
+
+def sideways(grain) -> bool:
+    """Whether grain axis ``grain`` (2,) lies within :data:`SIDEWAYS_GRAIN` of horizontal."""
+    return grain is not None and \
+        abs(grain[1]) < np.tan(np.radians(SIDEWAYS_GRAIN)) * abs(grain[0])

@@ -18,7 +18,9 @@ PLAUSIBLE = (0.01, 3.0)
 #: pattern is probably read in too small a unit (CLO writes ``UNITS: METRIC`` over centimetres)
 PLAUSIBLE_LARGEST = 0.1
 
-_UNIT_NAMES = {0.001: "mm", 0.01: "cm", 0.0254: "in", 0.3048: "ft", 1.0: "m"}
+#: the units as a message names them ("read in in" read as a typo)
+_UNIT_NAMES = {0.001: "millimetres", 0.01: "centimetres", 0.0254: "inches", 0.3048: "feet",
+               1.0: "metres"}
 
 
 def size_warnings(panels, scale: float, unit_says: str, *,

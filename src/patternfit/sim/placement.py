@@ -312,8 +312,9 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     keep = not bad
     if bad:
         warnings.warn(PlacementWarning(
-            f"the imported 3D placement of {len(bad)} panel(s) is not around the body and was "
-            f"replaced by patternfit's: {'; '.join(bad)}"), stacklevel=2)
+            f"the imported 3D placement is not around the body ({len(bad)} of "
+            f"{len(pattern.panels)} panels: {'; '.join(bad)}): every panel is placed by "
+            "patternfit instead"), stacklevel=2)
     roles = panel_roles(pattern)
     flat = upright_frames(pattern, mesh, roles)
     lm = body.landmarks
