@@ -318,21 +318,24 @@ def test_a_garment_hung_upside_down_fails():
 
 
 def test_a_garment_turned_round_the_body_fails():
-    """A dress whose explicit placement turns it a quarter round drapes with its front at
-    the side (the neckline a notch on the chest) and passed as "too tight"; its front and
-    back panels now hang 84-92 degrees from their sides and fail."""
+    """A dress whose explicit placement turned it a quarter round draped with its front at
+    the side (the neckline a notch on the chest) and passed as "too tight". A garment hung
+    from the neck is now always placed by patternfit, so a skirt (whose plausible file
+    placement is kept) is turned here: its front and back panels hang about 90 degrees from
+    their sides and fail."""
     from patternfit.pattern.model import Placement
 
-    dress = build("dress")
-    turned = {"front": Placement("torso", "front", (0.20, 0.42, 0.0), (0.0, 90.0, 0.0)),
-              "back": Placement("torso", "back", (-0.20, 0.42, 0.0), (0.0, -90.0, 0.0))}
-    dress2 = replace(dress, panels=tuple(replace(p, placement=turned[p.name])
-                                         for p in dress.panels))
-    outcome = api.drape_and_evaluate(dress2, "female_average", "cotton", triangles=1000)
+    skirt = build("skirt")
+    y = 1.056 + 0.01 - 0.6  # female_average's waist, less the panels' height
+    turned = {"front": Placement("torso", "front", (0.20, y, 0.0), (0.0, 90.0, 0.0)),
+              "back": Placement("torso", "back", (-0.20, y, 0.0), (0.0, -90.0, 0.0))}
+    skirt2 = replace(skirt, panels=tuple(replace(p, placement=turned[p.name])
+                                         for p in skirt.panels))
+    outcome = api.drape_and_evaluate(skirt2, "female_average", "cotton", triangles=1000)
     checks = outcome.checks
     assert checks["side_angle_max_deg"] > 80 and not outcome.passed
     assert any(r.startswith("turned round the body: panel 'front'") for r in checks["reasons"])
-    upright = api.drape_and_evaluate(dress, "female_average", "cotton", triangles=1000)
+    upright = api.drape_and_evaluate(skirt, "female_average", "cotton", triangles=1000)
     assert upright.checks["side_angle_max_deg"] < 10 and upright.passed
 
 

@@ -270,3 +270,21 @@ def test_a_garmentcode_hood_drawn_sideways_without_names():
 def test_no_panel_of_a_garment_without_a_hood_reads_as_one(name):
     bare, _ = unnamed(gc(name))
     assert all(r.kind != "hood" for r in panel_roles(bare).values())
+
+
+def test_a_garment_hung_from_the_neck_is_placed_here_whatever_its_file_says():
+    """GarmentCode's flat panels, front and back 45 cm apart, were kept for a top whose
+    height matched the body's neck: five of its garments (shirt, hoodie, jumpsuit, pencil
+    and tiered dresses) then failed on female_average, straps pulled off the shoulders and
+    underarms crossed, where they drape with every check passed from patternfit's own
+    placement. A skirt's plausible placement is still kept."""
+    body = load_body("female_average")
+    for name, kept in (("skirt", True), ("dress", False)):
+        pattern = build(name)
+        mesh = mesh_pattern(pattern, triangles=600)
+        placed = planes_placed(pattern, mesh, body)
+        assert implausible_placements(placed, mesh, body) == []  # plausible by every measure
+        x = place_on_body(placed, mesh, body)
+        flat_planes = [np.ptp(x[mesh.panel_vertices(i), 2]) < 1e-6
+                       for i, p in enumerate(placed.panels) if p.placement.explicit]
+        assert flat_planes and all(flat_planes) == kept, name

@@ -29,10 +29,12 @@ the top, so that our own patterns come back unchanged.
 A file without it gets part ``"torso"`` and its side from the sign of the translation's z
 (front: z >= 0), with the file's explicit 3D placement. The reader judges neither: placement
 reads each panel's body part from its name, seams and shape
-(:func:`patternfit.pattern.roles.panel_roles`) and uses the file's 3D placement only where
-it is around the body (:func:`patternfit.sim.panel_frames.implausible_placements`; older
-templates put the panels at the feet or 25 m below), re-placing the garment with a warning
-naming the panels otherwise.
+(:func:`patternfit.pattern.roles.panel_roles`) and uses the file's 3D placement only for a
+garment hung from the waist whose placement is around the body
+(:func:`patternfit.sim.panel_frames.implausible_placements`; older templates put the panels
+at the feet or 25 m below), re-placing the garment otherwise (with a warning naming the
+panels when they are not around the body; a top's flat panels sewn across the shoulders
+failed, :func:`patternfit.sim.placement.place_on_body`).
 """
 
 from __future__ import annotations

@@ -303,13 +303,18 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
 
     Panels with an explicit 3D placement (``Placement.translation`` / ``rotation``, as
     GarmentCode files carry) keep it when it is plausible on this body
-    (:func:`implausible_placements`); otherwise the whole garment is placed here, with a
-    :class:`PlacementWarning` naming the panels. Returns positions (n, 3) [m], one per flat
-    vertex.
+    (:func:`implausible_placements`) and the garment hangs from the waist; otherwise the
+    whole garment is placed here, with a :class:`PlacementWarning` naming the panels when
+    the placement is not around the body. A garment hung from the neck is always placed
+    here: GarmentCode lays its panels out flat, front and back some 45 cm apart, and sewing
+    those across the shoulders and round the arms failed every one of five GarmentCode
+    garments on female_average (straps pulled off the shoulders, underarms crossed) that
+    drape with every check passed from this placement (docs/interchange.md). Returns
+    positions (n, 3) [m], one per flat vertex.
     """
     clearance = checked_clearance(clearance)
     bad = implausible_placements(pattern, mesh, body)
-    keep = not bad
+    keep = not bad and pattern.anchor != "neck"
     if bad:
         warnings.warn(PlacementWarning(
             f"the imported 3D placement is not around the body ({len(bad)} of "
