@@ -274,6 +274,8 @@ def test_a_library_warning_is_one_plain_line():
     @tool.command()
     def warn():
         warnings.warn(PlacementWarning("the placement of 'front' was replaced"))
+        # the same text from another line (a drape's coarse and fine placements): once
+        warnings.warn(PlacementWarning("the placement of 'front' was replaced"))
 
     @tool.command()
     def other():
@@ -283,6 +285,7 @@ def test_a_library_warning_is_one_plain_line():
     assert r.exit_code == 0, r.output
     assert "warning: the placement of 'front' was replaced" in r.output
     assert "PlacementWarning" not in r.output and ".py:" not in r.output
+    assert r.output.count("was replaced") == 1
 
 
 def test_a_journal_that_came_with_a_folder_replaces_nothing_elsewhere(pattern_file, tmp_path):

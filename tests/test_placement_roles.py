@@ -288,3 +288,50 @@ def test_a_garment_hung_from_the_neck_is_placed_here_whatever_its_file_says():
         flat_planes = [np.ptp(x[mesh.panel_vertices(i), 2]) < 1e-6
                        for i, p in enumerate(placed.panels) if p.placement.explicit]
         assert flat_planes and all(flat_planes) == kept, name
+
+
+def _gored_skirt(per_side: int):
+    """A skirt of ``per_side`` gores a side sewn into a ring (front_1 .. front_k, then
+    back_1 .. back_k round the other way), each 12 cm at the waist, 24 cm at the hem, 60
+    cm long, its grain up the middle: GarmentCodeData's many-gored skirts."""
+    from patternfit.pattern.model import Edge, Loop, Panel, Pattern, Seam, SeamSide
+
+    def gore(name, side):
+        w, h, t = 0.12, 0.24, 0.6
+        return Panel(name, Loop("outline", (
+            Edge.line("hem", (-h / 2, 0), (h / 2, 0)), Edge.line("right", (h / 2, 0), (w / 2, t)),
+            Edge.line("waist", (w / 2, t), (-w / 2, t)),
+            Edge.line("left", (-w / 2, t), (-h / 2, 0)))),
+            placement=Placement("torso", side), grainline=(0.0, 1.0))
+
+    names = [f"front_{i}" for i in range(per_side)] + [f"back_{i}" for i in range(per_side)]
+    panels = tuple(gore(n, n.split("_")[0]) for n in names)
+    seams = tuple(Seam(f"s{i}", SeamSide(names[i], "right"),
+                       SeamSide(names[(i + 1) % len(names)], "left"))
+                  for i in range(len(names)))
+    return Pattern("gored", panels, seams, {"anchor": "waist"})
+
+
+@pytest.mark.parametrize("per_side", [1, 2, 4])
+def test_the_gores_of_one_side_are_placed_side_by_side(per_side):
+    """GarmentCodeData's eight-gored skirt had its four front gores centred one on another,
+    and the four back ones: sewn together through each other, the drape failed with 4,765
+    crossed pairs. A side's gores now lie in a row in seam order round the body."""
+    body = load_body("female_average")
+    pattern = _gored_skirt(per_side)
+    mesh = mesh_pattern(pattern, triangles=300 * per_side)
+    x = place_on_body(pattern, mesh, body)
+    solver = GarmentSolver(mesh.vertices, mesh.triangles, mesh.grain[mesh.triangle_panel],
+                           get_fabric("cotton_shirting"), seam_pairs=mesh.seam_pairs)
+    assert solver.crossings(x) == 0
+    # each gore's own angle round the body, its neighbours' apart
+    centre = np.asarray(body.landmarks["torso_axis"])[:, [0, 2]].mean(axis=0)
+    angles = []
+    for i in range(len(pattern.panels)):
+        c = x[mesh.panel_vertices(i)][:, [0, 2]].mean(axis=0) - centre
+        angles.append(np.degrees(np.arctan2(c[0], c[1])))
+    front = np.array(angles[:per_side])
+    assert np.all(np.abs(front) < 90)  # on the front
+    if per_side > 1:
+        steps = np.abs(np.diff(front))
+        assert steps.min() > 10, front  # not centred one on another

@@ -39,9 +39,18 @@ INTERNAL = 3
 INTERRUPTED = 130
 
 
-def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
-    """``warnings.showwarning`` of the commands: ``warning: <message>`` in yellow."""
-    console.print(f"[yellow]warning:[/] {escape(str(message))}", highlight=False)
+def _warning_printer():
+    """A ``warnings.showwarning`` for one command: ``warning: <message>`` in yellow, each
+    text once (a drape places its coarse and its fine mesh: the same placement warning
+    came twice)."""
+    shown: set[str] = set()
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        text = str(message)
+        if text not in shown:
+            shown.add(text)
+            console.print(f"[yellow]warning:[/] {escape(text)}", highlight=False)
+    return show
 
 
 class Group(TyperGroup):
@@ -67,7 +76,7 @@ class _Boundary(Group):
             with warnings.catch_warnings():
                 # a library warning (a placement replaced, a unit guessed) is one line to
                 # the user, not Python's "file:line: Category: message"
-                warnings.showwarning = _show_warning
+                warnings.showwarning = _warning_printer()
                 return super().invoke(ctx)
         except (typer.Exit, typer.Abort, TyperException):
             raise  # exits, usage errors: Typer prints these itself

@@ -202,50 +202,76 @@ def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, flo
     return float(np.abs(d[:, 0]).max()), float(d[:, 1].max()), float(-d[:, 1].min())
 
 
-#: half panels start this far [m] either side of the centre line they are sewn along (not
+#: panels of one side sewn along a vertical seam start this far [m] either side of it (not
 #: touching: the solver counts touching cloth as crossed)
 HALF_GAP = 0.005
 
 
-def _halves(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray, roles) -> dict[int, float]:
-    """{panel index: u shift [m]} for torso panels sewn along a vertical seam to another
-    of the same kind and side (a left and a right half, as GarmentCode drafts bodices): the
-    shift puts that seam at u = 0, so the halves lie side by side about the centre line
-    instead of each centred on it."""
+def _side_rows(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray,
+               roles) -> dict[int, tuple[float, float]]:
+    """{panel index: (u shift [m], half-width of its row [m])} for torso panels sewn along
+    vertical seams to others of the same kind and side: a row laid out side by side in seam
+    order and centred on that side, instead of each panel centred on it. A left and a right
+    half (GarmentCode's bodices) are a row of two; a skirt of eight gores, four a side, a
+    row of four on each: centred one on another, the gores were sewn through each other
+    (4,765 crossed pairs)."""
     index = {p.name: i for i, p in enumerate(pattern.panels)}
-    out = {}
+    links: dict[int, list[tuple[int, float]]] = {}
     for k, s in enumerate(pattern.seams):
         ra, rb = roles[s.a.panel], roles[s.b.panel]
         if s.a.panel == s.b.panel or ra.part != "torso" or rb.part != "torso" or \
                 (ra.kind, ra.side) != (rb.kind, rb.side) or ra.side not in ("front", "back"):
             continue
         pairs = mesh.seam_pairs[mesh.seam_index == k]
-        for name, col in ((s.a.panel, 0), (s.b.panel, 1)):
-            uv = flat[pairs[:, col]]
-            if np.ptp(uv[:, 0]) < 0.3 * np.ptp(uv[:, 1]):  # a centre line runs up the body
-                seam = float(uv[:, 0].mean())
-                away = 1.0 if flat[mesh.panel_vertices(index[name]), 0].mean() > seam else -1.0
-                out[index[name]] = away * HALF_GAP - seam
+        ua, ub = flat[pairs[:, 0]], flat[pairs[:, 1]]
+        # a seam running up the body on both panels (not a yoke's or a band's)
+        if max(np.ptp(ua[:, 0]) / max(np.ptp(ua[:, 1]), 1e-9),
+               np.ptp(ub[:, 0]) / max(np.ptp(ub[:, 1]), 1e-9)) >= 0.3:
+            continue
+        a, b = index[s.a.panel], index[s.b.panel]
+        links.setdefault(a, []).append((b, float(ua[:, 0].mean())))
+        links.setdefault(b, []).append((a, float(ub[:, 0].mean())))
+    u = {i: flat[mesh.panel_vertices(i), 0] for i in links}
+    out: dict[int, tuple[float, float]] = {}
+    for first in sorted(links):
+        if first in out:
+            continue
+        shift, queue = {first: 0.0}, [first]
+        while queue:
+            i = queue.pop(0)
+            for j, seam_i in links[i]:
+                if j in shift:
+                    continue
+                # next to its neighbour on the seam's side, clear of it at their widest (a
+                # flared gore's slanted seams, put together, crossed below the middle)
+                if seam_i > u[i].mean():
+                    shift[j] = u[i].max() + shift[i] + 2.0 * HALF_GAP - u[j].min()
+                else:
+                    shift[j] = u[i].min() + shift[i] - 2.0 * HALF_GAP - u[j].max()
+                queue.append(j)
+        lo = min(float(u[i].min()) + d for i, d in shift.items())
+        hi = max(float(u[i].max()) + d for i, d in shift.items())
+        mid = 0.5 * (lo + hi)
+        out.update({i: (d - mid, 0.5 * (hi - lo)) for i, d in shift.items()})
     return out
 
 
 def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
-                 arm_gap, shift: float | None = None) -> np.ndarray:
+                 arm_gap, row: tuple[float, float] | None = None) -> np.ndarray:
     """A torso panel: rolled on an ellipse clear of the body, centred on its ``side``
-    (front, back, or the body's left / right for a hood's halves), or moved across by
-    ``shift`` [m] (a half panel: its centre seam on the middle of that side); on a winged
-    profile when too wide to wrap."""
+    (front, back, or the body's left / right for a hood's halves), or, one of a ``row``
+    of panels sewn side by side (:func:`_side_rows`), moved across by its shift [m] on the
+    ring the whole row's half-width [m] needs; on a winged profile when too wide to wrap."""
     y0, y1 = uv[:, 1].min() + dy, uv[:, 1].max() + dy
     hw, front, back = _torso_extent(body, y0, y1, centre)
     depth = max(front, back)
     ring = Ellipse(hw + clearance, depth + clearance, centre)
-    width = float(np.ptp(uv[:, 0])) if shift is None else 2.0 * float(
-        np.abs(uv[:, 0] + shift).max())
+    width = float(np.ptp(uv[:, 0])) if row is None else 2.0 * row[1]
     grow = width / (0.5 * ring.perimeter * 0.97)
-    if shift is None:
+    if row is None:
         uv = _centred(uv)
     else:
-        uv = uv + [shift, 0.0]
+        uv = uv + [row[0], 0.0]
     if grow <= width_limit:
         if grow > 1:
             ring = Ellipse(ring.a * grow, ring.b * grow, centre)
@@ -324,7 +350,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     flat = upright_frames(pattern, mesh, roles)
     lm = body.landmarks
     dy = _vertical_offset(pattern, flat, mesh, roles, body)
-    halves = _halves(pattern, mesh, flat, roles)
+    rows = _side_rows(pattern, mesh, flat, roles)
     arm_gap = 0.5 * body.measurements.get("bicep", 0.32) / math.pi + clearance + 0.02
     x = np.zeros((mesh.n_vertices, 3))
     torso = np.asarray(lm["torso_axis"])[:, [0, 2]].mean(axis=0)
@@ -342,7 +368,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             arms.setdefault(role.part, []).append(pi)
         else:
             x[ids] = _place_torso(role.side, uv, body, torso, dy, clearance, width_limit,
-                                  arm_gap, halves.get(pi))
+                                  arm_gap, rows.get(pi))
     for part, panels in legs.items():
         side = part.split("_")[1]
         top, bottom = np.asarray(lm[f"leg_axis_{side}"])
