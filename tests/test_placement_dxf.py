@@ -152,7 +152,26 @@ def test_a_grain_line_lying_on_its_side_is_warned(tmp_path, grain, warned):
     said = [w for w in pattern.meta.get("warnings", []) if "grain line within 20°" in w]
     assert bool(said) == warned
     if warned:
-        assert f"piece '{piece['name']}'" in said[0] and "side file" in said[0]
+        assert f"panel '{piece['name']}'" in said[0] and "side file" in said[0]
+
+
+def test_a_sideways_grain_set_in_the_side_file_or_a_band_is_not_warned(tmp_path):
+    """The warning stayed after the side file gave the grain line it asks for, and a
+    waistband drawn lengthwise (its up taken from its shape) was warned too."""
+    piece = skirt_piece()
+    piece["grain"] = ((100, 200), (300, 200))
+    band = {"name": "WAISTBAND", "grain": ((100, 20), (600, 20)),
+            "runs": [np.array([(0, 0), (700, 0)]), np.array([(700, 0), (700, 40)]),
+                     np.array([(700, 40), (0, 40)]), np.array([(0, 40), (0, 0)])]}
+    path = accumark(tmp_path / "s.dxf", [piece, band], scale=1.0)
+    said = [w for w in load_any_pattern(path).meta.get("warnings", [])
+            if "grain line within 20°" in w]
+    assert len(said) == 1 and "panel 'SKIRT'" in said[0]
+    (tmp_path / "s.seams.json").write_text(json.dumps(
+        {"format": "patternfit-dxf-sidecar", "panels": {"SKIRT": {"grainline": [0, 1]}}}))
+    pattern = load_any_pattern(path)
+    assert pattern.panel("SKIRT").grainline == (0.0, 1.0)
+    assert not [w for w in pattern.meta.get("warnings", []) if "grain line within" in w]
 
 
 def test_every_command_that_reads_a_pattern_says_its_warnings(tmp_path):

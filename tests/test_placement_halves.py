@@ -34,18 +34,19 @@ def half(points, curved, name, z):
                   "vertices": points, "edges": edges, "label": "body"}
 
 
-def vest(y=0.0):
+def vest(y=0.0, left=25):
     """A sleeveless top in four halves; its panels at height ``y`` [cm] (0: at the feet,
-    where nothing keeps the file's placement)."""
+    where nothing keeps the file's placement), its left halves ``left`` cm wide at the hem
+    (the right ones 25)."""
     panels = dict([
         # fronts counter-clockwise: hem, side, armhole, shoulder, neckline, centre front
-        half([[0, 0], [25, 0], [25, 30], [15, 45], [8, 47], [0, 38]], {2: ARMHOLE, 4: NECK},
-             "left_ftorso", 25.0),
+        half([[0, 0], [left, 0], [left, 30], [15, 45], [8, 47], [0, 38]],
+             {2: ARMHOLE, 4: NECK}, "left_ftorso", 25.0),
         half([[0, 0], [0, 38], [-8, 47], [-15, 45], [-25, 30], [-25, 0]],
              {1: NECK, 3: ARMHOLE}, "right_ftorso", 25.0),
         # backs clockwise: centre back, neckline, shoulder, armhole, side, hem
-        half([[0, 0], [0, 42], [8, 47], [15, 45], [25, 30], [25, 0]], {1: NECK, 3: ARMHOLE},
-             "left_btorso", -20.0),
+        half([[0, 0], [0, 42], [8, 47], [15, 45], [left, 30], [left, 0]],
+             {1: NECK, 3: ARMHOLE}, "left_btorso", -20.0),
         half([[0, 0], [-25, 0], [-25, 30], [-15, 45], [-8, 47], [0, 42]],
              {2: ARMHOLE, 4: NECK}, "right_btorso", -20.0)])
     for p in panels.values():
@@ -149,3 +150,19 @@ def test_a_dxf_round_trip_keeps_which_panels_are_turned_over(tmp_path):
     names = {n: {p.panels[i].name for i in _turned_over(p, panel_roles(p))}
              for n, p in (("file", pattern), ("dxf", back))}
     assert names["file"] == names["dxf"] == {"left_btorso", "right_btorso", "left_lapel"}
+
+
+@pytest.mark.parametrize("left", [15, 25, 35])
+def test_the_centre_seam_is_on_the_middle_however_wide_each_half(left):
+    """Halves of unequal width: laid as a row, the centre front and back seams were put
+    where the row's middle fell (up to 5.5 cm off the body's centre), not on the centre."""
+    body = load_body("male_average")
+    pattern = vest(left=left)
+    mesh = mesh_pattern(pattern, triangles=800)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlacementWarning)
+        x = place_on_body(pattern, mesh, body)
+    centre = np.asarray(body.landmarks["torso_axis"])[:, [0, 2]].mean(axis=0)
+    for k, seam in enumerate(pattern.seams[:2]):  # centre front, centre back
+        pairs = mesh.seam_pairs[mesh.seam_index == k]
+        assert abs(x[pairs].reshape(-1, 3)[:, 0].mean() - centre[0]) < 0.002, seam.name

@@ -219,7 +219,8 @@ def evaluate_drape(mesh: GarmentMesh, positions: np.ndarray, *, tight: float = 0
     state whose 3D area has collapsed to nothing (a failed drape, never a fit: the on-body
     checks of :func:`drape_and_evaluate` fail it and the studio shows it as failed)."""
     instance(mesh, GarmentMesh, "mesh", "a GarmentMesh (api.mesh_garment)")
-    x = array(positions, "positions", shape=(mesh.n_vertices, 3), finite=True)
+    # not required finite: a drape that blew up is evaluated, and fails, as any failed one
+    x = array(positions, "positions", shape=(mesh.n_vertices, 3))
     return FitEvaluator(mesh, tight=tight, loose=loose)(x)
 
 
@@ -266,7 +267,8 @@ def _names_file(source) -> bool:
 
 
 def _size(size) -> None:
-    """Refuse a ``size`` that is neither None nor a size name (``""`` read as the default)."""
+    """Refuse a ``size`` that is neither None nor a size name (``""`` too, which was read
+    as the default size without a word)."""
     if size is not None and (not isinstance(size, str) or not size.strip()):
         raise ValueError(f"size: expected a size name such as 'M', got {size!r:.40}")
 
@@ -795,7 +797,7 @@ def judge_state(pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult, 
     thickness. About 0.1 s at 1.5K triangles."""
     instance(pattern, Pattern, "pattern", "a Pattern")
     instance(mesh, GarmentMesh, "mesh", "a GarmentMesh")
-    positions = array(positions, "positions", shape=(mesh.n_vertices, 3), finite=True)
+    positions = array(positions, "positions", shape=(mesh.n_vertices, 3))
     instance(fit, FitResult, "fit", "a FitResult (api.evaluate_drape)")
     instance(body, Body, "body", "a Body")
     instance(fabric, Fabric, "fabric", "a Fabric")

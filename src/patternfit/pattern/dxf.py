@@ -24,6 +24,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ..constants import UNITS, limits, tol
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
 from .dxf_entities import LINE_KINDS, layer_of, why
@@ -224,11 +226,6 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
                  f" and {len(p.sew)} sew lines (layer 14): the largest of each is read, the "
                  "others are not (one piece per block)"
                  for p in pieces_in_size(pieces, chosen) if max(len(p.cut), len(p.sew)) > 1]
-    warnings += [f"piece '{p.name or p.block}' has its grain line within {SIDEWAYS_GRAIN:g}° of "
-                 "horizontal: drawn on its side, so which end is up was taken from the order "
-                 "the file writes the line's two points; if it drapes upside down, give its "
-                 "'grainline' in the side file (docs/interchange.md)"
-                 for p in pieces_in_size(pieces, chosen) if not p.ours and sideways(p.grain)]
     if loose:
         warnings.append(f"the drawing has {loose} line(s) on the piece layers outside any "
                         "block: not read (DXF-AAMA draws each piece in a block of its own)")
@@ -362,6 +359,7 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
             f"{side_path.name} describes size {drawn_in}, not the size {pattern.meta.get('size')}"
             " read: its seams, edge names and placement are not applied")
         side = None
+    out = pattern
     if side is not None:
         try:
             out = _with_sidecar(pattern, side)
@@ -371,5 +369,30 @@ def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool =
         warnings = list(pattern.meta.get("warnings", [])) + list(warnings)
         if warnings:
             out.meta["warnings"] = warnings
-        return out
-    return pattern
+    # said once the side file has had its say: its 'grainline' settles which way is up
+    sideways_grain = _sideways_grain(out)
+    if sideways_grain:
+        out.meta["warnings"] = list(out.meta.get("warnings", [])) + sideways_grain
+    return out
+
+
+def _sideways_grain(pattern: Pattern) -> list[str]:
+    """A warning for each panel whose grain line lies within :data:`SIDEWAYS_GRAIN` of
+    horizontal, which way up it hangs then decided by the order the file writes the line's
+    points; not for a band (more than three times as long as wide along its grain: a
+    waistband or a cuff is drawn lengthwise, and placement takes its up from its shape)."""
+    out = []
+    for panel in pattern.panels:
+        if not sideways(panel.grainline):
+            continue
+        g = np.asarray(panel.grainline, dtype=float) / np.hypot(*panel.grainline)
+        poly = panel.outline.polygon(4)
+        along = np.ptp(poly @ g)
+        across = np.ptp(poly @ np.array([-g[1], g[0]]))
+        if along > 3.0 * across:
+            continue
+        out.append(f"panel '{panel.name}' has its grain line within {SIDEWAYS_GRAIN:g}° of "
+                   "horizontal: drawn on its side, so which end is up was taken from the "
+                   "order the file writes the line's two points; if it drapes upside down, "
+                   "give its 'grainline' in the side file (docs/interchange.md)")
+    return out

@@ -209,12 +209,14 @@ HALF_GAP = 0.005
 
 def _side_rows(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray,
                roles) -> dict[int, tuple[float, float]]:
-    """{panel index: (u shift [m], half-width of its row [m])} for torso panels sewn along
-    vertical seams to others of the same kind and side: a row laid out side by side in seam
-    order and centred on that side, instead of each panel centred on it. A left and a right
-    half (GarmentCode's bodices) are a row of two; a skirt of eight gores, four a side, a
-    row of four on each: centred one on another, the gores were sewn through each other
-    (4,765 crossed pairs)."""
+    """{panel index: (u shift [m], reach of its row either side of the side's middle [m])}
+    for torso panels sewn along vertical seams to others of the same kind and side: a row
+    laid out side by side in seam order and centred on that side (on its middle seam, or its
+    middle panel), instead of each panel centred on it. A left and a right half
+    (GarmentCode's bodices) are a row of two, their centre seam on the middle; a skirt of
+    eight gores, four a side, a row of four on each: centred one on another, a side's gores
+    started sewn through each other. Panels of one side sewn in a ring are laid in a row
+    too, the seam that closes it starting open across the row."""
     index = {p.name: i for i, p in enumerate(pattern.panels)}
     links: dict[int, list[tuple[int, float]]] = {}
     for k, s in enumerate(pattern.seams):
@@ -249,10 +251,15 @@ def _side_rows(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray,
                 else:
                     shift[j] = u[i].min() + shift[i] - 2.0 * HALF_GAP - u[j].max()
                 queue.append(j)
-        lo = min(float(u[i].min()) + d for i, d in shift.items())
-        hi = max(float(u[i].max()) + d for i, d in shift.items())
-        mid = 0.5 * (lo + hi)
-        out.update({i: (d - mid, 0.5 * (hi - lo)) for i, d in shift.items()})
+        # centred on its middle seam (an even row: a left and a right half's centre line on
+        # the side's middle, however wide each is) or its middle panel's centre (odd)
+        row = sorted(shift, key=lambda i: float(u[i].min()) + shift[i])
+        left, right = row[(len(row) - 1) // 2], row[len(row) // 2]
+        mid = 0.5 * (float(u[left].min()) + shift[left] + float(u[left].max()) + shift[left]) \
+            if left == right else \
+            0.5 * (float(u[left].max()) + shift[left] + float(u[right].min()) + shift[right])
+        reach = max(float(np.abs(u[i] + d - mid).max()) for i, d in shift.items())
+        out.update({i: (d - mid, reach) for i, d in shift.items()})
     return out
 
 
@@ -261,7 +268,8 @@ def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
     """A torso panel: rolled on an ellipse clear of the body, centred on its ``side``
     (front, back, or the body's left / right for a hood's halves), or, one of a ``row``
     of panels sewn side by side (:func:`_side_rows`), moved across by its shift [m] on the
-    ring the whole row's half-width [m] needs; on a winged profile when too wide to wrap."""
+    ring the whole row's reach [m] either side needs; on a winged profile when too wide to
+    wrap."""
     y0, y1 = uv[:, 1].min() + dy, uv[:, 1].max() + dy
     hw, front, back = _torso_extent(body, y0, y1, centre)
     depth = max(front, back)
