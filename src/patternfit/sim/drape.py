@@ -101,7 +101,8 @@ class Drape:
     def reasons(self) -> list[str]:
         """Why the drape failed, in words (on-body reasons first); empty when it passed."""
         out = list(self.onbody.reasons) if self.onbody is not None else []
-        return out + solver_reasons(self.result.checks, self.result.stop_reason)
+        return out + solver_reasons(self.result.checks, self.result.stop_reason,
+                                    getattr(self.solver, "settings", None))
 
     @property
     def passed(self) -> bool:
@@ -125,8 +126,12 @@ class Drape:
                            "engine": "static", **self.timing}}
 
 
-def solver_reasons(checks, stop_reason: str | None = None) -> list[str]:
-    """The solver's failed checks (:class:`DrapeChecks`) in words; empty when they passed."""
+def solver_reasons(checks, stop_reason: str | None = None,
+                   settings: SolverSettings | None = None) -> list[str]:
+    """The solver's failed checks (:class:`DrapeChecks`) in words; empty when they passed.
+    An equilibrium not reached says how far its residual is from ``settings``' rest (the
+    defaults when None)."""
+    rest = settings if isinstance(settings, SolverSettings) else SolverSettings()
     if checks.passed:
         return []
     out = [inside_reason(checks.inside_vertices, checks.max_depth_mm)]
@@ -141,7 +146,13 @@ def solver_reasons(checks, stop_reason: str | None = None) -> list[str]:
         out.append(f"{checks.self_intersections} crossed triangle pairs (limit "
                    f"{limits.self_intersections})")
     if not checks.equilibrium:
-        out.append("no equilibrium" + (f" (stopped: {stop_reason})" if stop_reason else ""))
+        said = [f"stopped: {stop_reason}"] if stop_reason else []
+        if checks.residual_rms is not None and checks.residual_p99 is not None:
+            # how far from a balance, not only that it is not one
+            said.append(f"residual rms {checks.residual_rms:.3g}, p99 "
+                        f"{checks.residual_p99:.3g} of a vertex's weight; at rest at most "
+                        f"{rest.residual_rms:g} and {rest.residual_p99:g}")
+        out.append("no equilibrium" + (f" ({'; '.join(said)})" if said else ""))
     return [r for r in out if r] or ["the solver's checks failed"]
 
 
