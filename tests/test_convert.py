@@ -45,7 +45,8 @@ def test_a_converted_file_is_read_by_the_json_reader_and_keeps_its_origin(tmp_pa
     (back,) = save_any_pattern(load_any_pattern(dxf), tmp_path / "p.json")
     q = load_any_pattern(back)
     assert q.meta["source_format"] == "patternfit" and q.meta["converted_from"] == "dxf-aama"
-    assert "converted_from" not in load_any_pattern(save_pattern(_pattern(), tmp_path / "o.json")).meta
+    ours = save_pattern(_pattern(), tmp_path / "o.json")
+    assert "converted_from" not in load_any_pattern(ours).meta
 
 
 def test_unknown_inputs_are_refused(tmp_path):

@@ -135,6 +135,11 @@ def _kind_name(value) -> str:
     return _shown(value) if isinstance(value, str) else type(value).__name__
 
 
+def _names_a_place(value) -> bool:
+    """A path-like or a non-empty string ("" is the current folder to ``Path``)."""
+    return isinstance(value, os.PathLike) or (isinstance(value, str) and bool(value.strip()))
+
+
 def instance(value, kind: type | tuple, name: str, what: str, *, optional: bool = False):
     """``value`` when it is a ``kind`` (or None, with ``optional``); else a ``ValueError``
     ``"{name}: expected {what}[ or None], got {type}"``, where an attribute error from deep
@@ -150,7 +155,7 @@ def path(value, name: str, *, what: str = "a file or folder path"):
     ``ValueError`` naming ``name`` ("" is the current folder to ``Path``)."""
     from pathlib import Path
 
-    if isinstance(value, os.PathLike) or (isinstance(value, str) and value.strip()):
+    if _names_a_place(value):
         return Path(value)
     raise ValueError(f"{name}: expected {what}, got {_kind_name(value)}")
 
@@ -159,7 +164,6 @@ def source(value, kind: type, name: str, what: str):
     """``value`` when it is a ``kind`` object, a non-empty name or a path (what a ``read_*``
     function takes); else a ``ValueError`` ``"{name}: expected {what}, got ..."``, not a
     file error whose "file name" is the object's repr."""
-    if isinstance(value, kind) or isinstance(value, os.PathLike) \
-            or (isinstance(value, str) and value.strip()):
+    if isinstance(value, kind) or _names_a_place(value):
         return value
     raise ValueError(f"{name}: expected {what}, got {_kind_name(value)}")

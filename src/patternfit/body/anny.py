@@ -29,8 +29,8 @@ BUILTIN_PHENOTYPES = {
 _ADULT_AGE = 2.0 / 3.0
 
 _MISSING = ("the anny body model is not installed: install torch's CPU build with "
-            "`pip install torch --index-url https://download.pytorch.org/whl/cpu`, then the anny extra with "
-            "`pip install \"patternfit[anny]\"`")
+            "`pip install torch --index-url https://download.pytorch.org/whl/cpu`, then "
+            "the anny extra with `pip install \"patternfit[anny]\"`")
 
 
 def _model():

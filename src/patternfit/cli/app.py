@@ -39,6 +39,11 @@ INTERNAL = 3
 INTERRUPTED = 130
 
 
+def say_warning(text: str) -> None:
+    """``warning: <text>`` in yellow, the text printed as it is (not read as markup)."""
+    console.print(f"[yellow]warning:[/] {escape(text)}", highlight=False)
+
+
 def _warning_printer():
     """A ``warnings.showwarning`` for one command: ``warning: <message>`` in yellow, each
     text once (a drape places its coarse and its fine mesh: the same placement warning
@@ -49,7 +54,7 @@ def _warning_printer():
         text = str(message)
         if text not in shown:
             shown.add(text)
-            console.print(f"[yellow]warning:[/] {escape(text)}", highlight=False)
+            say_warning(text)
     return show
 
 

@@ -98,8 +98,8 @@ def body(
 ) -> None:
     """Make a custom body with the anny model and write it with its measurements.
 
-    Needs anny: pip install torch --index-url https://download.pytorch.org/whl/cpu (torch's CPU build), then pip install
-    "patternfit\\[anny]". With
+    Needs anny: torch's CPU build (pip install torch --index-url
+    https://download.pytorch.org/whl/cpu), then pip install "patternfit\\[anny]". With
     --from-measurements anny's weight is searched so that bust + waist + hip match, at the
     height given."""
     girths = dict(height=height, bust=bust, waist=waist, hip=hip)

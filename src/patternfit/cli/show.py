@@ -10,7 +10,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from .app import CHECKS_FAILED, console, fail
+from .app import CHECKS_FAILED, console, fail, say_warning
 
 
 def num(value, spec: str, scale: float = 1.0, unit: str = "") -> str:
@@ -26,7 +26,7 @@ def print_pattern_warnings(warnings) -> None:
     implausible size, a grain line on its side...), one yellow line each; every command
     that reads a pattern says it, not only some."""
     for w in warnings or ():
-        console.print(f"[yellow]warning:[/] {w}", highlight=False)
+        say_warning(str(w))
 
 
 def print_fit_summary(report: dict, out: Path, seconds: float) -> None:

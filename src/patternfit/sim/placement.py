@@ -254,10 +254,8 @@ def _side_rows(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray,
         # centred on its middle seam (an even row: a left and a right half's centre line on
         # the side's middle, however wide each is) or its middle panel's centre (odd)
         row = sorted(shift, key=lambda i: float(u[i].min()) + shift[i])
-        left, right = row[(len(row) - 1) // 2], row[len(row) // 2]
-        mid = 0.5 * (float(u[left].min()) + shift[left] + float(u[left].max()) + shift[left]) \
-            if left == right else \
-            0.5 * (float(u[left].max()) + shift[left] + float(u[right].min()) + shift[right])
+        left, right = row[(len(row) - 1) // 2], row[len(row) // 2]  # the same when odd
+        mid = 0.5 * (float(u[left].max()) + shift[left] + float(u[right].min()) + shift[right])
         reach = max(float(np.abs(u[i] + d - mid).max()) for i, d in shift.items())
         out.update({i: (d - mid, reach) for i, d in shift.items()})
     return out

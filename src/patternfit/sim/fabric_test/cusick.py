@@ -280,7 +280,8 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
         triangles = cusick_triangles(fab, specimen)
     triangles = int(number(triangles, "triangles", low=50, high=200_000))
     if isinstance(seeds, (str, bytes)) or not hasattr(seeds, "__iter__"):
-        raise ValueError(f"seeds: expected a list of integers such as (0, 1, 2), got {seeds!r:.40}")
+        raise ValueError(f"seeds: expected a list of integers such as (0, 1, 2), got "
+                         f"{seeds!r:.40}")
     seeds = [number(s, "seeds", low=0, high=2**31, integer=True) for s in seeds]
     if not seeds:
         raise ValueError("seeds: at least one")
