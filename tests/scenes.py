@@ -55,6 +55,30 @@ def two_panels(arc=False):
 # ---------------------------------------------------------------- flat cloth and simple bodies
 
 
+def gored_skirt(per_side: int, waist: float = 0.12, hem: float = 0.24, length: float = 0.6):
+    """A skirt of ``per_side`` gores a side sewn into a ring (front_1 .. front_k, then
+    back_1 .. back_k round the other way), each ``waist`` wide at the waist and ``hem`` at
+    the hem, ``length`` long [m], its grain up the middle: GarmentCodeData's many-gored
+    skirts."""
+    from patternfit.pattern.model import (Edge, Loop, Panel, Pattern, Placement, Seam,
+                                          SeamSide)
+
+    def gore(name, side):
+        w, h = waist / 2, hem / 2
+        return Panel(name, Loop("outline", (
+            Edge.line("hem", (-h, 0), (h, 0)), Edge.line("right", (h, 0), (w, length)),
+            Edge.line("waist", (w, length), (-w, length)),
+            Edge.line("left", (-w, length), (-h, 0)))),
+            placement=Placement("torso", side), grainline=(0.0, 1.0))
+
+    names = [f"front_{i}" for i in range(per_side)] + [f"back_{i}" for i in range(per_side)]
+    panels = tuple(gore(n, n.split("_")[0]) for n in names)
+    seams = tuple(Seam(f"s{i}", SeamSide(names[i], "right"),
+                       SeamSide(names[(i + 1) % len(names)], "left"))
+                  for i in range(len(names)))
+    return Pattern("gored", panels, seams, {"anchor": "waist"})
+
+
 def rect_mesh(length, width, max_area, *, origin=(0.0, 0.0)):
     """Constrained-Delaunay quality mesh (angles >= 30 degrees, triangles <= ``max_area``
     [m^2]) of the rectangle ``origin + [0, length] x [0, width]`` [m]: (vertices (n, 2)

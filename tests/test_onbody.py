@@ -363,6 +363,29 @@ def test_only_a_side_the_name_says_is_checked_round_the_body():
     assert side_angles(plain, mesh, load_body(BODY), turned) == {}
 
 
+def test_panels_of_one_side_sewn_together_are_checked_round_the_body_as_one():
+    """An eight-gore skirt's outer front gore hangs at the side (82 degrees from the front
+    in a drape at rest) while its four front gores together hang at the front: sewn to
+    each other, panels named for one side count as one. Turned a quarter round, they fail."""
+    from patternfit.body.builtin import load_body
+    from patternfit.sim.onbody import side_angles
+    from patternfit.sim.placement import place_on_body
+    from scenes import gored_skirt
+
+    body = load_body(BODY)
+    skirt = gored_skirt(4, 0.10, 0.70, 0.9)
+    mesh = api.mesh_garment(skirt, triangles=800)
+    x = place_on_body(skirt, mesh, body)
+    angles = side_angles(skirt, mesh, body, x)
+    assert set(angles) == {"front_0, front_1, front_2, front_3",
+                           "back_0, back_1, back_2, back_3"}
+    assert max(angles.values()) < 10
+    axis = np.asarray(body.landmarks["torso_axis"])[:, [0, 2]].mean(axis=0)
+    turned = x.copy()
+    turned[:, [0, 2]] = (x[:, [2, 0]] - axis[::-1]) * [1, -1] + axis  # a quarter round
+    assert min(side_angles(skirt, mesh, body, turned).values()) > 80
+
+
 def test_trousers_longer_than_the_legs_rest_on_the_floor():
     """The trousers M on female_average are longer than her legs: their hems reach the
     floor the body stands on and rest on it (they hung 3 cm below the soles and failed as

@@ -201,28 +201,46 @@ def side_angles(pattern: Pattern, mesh: GarmentMesh, body, positions) -> dict[st
     ``side_named``, :func:`~patternfit.pattern.roles.panel_roles`) hangs from that side, in
     degrees: the angle, seen from above, between the direction from the body's torso axis
     to the panel's area-weighted centroid (``positions`` (n, 3) [m], y up, the body facing
-    +z) and the side's direction. A side read from a placement or inferred from the seams
-    is no evidence (a four-gore skirt's unnamed side gores are told front or back in turn,
-    while a file's own placement may hang them at the sides); panels whose centroid lies
-    within 2 cm of the axis (one wrapped all round) are left out too."""
+    +z) and the side's direction. Panels named for one side and sewn to each other count as
+    one, under their names joined by ", " (an eight-gore skirt's outer front gore hangs
+    at the side, its front at the front). A side read from a placement or inferred from
+    the seams is no evidence (a four-gore skirt's unnamed side gores are told front or back
+    in turn, while a file's own placement may hang them at the sides); panels whose
+    centroid lies within 2 cm of the axis (one wrapped all round) are left out too."""
     roles = panel_roles(pattern)
     axis = np.asarray(body.landmarks["torso_axis"], dtype=np.float64)[:, [0, 2]].mean(axis=0)
-    out = {}
+    named = {}
     for i, name in enumerate(mesh.panel_names):
         role = roles[name]
-        if role.part != "torso" or role.side not in ("front", "back") or not role.side_named:
+        if role.part == "torso" and role.side in ("front", "back") and role.side_named:
+            tris = mesh.triangles[mesh.triangle_panel == i]
+            area = triangle_areas(positions, tris)
+            named[name] = (role.side, area.sum(),
+                           (positions[tris].mean(axis=1) * area[:, None]).sum(axis=0))
+    group = {name: name for name in named}
+
+    def root(name):
+        while group[name] != name:
+            name = group[name]
+        return name
+
+    for seam in pattern.seams:
+        a, b = seam.a.panel, seam.b.panel
+        if a in named and b in named and named[a][0] == named[b][0]:
+            group[root(a)] = root(b)
+    out = {}
+    for top in dict.fromkeys(root(name) for name in named):  # in the panels' order
+        members = [name for name in named if root(name) == top]
+        area = sum(named[m][1] for m in members)
+        if not area > 0:
             continue
-        tris = mesh.triangles[mesh.triangle_panel == i]
-        area = triangle_areas(positions, tris)
-        if not area.sum() > 0:
-            continue
-        c = (positions[tris].mean(axis=1) * area[:, None]).sum(axis=0) / area.sum()
-        d = c[[0, 2]] - axis
+        d = sum(named[m][2] for m in members)[[0, 2]] / area - axis
         n = float(np.hypot(*d))
         if n < 0.02:
             continue
-        want = 1.0 if role.side == "front" else -1.0
-        out[name] = float(np.degrees(np.arccos(np.clip(want * d[1] / n, -1.0, 1.0))))
+        want = 1.0 if named[top][0] == "front" else -1.0
+        out[", ".join(members)] = float(np.degrees(np.arccos(np.clip(want * d[1] / n,
+                                                                      -1.0, 1.0))))
     return out
 
 
@@ -314,7 +332,8 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     twisted = {k: a for k, a in angles.items() if a > s.side_angle}
     if twisted and not off_body:
         reasons.append("turned round the body: " + ", ".join(
-            f"panel '{k}' hangs {a:.0f}° from the side its name says"
+            f"panel{'s' if ', ' in k else ''} '{k}' hang{'' if ', ' in k else 's'} {a:.0f}° "
+            "from the side its name says"
             for k, a in twisted.items()) + f" (limit {s.side_angle:g}°)")
     mm = (lambda v: None if v is None else v * 1e3)
     return OnBodyChecks(below, lowest * 1e3, far, farthest * 1e3, anchor, mm(height),

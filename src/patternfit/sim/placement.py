@@ -26,6 +26,7 @@ from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
 from ..pattern.roles import panel_roles
 from .panel_frames import PlacementWarning, implausible_placements, upright_frames
+from .side_rows import Fan, Row, side_rows
 
 #: default axis position (x, z) [m] and radius [m] of each body part, for a body-free placement
 PART_AXES = {
@@ -202,82 +203,22 @@ def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, flo
     return float(np.abs(d[:, 0]).max()), float(d[:, 1].max()), float(-d[:, 1].min())
 
 
-#: panels of one side sewn along a vertical seam start this far [m] either side of it (not
-#: touching: the solver counts touching cloth as crossed)
-HALF_GAP = 0.005
-
-
-def _side_rows(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray,
-               roles) -> dict[int, tuple[float, float]]:
-    """{panel index: (u shift [m], reach of its row either side of the side's middle [m])}
-    for torso panels sewn along vertical seams to others of the same kind and side: a row
-    laid out side by side in seam order and centred on that side (on its middle seam, or its
-    middle panel), instead of each panel centred on it. A left and a right half
-    (GarmentCode's bodices) are a row of two, their centre seam on the middle; a skirt of
-    eight gores, four a side, a row of four on each: centred one on another, a side's gores
-    started sewn through each other. Panels of one side sewn in a ring are laid in a row
-    too, the seam that closes it starting open across the row."""
-    index = {p.name: i for i, p in enumerate(pattern.panels)}
-    links: dict[int, list[tuple[int, float]]] = {}
-    for k, s in enumerate(pattern.seams):
-        ra, rb = roles[s.a.panel], roles[s.b.panel]
-        if s.a.panel == s.b.panel or ra.part != "torso" or rb.part != "torso" or \
-                (ra.kind, ra.side) != (rb.kind, rb.side) or ra.side not in ("front", "back"):
-            continue
-        pairs = mesh.seam_pairs[mesh.seam_index == k]
-        ua, ub = flat[pairs[:, 0]], flat[pairs[:, 1]]
-        # a seam running up the body on both panels (not a yoke's or a band's)
-        if max(np.ptp(ua[:, 0]) / max(np.ptp(ua[:, 1]), 1e-9),
-               np.ptp(ub[:, 0]) / max(np.ptp(ub[:, 1]), 1e-9)) >= 0.3:
-            continue
-        a, b = index[s.a.panel], index[s.b.panel]
-        links.setdefault(a, []).append((b, float(ua[:, 0].mean())))
-        links.setdefault(b, []).append((a, float(ub[:, 0].mean())))
-    u = {i: flat[mesh.panel_vertices(i), 0] for i in links}
-    out: dict[int, tuple[float, float]] = {}
-    for first in sorted(links):
-        if first in out:
-            continue
-        shift, queue = {first: 0.0}, [first]
-        while queue:
-            i = queue.pop(0)
-            for j, seam_i in links[i]:
-                if j in shift:
-                    continue
-                # next to its neighbour on the seam's side, clear of it at their widest (a
-                # flared gore's slanted seams, put together, crossed below the middle)
-                if seam_i > u[i].mean():
-                    shift[j] = u[i].max() + shift[i] + 2.0 * HALF_GAP - u[j].min()
-                else:
-                    shift[j] = u[i].min() + shift[i] - 2.0 * HALF_GAP - u[j].max()
-                queue.append(j)
-        # centred on its middle seam (an even row: a left and a right half's centre line on
-        # the side's middle, however wide each is) or its middle panel's centre (odd)
-        row = sorted(shift, key=lambda i: float(u[i].min()) + shift[i])
-        left, right = row[(len(row) - 1) // 2], row[len(row) // 2]  # the same when odd
-        mid = 0.5 * (float(u[left].max()) + shift[left] + float(u[right].min()) + shift[right])
-        reach = max(float(np.abs(u[i] + d - mid).max()) for i, d in shift.items())
-        out.update({i: (d - mid, reach) for i, d in shift.items()})
-    return out
-
-
 def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
-                 arm_gap, row: tuple[float, float] | None = None) -> np.ndarray:
+                 arm_gap, row: Row | None = None) -> np.ndarray:
     """A torso panel: rolled on an ellipse clear of the body, centred on its ``side``
     (front, back, or the body's left / right for a hood's halves), or, one of a ``row``
-    of panels sewn side by side (:func:`_side_rows`), moved across by its shift [m] on the
-    ring the whole row's reach [m] either side needs; on a winged profile when too wide to
-    wrap."""
+    of panels sewn side by side, moved across by its shift on the ring the whole row's
+    reach either side needs; on a winged profile when too wide to wrap."""
     y0, y1 = uv[:, 1].min() + dy, uv[:, 1].max() + dy
     hw, front, back = _torso_extent(body, y0, y1, centre)
     depth = max(front, back)
     ring = Ellipse(hw + clearance, depth + clearance, centre)
-    width = float(np.ptp(uv[:, 0])) if row is None else 2.0 * row[1]
+    width = float(np.ptp(uv[:, 0])) if row is None else 2.0 * row.reach
     grow = width / (0.5 * ring.perimeter * 0.97)
     if row is None:
         uv = _centred(uv)
     else:
-        uv = uv + [row[0], 0.0]
+        uv = uv + [row.shift, 0.0]
     if grow <= width_limit:
         if grow > 1:
             ring = Ellipse(ring.a * grow, ring.b * grow, centre)
@@ -288,6 +229,38 @@ def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
     facing = 1.0 if side == "front" else -1.0
     wings = WingedProfile(ring.a, ring.b, min(arm_gap, 0.8 * ring.b), centre, side=facing)
     return roll_panel(uv, wings, height=dy)
+
+
+#: the widest a fan's cone opens: the sine of its half-angle. Opened to 0.97, the eight
+#: flared gores of GarmentCodeData's rand_04EGGDPALT started almost level with the waist,
+#: out over the A-posed hands, and in three drapes of four the dress then slid off the
+#: shoulders; at 0.8 (the rest of the flare pressed together round the cone) it hung
+CONE_OPENING = 0.8
+
+
+def _place_fan(fan: Fan, pi: int, uv, side: str, body, centre, dy, clearance) -> np.ndarray:
+    """A panel of a ``fan`` of flared panels rolled onto a round cone about the torso axis,
+    apex up. The side's fan fills 0.97 of half the cone, which a fan spreading Φ opens to
+    k = Φ / (0.97 π), the sine of its half-angle: isometrically up to
+    :data:`CONE_OPENING`, pressed together round it beyond. The cone's top is a circle
+    round the torso at the fan's heights, ``clearance`` [m] clear of it (wider when the
+    fan's own top is), at the fan's top plus ``dy`` [m]. Returns positions (k, 3) [m] of
+    the flat points ``uv`` (k, 2) [m]."""
+    r, theta = fan.polar(pi, uv)
+    k = fan.spread / (0.97 * math.pi)
+    opening = min(k, CONE_OPENING)
+    drop = math.sqrt(1.0 - opening ** 2)
+    top = fan.top + dy
+    hw, front, back = _torso_extent(body, top - (fan.r_bottom - fan.r_top) * drop, top, centre)
+    # round: a cone on the torso's ellipse stretched its rulings at the sides by a / b
+    radius = max(hw, front, back) + clearance
+    ring = Ellipse(radius, radius, centre)
+    # through that circle at the top, however narrow the fan's own apex would have it
+    grow = (max(radius, opening * fan.r_top) + opening * (r - fan.r_top)) / radius
+    arc = r * theta * min(1.0, CONE_OPENING / k)  # from the side's middle, along the cone
+    s0 = ring.arc_length(0.0 if side == "front" else math.pi)
+    xz = centre + grow[:, None] * (ring.point(s0 + arc / grow) - centre)
+    return np.column_stack([xz[:, 0], top - (r - fan.r_top) * drop, xz[:, 1]])
 
 
 def _leg_radius(d: float, width: float) -> float:
@@ -356,7 +329,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     flat = upright_frames(pattern, mesh, roles)
     lm = body.landmarks
     dy = _vertical_offset(pattern, flat, mesh, roles, body)
-    rows = _side_rows(pattern, mesh, flat, roles)
+    rows = side_rows(pattern, mesh, flat, roles)
     arm_gap = 0.5 * body.measurements.get("bicep", 0.32) / math.pi + clearance + 0.02
     x = np.zeros((mesh.n_vertices, 3))
     torso = np.asarray(lm["torso_axis"])[:, [0, 2]].mean(axis=0)
@@ -372,6 +345,8 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             legs.setdefault(role.part, []).append(pi)
         elif role.part.startswith("arm"):
             arms.setdefault(role.part, []).append(pi)
+        elif isinstance(rows.get(pi), Fan):
+            x[ids] = _place_fan(rows[pi], pi, uv, role.side, body, torso, dy, clearance)
         else:
             x[ids] = _place_torso(role.side, uv, body, torso, dy, clearance, width_limit,
                                   arm_gap, rows.get(pi))

@@ -321,6 +321,8 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
                     continue
                 converged, reason = True, "converged"
                 break
+            if not newton_now and it >= s.newton_after and to_newton():
+                last_refresh = it - s.newton_refresh
     except (KeyboardInterrupt, SystemError) as exc:
         if not ctrl_c(exc):
             raise
