@@ -1,4 +1,5 @@
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -138,6 +139,10 @@ def test_an_output_folder_that_is_a_file_is_refused_before_any_work(tmp_path, ar
     res = runner.invoke(app, [*args, "--out", str(mine / "inside")])
     said = " ".join(res.output.replace("│", " ").split())
     assert res.exit_code == 2 and "cannot make the folder" in said, res.output
+    if Path("/proc/self").is_dir():  # where access() says yes to root, and mkdir fails
+        res = runner.invoke(app, [*args, "--out", "/proc/nope"])
+        said = " ".join(res.output.replace("│", " ").split())
+        assert res.exit_code == 2 and "cannot make the folder" in said, res.output
 
 
 @pytest.mark.parametrize("error", [KeyboardInterrupt(), SystemError("returned a result")])

@@ -115,8 +115,22 @@ def test_a_bad_kes_sheet_is_refused_naming_the_file_and_the_field(tmp_path, chan
     assert words in str(err.value)
 
 
+def test_a_full_sirofast_report_with_both_b_and_c_reads(tmp_path):
+    """A SiroFAST report prints the bending length C1/C2 and the rigidity B1/B2 together;
+    such a sheet was refused ("not both"). When they agree (B = W g C^3 within 5%), B is
+    read: the same fabric as from C alone."""
+    from patternfit.constants import GRAVITY
+
+    b = [round(SUITING["W"] * 1e-3 * GRAVITY * (c * 1e-3) ** 3 * 1e6, 2) for c in SUITING["C"]]
+    both = load_fabric(write(tmp_path, {**SUITING, "B1": b[0], "B2": b[1]}, "both.json"))
+    alone = load_fabric(write(tmp_path, SUITING, "alone.json"))
+    assert both.bending_warp == pytest.approx(b[0] * 1e-6)
+    assert both.bending_warp == pytest.approx(alone.bending_warp, rel=1e-3)
+    assert both.bending_weft == pytest.approx(alone.bending_weft, rel=1e-3)
+
+
 @pytest.mark.parametrize("change, place, words", [
-    ({"B1": 12.0, "B2": 9.0}, "B", "not both"),
+    ({"B1": 12.0, "B2": 9.0}, "B", "B1 12 uN m and the bending length C1 19.8 mm disagree"),
     ({"C": None}, "B", "missing: the bending rigidity"),
     ({"C": None, "B1": 12.0}, "B2", "given 'B1'"),
     ({"T": 0.4}, "T2", "both"),

@@ -255,12 +255,13 @@ def test_points_over_a_hand_are_past_the_mitten_start_and_near_the_arm():
 @pytest.mark.parametrize("why", [{"below_feet_vertices": 412}, {"far_vertices": 9},
                                  {"area_ratio_3d": 0.2}, {"area_ratio_3d": float("nan")},
                                  {"seam_gap_max_mm": 187368.9}, {"anchor_height_mm": 48.0},
-                                 {"top_below_crotch": True}])
+                                 {"top_below_crotch": True}, {"lowest_mm": 3.0}])
 def test_a_garment_that_fell_or_never_closed_is_failed_not_too_loose(why):
     """Below its anchor but also fallen (past the floor's end, onto the floor: its top
-    5 cm above it, or past the hips: its top below the crotch), far from the body, collapsed
-    or unsewn: the drape failed (a pattern in millimetres read as metres fell 25 m and read
-    "too loose"; a skirt 125 cm round fell round her shins and read "too loose")."""
+    5 cm above it, or past the hips: its top below the crotch, or standing on its hem),
+    far from the body, collapsed or unsewn: the drape failed (a pattern in millimetres read
+    as metres fell 25 m and read "too loose"; a skirt 125 cm round fell round her shins and
+    read "too loose"; one 1.3 times too big stood on its hem and read "too loose")."""
     fit, m = _synthetic({"bust": 0.5}, {})
     checks = {"passed": False, "on_body": False, "anchor": "waist",
               "anchor_offset_mm": -24900.0, "below_feet_vertices": 0, "far_vertices": 0,
@@ -270,7 +271,8 @@ def test_a_garment_that_fell_or_never_closed_is_failed_not_too_loose(why):
     assert v.overall == "failed" and v.regions == {} and "it fell" in v.reason
     assert slid_off(checks | {"below_feet_vertices": 0, "far_vertices": 0,
                               "area_ratio_3d": 0.98, "seam_gap_max_mm": 0.1,
-                              "anchor_height_mm": 880.0, "top_below_crotch": False})
+                              "anchor_height_mm": 880.0, "top_below_crotch": False,
+                              "lowest_mm": 150.0})
 
 
 def test_rules_refuse_nonsense_and_stretch_limits_cover_the_presets():

@@ -375,9 +375,34 @@ def parse_json_text(text: str, *, file=None, error=None):
         raise error(f"not valid JSON: {exc}", file=file) from None
 
 
-def read_json_file(path, *, error=None, limit: int = MAX_JSON_BYTES):
+def without_comments(text: str) -> str:
+    """``text`` with its ``//`` and ``/* */`` comments blanked out (strings kept; each
+    comment's characters become spaces, its line breaks stay, so the lines and columns of
+    what is left are as they were): the JSON that ARCSim's reader, jsoncpp, takes."""
+    out, i, n = list(text), 0, len(text)
+    while i < n:
+        c = text[i]
+        if c == '"':
+            i += 1
+            while i < n and text[i] != '"':
+                i += 2 if text[i] == "\\" else 1
+        elif text.startswith(("//", "/*"), i):
+            line = text[i + 1] == "/"
+            end = text.find("\n" if line else "*/", i + 2)
+            end = n if end < 0 else end + (0 if line else 2)
+            for j in range(i, end):
+                if out[j] != "\n":
+                    out[j] = " "
+            i = end
+            continue
+        i += 1
+    return "".join(out)
+
+
+def read_json_file(path, *, error=None, limit: int = MAX_JSON_BYTES, comments: bool = False):
     """The parsed JSON document in the file ``path`` (UTF-8, a byte-order mark allowed, at
-    most ``limit`` bytes), refused
+    most ``limit`` bytes; with ``comments``, ``//`` and ``/* */`` comments allowed:
+    :func:`without_comments`), refused
     with ``error`` (an :class:`~patternfit.errors.InputError` class) naming the file and the
     place: unreadable, not a regular file, too large, not UTF-8, or as :func:`parse_json_text`.
     """
@@ -391,7 +416,8 @@ def read_json_file(path, *, error=None, limit: int = MAX_JSON_BYTES):
     except UnicodeDecodeError as exc:
         at = skip + exc.start
         raise error(f"not UTF-8 text (byte {at}: {data[at]:#04x})", file=path) from None
-    return parse_json_text(text, file=path, error=error)
+    return parse_json_text(without_comments(text) if comments else text, file=path,
+                           error=error)
 
 
 def dumps_finite_json(data, **kwargs) -> str:

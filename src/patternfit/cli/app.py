@@ -13,6 +13,7 @@ import inspect
 import math
 import os
 import sys
+import tempfile
 import warnings
 from pathlib import Path
 
@@ -147,8 +148,11 @@ def output_folder(out: Path | None) -> Path | None:
         above = above.parent
     if not above.is_dir():
         raise typer.BadParameter(f"cannot make the folder {out}: {above} is a file")
-    if not os.access(above, os.W_OK | os.X_OK):
-        raise typer.BadParameter(f"cannot make the folder {out}: {above} is not writable")
+    try:  # a trial folder, not access(): root may write anywhere but /proc
+        os.rmdir(tempfile.mkdtemp(prefix=".patternfit-", dir=above))
+    except OSError as exc:
+        raise typer.BadParameter(f"cannot make the folder {out}: {above} is not writable "
+                                 f"({exc.strerror or exc})") from None
     return out
 
 

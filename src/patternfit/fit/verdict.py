@@ -84,6 +84,10 @@ class Verdict:
         return [k for k, v in self.regions.items() if v.verdict == word]
 
 
+#: a garment whose lowest point is this near the floor [mm] rests on it
+FLOOR_TOUCH_MM = 10.0
+
+
 def slid_off(checks: dict | None) -> str | None:
     """Why the drape with these ``checks`` slid off its anchor (its top more than the
     on-body tolerance below it, the garment otherwise on the body: sewn, not fallen below
@@ -91,7 +95,8 @@ def slid_off(checks: dict | None) -> str | None:
     never closed its seams is not too loose: its drape failed (a pattern in millimetres
     read as metres fell 25 m, or onto the floor the body stands on, where its top lies
     within the anchor tolerance of the floor, y = 0, or past the hips, its top below the
-    crotch: a skirt 125 cm round on 96 cm hips, round her shins, its hem on the floor); nor
+    crotch: a skirt 125 cm round on 96 cm hips, round her shins, its hem on the floor; or
+    until the floor holds it, its lowest point within :data:`FLOOR_TOUCH_MM` of it); nor
     is one that never came to rest (its ease and regions are of a state still moving: it
     read "too loose" beside a hip "too tight"). Crossed pairs pooled in a hem do not stop a
     slide from reading too loose."""
@@ -102,8 +107,12 @@ def slid_off(checks: dict | None) -> str | None:
     ratio = checks.get("area_ratio_3d")
     gap = checks.get("seam_gap_max_mm")
     top = checks.get("anchor_height_mm")
+    lowest = checks.get("lowest_mm")
     if (checks.get("below_feet_vertices") or checks.get("far_vertices")
             or checks.get("top_below_crotch")
+            # slid until the floor holds it: a skirt 1.3 times too big stood on its hem,
+            # its top 29 cm below the waist and 1 mm above the crotch
+            or (lowest is not None and lowest < FLOOR_TOUCH_MM)
             # a drape still moving is no fit to judge: its ease and regions are passing
             or checks.get("equilibrium") is False
             or (top is not None and top < 1000.0 * ON_BODY.anchor_tolerance)

@@ -57,6 +57,9 @@ FAST_BENDING = 1e-6
 FAST_MASS = 1e-3
 #: millimetres [m]
 MM = 1e-3
+#: a FAST sheet's bending rigidity B and bending length C, both printed by a SiroFAST
+#: report to three digits, agree (B = W g C^3) within this share [-]
+FAST_B_C_AGREE = 0.05
 
 #: the instruments a sheet may name, by their spellings (case and spaces ignored)
 INSTRUMENTS = {"kes-f": "KES-F", "kes-fb": "KES-F", "kes": "KES-F", "fast": "FAST",
@@ -205,17 +208,24 @@ def _fast(data: dict, path) -> tuple[dict, dict]:
     density = w * FAST_MASS
     b, b_from = _pair(data, path, "B", "uN m", optional=True)
     c, c_from = _pair(data, path, "C", "mm", optional=True)
-    if b is not None and c is not None:
-        raise FabricError("give the bending rigidity B [uN m] or the bending length C [mm], "
-                          "not both", file=path, place="field 'B'")
+    from_c = None if c is None else tuple(density * GRAVITY * (x * MM) ** 3 for x in c)
+    if b is not None and from_c is not None:
+        # a SiroFAST report prints both: they must say the same (B = W g C^3)
+        for i, (given, implied) in enumerate(zip(b, from_c)):
+            if abs(given * FAST_BENDING / implied - 1.0) > FAST_B_C_AGREE:
+                raise FabricError(
+                    f"the bending rigidity B{i + 1} {given:g} uN m and the bending length "
+                    f"C{i + 1} {c[i]:g} mm disagree: W g C^3 is {implied / FAST_BENDING:.3g} "
+                    f"uN m (more than {FAST_B_C_AGREE:.0%} apart; give one of them)",
+                    file=path, place="field 'B'")
+        c = None
     if b is None and c is None:
         raise FabricError("missing: the bending rigidity B [uN m] or the bending length C "
                           "[mm]", file=path, place="field 'B'")
     if b is not None:
         bending = (b[0] * FAST_BENDING, b[1] * FAST_BENDING)
     else:
-        bending = tuple(density * GRAVITY * (x * MM) ** 3 for x in c)
-        b_from = c_from
+        bending, b_from = from_c, c_from
     g, g_from = _pair(data, path, "G", "N/m")
     e, e_from = _pair(data, path, "E100", "%")
     fields = {"density": density, "thickness": t * MM,

@@ -228,7 +228,8 @@ def read_fabric_file(path) -> tuple[Fabric, tuple[str, ...]]:
     """:func:`load_fabric`, and what was assumed for values the file does not carry (an
     ARCSim material's friction and thickness), one sentence each; empty for the others."""
     path = Path(path)
-    data = read_json_file(path, error=FabricError)
+    # comments allowed: ARCSim's own materials begin with "//" lines
+    data = read_json_file(path, error=FabricError, comments=True)
     if not isinstance(data, dict):
         raise FabricError(f"expected a JSON object, got {type(data).__name__}", file=path)
     data = dict(data)
