@@ -219,3 +219,25 @@ def test_a_saved_state_read_alone_is_not_checked_and_one_not_at_rest_fails(tmp_p
     (glb,) = trimesh.load(tmp_path / "b" / "garment.glb").geometry.values()
     assert glb.metadata["patternfit"]["checks_passed"] is False
     assert any("had not come to rest" in r for r in glb.metadata["patternfit"]["reasons"])
+
+
+def test_a_saved_state_moved_since_its_drape_is_not_said_to_be_at_rest(tmp_path):
+    """A drape at rest, its positions then lifted 3 cm with its contact.npz kept: fit said
+    "equilibrium: true" (a drape from there moved 20.6 mm over 981 iterations). The contact
+    state holds the digest of the positions it was saved with; other positions are of a
+    state whose rest is not known."""
+    from patternfit.mesh.store import load_contact, save_garment, saved_at_rest
+    from patternfit.mesh.triangulate import mesh_pattern
+    from patternfit.pattern.library import build
+
+    skirt = build("skirt", "M")
+    mesh = mesh_pattern(skirt, triangles=300)
+    x = np.c_[mesh.vertices, np.ones(mesh.n_vertices)]
+    save_garment(tmp_path / "g", skirt, mesh, x, contact={"at_rest": np.asarray(True)})
+    contact = load_contact(tmp_path / "g")
+    assert saved_at_rest(contact, x) is True
+    assert saved_at_rest(contact, x + [0.0, 0.03, 0.0]) is None
+    np.save(tmp_path / "g" / "positions.npy", x + [0.0, 0.03, 0.0])  # moved by hand
+    res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
+                              str(tmp_path / "a"), "--json", "--no-pictures"])
+    assert json.loads(res.stdout)["checks"]["equilibrium"] is None, res.output

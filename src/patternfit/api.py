@@ -44,7 +44,8 @@ from .loop.outputs import write_correction_outputs
 from .loop.session import DesignSession
 from .loop.table2 import ROWS
 from .mesh.garment import GarmentMesh
-from .mesh.store import CONTACT, garment_folder, load_contact, load_garment, save_garment
+from .mesh.store import (CONTACT, garment_folder, load_contact, load_garment, save_garment,
+                         saved_at_rest)
 from .mesh.triangulate import mesh_pattern
 from .pattern.errors import PatternError
 from .pattern.formats import load_any_pattern, save_any_pattern
@@ -773,9 +774,7 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
                          file=folder)
     fit = FitEvaluator(m, tight=tight, loose=loose)(x)
     # the drape that saved the state said whether it had come to rest (contact.npz)
-    contact = load_contact(garment_folder(folder))
-    at_rest = None if contact is None or "at_rest" not in contact \
-        else bool(np.asarray(contact["at_rest"]).reshape(-1)[:1].all())
+    at_rest = saved_at_rest(load_contact(garment_folder(folder)), x)
     if body is None:
         return FitOutcome(pat, m, None, None, x, fit, state="saved",
                           extra={"checks": unchecked_state(at_rest)})

@@ -52,7 +52,9 @@ def drape(
                                "garment/ folder (pattern.json, mesh.npz, positions.npy, "
                                "contact.npz), or the output folder holding it (patternfit "
                                "drape's, or correct's before/ and after/). From a drape at "
-                               "rest it stops at once."),
+                               "rest, with the contact.npz saved beside its positions, it "
+                               "stops at once; without it, the contact is found afresh and "
+                               "the cloth may settle a few millimetres."),
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     pressure_max: float = verdict_options()["pressure_max"],
     stretch_limit: float = verdict_options()["stretch_limit"],

@@ -12,6 +12,7 @@ readers every saved-array format uses.
 
 from __future__ import annotations
 
+import hashlib
 import io
 import os
 from pathlib import Path
@@ -28,6 +29,8 @@ from ..pattern.validate import check_pattern
 from .garment import GarmentMesh
 
 PATTERN, MESH, POSITIONS, CONTACT = "pattern.json", "mesh.npz", "positions.npy", "contact.npz"
+#: the array of ``contact.npz`` that holds the digest of the positions it was saved with
+POSITIONS_DIGEST = "positions_sha256"
 #: the garment folder inside a drape's or a fit's output folder
 GARMENT = "garment"
 
@@ -66,6 +69,7 @@ def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None, *,
     if positions is not None:
         files[folder / POSITIONS] = _positions_bytes(positions, mesh)
     if positions is not None and contact is not None:
+        contact = {**contact, POSITIONS_DIGEST: np.array(positions_digest(positions))}
         buf = io.BytesIO()
         np.savez_compressed(buf, **{k: np.asarray(v) for k, v in contact.items()})
         files[folder / CONTACT] = buf.getvalue()
@@ -87,6 +91,25 @@ def load_contact(folder) -> dict[str, np.ndarray] | None:
     if not file.exists() or not (Path(folder) / POSITIONS).exists():
         return None
     return read_npz(file, limit=limits.mesh_bytes, error=GarmentFileError)
+
+
+def positions_digest(positions) -> str:
+    """SHA-256 (hex) of positions (n, 3) [m] as float64: what ``contact.npz`` was saved
+    with (:func:`save_garment`)."""
+    return hashlib.sha256(np.ascontiguousarray(positions, dtype=np.float64).tobytes()).hexdigest()
+
+
+def saved_at_rest(contact: dict[str, np.ndarray] | None, positions) -> bool | None:
+    """Whether the drape that saved ``contact`` (:func:`load_contact`) ended at rest at
+    ``positions`` (n, 3) [m]: its ``at_rest`` flag, or None when not known (no contact state
+    or flag, or positions other than those it was saved with: a state moved since, which
+    read "at rest" and needed 981 iterations to get back there)."""
+    if contact is None or "at_rest" not in contact:
+        return None
+    digest = contact.get(POSITIONS_DIGEST)
+    if digest is not None and str(np.asarray(digest)) != positions_digest(positions):
+        return None
+    return bool(np.asarray(contact["at_rest"]).reshape(-1)[:1].all())
 
 
 def replace_pattern_and_mesh(pattern_path, pattern: Pattern, mesh_path, mesh: GarmentMesh, *,
