@@ -4,6 +4,7 @@ analytic answers (docs/fabrics.md, "Testing a fabric")."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -108,6 +109,11 @@ def test_cantilever_reads_its_verdict_from_each_meshs_last_solve():
     assert not short.converged and not short.passed
     assert short.failures == ["the 900-triangle strip did not reach rest (stalled after 1200 "
                               "iterations, residual rms 0.028, p99 0.104 weights)"]
+    # mesh-converged: one mesh shows nothing; a reading that still moves fails
+    one = result((True,))
+    assert not one.passed and "not shown to be mesh-converged" in one.failures[0]
+    moving = dataclasses.replace(steered, mesh_change=0.08)
+    assert not moving.passed and "moved by 8.0 %" in moving.failures[0]
     assert short.to_dict()["failures"] == short.failures
 
 
@@ -197,8 +203,6 @@ def test_cantilever_with_bending_friction_reads_the_frictional_strip():
     """A knit given a 2HB reads 12 % longer than (B / (rho g))^(1/3): the kit holds it to
     the exact strip under the same friction law, read as the elastic one is (0.93 / 0.955 of
     it at 4 / 8 edges per c, as the elastic reading converges from below)."""
-    import dataclasses
-
     fab = dataclasses.replace(get_fabric("jersey_knit"), bending_hysteresis=3e-4)
     r = kit.cantilever_test(fab, meshes=(4, 8))
     assert r.converged
@@ -254,6 +258,26 @@ def test_cusick_drape_coefficient_and_nodes(drapes):
     # stiffer fabric (bending length 20 mm against 15 mm) stands out further
     assert (drapes["cotton_shirting"].drape_coefficient
             > drapes["jersey_knit"].drape_coefficient + 0.2)
+
+
+def test_cusick_mesh_check_drapes_the_first_start_again_on_twice_the_triangles():
+    """A KES-F silk (stretch 6.6-15 kN/m) read 0.65 at the kit's 6.5K triangles and 0.50 at
+    16K, and passed: the spread was over the starts only. The mesh check drapes the first
+    start again on twice the triangles, and a drape coefficient that moves by more than
+    CUSICK_MESH_TOLERANCE fails the test, saying so."""
+    plain = kit.cusick_test("cotton_shirting", triangles=600, seeds=(0,))
+    assert plain.mesh_change is None and plain.to_dict()["mesh_change"] is None
+    r = kit.cusick_test("cotton_shirting", triangles=600, seeds=(0,), mesh_check=True)
+    assert 1000 < r.mesh_check_triangles < 1400
+    assert r.runs[0].drape_coefficient == plain.runs[0].drape_coefficient
+    moved = abs(r.mesh_change) > kit.CUSICK_MESH_TOLERANCE
+    assert r.passed == (not moved and plain.passed)
+    assert any("not mesh-converged" in f for f in r.failures) == moved
+    assert r.to_dict()["mesh_change"] == r.mesh_change
+    forced = dataclasses.replace(r, mesh_change=0.15)
+    assert not forced.passed and "moved by +0.150 from" in forced.failures[-1]
+    res = CliRunner().invoke(app, ["fabric-test", "strip", "--mesh-check"])
+    assert res.exit_code == 2 and "--mesh-check applies to cusick" in res.output
 
 
 def test_cusick_top_view_picture(drapes, tmp_path):

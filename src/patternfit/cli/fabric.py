@@ -20,7 +20,7 @@ TESTS = ("strip", "cantilever", "cusick")
 #: which options belong to which test (an option given to another test is refused)
 _OWN = {"direction": ("strip", "cantilever"), "length": ("strip",), "meshes": ("cantilever",),
         "triangles": ("cusick",), "seeds": ("cusick",), "specimen": ("cusick",),
-        "disc": ("cusick",)}
+        "disc": ("cusick",), "mesh-check": ("cusick",)}
 
 
 def _mm(value, digits: int = 2) -> str:
@@ -33,7 +33,8 @@ def _num(value, spec: str) -> str:
 
 def _residual(res) -> str:
     if isinstance(res, dict) and res:
-        return ", ".join(f"{k} {_num(v, '.3g')}" for k, v in res.items())
+        return ", ".join(f"{k.removeprefix('residual_')} {_num(v, '.3g')}"
+                         for k, v in res.items())
     return "n/a" if res is None else str(res)
 
 
@@ -100,6 +101,13 @@ def _show_cusick(r) -> None:
     console.print(f"drape coefficient {r.drape_coefficient:.3f} (spread "
                   f"{r.drape_coefficient_spread:.3f}, sd {r.drape_coefficient_std:.3f}); "
                   f"nodes {r.nodes:.1f} ({r.nodes_min}–{r.nodes_max})")
+    if r.mesh_change is None:
+        console.print("mesh not checked: the spread is over the starts only (--mesh-check "
+                      "drapes the first again on twice the triangles)", highlight=False)
+    else:
+        console.print(f"mesh check: start {r.runs[0].seed} on {r.mesh_check_triangles} "
+                      f"triangles moved the drape coefficient by {r.mesh_change:+.3f}",
+                      highlight=False)
 
 
 def _solves(result) -> list:
@@ -129,6 +137,11 @@ def fabric_test(
                                                  "the fabric, 4,000 to 24,000)."),
     seeds: Optional[int] = typer.Option(None, min=1, max=50, help="cusick: perturbed flat "
                                         "starts, seeds 0..N-1 (default 5)."),
+    mesh_check: bool = typer.Option(False, "--mesh-check", help="cusick: drape the first "
+                                    "start again on twice the triangles; fails when its "
+                                    "drape coefficient moves by more than 0.03 (a stiff "
+                                    "membrane, e.g. from a KES-F or FAST sheet, locks the "
+                                    "folds of a mesh its bending length says is fine)."),
     specimen: Optional[float] = typer.Option(None, min=0.02, max=2.0, callback=finite,
                                              help="cusick: specimen diameter \\[m] "
                                                   "(default 0.30)."),
@@ -153,13 +166,15 @@ def fabric_test(
     and spread over perturbed starts).
 
     Exits with status 1 when the result failed its checks: a solve that did not end at
-    rest, a strip or bending length more than 5 % off, a drape coefficient outside [0, 1].
+    rest, a strip or bending length more than 5 % off or not shown mesh-converged, a drape
+    coefficient outside [0, 1] or moved by the mesh check.
     """
     test = test.strip().lower()
     if test not in TESTS:
         fail(f"TEST: one of {', '.join(TESTS)}, got {test!r}")
     given = {"direction": direction, "length": length, "meshes": meshes,
-             "triangles": triangles, "seeds": seeds, "specimen": specimen, "disc": disc}
+             "triangles": triangles, "seeds": seeds, "specimen": specimen, "disc": disc,
+             "mesh-check": mesh_check or None}
     for name, value in given.items():
         if value is not None and test not in _OWN[name]:
             fail(f"--{name} applies to {' and '.join(_OWN[name])}, not to {test}")
@@ -196,7 +211,7 @@ def fabric_test(
                 disc=kit.CUSICK_DISC if disc is None else disc,
                 triangles=triangles,
                 seeds=tuple(range(5 if seeds is None else seeds)), settings=settings,
-                progress=progress)
+                mesh_check=mesh_check, progress=progress)
     report = {**result.to_dict(), "fabric_constants": fab.to_dict(), "fabric_assumed": assumed}
     files = []
     if out is not None:

@@ -283,6 +283,13 @@ class CantileverResult:
         out = [f"the {m.triangles}-triangle strip did not reach rest "
                f"({m.runs[-1].solve.describe()})"
                for m in self.meshes if not m.runs[-1].solve.at_rest]
+        if len(self.meshes) == 1:
+            out.append("one mesh: the reading is not shown to be mesh-converged (two meshes "
+                       "or more, coarse to fine)")
+        elif self.mesh_change is not None and self.mesh_change > self.tolerance:
+            out.append(f"the reading moved by {100 * self.mesh_change:.1f} % from the "
+                       f"{self.meshes[-2].triangles}-triangle strip to the finest: not "
+                       f"mesh-converged (at most {100 * self.tolerance:g} %)")
         if self.ratio is None:
             out.append(f"tip angle {self.tip_angle_deg:.1f} deg, outside the elastica's "
                        "range: no bending length")
@@ -295,8 +302,8 @@ class CantileverResult:
 
     @property
     def passed(self) -> bool:
-        """Every reading's solve ended at rest and the finest reading is within
-        ``tolerance``."""
+        """Every reading's solve ended at rest, the finest reading is within ``tolerance``
+        and moved by no more than that from the next finest mesh's (two meshes at least)."""
         return not self.failures
 
     def to_dict(self) -> dict:

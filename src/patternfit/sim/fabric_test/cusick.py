@@ -39,6 +39,10 @@ CUSICK_EDGES_PER_BENDING_LENGTH = 2.5
 #: more (petrak_m2 at 24K: 21 s CPU a start on a 2-core machine, 46 s wall at load 4; the
 #: solver stops at its 300 s wall-clock limit, so a finer default would fail on a busy one)
 CUSICK_TRIANGLES = (4000, 24000)
+#: the mesh check (``cusick_test(mesh_check=True)``): the first start's drape coefficient
+#: on twice the triangles may differ by this much [-], a tenth of the span of the
+#: published woven fabrics' coefficients (0.22-0.55, docs/fabrics.md, "Measured against")
+CUSICK_MESH_TOLERANCE = 0.03
 
 
 def cusick_triangles(fabric: Fabric | str, specimen: float = CUSICK_SPECIMEN) -> int:
@@ -173,6 +177,12 @@ class CusickResult:
         Final shape of each start [m] (not in ``to_dict``).
     rest, mesh_triangles : arrays
         The flat specimen [m] and its triangles (not in ``to_dict``).
+    mesh_check_triangles : int or None
+        With the mesh check: the triangles of the finer specimen the first start was
+        draped again on.
+    mesh_change : float or None
+        With the mesh check: that start's drape coefficient there minus on the test's mesh
+        [-].
     """
 
     fabric: str
@@ -193,6 +203,8 @@ class CusickResult:
     positions: list = field(default_factory=list, repr=False)
     rest: np.ndarray | None = field(default=None, repr=False)
     mesh_triangles: np.ndarray | None = field(default=None, repr=False)
+    mesh_check_triangles: int | None = None
+    mesh_change: float | None = None
 
     @property
     def converged(self) -> bool:
@@ -212,11 +224,18 @@ class CusickResult:
             if not 0.0 <= r.drape_coefficient <= 1.0:
                 out.append(f"start {r.seed}: drape coefficient {r.drape_coefficient:.3g} "
                            "outside [0, 1]")
+        if self.mesh_change is not None and abs(self.mesh_change) > CUSICK_MESH_TOLERANCE:
+            out.append(f"not mesh-converged: start {self.runs[0].seed}'s drape coefficient "
+                       f"moved by {self.mesh_change:+.3f} from {self.triangles} to "
+                       f"{self.mesh_check_triangles} triangles (at most "
+                       f"{CUSICK_MESH_TOLERANCE:g}): the mesh locks the fabric's folds")
         return out
 
     @property
     def passed(self) -> bool:
-        """Every start ended at rest without crossings and every DC lies in [0, 1]."""
+        """Every start ended at rest without crossings, every DC lies in [0, 1] and, with
+        the mesh check, the first start's moved by at most ``CUSICK_MESH_TOLERANCE`` on the
+        finer mesh."""
         return not self.failures
 
     def to_dict(self) -> dict:
@@ -252,14 +271,19 @@ def _perturbation(v: np.ndarray, r_disc: float, r_spec: float, amplitude: float,
 def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = CUSICK_SPECIMEN,
                 disc: float = CUSICK_DISC, triangles: int | None = None, seeds=(0, 1, 2, 3, 4),
                 perturbation: float = 2e-3, pixel: float = 5e-4,
-                settings: SolverSettings | None = None,
+                settings: SolverSettings | None = None, mesh_check: bool = False,
                 progress: Progress | None = None) -> CusickResult:
     """The Cusick drape test of ``fabric``: a circular specimen of diameter ``specimen`` [m]
     clamped between two discs of diameter ``disc`` [m] (every vertex within the disc radius
     is pinned; the disc edge is a circle of mesh vertices), draped under gravity to rest by
     the static solver from each of the flat starts perturbed by ``seeds`` (random waves of
     RMS ``perturbation`` [m] at the hem), meshed with about ``triangles`` triangles (None:
-    :func:`cusick_triangles`, fine enough for the fabric's folds).
+    :func:`cusick_triangles`, fine enough for the fabric's folds by its bending length).
+    With ``mesh_check``, the first start is draped again on twice the triangles and the
+    change of its drape coefficient reported (``mesh_change``; beyond
+    ``CUSICK_MESH_TOLERANCE`` the test fails): a stiff membrane locks the folds of linear
+    triangles that its bending length alone says are fine enough (a KES-F silk read 0.65
+    at 6.5K triangles and 0.50 at 16K).
 
     Reads, per start: DC = (A_shadow - A_disc) / (A_specimen - A_disc), each area the
     vertical projection rasterised at ``pixel`` [m] (pixel centres): of the draped
@@ -287,42 +311,22 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
         raise ValueError("seeds: at least one")
     number(perturbation, "perturbation", low=0.0, high=0.05)
     number(pixel, "pixel", low=1e-5, high=0.01)
-    r_spec, r_disc = specimen / 2, disc / 2
-    v, t = _disc_mesh(r_spec, r_disc, triangles)
-    r = np.hypot(v[:, 0], v[:, 1])
-    pinned = np.flatnonzero(r <= r_disc + 1e-9)
-    hem = np.flatnonzero(r >= r_spec - 1e-9)
-    hem = hem[np.argsort(np.arctan2(v[hem, 1], v[hem, 0]))]
-    rest_area = triangle_areas(v, t)
-    free_tri = (r[t] > r_disc + 1e-9).any(axis=1)
-    a_spec = shadow_area(v, t, pixel)[0]
-    a_disc = shadow_area(v, t[~free_tri], pixel)[0]
+    spec = _Specimen.make(specimen / 2, disc / 2, triangles, pixel)
     solver_settings = _solver_settings(settings)
     runs, positions = [], []
     for i, seed in enumerate(seeds):
-        _say(progress, f"cusick: start {i + 1}/{len(seeds)} (seed {seed}), {len(t)} triangles")
-        solver = GarmentSolver(v, t, _grain("warp", len(t)), fab, pinned=pinned,
-                               settings=solver_settings)
-        # flat specimen at y = 0 (the disc's top), x and z in its plane
-        x0 = np.c_[v[:, 0], _perturbation(v, r_disc, r_spec, perturbation, seed), v[:, 1]]
-        res = solver.solve(x0)
-        x = res.x
-        if not np.isfinite(x).all():
-            raise RuntimeError(f"cusick: the solver returned non-finite positions (seed {seed}, "
-                               f"stop reason {res.stop_reason})")
-        shadow, _, _ = shadow_area(x[:, [0, 2]], t, pixel)
-        dc = (shadow - a_disc) / (a_spec - a_disc)
-        hem_r = np.hypot(x[hem, 0], x[hem, 2])
-        prom = max(0.1 * float(np.ptp(hem_r)), 2e-3)
-        area3 = triangle_areas(x, t)
-        shrunk = free_tri & (area3 < 0.99 * rest_area)
-        runs.append(CusickRun(
-            seed=seed, drape_coefficient=float(dc), nodes=count_nodes(hem_r, prominence=prom),
-            shadow_area_m2=shadow, hem_radius_min_m=float(hem_r.min()),
-            hem_radius_max_m=float(hem_r.max()), hem_drop_m=float(-x[hem, 1].mean()),
-            compressed_share=float(rest_area[shrunk].sum() / rest_area[free_tri].sum()),
-            crossings=solver.crossings(x), solve=SolveInfo.of(res, solver_settings)))
+        _say(progress, f"cusick: start {i + 1}/{len(seeds)} (seed {seed}), {len(spec.t)} "
+                       "triangles")
+        run, x = _drape_start(spec, fab, seed, perturbation, pixel, solver_settings)
+        runs.append(run)
         positions.append(x)
+    finer = change = None
+    if mesh_check:
+        fine = _Specimen.make(specimen / 2, disc / 2, min(2 * triangles, 200_000), pixel)
+        finer = len(fine.t)
+        _say(progress, f"cusick: mesh check, start 1 (seed {seeds[0]}) on {finer} triangles")
+        again, _ = _drape_start(fine, fab, seeds[0], perturbation, pixel, solver_settings)
+        change = again.drape_coefficient - runs[0].drape_coefficient
     dcs = np.array([r.drape_coefficient for r in runs])
     nodes = np.array([r.nodes for r in runs])
     return CusickResult(
@@ -330,8 +334,66 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
         drape_coefficient=float(dcs.mean()), drape_coefficient_spread=float(np.ptp(dcs)),
         drape_coefficient_std=float(dcs.std()), nodes=float(nodes.mean()),
         nodes_min=int(nodes.min()), nodes_max=int(nodes.max()), runs=tuple(runs),
-        triangles=len(t), vertices=len(v), perturbation_m=perturbation, pixel_m=pixel,
-        seconds=time.perf_counter() - t0, positions=positions, rest=v, mesh_triangles=t)
+        triangles=len(spec.t), vertices=len(spec.v), perturbation_m=perturbation,
+        pixel_m=pixel, seconds=time.perf_counter() - t0, positions=positions, rest=spec.v,
+        mesh_triangles=spec.t, mesh_check_triangles=finer, mesh_change=change)
+
+
+@dataclass(frozen=True)
+class _Specimen:
+    """A meshed Cusick specimen: flat vertices (n, 2) and triangles [m], the pinned (disc)
+    and hem vertices (the hem by angle), the triangles' flat areas, which triangles are
+    free, and the rasterised areas of the flat specimen and of the disc [m^2]."""
+
+    v: np.ndarray
+    t: np.ndarray
+    r_disc: float
+    r_spec: float
+    pinned: np.ndarray
+    hem: np.ndarray
+    rest_area: np.ndarray
+    free_tri: np.ndarray
+    a_spec: float
+    a_disc: float
+
+    @classmethod
+    def make(cls, r_spec: float, r_disc: float, triangles: int, pixel: float) -> "_Specimen":
+        v, t = _disc_mesh(r_spec, r_disc, triangles)
+        r = np.hypot(v[:, 0], v[:, 1])
+        hem = np.flatnonzero(r >= r_spec - 1e-9)
+        free_tri = (r[t] > r_disc + 1e-9).any(axis=1)
+        return cls(v, t, r_disc, r_spec, np.flatnonzero(r <= r_disc + 1e-9),
+                   hem[np.argsort(np.arctan2(v[hem, 1], v[hem, 0]))], triangle_areas(v, t),
+                   free_tri, shadow_area(v, t, pixel)[0], shadow_area(v, t[~free_tri], pixel)[0])
+
+
+def _drape_start(spec: _Specimen, fab: Fabric, seed: int, perturbation: float, pixel: float,
+                 settings: SolverSettings) -> tuple[CusickRun, np.ndarray]:
+    """One start of the Cusick test on ``spec``: its reading and final positions (n, 3) [m]."""
+    solver = GarmentSolver(spec.v, spec.t, _grain("warp", len(spec.t)), fab,
+                           pinned=spec.pinned, settings=settings)
+    v = spec.v
+    # flat specimen at y = 0 (the disc's top), x and z in its plane
+    x0 = np.c_[v[:, 0], _perturbation(v, spec.r_disc, spec.r_spec, perturbation, seed), v[:, 1]]
+    res = solver.solve(x0)
+    x = res.x
+    if not np.isfinite(x).all():
+        raise RuntimeError(f"cusick: the solver returned non-finite positions (seed {seed}, "
+                           f"stop reason {res.stop_reason})")
+    shadow, _, _ = shadow_area(x[:, [0, 2]], spec.t, pixel)
+    dc = (shadow - spec.a_disc) / (spec.a_spec - spec.a_disc)
+    hem_r = np.hypot(x[spec.hem, 0], x[spec.hem, 2])
+    prom = max(0.1 * float(np.ptp(hem_r)), 2e-3)
+    area3 = triangle_areas(x, spec.t)
+    shrunk = spec.free_tri & (area3 < 0.99 * spec.rest_area)
+    run = CusickRun(
+        seed=seed, drape_coefficient=float(dc), nodes=count_nodes(hem_r, prominence=prom),
+        shadow_area_m2=shadow, hem_radius_min_m=float(hem_r.min()),
+        hem_radius_max_m=float(hem_r.max()), hem_drop_m=float(-x[spec.hem, 1].mean()),
+        compressed_share=float(spec.rest_area[shrunk].sum()
+                               / spec.rest_area[spec.free_tri].sum()),
+        crossings=solver.crossings(x), solve=SolveInfo.of(res, settings))
+    return run, x
 
 
 def write_cusick_picture(result: CusickResult, path) -> Path:
