@@ -405,3 +405,19 @@ def test_a_users_file_named_as_a_side_file_is_not_replaced(tmp_path):
     for _ in range(2):
         r = runner.invoke(app, ["convert", "skirt", str(tmp_path / "y.dxf")])
         assert r.exit_code == 0, r.output
+
+
+@pytest.mark.parametrize("content, said", [
+    (b"", "empty file"), (b"  \n\t", "empty file"),
+    (b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR", "a PNG image, not a JSON text file"),
+    (b"%PDF-1.7\n", "a PDF document"), (b"PK\x03\x04\x14\0", "a ZIP archive")])
+@pytest.mark.parametrize("command", [["fabrics"], ["convert"]])
+def test_an_empty_or_binary_file_is_named_for_what_it_is(tmp_path, content, said, command):
+    """A PNG picked for a fabric read "not UTF-8 text (byte 0: 0x89)", an empty file as a
+    JSON syntax error at line 1, column 1."""
+    f = tmp_path / "picked.json"
+    f.write_bytes(content)
+    args = [*command, str(f)] + ([str(tmp_path / "out.dxf")] if command == ["convert"] else [])
+    r = runner.invoke(app, args)
+    assert r.exit_code == 2 and said in " ".join(r.output.split()), r.output
+    assert "picked.json" in r.output and "Traceback" not in r.output

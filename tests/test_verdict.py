@@ -129,7 +129,25 @@ def test_a_straight_coat_is_bounded_below_the_chest_by_its_chest(girth, most):
     assert ease_range("coat", girth, _HEAVY) == pytest.approx(
         (EASE_RANGES["coat"][girth][0], most))
     assert ease_range("coat", "bust", _HEAVY) == EASE_RANGES["coat"]["bust"]
-    assert ease_range("dress", girth, _HEAVY) == EASE_RANGES["dress"][girth]
+
+
+def test_a_dress_is_bounded_below_the_bust_as_a_shift_hangs():
+    """A dress 1.3 times too big (waist +43 cm, hip +17 cm, the bust not measured: its
+    armholes dropped below it) read "fits": a dress had no most ease at the waist. The
+    loosest dress, a shift, hangs straight from the bust; the bust not measured is said."""
+    body = {"bust": 90.0, "waist": 70.0, "hip": 96.0}
+    assert ease_range("dress", "waist", body) == pytest.approx((2.5, 20.3 + 20.0))
+    assert ease_range("dress", "hip", body) == EASE_RANGES["dress"]["hip"]
+    assert judge_region(43.0, 0.1, 0.01, style="dress", girth="waist", limit=0.1,
+                        rules=RULES, body_cm=70.0, body_girths=body)[0] == "loose"
+    assert judge_region(15.0, 0.1, 0.01, style="dress", girth="waist", limit=0.1,
+                        rules=RULES, body_cm=70.0, body_girths=body)[0] == "fits"
+    word, why = judge_region(None, 0.1, 0.01, style="dress", girth="bust", limit=0.1,
+                             rules=RULES)
+    assert word == "fits" and "ease not measured" in why
+    fit, m = _synthetic({}, {}, {"waist": 10.0, "hip": 10.0})  # no bust section
+    v = judge(fit, m, style="dress", limit=0.1)
+    assert v.overall == "fits" and v.reason.endswith("ease not measured at bust")
 
 
 @pytest.mark.parametrize("ease,word", [(15.0, "fits"), (27.0, "loose"), (84.3, "too loose")])

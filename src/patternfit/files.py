@@ -375,6 +375,13 @@ def parse_json_text(text: str, *, file=None, error=None):
         raise error(f"not valid JSON: {exc}", file=file) from None
 
 
+#: the files people pick by mistake for a JSON one, by their first bytes
+_BINARY_KINDS = ((b"\x89PNG", "a PNG image"), (b"\xff\xd8\xff", "a JPEG image"),
+                 (b"%PDF", "a PDF document"), (b"PK\x03\x04", "a ZIP archive (.zip, .npz, "
+                                                          "CLO's .zfab, Office)"),
+                 (b"\x1f\x8b", "a gzip archive"))
+
+
 def without_comments(text: str) -> str:
     """``text`` with its ``//`` and ``/* */`` comments blanked out (strings kept; each
     comment's characters become spaces, its line breaks stay, so the lines and columns of
@@ -408,6 +415,11 @@ def read_json_file(path, *, error=None, limit: int = MAX_JSON_BYTES, comments: b
     """
     error = error or InputError
     data = read_bytes_capped(path, limit=limit, error=error)
+    if not data.strip():
+        raise error("empty file: expected a JSON document", file=path)
+    kind = next((name for magic, name in _BINARY_KINDS if data.startswith(magic)), None)
+    if kind:
+        raise error(f"{kind}, not a JSON text file", file=path)
     # the byte-order mark Windows tools (Notepad, Excel) put first is not text (RFC 8259
     # lets a reader ignore it)
     skip = len(codecs.BOM_UTF8) if data.startswith(codecs.BOM_UTF8) else 0

@@ -165,6 +165,9 @@ def judge_region(ease_cm, pressure, stretch, *, style: str, girth: str, limit: f
     if ease_cm is not None and hi is not None and ease_cm > hi:
         word = "loose" if ease_cm <= hi + rules.loose_tolerance_cm else "too loose"
         return word, f"ease {ease_cm:+.1f} cm above the {owner} {hi:g} cm"
+    if ease_cm is None and rng is not None:
+        return "fits", "within limits; ease not measured (the cloth does not close round " \
+                       "the body here)"
     what = f"ease {ease_cm:+.1f} cm, " if ease_cm is not None else ""
     return "fits", f"{what}within limits"
 
@@ -223,7 +226,10 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
         if w in words:
             where = [k for k, v in regions.items() if v.verdict == w]
             return Verdict(w, regions, f"{w} at {', '.join(where)}", style, limit)
-    return Verdict("fits", regions, "every region fits", style, limit)
+    unmeasured = [k for k, v in regions.items()
+                  if v.ease_cm is None and ease_range(style, k) is not None]
+    return Verdict("fits", regions, "every region fits" + (
+        f"; ease not measured at {', '.join(unmeasured)}" if unmeasured else ""), style, limit)
 
 
 def judge_garment(pattern, fit: FitResult, measures: FitMeasures, fabric, checks=None,
