@@ -191,3 +191,35 @@ def test_the_cli_shows_a_sheet_in_si_and_the_api_reads_it(tmp_path):
     out = CliRunner().invoke(app, ["fabrics", str(bad)])
     assert out.exit_code == 2
     assert "bad.json" in out.output and "'EMT'" in out.output
+
+
+@pytest.mark.parametrize("change, said", [
+    ({"B": 6.96}, "warp bending length 75.3 mm"),                # uN m where gf cm^2/cm go
+    ({"W": 162.9, "T": 1.2}, "1,358 kg/m³ of cloth"),            # g/m^2 where mg/cm^2 go
+])
+def test_a_kes_sheet_with_a_unit_slipped_is_noted(tmp_path, change, said):
+    """Within every range and read, yet no cloth: a KES bending rigidity in uN m made a
+    163 g/m² suiting 75 mm stiff, a thick sheet's weight in g/m² ten times too heavy (the
+    bulk check's 1,600 kg/m³ let it through). Each is said."""
+    from patternfit.sim.fabrics import read_fabric_file
+
+    fab, notes = read_fabric_file(write(tmp_path, {**WOOL, **change}))
+    assert any(said in n and "unit" in n for n in notes), notes
+    _, plain = read_fabric_file(write(tmp_path, WOOL, "plain.json"))
+    assert plain == ()
+
+
+def test_every_preset_and_published_fabric_is_usual():
+    from patternfit.sim.fabrics import FABRICS, get_fabric, published_drapes, unusual
+
+    assert all(unusual(get_fabric(n)) == () for n in [*FABRICS, *published_drapes()])
+
+
+def test_a_missing_fabric_file_is_named_as_a_file_not_a_preset(tmp_path):
+    from patternfit.sim.fabrics import get_fabric
+
+    with pytest.raises(FabricError, match="no such file") as err:
+        get_fabric(tmp_path / "lab" / "wool")
+    assert err.value.file == str(tmp_path / "lab" / "wool")
+    with pytest.raises(FabricError, match="unknown preset 'woll'"):
+        get_fabric("woll")

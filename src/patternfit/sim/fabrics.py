@@ -240,7 +240,8 @@ def read_fabric_file(path) -> tuple[Fabric, tuple[str, ...]]:
         fabric = {**fields, "name": data["name"]}
         names = {key: key if was == key else f"{was} -> {key}" for key, was in origin.items()}
         _check_values(fabric, source=path, names=names)
-        return check_bulk(Fabric(**fabric), path, names), assumed
+        fab = check_bulk(Fabric(**fabric), path, names)
+        return fab, assumed + unusual(fab)
     for key, value in OPTIONAL.items():
         data.setdefault(key, value)
     if "bending" in data:
@@ -258,7 +259,36 @@ def read_fabric_file(path) -> tuple[Fabric, tuple[str, ...]]:
         if key not in data:
             raise FabricError("missing", file=path, place=f"field '{key}'")
     _check_values(data, source=path)
-    return check_bulk(Fabric(**data), path), ()
+    fab = check_bulk(Fabric(**data), path)
+    return fab, unusual(fab)
+
+
+#: the bending lengths [m] and the mass per volume of cloth [kg/m^3] outside which a file's
+#: fabric is noted as unusual, a unit slipped perhaps (the presets and the published wovens:
+#: 7.4-19.9 mm, 225-473 kg/m^3; a KES B in uN m read 75 mm, a FAST C in cm 2 mm, a FAST W in
+#: mg/cm^2 49 kg/m^3, a thick KES sheet's W in g/m^2 1,357 kg/m^3, all within the ranges)
+USUAL_BENDING_LENGTH = (0.003, 0.06)
+USUAL_BULK_DENSITY = (80.0, 1000.0)
+
+
+def unusual(fabric: Fabric) -> tuple[str, ...]:
+    """Sentences on values of ``fabric`` that no cloth we know has, though each lies within
+    :data:`RANGES` (:data:`USUAL_BENDING_LENGTH`, :data:`USUAL_BULK_DENSITY`): a unit
+    slipped perhaps. Empty for a usual fabric."""
+    said = []
+    lo, hi = USUAL_BENDING_LENGTH
+    for side, c in (("warp", fabric.bending_length), ("weft", fabric.bending_length_weft)):
+        if not lo <= c <= hi:
+            said.append(f"{side} bending length {c * 1e3:.3g} mm, outside the "
+                        f"{lo * 1e3:g}-{hi * 1e3:g} mm of cloth: is the bending rigidity (or "
+                        "length) in its sheet's unit?")
+    bulk = fabric.density / fabric.thickness
+    lo, hi = USUAL_BULK_DENSITY
+    if not lo <= bulk <= hi:
+        said.append(f"{fabric.density:g} kg/m² over {fabric.thickness * 1e3:g} mm is "
+                    f"{bulk:,.0f} kg/m³ of cloth, outside the {lo:g}-{hi:,.0f} kg/m³ of "
+                    "cloth: is the weight (or thickness) in its sheet's unit?")
+    return tuple(said)
 
 
 def _assume_missing(fields: dict, origin: dict) -> tuple[str, ...]:
@@ -299,6 +329,8 @@ def fabric_with_notes(name_or_path) -> tuple[Fabric, tuple[str, ...]]:
     path = Path(str(name_or_path))
     if path.suffix.lower() == ".json" or path.exists():
         return read_fabric_file(path)
+    if path.suffix or len(path.parts) > 1:  # a path, not a name
+        raise FabricError("no such file (nor a preset of that name)", file=path)
     raise FabricError(f"unknown preset {name_or_path!r} (presets: {', '.join(FABRICS)}; "
                       f"published test fabrics: {', '.join(published_drapes())}; or a .json "
                       "file)", place="fabric")

@@ -85,8 +85,8 @@ def side_rows(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray,
     them where the lines of their sewn sides meet. Otherwise the panels sewn along
     seams steeper than :data:`STRAIGHT` are laid out by shifts, in seam order, each clear
     of its neighbour at their widest, centred on its middle seam (a left and a right half's
-    centre line on the side's middle, however wide each is) or its middle panel. A ring of one side's panels is a row
-    too, the seam that closes it starting open across the row."""
+    centre line on the side's middle, however wide each is) or its middle panel. A ring of
+    one side's panels is a row too, the seam that closes it starting open across the row."""
     links, sides = _links(pattern, mesh, flat, roles)
     out: dict[int, Row | Fan] = {}
     for first in sorted(links):
