@@ -223,3 +223,10 @@ def test_a_missing_fabric_file_is_named_as_a_file_not_a_preset(tmp_path):
     assert err.value.file == str(tmp_path / "lab" / "wool")
     with pytest.raises(FabricError, match="unknown preset 'woll'"):
         get_fabric("woll")
+
+
+def test_a_fabric_name_is_printed_as_written(tmp_path):
+    """Rich markup in a fabric's name ("[bold]...") was read as markup in the tables."""
+    path = write(tmp_path, {**WOOL, "name": "[bold]wool[/bold] [red]x"})
+    r = CliRunner().invoke(app, ["fabrics", str(path)], terminal_width=200)
+    assert r.exit_code == 0 and r.output.count("[bold]wool[/bold] [red]x") == 2, r.output

@@ -53,7 +53,7 @@ def _meshes(text: str) -> tuple[int, ...]:
 
 
 def _show_strip(r) -> None:
-    table = Table(title=f"hanging strip, {r.fabric} ({r.direction}), "
+    table = Table(title=f"hanging strip, {escape(r.fabric)} ({r.direction}), "
                         f"{r.length_m:.3g} × {r.width_m:.3g} m, {r.triangles} triangles")
     for col in ("quantity", "value"):
         table.add_column(col)
@@ -65,7 +65,7 @@ def _show_strip(r) -> None:
 
 
 def _show_cantilever(r) -> None:
-    table = Table(title=f"Peirce cantilever (ASTM D1388), {r.fabric} ({r.direction}), "
+    table = Table(title=f"Peirce cantilever (ASTM D1388), {escape(r.fabric)} ({r.direction}), "
                         f"strip {r.width_m * 1e3:.0f} mm wide")
     for col in ("edge", "triangles", "overhang", "tip angle", "bending length",
                 "overhang / 2"):
@@ -88,7 +88,7 @@ def _show_cantilever(r) -> None:
 
 
 def _show_cusick(r) -> None:
-    table = Table(title=f"Cusick drape, {r.fabric}: {r.specimen_diameter_m * 100:.0f} cm "
+    table = Table(title=f"Cusick drape, {escape(r.fabric)}: {r.specimen_diameter_m * 100:.0f} cm "
                         f"specimen on a {r.disc_diameter_m * 100:.0f} cm disc, "
                         f"{r.triangles} triangles")
     for col in ("seed", "DC", "nodes", "hem drop", "compressed", "iterations", "s"):
@@ -285,7 +285,7 @@ def fabrics(
         c = r["bending_length_m"]
         dc = kit.get("drape_coefficient")
         table.add_row(
-            r["name"], f"{r['constants']['density'] * 1e3:.0f}",
+            escape(r["name"]), f"{r['constants']['density'] * 1e3:.0f}",
             f"{c['warp'] * 1e3:.1f} / {c['weft'] * 1e3:.1f}",
             _num(None if kit.get("bending_length") is None else kit["bending_length"] * 1e3,
                  ".1f"),
@@ -307,7 +307,7 @@ def _print_constants(rows: list[dict]) -> None:
     for r in rows:
         k, c = r["constants"], r["bending_length_m"]
         table.add_row(
-            r["name"], f"{k['density'] * 1e3:.1f}",
+            escape(r["name"]), f"{k['density'] * 1e3:.1f}",
             f"{k['stretch_warp']:.0f} / {k['stretch_weft']:.0f}", f"{k['shear']:.3g}",
             f"{k['bending_warp'] * 1e6:.3g} / {k['bending_weft'] * 1e6:.3g}",
             f"{c['warp'] * 1e3:.1f} / {c['weft'] * 1e3:.1f}",
