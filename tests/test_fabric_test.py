@@ -329,6 +329,10 @@ def test_cli_cusick_writes_the_top_view(tmp_path):
     (["fabric-test", "strip", "--set", "time_limit=abc"], "time_limit"),
     (["fabric-test", "strip", "--set", "stop=foo"], "stop: one of force, kinematic"),
     (["fabric-test", "strip", "--set", "compression=-1"], "compression"),
+    # NaN read "should be less than or equal to 10"
+    (["fabric-test", "strip", "--length", "nan"], "expected a finite number, got nan"),
+    (["fabric-test", "strip", "--length", "20"], "expected 0.001 to 10, got 20"),
+    (["fabric-test", "cusick", "--disc", "inf"], "expected a finite number"),
 ])
 def test_cli_refusals(args, words):
     r = runner.invoke(app, args)

@@ -163,6 +163,17 @@ def finite(value):
     return value
 
 
+def between(low: float, high: float):
+    """Option callback: :func:`finite`, then ``low <= value <= high`` (Typer's own range
+    check runs first and called NaN "should be less than or equal to" the high end)."""
+    def check(value):
+        finite(value)
+        if value is not None and not low <= value <= high:
+            raise typer.BadParameter(f"expected {low:g} to {high:g}, got {value:g}")
+        return value
+    return check
+
+
 def positive(value):
     """Option callback refusing a value that is not a finite number > 0."""
     finite(value)

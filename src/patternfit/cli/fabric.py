@@ -11,7 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from ..defaults import DEFAULTS
-from .app import CHECKS_FAILED, app, console, fail, finite, output_folder, print_json
+from .app import CHECKS_FAILED, app, between, console, fail, output_folder, print_json
 
 # patternfit.api and the stage modules are imported inside the command, when it runs:
 # `patternfit --help` should not wait for the solver's compiled kernels
@@ -127,8 +127,9 @@ def fabric_test(
                                help="Fabric preset name or a fabric JSON file."),
     direction: Optional[str] = typer.Option(None, help="strip, cantilever: warp (default) or "
                                             "weft, the yarns along the strip."),
-    length: Optional[float] = typer.Option(None, min=0.001, max=10.0, callback=finite,
-                                           help="strip: hanging length \\[m] (default 0.5)."),
+    length: Optional[float] = typer.Option(None, callback=between(0.001, 10.0),
+                                           help="strip: hanging length \\[m], 0.001 to 10 (default "
+                                                "0.5)."),
     meshes: Optional[str] = typer.Option(None, help="cantilever: mesh sizes, edges per "
                                          "bending length, coarse to fine (default 6,12,24)."),
     triangles: Optional[int] = typer.Option(None, "--triangles", "-n", min=50, max=200_000,
@@ -142,12 +143,12 @@ def fabric_test(
                                     "drape coefficient moves by more than 0.03 (a stiff "
                                     "membrane, e.g. from a KES-F or FAST sheet, locks the "
                                     "folds of a mesh its bending length says is fine)."),
-    specimen: Optional[float] = typer.Option(None, min=0.02, max=2.0, callback=finite,
-                                             help="cusick: specimen diameter \\[m] "
-                                                  "(default 0.30)."),
-    disc: Optional[float] = typer.Option(None, min=0.005, max=2.0, callback=finite,
-                                         help="cusick: support disc diameter \\[m] "
-                                              "(default 0.18)."),
+    specimen: Optional[float] = typer.Option(None, callback=between(0.02, 2.0),
+                                             help="cusick: specimen diameter \\[m], 0.02 "
+                                                  "to 2 (default 0.30)."),
+    disc: Optional[float] = typer.Option(None, callback=between(0.005, 2.0),
+                                         help="cusick: support disc diameter \\[m], "
+                                              "0.005 to 2 (default 0.18)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result "
                                        "(fabric_test_<test>.json) and the pictures here "
                                        "(cusick: top view; cantilever: side view).",
