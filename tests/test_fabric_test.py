@@ -274,8 +274,11 @@ def test_cusick_mesh_check_drapes_the_first_start_again_on_twice_the_triangles()
     assert r.passed == (not moved and plain.passed)
     assert any("not mesh-converged" in f for f in r.failures) == moved
     assert r.to_dict()["mesh_change"] == r.mesh_change
+    assert r.mesh_check_at_rest is True
     forced = dataclasses.replace(r, mesh_change=0.15)
     assert not forced.passed and "moved by +0.150 from" in forced.failures[-1]
+    moving = dataclasses.replace(r, mesh_check_at_rest=False)
+    assert not moving.passed and any("did not reach rest" in f for f in moving.failures)
     res = CliRunner().invoke(app, ["fabric-test", "strip", "--mesh-check"])
     assert res.exit_code == 2 and "--mesh-check applies to cusick" in res.output
 

@@ -266,7 +266,7 @@ def read_fabric_file(path) -> tuple[Fabric, tuple[str, ...]]:
 #: the bending lengths [m] and the mass per volume of cloth [kg/m^3] outside which a file's
 #: fabric is noted as unusual, a unit slipped perhaps (the presets and the published wovens:
 #: 7.4-19.9 mm, 225-473 kg/m^3; a KES B in uN m read 75 mm, a FAST C in cm 2 mm, a FAST W in
-#: mg/cm^2 49 kg/m^3, a thick KES sheet's W in g/m^2 1,357 kg/m^3, all within the ranges)
+#: mg/cm^2 49 kg/m^3, a thick KES sheet's W in g/m^2 1,358 kg/m^3, all within the ranges)
 USUAL_BENDING_LENGTH = (0.003, 0.06)
 USUAL_BULK_DENSITY = (80.0, 1000.0)
 

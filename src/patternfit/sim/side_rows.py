@@ -68,10 +68,15 @@ class Fan:
     def polar(self, panel: int, uv) -> tuple[np.ndarray, np.ndarray]:
         """Distance from the apex [m] and angle from the fan's middle [rad] of a panel's
         flat points ``uv`` (k, 2) [m]: each (k,)."""
-        turn, apex = self.panels[panel]
-        d = np.asarray(uv, dtype=np.float64) - apex
-        return np.hypot(d[:, 0], d[:, 1]), np.arctan2(d[:, 0], apex[1] - uv[:, 1]) \
-            + turn - self.middle
+        r, angle = _polar(*self.panels[panel], uv)
+        return r, angle - self.middle
+
+
+def _polar(turn: float, apex: np.ndarray, uv) -> tuple[np.ndarray, np.ndarray]:
+    """Distance [m] from ``apex`` (2,) and angle [rad] from straight down, plus ``turn``,
+    of flat points ``uv`` (k, 2) [m] (:class:`Fan`)."""
+    d = np.asarray(uv, dtype=np.float64) - apex
+    return np.hypot(d[:, 0], d[:, 1]), np.arctan2(d[:, 0], -d[:, 1]) + turn
 
 
 def side_rows(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray,
@@ -191,8 +196,8 @@ def _fan(first: int, links, sides, flat, mesh) -> Fan | None:
     points = {i: flat[mesh.panel_vertices(i)] for i in moves}
     if any(own[1] <= points[i][:, 1].max() for i, (_, own) in panels.items()):
         return None
-    fan = Fan(panels, 0.0, 0.0, 0.0, 0.0, 0.0)
-    r, theta = (np.concatenate(v) for v in zip(*(fan.polar(i, p) for i, p in points.items())))
+    r, theta = (np.concatenate(v) for v in zip(*(_polar(*panels[i], p)
+                                                  for i, p in points.items())))
     if np.ptp(theta) < FAN_ANGLE:
         return None
     return Fan(panels, 0.5 * float(theta.min() + theta.max()), float(np.ptp(theta)),
@@ -202,7 +207,7 @@ def _fan(first: int, links, sides, flat, mesh) -> Fan | None:
 
 def _rigid(p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The turn (2, 2) and shift (2,) that take points ``p`` (k, 2) closest to ``q`` (k, 2)
-    (least squares, no mirroring)."""
+    (least squares, no mirroring; trimesh's ``procrustes`` takes 3D points only)."""
     pc, qc = p - p.mean(axis=0), q - q.mean(axis=0)
     angle = math.atan2(float(np.sum(pc[:, 0] * qc[:, 1] - pc[:, 1] * qc[:, 0])),
                        float(np.sum(pc * qc)))

@@ -183,6 +183,9 @@ class CusickResult:
     mesh_change : float or None
         With the mesh check: that start's drape coefficient there minus on the test's mesh
         [-].
+    mesh_check_at_rest : bool or None
+        With the mesh check: whether that solve ended at rest (a change read off a solve
+        still moving says nothing).
     """
 
     fabric: str
@@ -205,6 +208,7 @@ class CusickResult:
     mesh_triangles: np.ndarray | None = field(default=None, repr=False)
     mesh_check_triangles: int | None = None
     mesh_change: float | None = None
+    mesh_check_at_rest: bool | None = None
 
     @property
     def converged(self) -> bool:
@@ -224,6 +228,9 @@ class CusickResult:
             if not 0.0 <= r.drape_coefficient <= 1.0:
                 out.append(f"start {r.seed}: drape coefficient {r.drape_coefficient:.3g} "
                            "outside [0, 1]")
+        if self.mesh_check_at_rest is False:
+            out.append(f"the mesh check's start on {self.mesh_check_triangles} triangles did "
+                       "not reach rest")
         if self.mesh_change is not None and abs(self.mesh_change) > CUSICK_MESH_TOLERANCE:
             out.append(f"not mesh-converged: start {self.runs[0].seed}'s drape coefficient "
                        f"moved by {self.mesh_change:+.3f} from {self.triangles} to "
@@ -320,13 +327,14 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
         run, x = _drape_start(spec, fab, seed, perturbation, pixel, solver_settings)
         runs.append(run)
         positions.append(x)
-    finer = change = None
+    finer = change = calm = None
     if mesh_check:
         fine = _Specimen.make(specimen / 2, disc / 2, min(2 * triangles, 200_000), pixel)
         finer = len(fine.t)
         _say(progress, f"cusick: mesh check, start 1 (seed {seeds[0]}) on {finer} triangles")
         again, _ = _drape_start(fine, fab, seeds[0], perturbation, pixel, solver_settings)
         change = again.drape_coefficient - runs[0].drape_coefficient
+        calm = again.solve.at_rest
     dcs = np.array([r.drape_coefficient for r in runs])
     nodes = np.array([r.nodes for r in runs])
     return CusickResult(
@@ -336,7 +344,8 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
         nodes_min=int(nodes.min()), nodes_max=int(nodes.max()), runs=tuple(runs),
         triangles=len(spec.t), vertices=len(spec.v), perturbation_m=perturbation,
         pixel_m=pixel, seconds=time.perf_counter() - t0, positions=positions, rest=spec.v,
-        mesh_triangles=spec.t, mesh_check_triangles=finer, mesh_change=change)
+        mesh_triangles=spec.t, mesh_check_triangles=finer, mesh_change=change,
+        mesh_check_at_rest=calm)
 
 
 @dataclass(frozen=True)
