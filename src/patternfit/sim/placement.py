@@ -301,7 +301,9 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     Torso panels are rolled onto an elliptic cylinder around the torso axis that clears the
     body by ``clearance`` [m] and holds the front and back panels side by side (enlarged up
     to ``width_limit`` times; wider panels keep their middle round the body and continue
-    outwards in front of / behind the arms, :class:`WingedProfile`). Leg panels are
+    outwards in front of / behind the arms, :class:`WingedProfile`); a side's panels sewn to
+    each other along seams that run up the body lie side by side in seam order, or, flared,
+    seam to seam on a cone (:func:`~patternfit.sim.side_rows.side_rows`). Leg panels are
     rolled onto a circular cylinder around their leg, the front panel from the front midline
     and the back one from the back midline round the outside, so that the crotch seams start
     at the midline. Sleeves are rolled round the arm's axis (:func:`_place_arm`).
