@@ -415,7 +415,7 @@ def read_json_file(path, *, error=None, limit: int = MAX_JSON_BYTES, comments: b
     """
     error = error or InputError
     data = read_bytes_capped(path, limit=limit, error=error)
-    if not data.strip():
+    if not data or data.isspace():
         raise error("empty file: expected a JSON document", file=path)
     kind = next((name for magic, name in _BINARY_KINDS if data.startswith(magic)), None)
     if kind:

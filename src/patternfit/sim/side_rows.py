@@ -94,9 +94,14 @@ def side_rows(pattern: Pattern, mesh: GarmentMesh, flat: np.ndarray,
     one side's panels is a row too, the seam that closes it starting open across the row."""
     links, sides = _links(pattern, mesh, flat, roles)
     out: dict[int, Row | Fan] = {}
+    tried: set[int] = set()
     for first in sorted(links):
-        if first not in out and (fan := _fan(first, links, sides, flat, mesh)) is not None:
-            out.update(dict.fromkeys(fan.panels, fan))
+        if first in tried:
+            continue
+        fan, row = _fan(first, links, sides, flat, mesh)
+        tried |= row
+        if fan is not None:
+            out.update(dict.fromkeys(row, fan))
     straight = {i: [link for link in ls if link[2] and link[0] not in out]
                 for i, ls in links.items() if i not in out}
     straight = {i: ls for i, ls in straight.items() if ls}
@@ -161,11 +166,11 @@ def _shifted(first: int, links, flat, mesh) -> dict[int, Row]:
     return {i: Row(d - mid, reach) for i, d in shift.items()}
 
 
-def _fan(first: int, links, sides, flat, mesh) -> Fan | None:
+def _fan(first: int, links, sides, flat, mesh) -> tuple[Fan | None, set[int]]:
     """The row of ``first`` put seam to seam, each panel turned and moved onto the seam of
-    the neighbour it was reached from and then moved clear of it by 2 HALF_GAP; None
-    unless it fans out (:func:`side_rows`): its apex is where the lines of its panels'
-    sewn sides meet."""
+    the neighbour it was reached from and then moved clear of it by 2 HALF_GAP: the
+    :class:`Fan` (None unless it fans out, :func:`side_rows`; its apex is where the lines
+    of its panels' sewn sides meet) and the row's panels."""
     moves = {first: (0.0, np.eye(2), np.zeros(2))}
     queue, slanted = [first], False
     while queue:
@@ -190,19 +195,19 @@ def _fan(first: int, links, sides, flat, mesh) -> Fan | None:
              for p in (flat[ids] @ turn.T + shift for ids in sides.get(i, ()))]
     apex = _meeting_point(lines) if slanted else None
     if apex is None:
-        return None
+        return None, set(moves)
     # the apex in each panel's own frame, which must lie above the panel (flared downwards)
     panels = {i: (angle, (apex - shift) @ turn) for i, (angle, turn, shift) in moves.items()}
     points = {i: flat[mesh.panel_vertices(i)] for i in moves}
     if any(own[1] <= points[i][:, 1].max() for i, (_, own) in panels.items()):
-        return None
+        return None, set(moves)
     r, theta = (np.concatenate(v) for v in zip(*(_polar(*panels[i], p)
                                                   for i, p in points.items())))
     if np.ptp(theta) < FAN_ANGLE:
-        return None
+        return None, set(moves)
     return Fan(panels, 0.5 * float(theta.min() + theta.max()), float(np.ptp(theta)),
                float(r.min()), float(r.max()),
-               max(float(p[:, 1].max()) for p in points.values()))
+               max(float(p[:, 1].max()) for p in points.values())), set(moves)
 
 
 def _rigid(p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
