@@ -204,6 +204,9 @@ def test_a_failed_drape_has_no_verdict_but_failed_and_a_slid_one_is_too_loose():
     slid = {"passed": False, "on_body": False, "anchor": "waist", "anchor_offset_mm": -215.0}
     v = judge(fit, m, style="trousers", limit=0.1, checks=slid)
     assert v.overall == "too loose" and "21.5 cm below the waist" in v.reason
+    # where it came to rest it is tight, and the reason says so beside the slide (shorts on
+    # male_average: "too loose (slid off...)" with hip and thighs too tight unsaid)
+    assert v.reason.endswith("; too tight at bust") and v.regions["bust"].verdict == "too tight"
     assert slid_off({"anchor_offset_mm": -50.0}) is None and slid_off(None) is None
     # slid and still moving: no verdict but failed (it read "too loose" beside a hip "too
     # tight"); slid at rest with crossed pairs pooled in its hem: still too loose

@@ -17,7 +17,8 @@ warp/weft stretch of :class:`~patternfit.fit.metrics.FitResult`) against the thr
 Overall: the first of too tight, too loose, tight, loose that a region reads, else fits.
 A garment that slid off its anchor (its top more than the on-body tolerance below the
 waist or neck it hangs from, :mod:`patternfit.sim.onbody`), still sewn and on the body, is
-too loose, whatever else it failed; any other failed check (fallen past the hips, to the
+too loose, whatever else it failed, and its reason names the regions that read tight where
+it came to rest; any other failed check (fallen past the hips, to the
 floor or below the feet, far from the body, collapsed, seams open) makes it "failed", with
 no region verdicts.
 """
@@ -221,7 +222,11 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
         regions[name] = RegionVerdict(word, e, p, s, area, why)
     words = [v.verdict for v in regions.values()]
     if slid:
-        return Verdict("too loose", regions, slid, style, limit)
+        # too big to hang where it should, and still tight where it came to rest (shorts
+        # slid down a man's hips, tight at the thighs): both are the designer's to mend
+        tight = [f"{w} at {', '.join(k for k, v in regions.items() if v.verdict == w)}"
+                 for w in ("too tight", "tight") if w in words]
+        return Verdict("too loose", regions, "; ".join([slid] + tight), style, limit)
     for w in _PRIORITY:
         if w in words:
             where = [k for k, v in regions.items() if v.verdict == w]

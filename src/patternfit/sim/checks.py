@@ -68,13 +68,14 @@ class DrapeChecks:
 def compressed_share(model: ClothModel, x, strain: float = 0.01) -> float:
     """Share of the membrane's rest area [-] whose warp or weft is compressed by more than
     ``strain`` at simulated positions ``x`` (n3, 3) [m] (cloth that shrinks in plane instead
-    of folding)."""
+    of folding), beyond the slack of a gathered seam's band (``ClothModel.gather_slack``)."""
     x = model.reduce(array(x, "x", shape=(None, 3), contiguous=True))
     t = model.terms
     p = x[t.tris]  # (m, 3, 3)
     lu = np.linalg.norm(np.einsum("mj,mjc->mc", t.cu, p), axis=1)
     lv = np.linalg.norm(np.einsum("mj,mjc->mc", t.cv, p), axis=1)
-    short = (lu < 1.0 - strain) | (lv < 1.0 - strain)
+    least = 1.0 - model.gather_slack - strain
+    short = (lu < least) | (lv < least)
     return float(t.area[short].sum() / t.area.sum())
 
 

@@ -27,6 +27,7 @@ from ..geometry import inner_grid, longest_edges, unique_edges
 from .bending_friction import BendingFriction
 from .energies import MeshTerms, build_terms
 from .fabrics import Fabric, get_fabric
+from .gathers import gather_slack
 from .settings import SolverSettings
 
 
@@ -132,6 +133,10 @@ class ClothModel:
         Not pinned.
     edges : (e, 2) int
         Unique edges in solved vertices.
+    gather_slack : (m,) float
+        How far each triangle may shrink at no cost [-]: above 0 in the band of a seam's
+        longer side, whose gathers are finer than the mesh
+        (:func:`patternfit.sim.gathers.gather_slack`).
     """
 
     #: edge contact points by spacing (:meth:`edge_points`), made on first use
@@ -154,6 +159,7 @@ class ClothModel:
     root: np.ndarray = field(init=False)
     free: np.ndarray = field(init=False)
     edges: np.ndarray = field(init=False)
+    gather_slack: np.ndarray = field(init=False)
 
     def __post_init__(self):
         f = self.fabric
@@ -173,6 +179,8 @@ class ClothModel:
                            else self.seam_roots())
         object.__setattr__(self, "free", free)
         object.__setattr__(self, "edges", np.ascontiguousarray(unique_edges(terms.tris)))
+        object.__setattr__(self, "gather_slack", gather_slack(
+            self.rest, self.triangles, self.vertex_map, self.seam_pairs))
 
     @classmethod
     def build(cls, rest, triangles, grain, fabric, *, vertex_map=None, seam_pairs=None,

@@ -110,7 +110,8 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
 
     def cloth() -> float:  # membrane, bending and the given forces, into grad
         e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, fab.stretch_warp,
-                             fab.stretch_weft, fab.shear, settings.compression, grad)
+                             fab.stretch_weft, fab.shear, settings.compression,
+                             model.gather_slack, grad)
         qx = state.quadratic @ x
         e += 0.5 * float(np.einsum("ij,ij->", x, qx)) \
             - float(np.einsum("ij,ij->", state.forces, x))
@@ -235,7 +236,7 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
 
     def membrane():
         kernels.membrane_hessian(x, t.tris, t.cu, t.cv, t.area, f.stretch_warp,
-                                 f.stretch_weft, f.shear, s.compression,
+                                 f.stretch_weft, f.shear, s.compression, model.gather_slack,
                                  pattern.membrane_slots, data)
 
     def the_rest():  # per vertex: the regulariser, contact, friction; the other matrices

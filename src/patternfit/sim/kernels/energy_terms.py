@@ -20,14 +20,27 @@ from ...body.sdf import smooth_distance_at
 
 
 @njit(cache=True, nogil=True)
-def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, grad):
+def _stretch(e, k, compression, slack):
+    """The stiffness [N/m] and strain [-] a yarn's stretch term sees at strain ``e``: ``k``
+    stretched; in compression none down to ``-slack`` (gathers taken up), then ``k
+    compression`` on the strain beyond it."""
+    if e > 0.0:
+        return k, e
+    if e >= -slack:
+        return 0.0, 0.0
+    return k * compression, e + slack
+
+
+@njit(cache=True, nogil=True)
+def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, slack, grad):
     """Orthotropic membrane (Baraff-Witkin strain measures on the grain frame).
 
     ``w_u = sum_j cu[t, j] x[tris[t, j]]`` is the image of the unit warp vector (column 1 of
     the deformation gradient F), ``w_v`` that of the weft. Energy per triangle
     ``A (k_u e_u^2 + k_v e_v^2 + k_s s^2) / 2`` with ``e = |w| - 1`` and ``s = w_u . w_v``;
     a stretch stiffness is multiplied by ``compression`` while its strain is negative, so
-    that fabric buckles rather than shrinks.
+    that fabric buckles rather than shrinks, and a triangle's strain may first fall to
+    ``-slack[t]`` ((m,) [-]) at no cost (a gathered seam's band, :mod:`patternfit.sim.gathers`).
     """
     energy = 0.0
     for t in range(tris.shape[0]):
@@ -42,11 +55,9 @@ def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, grad):
         wvz = v0 * x[a0, 2] + v1 * x[a1, 2] + v2 * x[a2, 2]
         lu = np.sqrt(wux * wux + wuy * wuy + wuz * wuz)
         lv = np.sqrt(wvx * wvx + wvy * wvy + wvz * wvz)
-        eu = lu - 1.0
-        ev = lv - 1.0
+        ku, eu = _stretch(lu - 1.0, k_warp, compression, slack[t])
+        kv, ev = _stretch(lv - 1.0, k_weft, compression, slack[t])
         s = wux * wvx + wuy * wvy + wuz * wvz
-        ku = k_warp if eu > 0.0 else k_warp * compression
-        kv = k_weft if ev > 0.0 else k_weft * compression
         a = area[t]
         energy += 0.5 * a * (ku * eu * eu + kv * ev * ev + k_shear * s * s)
         fu = a * ku * eu / max(lu, 1e-12)
@@ -413,8 +424,8 @@ def edge_repulsion(x, edges, pairs, st, normal, radius, stiffness, grad):
 
 
 @njit(cache=True, nogil=True)
-def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, slots,
-                     out):
+def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, slack,
+                     slots, out):
     """Positive semi-definite Hessian of :func:`membrane`, per triangle: the 9x9 block over
     (corner j, coordinate c) x (corner k, coordinate d), its row-major entry e of triangle t
     added to ``out[slots[81 t + e]]`` (``out`` flat; triangle by triangle, entries in order,
@@ -425,7 +436,8 @@ def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression
     transverse part, negative in compression, is clamped at zero; the shear term
     ``k_s s^2 / 2`` keeps its Gauss-Newton part ``k_s a a^T`` (``a = (w_v, w_u)``) and drops
     ``k_s s`` times an indefinite coupling. Exact where every yarn is stretched and the shear
-    is zero; a PSD bound otherwise (Newton then takes a descent step).
+    is zero; a PSD bound otherwise (Newton then takes a descent step). Within a triangle's
+    ``slack`` the stretch term is flat and adds nothing.
     """
     Huu = np.empty((3, 3))
     Hvv = np.empty((3, 3))
@@ -439,10 +451,8 @@ def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression
             wv[c] = cv[t, 0] * x[a0, c] + cv[t, 1] * x[a1, c] + cv[t, 2] * x[a2, c]
         lu = max(np.sqrt(wu[0] ** 2 + wu[1] ** 2 + wu[2] ** 2), 1e-12)
         lv = max(np.sqrt(wv[0] ** 2 + wv[1] ** 2 + wv[2] ** 2), 1e-12)
-        eu = lu - 1.0
-        ev = lv - 1.0
-        ku = k_warp if eu > 0.0 else k_warp * compression
-        kv = k_weft if ev > 0.0 else k_weft * compression
+        ku, eu = _stretch(lu - 1.0, k_warp, compression, slack[t])
+        kv, ev = _stretch(lv - 1.0, k_weft, compression, slack[t])
         a = area[t]
         tu = max(eu, 0.0) / lu
         tv = max(ev, 0.0) / lv

@@ -1,0 +1,101 @@
+"""Gathers finer than the mesh: the band along a seam's longer side that shrinks freely.
+
+A seam whose sides differ in length (a gather, a sleeve cap's ease; GarmentCode sews edges
+of different length throughout) is meshed with the same number of vertices on both sides, so
+closing it draws the longer side in. Real cloth takes that up in gathers, folds of a few
+millimetres, far finer than a garment mesh's 1-4 cm edges. A mesh that keeps its stretch
+stiffness in compression cannot fold that finely and splits the difference instead: in
+GarmentCodeData's rand_04EGGDPALT (5K triangles) the skirt gores, the shorter side, were
+stretched by 25-36 % along the waist seam and the bodice drawn in only to 0.69-0.72, and the
+fit read that stretch as a tight waist (outside audit 13). So the triangles of the longer
+side within :data:`GATHER_ROWS` of its edges' lengths from the seam may shrink at no cost by
+the gather at the seam (``1 - short / long``), by less further in, and by nothing at the band's
+edge: the gathers the mesh cannot resolve, while the shorter side keeps its length. Beyond that
+slack a triangle resists as any other (a gather packs no tighter than its ratio). Further away
+the mesh resolves the folds itself. A first try that kept no stiffness in compression at all
+in the band let it collapse without bound: rand_04EGGDPALT's bodice then slid off the shoulders
+and the solve stalled far from rest.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import dijkstra
+
+from ..geometry import boundary_edges, unique_edges
+
+#: a seam edge counts as gathered where its side is longer than its partner's by more than
+#: this share [-]: above the seam tolerance (0.5 %) and the chord difference of a curved side
+#: sewn to a straight one, below a sleeve cap's usual ease (5-10 %)
+GATHER_MIN = 0.02
+#: the band's width, in lengths of the gathered side's own mesh edges [-]: wide enough that
+#: the first rows of triangles can take up a 2:1 gather between them
+GATHER_ROWS = 3.0
+
+
+def gather_slack(rest, triangles, vertex_map, seam_pairs) -> np.ndarray:
+    """How far each triangle may shrink at no cost [-], ``(m,)`` in [0, 1): 0 everywhere but
+    in the band of a gathered seam side, where it is ``1 - short / long`` of the nearest
+    gathered edge at the seam (the gather taken up there) and falls linearly to 0 across the
+    band.
+
+    Parameters
+    ----------
+    rest : (n, 2) float
+        Flat vertex positions [m].
+    triangles : (m, 3) int
+        Flat triangles.
+    vertex_map : (n,) int
+        Simulated vertex of each flat vertex.
+    seam_pairs : (k, 2) int
+        Sewn pairs of simulated vertices.
+    """
+    rest = np.asarray(rest, dtype=np.float64)
+    triangles = np.asarray(triangles, dtype=np.int64)
+    slack = np.zeros(len(triangles))
+    if not len(seam_pairs):
+        return slack
+    gathered, ratio = gathered_edges(rest, triangles, vertex_map, seam_pairs)
+    if not len(gathered):
+        return slack
+    edges = unique_edges(triangles)
+    lengths = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
+    n = len(rest)
+    graph = sp.coo_matrix((lengths, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
+    width = GATHER_ROWS * float(np.mean(np.linalg.norm(
+        rest[gathered[:, 0]] - rest[gathered[:, 1]], axis=1)))
+    # each seam vertex takes up the larger gather of its two edges
+    at_seam = np.zeros(n)
+    np.maximum.at(at_seam, gathered.ravel(), np.repeat(1.0 - 1.0 / ratio, 2))
+    distance, _, source = dijkstra(graph, directed=False, indices=np.unique(gathered),
+                                   limit=width, min_only=True, return_predecessors=True)
+    near = source >= 0
+    vertex = np.zeros(n)
+    vertex[near] = at_seam[source[near]] * np.clip(1.0 - distance[near] / width, 0.0, 1.0)
+    return vertex[triangles].mean(axis=1)
+
+
+def gathered_edges(rest, triangles, vertex_map, seam_pairs) -> tuple[np.ndarray, np.ndarray]:
+    """The flat boundary edges sewn to a partner edge shorter by more than
+    :data:`GATHER_MIN` of its length (the side that gathers), ``(g, 2)`` int, and each one's
+    length over its partner's, ``(g,)`` float; arguments as in :func:`gather_slack`."""
+    vertex_map = np.asarray(vertex_map, dtype=np.int64)
+    border = boundary_edges(triangles)
+    if not len(border):
+        return np.zeros((0, 2), np.int64), np.zeros(0)
+    length = np.linalg.norm(rest[border[:, 0]] - rest[border[:, 1]], axis=1)
+    sim = np.sort(vertex_map[border], axis=1)
+    by_key = {(int(a), int(b)): float(L) for (a, b), L in zip(sim, length)}
+    partners: dict[int, list[int]] = {}
+    for a, b in np.asarray(seam_pairs, dtype=np.int64):
+        partners.setdefault(int(a), []).append(int(b))
+        partners.setdefault(int(b), []).append(int(a))
+    rows, ratio = [], []
+    for k, (a, b) in enumerate(sim):
+        other = [by_key[key] for p in partners.get(int(a), ()) for q in partners.get(int(b), ())
+                 if (key := (min(p, q), max(p, q))) in by_key]
+        if other and length[k] > (1.0 + GATHER_MIN) * max(other):
+            rows.append(k)
+            ratio.append(length[k] / max(other))
+    return border[rows].reshape(-1, 2), np.array(ratio)
