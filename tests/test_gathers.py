@@ -25,13 +25,20 @@ def _tube(longer: float, triangles: int = 500):
     return mesh_pattern(p, triangles=triangles)
 
 
-def _slack(m):
-    return gather_slack(m.vertices, m.triangles, np.arange(m.n_vertices), m.seam_pairs)
+def _slack(m, grain=None):
+    """The slack along the seam (A's right edge, x = 0.4, vertical) and across it, (m,) each,
+    with every panel's warp at ``grain`` (default the mesh's)."""
+    g = m.grain[m.triangle_panel] if grain is None else np.tile(grain, (m.n_triangles, 1))
+    slack = gather_slack(m.vertices, m.triangles, g, np.arange(m.n_vertices), m.seam_pairs)
+    along = 0 if abs(g[0, 1]) > abs(g[0, 0]) else 1  # the yarn that runs up, with the seam
+    return slack[:, along], slack[:, 1 - along], slack
 
 
 def test_the_longer_side_gets_a_band_slack_by_its_gather_and_the_shorter_none():
     m = _tube(1.6)
-    slack = _slack(m)
+    slack, across, _ = _slack(m)
+    # a gather shortens the cloth along the seam, not down from it
+    assert np.all(across == 0.0)
     a = m.triangle_panel == m.panel_names.index("A")
     assert np.all(slack[~a] == 0.0)
     band = a & (slack > 0.0)
@@ -51,15 +58,25 @@ def test_the_longer_side_gets_a_band_slack_by_its_gather_and_the_shorter_none():
 
 
 def test_an_equal_seam_changes_nothing():
-    assert np.all(_slack(_tube(1.0)) == 0.0)
+    assert np.all(_slack(_tube(1.0))[2] == 0.0)
+
+
+def test_a_yarn_at_an_angle_to_the_seam_takes_its_cos_squared_share():
+    m = _tube(1.6)
+    up, _, _ = _slack(m, grain=(0.0, 1.0))
+    for degrees in (30.0, 45.0, 60.0):
+        theta = np.radians(degrees)  # the warp this far from the seam, the weft 90 more
+        _, _, both = _slack(m, grain=(np.sin(theta), np.cos(theta)))
+        np.testing.assert_allclose(both[:, 0], up * np.cos(theta) ** 2, atol=1e-12)
+        np.testing.assert_allclose(both[:, 1], up * np.sin(theta) ** 2, atol=1e-12)
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(longer=st.floats(1.0, 1.95), triangles=st.integers(120, 600))
 def test_slack_only_beyond_the_gather_threshold_and_within_the_gather(longer, triangles):
     m = _tube(longer, triangles)
-    slack = _slack(m)
-    assert slack.shape == (m.n_triangles,)
+    slack = _slack(m)[2]
+    assert slack.shape == (m.n_triangles, 2)
     assert np.all((slack >= 0.0) & (slack <= 1.0 - 1.0 / longer + 1e-9))
     b = m.triangle_panel == m.panel_names.index("B")
     assert np.all(slack[b] == 0.0)

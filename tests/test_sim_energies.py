@@ -34,8 +34,8 @@ def test_membrane_gradient_matches_finite_differences(compression, gathered):
     # gathered: every triangle may shrink by up to 0-30 % at no cost, as in a gathered seam's
     # band (the sheet's yarn strains run from -23 % to +44 %: some within their slack, some
     # beyond it)
-    slack = (np.random.default_rng(5).uniform(0.0, 0.3, len(T.tris)) if gathered
-             else np.zeros(len(T.tris)))
+    slack = (np.random.default_rng(5).uniform(0.0, 0.3, (len(T.tris), 2)) if gathered
+             else np.zeros((len(T.tris), 2)))
 
     def energy(y):
         return kernels.membrane(y, T.tris, T.cu, T.cv, T.area, FABRIC["k_warp"],
@@ -48,6 +48,46 @@ def test_membrane_gradient_matches_finite_differences(compression, gathered):
     np.testing.assert_allclose(grad, fd_gradient(energy, x), atol=1e-6 * np.abs(grad).max())
 
 
+def test_a_gathered_yarn_is_free_in_its_slack_and_smooth_at_its_corners():
+    # one triangle, the warp along x, squeezed and stretched along x only: the yarn's
+    # tension is 0 from 0 down to -slack, full stiffness beyond, and the Hessian (C2 energy)
+    # is the tension's derivative everywhere, in the rounded corners too
+    v = np.array([[0.0, 0.0], [0.01, 0.0], [0.0, 0.01]])
+    t = np.array([[0, 1, 2]])
+    T = build_terms(v, t, grain_at(0, 1), np.arange(3), 3, bend_warp=1e-5, bend_weft=1e-5,
+                    **FABRIC)
+    slack = np.array([[0.3, 0.0]])  # the warp's slack; the weft (along y, unstrained) none
+    dof = (3 * T.tris[:, :, None] + np.arange(3)).reshape(-1, 9)
+    slots = (dof[:, :, None] * 9 + dof[:, None, :]).ravel()
+    along = np.zeros((3, 3))
+    along[:, 0] = v[:, 0]  # d x / d e: stretching along x by e
+
+    def tension_and_stiffness(e):
+        x = np.c_[v, np.zeros(3)] + e * along
+        g = np.zeros_like(x)
+        kernels.membrane(x, T.tris, T.cu, T.cv, T.area, FABRIC["k_warp"], FABRIC["k_weft"],
+                         0.0, 1.0, slack, g)
+        out = np.zeros(81)
+        kernels.membrane_hessian(x, T.tris, T.cu, T.cv, T.area, FABRIC["k_warp"],
+                                 FABRIC["k_weft"], 0.0, 1.0, slack, slots, out)
+        d = along.ravel()
+        return float(g.ravel() @ d), float(d @ out.reshape(9, 9) @ d)
+
+    h = kernels.energy_terms.SLACK_ROUND
+    for e in (-0.2, -0.1, -0.001):
+        assert tension_and_stiffness(e) == (0.0, 0.0)
+    assert tension_and_stiffness(-0.4)[0] < 0.0 < tension_and_stiffness(0.1)[0]
+    # no jump of the stiffness where the yarn leaves its slack either way
+    full = tension_and_stiffness(0.1)[1]
+    assert tension_and_stiffness(1e-6)[1] < 1e-3 * full
+    assert tension_and_stiffness(-0.3 - 1e-6)[1] < 1e-3 * full
+    step = 1e-7
+    for e in (0.5 * h, 2 * h, 0.05, -0.3 - 0.5 * h, -0.3 - 2 * h, -0.4):
+        slope = (tension_and_stiffness(e + step)[0]
+                 - tension_and_stiffness(e - step)[0]) / (2 * step)
+        assert tension_and_stiffness(e)[1] == pytest.approx(slope, rel=1e-4)
+
+
 def test_membrane_hessian_is_exact_in_pure_stretch_and_psd_everywhere():
     v, _, T, _ = _sheet()
     # stretched 2 % along x and 1 % along y, the grain turned: every yarn stretched, shear
@@ -58,7 +98,7 @@ def test_membrane_hessian_is_exact_in_pure_stretch_and_psd_everywhere():
     def grad_at(y):
         g = np.zeros_like(y)
         kernels.membrane(y, T.tris, T.cu, T.cv, T.area, FABRIC["k_warp"], FABRIC["k_weft"],
-                         0.0, 1.0, np.zeros(len(T.tris)), g)
+                         0.0, 1.0, np.zeros((len(T.tris), 2)), g)
         return g.ravel()
 
     def hessian(y, k_shear=0.0, compression=1.0):
@@ -67,7 +107,7 @@ def test_membrane_hessian_is_exact_in_pure_stretch_and_psd_everywhere():
         slots = (dof[:, :, None] * 3 * n + dof[:, None, :]).ravel()
         out = np.zeros(9 * n * n)
         kernels.membrane_hessian(y, T.tris, T.cu, T.cv, T.area, FABRIC["k_warp"],
-                                 FABRIC["k_weft"], k_shear, compression, np.zeros(len(T.tris)),
+                                 FABRIC["k_weft"], k_shear, compression, np.zeros((len(T.tris), 2)),
                                  slots, out)
         return out.reshape(3 * n, 3 * n)
 

@@ -75,7 +75,7 @@ def compressed_share(model: ClothModel, x, strain: float = 0.01) -> float:
     lu = np.linalg.norm(np.einsum("mj,mjc->mc", t.cu, p), axis=1)
     lv = np.linalg.norm(np.einsum("mj,mjc->mc", t.cv, p), axis=1)
     least = 1.0 - model.gather_slack - strain
-    short = (lu < least) | (lv < least)
+    short = (lu < least[:, 0]) | (lv < least[:, 1])
     return float(t.area[short].sum() / t.area.sum())
 
 

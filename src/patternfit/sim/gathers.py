@@ -8,13 +8,16 @@ stiffness in compression cannot fold that finely and splits the difference inste
 GarmentCodeData's rand_04EGGDPALT (5K triangles) the skirt gores, the shorter side, were
 stretched by 25-36 % along the waist seam and the bodice drawn in only to 0.69-0.72, and the
 fit read that stretch as a tight waist (outside audit 13). So the triangles of the longer
-side within :data:`GATHER_ROWS` of its edges' lengths from the seam may shrink at no cost by
-the gather at the seam (``1 - short / long``), by less further in, and by nothing at the band's
-edge: the gathers the mesh cannot resolve, while the shorter side keeps its length. Beyond that
-slack a triangle resists as any other (a gather packs no tighter than its ratio). Further away
-the mesh resolves the folds itself. A first try that kept no stiffness in compression at all
-in the band let it collapse without bound: rand_04EGGDPALT's bodice then slid off the shoulders
-and the solve stalled far from rest.
+side within :data:`GATHER_ROWS` of its edges' lengths from the seam may shrink along the seam
+at no cost by the gather there (``1 - short / long``), by less further in, and by nothing at
+the band's edge: the gathers the mesh cannot resolve, while the shorter side keeps its length.
+Beyond that slack a triangle resists as any other (a gather packs no tighter than its ratio),
+and across the seam it does not shrink at all. Further away the mesh resolves the folds
+itself. Measured and dropped (docs/simulation.md, "Gathers finer
+than the mesh"): no stiffness at all in the band's compression left the built-in gathered
+skirt's band stretched by 3.5-4.2 % along its seam (1.8-1.9 % with the slack, 23-25 % before);
+a slack on both yarns alike, free to shrink down from the seam too, kept GarmentCodeData's
+rand_04ANOD2PBA from coming to rest.
 """
 
 from __future__ import annotations
@@ -34,11 +37,12 @@ GATHER_MIN = 0.02
 GATHER_ROWS = 3.0
 
 
-def gather_slack(rest, triangles, vertex_map, seam_pairs) -> np.ndarray:
-    """How far each triangle may shrink at no cost [-], ``(m,)`` in [0, 1): 0 everywhere but
-    in the band of a gathered seam side, where it is ``1 - short / long`` of the nearest
-    gathered edge at the seam (the gather taken up there) and falls linearly to 0 across the
-    band.
+def gather_slack(rest, triangles, grain, vertex_map, seam_pairs) -> np.ndarray:
+    """How far each triangle's warp and weft may shrink at no cost [-], ``(m, 2)`` in [0, 1):
+    0 everywhere but in the band of a gathered seam side. There a gather shortens the cloth
+    along the seam by ``1 - short / long`` of the nearest gathered edge, falling linearly to
+    0 across the band, and a yarn at angle ``theta`` to the seam takes ``cos(theta)^2`` of
+    that: a yarn across the seam none (a gather does not shorten the cloth down from it).
 
     Parameters
     ----------
@@ -46,6 +50,8 @@ def gather_slack(rest, triangles, vertex_map, seam_pairs) -> np.ndarray:
         Flat vertex positions [m].
     triangles : (m, 3) int
         Flat triangles.
+    grain : (m, 2) float
+        Unit warp direction of each triangle in the flat frame.
     vertex_map : (n,) int
         Simulated vertex of each flat vertex.
     seam_pairs : (k, 2) int
@@ -53,7 +59,7 @@ def gather_slack(rest, triangles, vertex_map, seam_pairs) -> np.ndarray:
     """
     rest = np.asarray(rest, dtype=np.float64)
     triangles = np.asarray(triangles, dtype=np.int64)
-    slack = np.zeros(len(triangles))
+    slack = np.zeros((len(triangles), 2))
     if not len(seam_pairs):
         return slack
     gathered, ratio = gathered_edges(rest, triangles, vertex_map, seam_pairs)
@@ -63,17 +69,29 @@ def gather_slack(rest, triangles, vertex_map, seam_pairs) -> np.ndarray:
     lengths = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
     n = len(rest)
     graph = sp.coo_matrix((lengths, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
-    width = GATHER_ROWS * float(np.mean(np.linalg.norm(
-        rest[gathered[:, 0]] - rest[gathered[:, 1]], axis=1)))
-    # each seam vertex takes up the larger gather of its two edges
+    along = rest[gathered[:, 1]] - rest[gathered[:, 0]]
+    step = np.linalg.norm(along, axis=1)
+    width = GATHER_ROWS * float(step.mean())
+    # each seam vertex takes up the larger gather of its two edges, along their mean line
+    # (u u^T summed, so that the edges' senses do not matter)
     at_seam = np.zeros(n)
     np.maximum.at(at_seam, gathered.ravel(), np.repeat(1.0 - 1.0 / ratio, 2))
+    line = np.zeros((n, 2, 2))
+    u = along / step[:, None]
+    np.add.at(line, gathered.ravel(), np.repeat(u[:, :, None] * u[:, None, :], 2, axis=0))
+    line /= np.maximum(np.trace(line, axis1=1, axis2=2), 1e-300)[:, None, None]
     distance, _, source = dijkstra(graph, directed=False, indices=np.unique(gathered),
                                    limit=width, min_only=True, return_predecessors=True)
     near = source >= 0
-    vertex = np.zeros(n)
-    vertex[near] = at_seam[source[near]] * np.clip(1.0 - distance[near] / width, 0.0, 1.0)
-    return vertex[triangles].mean(axis=1)
+    amount = np.zeros(n)
+    amount[near] = at_seam[source[near]] * np.clip(1.0 - distance[near] / width, 0.0, 1.0)
+    seam_line = np.zeros((n, 2, 2))
+    seam_line[near] = line[source[near]]
+    grain = np.asarray(grain, dtype=np.float64)
+    for k, yarn in enumerate((grain, np.column_stack([-grain[:, 1], grain[:, 0]]))):
+        share = np.einsum("ti,tjik,tk->tj", yarn, seam_line[triangles], yarn)  # cos^2
+        slack[:, k] = (amount[triangles] * share).mean(axis=1)
+    return slack
 
 
 def gathered_edges(rest, triangles, vertex_map, seam_pairs) -> tuple[np.ndarray, np.ndarray]:

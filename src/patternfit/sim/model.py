@@ -133,9 +133,9 @@ class ClothModel:
         Not pinned.
     edges : (e, 2) int
         Unique edges in solved vertices.
-    gather_slack : (m,) float
-        How far each triangle may shrink at no cost [-]: above 0 in the band of a seam's
-        longer side, whose gathers are finer than the mesh
+    gather_slack : (m, 2) float
+        How far each triangle's warp and weft may shrink at no cost [-]: above 0 in the band
+        of a seam's longer side, whose gathers are finer than the mesh
         (:func:`patternfit.sim.gathers.gather_slack`).
     """
 
@@ -180,7 +180,7 @@ class ClothModel:
         object.__setattr__(self, "free", free)
         object.__setattr__(self, "edges", np.ascontiguousarray(unique_edges(terms.tris)))
         object.__setattr__(self, "gather_slack", gather_slack(
-            self.rest, self.triangles, self.vertex_map, self.seam_pairs))
+            self.rest, self.triangles, self.grain, self.vertex_map, self.seam_pairs))
 
     @classmethod
     def build(cls, rest, triangles, grain, fabric, *, vertex_map=None, seam_pairs=None,

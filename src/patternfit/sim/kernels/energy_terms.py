@@ -19,16 +19,34 @@ from ...body.sdf import smooth_distance_at
 # membrane
 
 
+#: the strain over which a gathered band's stiffness rises from none to full, at either
+#: end of its slack (or over the slack itself where that is smaller) [-]: a C2 energy, so
+#: that Newton's model does not jump as a yarn crosses into or out of its slack
+SLACK_ROUND = 0.005
+
+
 @njit(cache=True, nogil=True)
-def _stretch(e, k, compression, slack):
-    """The stiffness [N/m] and strain [-] a yarn's stretch term sees at strain ``e``: ``k``
-    stretched; in compression none down to ``-slack`` (gathers taken up), then ``k
-    compression`` on the strain beyond it."""
-    if e > 0.0:
-        return k, e
-    if e >= -slack:
-        return 0.0, 0.0
-    return k * compression, e + slack
+def _half_square(x, h):
+    """``max(x, 0)^2 / 2`` with its curvature rising linearly over ``0 < x < h``: value,
+    first and second derivative."""
+    if x <= 0.0:
+        return 0.0, 0.0, 0.0
+    if x < h:
+        return x * x * x / (6.0 * h), x * x / (2.0 * h), x / h
+    return 0.5 * x * x - 0.5 * h * x + h * h / 6.0, x - 0.5 * h, 1.0
+
+
+@njit(cache=True, nogil=True)
+def _gathered(e, k, compression, slack):
+    """A yarn of a gathered seam's band at strain ``e`` [-]: energy per rest area [J/m^2],
+    tension [N/m] and stiffness [N/m]; ``k`` stretched, none from 0 down to ``-slack`` > 0
+    (the gathers taken up), ``k compression`` beyond, the corners rounded over
+    ``min(SLACK_ROUND, slack)``."""
+    h = min(SLACK_ROUND, slack)
+    p, dp, ddp = _half_square(e, h)
+    q, dq, ddq = _half_square(-e - slack, h)
+    kc = k * compression
+    return k * p + kc * q, k * dp - kc * dq, k * ddp + kc * ddq
 
 
 @njit(cache=True, nogil=True)
@@ -39,8 +57,9 @@ def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, slack,
     the deformation gradient F), ``w_v`` that of the weft. Energy per triangle
     ``A (k_u e_u^2 + k_v e_v^2 + k_s s^2) / 2`` with ``e = |w| - 1`` and ``s = w_u . w_v``;
     a stretch stiffness is multiplied by ``compression`` while its strain is negative, so
-    that fabric buckles rather than shrinks, and a triangle's strain may first fall to
-    ``-slack[t]`` ((m,) [-]) at no cost (a gathered seam's band, :mod:`patternfit.sim.gathers`).
+    that fabric buckles rather than shrinks, and a triangle's warp and weft strains may first
+    fall to ``-slack[t, 0]`` and ``-slack[t, 1]`` ((m, 2) [-]) at no cost (a gathered seam's
+    band, :mod:`patternfit.sim.gathers`; :func:`_gathered`).
     """
     energy = 0.0
     for t in range(tris.shape[0]):
@@ -55,13 +74,25 @@ def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, slack,
         wvz = v0 * x[a0, 2] + v1 * x[a1, 2] + v2 * x[a2, 2]
         lu = np.sqrt(wux * wux + wuy * wuy + wuz * wuz)
         lv = np.sqrt(wvx * wvx + wvy * wvy + wvz * wvz)
-        ku, eu = _stretch(lu - 1.0, k_warp, compression, slack[t])
-        kv, ev = _stretch(lv - 1.0, k_weft, compression, slack[t])
+        eu = lu - 1.0
+        ev = lv - 1.0
         s = wux * wvx + wuy * wvy + wuz * wvz
+        ku = k_warp if eu > 0.0 else k_warp * compression
+        kv = k_weft if ev > 0.0 else k_weft * compression
         a = area[t]
         energy += 0.5 * a * (ku * eu * eu + kv * ev * ev + k_shear * s * s)
         fu = a * ku * eu / max(lu, 1e-12)
         fv = a * kv * ev / max(lv, 1e-12)
+        # a gathered band's yarn: its own law in place of k e^2 / 2 (elsewhere the sums
+        # above stay as they were, bit for bit)
+        if slack[t, 0] > 0.0:
+            pu, tu, _ = _gathered(eu, k_warp, compression, slack[t, 0])
+            energy += a * (pu - 0.5 * ku * eu * eu)
+            fu = a * tu / max(lu, 1e-12)
+        if slack[t, 1] > 0.0:
+            pv, tv, _ = _gathered(ev, k_weft, compression, slack[t, 1])
+            energy += a * (pv - 0.5 * kv * ev * ev)
+            fv = a * tv / max(lv, 1e-12)
         fs = a * k_shear * s
         gux = fu * wux + fs * wvx
         guy = fu * wuy + fs * wvy
@@ -431,13 +462,13 @@ def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression
     added to ``out[slots[81 t + e]]`` (``out`` flat; triangle by triangle, entries in order,
     as ``np.bincount`` would; ``slots = arange(81 m)`` on zeros gives the (m, 81) blocks).
 
-    In the images ``w_u``, ``w_v`` of the warp and weft the stretch term
-    ``k (|w| - 1)^2 / 2`` has the Hessian ``k (w^ w^T + max(e, 0) / |w| (I - w^ w^T))``: the
-    transverse part, negative in compression, is clamped at zero; the shear term
+    In the images ``w_u``, ``w_v`` of the warp and weft a stretch term ``psi(|w| - 1)`` with
+    tension ``T = psi'`` and stiffness ``K = psi''`` (``k (|w| - 1)^2 / 2``, or
+    :func:`_gathered` in a gathered band) has the Hessian ``K w^ w^T + T / |w| (I - w^ w^T)``:
+    the transverse part, negative in compression, is clamped at zero; the shear term
     ``k_s s^2 / 2`` keeps its Gauss-Newton part ``k_s a a^T`` (``a = (w_v, w_u)``) and drops
     ``k_s s`` times an indefinite coupling. Exact where every yarn is stretched and the shear
-    is zero; a PSD bound otherwise (Newton then takes a descent step). Within a triangle's
-    ``slack`` the stretch term is flat and adds nothing.
+    is zero; a PSD bound otherwise (Newton then takes a descent step).
     """
     Huu = np.empty((3, 3))
     Hvv = np.empty((3, 3))
@@ -451,11 +482,19 @@ def membrane_hessian(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression
             wv[c] = cv[t, 0] * x[a0, c] + cv[t, 1] * x[a1, c] + cv[t, 2] * x[a2, c]
         lu = max(np.sqrt(wu[0] ** 2 + wu[1] ** 2 + wu[2] ** 2), 1e-12)
         lv = max(np.sqrt(wv[0] ** 2 + wv[1] ** 2 + wv[2] ** 2), 1e-12)
-        ku, eu = _stretch(lu - 1.0, k_warp, compression, slack[t])
-        kv, ev = _stretch(lv - 1.0, k_weft, compression, slack[t])
+        eu = lu - 1.0
+        ev = lv - 1.0
+        ku = k_warp if eu > 0.0 else k_warp * compression
+        kv = k_weft if ev > 0.0 else k_weft * compression
         a = area[t]
         tu = max(eu, 0.0) / lu
         tv = max(ev, 0.0) / lv
+        if slack[t, 0] > 0.0:  # K (n n^T + T / (K |w|) (I - n n^T)), T > 0 only where K > 0
+            _, tension, ku = _gathered(eu, k_warp, compression, slack[t, 0])
+            tu = max(tension, 0.0) / (lu * ku) if ku > 0.0 else 0.0
+        if slack[t, 1] > 0.0:
+            _, tension, kv = _gathered(ev, k_weft, compression, slack[t, 1])
+            tv = max(tension, 0.0) / (lv * kv) if kv > 0.0 else 0.0
         for c in range(3):
             for d in range(3):
                 eye = 1.0 if c == d else 0.0
