@@ -13,11 +13,11 @@ at no cost by the gather there (``1 - short / long``), by less further in, and b
 the band's edge: the gathers the mesh cannot resolve, while the shorter side keeps its length.
 Beyond that slack a triangle resists as any other (a gather packs no tighter than its ratio),
 and across the seam it does not shrink at all. Further away the mesh resolves the folds
-itself. Measured and dropped (docs/simulation.md, "Gathers finer
-than the mesh"): no stiffness at all in the band's compression left the built-in gathered
-skirt's band stretched by 3.5-4.2 % along its seam (1.8-1.9 % with the slack, 23-25 % before);
-a slack on both yarns alike, free to shrink down from the seam too, kept GarmentCodeData's
-rand_04ANOD2PBA from coming to rest.
+itself. Measured and dropped (docs/simulation.md, "Gathers finer than the mesh"): no
+stiffness at all in the band's compression left the built-in gathered skirt's band stretched
+by 3.5-4.2 % along its seam (1.8-1.9 % with the slack, 23-25 % before); a slack on both
+yarns alike, free to shrink down from the seam too, kept GarmentCodeData's rand_04ANOD2PBA
+from coming to rest.
 """
 
 from __future__ import annotations
