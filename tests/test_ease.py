@@ -124,7 +124,9 @@ def test_garmentcode_gathered_waist_reads_with_ease_and_meshes():
     doc["pattern"]["panels"]["skirt"]["vertices"] = [[0, 0], [90, 0], [90, 40], [0, 40]]
     r = garmentcode_from_dict(doc)
     assert r.seams[0].ease == limits.seam_ease
-    assert any("beyond the stated" in w for w in r.meta["warnings"])
+    # the file states no ease: the refusal names the gather and the limit, not "the stated 1"
+    assert any("a 2.25:1 gather, beyond the limit of 2:1" in w for w in r.meta["warnings"])
+    assert not any("beyond the stated" in w for w in r.meta["warnings"])
     with pytest.raises(PatternError, match="stitch0"):
         mesh_pattern(r, triangles=300)
 

@@ -227,6 +227,11 @@ def test_a_waist_whose_top_slid_more_than_slid_cm_below_it_reads_loose_by_its_ea
     assert v.regions["waist"].verdict == "too loose" and v.overall == "too loose"
     assert "6.1 cm below the waist" in v.regions["waist"].reason
     assert "+11.4 cm" in v.regions["waist"].reason
+    # the grip where it rests is said beside the slide
+    assert "held there at 3.00 kPa, stretched 6%" in v.regions["waist"].reason
+    light = judge(*_synthetic({"waist": 0.001}, {"waist": 0.1}, {"waist": 11.4}),
+                  style="skirt", limit=0.03, checks=checks)
+    assert "held there" not in light.regions["waist"].reason
     unmeasured = judge(*_synthetic({"waist": 0.06}, {"waist": 3.0}), style="skirt",
                        limit=0.03, checks=checks)
     assert unmeasured.regions["waist"].verdict == "loose"

@@ -217,8 +217,16 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
             if word not in ("loose", "too loose"):
                 word, why = "loose", (f"ease {e:+.1f} cm where it rests" if e is not None
                                       else "")
+            # where it came to rest it may grip hard (a band stretched 14 % at 7.3 kPa read
+            # "loose" and nothing more, audit 14): say so beside the slide
+            grip, _ = judge_region(None, p, s, style=style, girth=name, limit=limit,
+                                   rules=rules)
+            grips = [f"at {p:.2f} kPa" if p is not None else "",
+                     f"stretched {s * 100:.0f}%" if s is not None else ""]
+            held = ("held there " + ", ".join(g for g in grips if g)
+                    if grip in ("tight", "too tight") else "")
             why = "; ".join(w for w in (f"its top rests {sunk:.1f} cm below the waist, slid "
-                                        "down to where the body is as wide", why) if w)
+                                        "down to where the body is as wide", held, why) if w)
         regions[name] = RegionVerdict(word, e, p, s, area, why)
     words = [v.verdict for v in regions.values()]
     if slid:

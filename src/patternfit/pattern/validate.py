@@ -424,9 +424,17 @@ def check_seams(pattern: Pattern, *, unequal: str = "error") -> list[str]:
         slack = seam_slack(la, lb)
         allowed = seam.ease * min(la, lb) + slack
         if abs(la - lb) > allowed:
-            said = (f"tolerance {slack * 1000:.1f} mm" if not seam.ease else
-                    f"ease {max(la, lb) / min(la, lb) - 1:.3g}, beyond the stated "
-                    f"{seam.ease:g} (a difference of {allowed * 1000:.1f} mm allowed)")
+            ratio = max(la, lb) / min(la, lb)
+            if not seam.ease:
+                said = f"tolerance {slack * 1000:.1f} mm"
+            elif seam.ease >= limits.seam_ease:
+                # a reader gathers a file's unequal stitch by the ease its lengths need, at
+                # most the limit: the file stated none, so "the stated 1" misled (audit 14)
+                said = (f"a {ratio:.3g}:1 gather, beyond the limit of "
+                        f"{1 + limits.seam_ease:g}:1")
+            else:
+                said = (f"ease {ratio - 1:.3g}, beyond the stated {seam.ease:g} (a "
+                        f"difference of {allowed * 1000:.1f} mm allowed)")
             hint = "" if seam.ease else " (state the seam's ease to gather it)"
             err = PatternError(
                 f"seam '{seam.name}' joins sides of different length: "
