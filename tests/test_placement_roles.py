@@ -72,6 +72,19 @@ def unnamed(pattern):
     return replace(pattern, panels=panels, seams=seams, meta={}), names
 
 
+@pytest.mark.parametrize("garment, anchor", [("skirt", "waist"), ("shirt", "neck")])
+def test_a_yoke_is_a_bodice_by_its_shoulders_not_its_name(garment, anchor):
+    # a skirt's hip yoke and a shirt's shoulder yoke: every panel called yoke_<n>, no stated
+    # placement; the seams decide (a skirt so named hung from the neck and failed)
+    bare, names = unnamed(build(garment))
+    yoked = {f"P{i + 1}": f"yoke_{i + 1}" for i in range(len(names))}
+    pattern = replace(bare, panels=tuple(replace(p, name=yoked[p.name]) for p in bare.panels),
+                      seams=tuple(replace(s, a=replace(s.a, panel=yoked[s.a.panel]),
+                                          b=replace(s.b, panel=yoked[s.b.panel]))
+                                  for s in bare.seams))
+    assert garment_anchor(pattern) == pattern.anchor == anchor
+
+
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_roles_and_anchor_of_garmentcode_garments(name):
     pattern = gc(name)
