@@ -316,11 +316,11 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
     (:func:`implausible_placements`) and the garment hangs from the waist; otherwise the
     whole garment is placed here, with a :class:`PlacementWarning` naming the panels when
     the placement is not around the body. A garment hung from the neck is always placed
-    here, without a warning: GarmentCode lays its panels out flat, front and back some 45 cm apart, and sewing
-    those across the shoulders and round the arms failed every one of five GarmentCode
-    garments on female_average (straps pulled off the shoulders, underarms crossed) that
-    drape with every check passed from this placement (docs/interchange.md). Returns
-    positions (n, 3) [m], one per flat vertex.
+    here, without a warning: GarmentCode lays its panels out flat, front and back some 45 cm
+    apart, and sewing those across the shoulders and round the arms failed every one of five
+    GarmentCode garments on female_average (straps pulled off the shoulders, underarms
+    crossed) that drape with every check passed from this placement (docs/interchange.md).
+    Returns positions (n, 3) [m], one per flat vertex.
     """
     clearance = checked_clearance(clearance)
     # a neck garment's own placement is never kept, so it is not judged either: the warning
