@@ -3,6 +3,9 @@ by the gather at no cost, so the shorter side keeps its length."""
 
 from __future__ import annotations
 
+import warnings
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -12,7 +15,9 @@ from scenes import rectangle_panel
 
 from patternfit.mesh import mesh_pattern
 from patternfit.pattern import Pattern, Seam, SeamSide
-from patternfit.sim.gathers import GATHER_MIN, GATHER_ROWS, gather_slack, gathered_edges
+from patternfit.sim.gathers import (GATHER_MIN, GATHER_ROWS, OBLIQUE_DEGREES, OBLIQUE_GATHER,
+                                    GatherWarning, gather_slack, gathered_edges,
+                                    oblique_gathers)
 
 
 def _tube(longer: float, triangles: int = 500):
@@ -71,6 +76,31 @@ def test_a_yarn_at_an_angle_to_the_seam_takes_its_cos_squared_share():
         np.testing.assert_allclose(both[:, 1], up * np.sin(theta) ** 2, atol=1e-12)
 
 
+@pytest.mark.parametrize("degrees, warned", [(0.0, False), (22.5, False), (30.0, True),
+                                             (45.0, True), (70.0, False)])
+def test_a_gather_far_off_the_grain_is_named(degrees, warned):
+    # the seam runs up (A's right edge); the warp this far from it, the weft 90 more: the
+    # nearer yarn is at most 45 degrees off, and from OBLIQUE_DEGREES the gathers are loose
+    m = _tube(1.6)
+    theta = np.radians(degrees)
+    grain = np.tile((np.sin(theta), np.cos(theta)), (m.n_triangles, 1))
+    found = oblique_gathers(m.vertices, m.triangles, grain, m.seam_pairs, m.seam_index,
+                            m.seam_names)
+    near = min(degrees, 90.0 - degrees)
+    assert found == ([("side", 5.0 * round(near / 5.0))] if warned else [])
+    assert warned == (near >= OBLIQUE_DEGREES)
+    # a sleeve cap's ease at that angle is not named: it frees little across the seam
+    eased = _tube(1.0 + 0.5 * OBLIQUE_GATHER)
+    assert oblique_gathers(eased.vertices, eased.triangles,
+                           np.tile((np.sin(theta), np.cos(theta)), (eased.n_triangles, 1)),
+                           eased.seam_pairs, eased.seam_index, eased.seam_names) == []
+    # an equal seam is no gather, whatever its angle
+    flat = _tube(1.0)
+    assert oblique_gathers(flat.vertices, flat.triangles,
+                           np.tile((np.sin(theta), np.cos(theta)), (flat.n_triangles, 1)),
+                           flat.seam_pairs, flat.seam_index, flat.seam_names) == []
+
+
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(longer=st.floats(1.0, 1.95), triangles=st.integers(120, 600))
 def test_slack_only_beyond_the_gather_threshold_and_within_the_gather(longer, triangles):
@@ -97,7 +127,9 @@ def test_a_gathered_waist_keeps_the_band_at_its_length(gather):
 
     p = build("gathered_skirt", "M", gather=gather)
     m = mesh_pattern(p, triangles=1500)
-    d = drape(p, m, load_body("female_average"), "cotton_shirting")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", GatherWarning)  # gathered along the grain: no warning
+        d = drape(p, m, load_body("female_average"), "cotton_shirting")
     assert d.passed, d.reasons
     k = next(i for i, s in enumerate(p.seams) if s.name == "waist_front")
     band = m.seam_pairs[m.seam_index == k, 1]
@@ -109,3 +141,22 @@ def test_a_gathered_waist_keeps_the_band_at_its_length(gather):
     # the skirt's band shrinks by its gathers (23 % of the area compressed by more than 1 %
     # at 1.6); counted beyond that slack, as checks.compressed_share does, little is
     assert d.solver.compressed_share(d.result.x) < 0.05
+
+
+def test_a_drape_gathered_on_the_bias_warns_naming_the_seams():
+    from patternfit.body.builtin import load_body
+    from patternfit.pattern.library import build
+    from patternfit.sim.drape import drape
+    from patternfit.sim.settings import SolverSettings
+
+    p = build("gathered_skirt", "M")
+    bias = replace(p, panels=tuple(replace(q, grainline=(0.7071, 0.7071))
+                                   if not q.name.startswith("band") else q
+                                   for q in p.panels))
+    m = mesh_pattern(bias, triangles=800)
+    with pytest.warns(GatherWarning) as caught:
+        drape(bias, m, load_body("female_average"), "cotton_shirting", sewing_iterations=1,
+              relax_iterations=0, settings=SolverSettings(max_iterations=0), coarse=None)
+    said = {str(w.message).split("'")[1] for w in caught if w.category is GatherWarning}
+    assert said == {"waist_front", "waist_back"}
+    assert all("45 degrees" in str(w.message) for w in caught if w.category is GatherWarning)

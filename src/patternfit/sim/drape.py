@@ -7,6 +7,7 @@ vertex (both copies of a sewn pair end at the same point), the checks and the ti
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -19,6 +20,7 @@ from ..mesh.triangulate import mesh_pattern
 from ..pattern.model import Pattern
 from .checks import inside_reason, seam_gap_reason, through_body
 from .fabrics import Fabric, get_fabric
+from .gathers import GatherWarning, oblique_gathers
 from .onbody import OnBodyChecks, on_body_checks
 from .placement import MAX_CLEARANCE, place_on_body
 from .schedule import Plan, PlanRun, run_plan
@@ -270,6 +272,14 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
             d.check_on_body(pattern, mesh, body)
             return d
         faults = d
+    for seam, angle in oblique_gathers(mesh.vertices, mesh.triangles,
+                                       _grain_per_triangle(mesh), mesh.seam_pairs,
+                                       mesh.seam_index, mesh.seam_names):
+        warnings.warn(GatherWarning(
+            f"seam '{seam}' is gathered at about {angle:g} degrees to the grain: there the "
+            "gathers free the cloth across the seam as well, so the drape near it is loose "
+            "(a skirt gathered on the bias slid off; docs/simulation.md, 'Gathers finer than "
+            "the mesh')"), stacklevel=2)
     x0 = place_on_body(pattern, mesh, body, clearance=clearance) if placed is None \
         else np.asanyarray(placed, dtype=np.float64)
     settings = replace(settings or SolverSettings(), contact_margin=contact_margin)
