@@ -81,24 +81,19 @@ def test_a_yarn_at_an_angle_to_the_seam_takes_its_cos_squared_share():
 def test_a_gather_far_off_the_grain_is_named(degrees, warned):
     # the seam runs up (A's right edge); the warp this far from it, the weft 90 more: the
     # nearer yarn is at most 45 degrees off, and from OBLIQUE_DEGREES the gathers are loose
-    m = _tube(1.6)
     theta = np.radians(degrees)
-    grain = np.tile((np.sin(theta), np.cos(theta)), (m.n_triangles, 1))
-    found = oblique_gathers(m.vertices, m.triangles, grain, m.seam_pairs, m.seam_index,
-                            m.seam_names)
+
+    def turned(m):  # every panel's warp at theta
+        return replace(m, grain=np.tile((np.sin(theta), np.cos(theta)), (len(m.grain), 1)))
+
     near = min(degrees, 90.0 - degrees)
+    found = oblique_gathers(turned(_tube(1.6)))
     assert found == ([("side", 5.0 * round(near / 5.0))] if warned else [])
     assert warned == (near >= OBLIQUE_DEGREES)
     # a sleeve cap's ease at that angle is not named: it frees little across the seam
-    eased = _tube(1.0 + 0.5 * OBLIQUE_GATHER)
-    assert oblique_gathers(eased.vertices, eased.triangles,
-                           np.tile((np.sin(theta), np.cos(theta)), (eased.n_triangles, 1)),
-                           eased.seam_pairs, eased.seam_index, eased.seam_names) == []
+    assert oblique_gathers(turned(_tube(1.0 + 0.5 * OBLIQUE_GATHER))) == []
     # an equal seam is no gather, whatever its angle
-    flat = _tube(1.0)
-    assert oblique_gathers(flat.vertices, flat.triangles,
-                           np.tile((np.sin(theta), np.cos(theta)), (flat.n_triangles, 1)),
-                           flat.seam_pairs, flat.seam_index, flat.seam_names) == []
+    assert oblique_gathers(turned(_tube(1.0))) == []
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -272,9 +272,7 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
             d.check_on_body(pattern, mesh, body)
             return d
         faults = d
-    for seam, angle in oblique_gathers(mesh.vertices, mesh.triangles,
-                                       _grain_per_triangle(mesh), mesh.seam_pairs,
-                                       mesh.seam_index, mesh.seam_names):
+    for seam, angle in oblique_gathers(mesh):
         warnings.warn(GatherWarning(
             f"seam '{seam}' is gathered at about {angle:g} degrees to the grain: there the "
             "gathers free the cloth across the seam as well, so the drape near it is loose "

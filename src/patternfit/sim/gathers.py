@@ -50,33 +50,27 @@ class GatherWarning(UserWarning):
     loosely (:data:`OBLIQUE_DEGREES`)."""
 
 
-def oblique_gathers(vertices, triangles, grain, seam_pairs, seam_index, seam_names):
-    """Each seam gathered by more than :data:`OBLIQUE_GATHER` whose longer side runs at
-    :data:`OBLIQUE_DEGREES` or more from both its yarns, as ``(seam name, angle [degrees])`` with the angle its gathered edges
-    make with the nearer yarn (median, rounded to 5 degrees, 0-45); arguments as a
-    :class:`~patternfit.mesh.garment.GarmentMesh`'s (``grain`` per triangle, ``(m, 2)``)."""
-    vertices = np.asarray(vertices, dtype=np.float64)
-    triangles = np.asarray(triangles, dtype=np.int64)
-    gathered, ratio = gathered_edges(vertices, triangles, np.arange(len(vertices)), seam_pairs)
+def oblique_gathers(mesh) -> list[tuple[str, float]]:
+    """Each seam of ``mesh`` (a :class:`~patternfit.mesh.garment.GarmentMesh`) gathered by
+    more than :data:`OBLIQUE_GATHER` whose longer side runs at :data:`OBLIQUE_DEGREES` or
+    more from both its yarns, as ``(seam name, angle [degrees])`` with the angle its gathered
+    edges make with the nearer yarn (median, rounded to 5 degrees, 0-45)."""
+    gathered, ratio = gathered_edges(mesh.vertices, mesh.triangles,
+                                     np.arange(mesh.n_vertices), mesh.seam_pairs)
     gathered = gathered[ratio > 1.0 + OBLIQUE_GATHER]
-    if not len(gathered):
-        return []
-    # the grain of the triangle each gathered edge belongs to, and the seam it is on
-    owner = {tuple(sorted(e)): t for t, tri in enumerate(triangles)
-             for e in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0]))}
     seams_of: dict[int, set[int]] = {}  # a corner is on two seams: an edge's ends share one
-    for v, k in zip(np.asarray(seam_pairs).ravel().tolist(),
-                    np.repeat(np.asarray(seam_index), 2).tolist()):
+    for v, k in zip(mesh.seam_pairs.ravel().tolist(),
+                    np.repeat(mesh.seam_index, 2).tolist()):
         seams_of.setdefault(v, set()).add(k)
     angles: dict[int, list[float]] = {}
     for a, b in gathered.tolist():
-        u = vertices[b] - vertices[a]
-        g = np.asarray(grain[owner[tuple(sorted((a, b)))]], dtype=np.float64)
+        u = mesh.vertices[b] - mesh.vertices[a]
+        g = mesh.grain[mesh.vertex_panel[a]]
         c = abs(float(u @ g)) / (np.linalg.norm(u) * np.linalg.norm(g))
         angle = np.degrees(np.arccos(min(c, 1.0)))
         seam = min(seams_of[a] & seams_of[b] or seams_of[a] | seams_of[b])
         angles.setdefault(seam, []).append(min(angle, 90.0 - angle))
-    return [(str(seam_names[k]), 5.0 * round(float(np.median(a)) / 5.0))
+    return [(str(mesh.seam_names[k]), 5.0 * round(float(np.median(a)) / 5.0))
             for k, a in sorted(angles.items()) if np.median(a) >= OBLIQUE_DEGREES]
 
 
