@@ -56,6 +56,14 @@ def test_staged_redrape_has_a_stage_per_3_cm_capped_at_the_solvers_own_limit():
     assert Plan.staged(0.01, saved=True).phases[0].settings(BASE).saved_rest
 
 
+def test_a_settle_takes_newton_steps_from_its_first_iteration():
+    # a coarse drape carried over or a saved rest is near rest: L-BFGS there only creeps
+    for plan in (Plan.settle(), Plan.settle(saved=True)):
+        assert plan.phases[0].settings(BASE).newton_after == 0
+    assert Plan.settle(saved=True).phases[0].settings(BASE).saved_rest
+    assert Plan.redrape().phases[0].settings(BASE).newton_after == BASE.newton_after
+
+
 def replace_iterations(n):
     return dataclasses.replace(BASE, max_iterations=n)
 
