@@ -16,8 +16,8 @@ from patternfit.sim.preconditioners import Factors, newton_preconditioner
 from patternfit.sim.settings import SolverSettings
 from patternfit.sim.solver import GarmentSolver, solve
 from patternfit.sim.state import ContactState
-from patternfit.sim.total_energy import (ContactLookups, edge_points, energy, hessian, hessian_pattern,
-                                         pair_hessian)
+from patternfit.sim.total_energy import (ContactLookups, edge_points, energy, hessian,
+                                         hessian_parts, hessian_pattern, pair_hessian)
 
 from scenes import grain_at, rect_mesh, sphere_field
 
@@ -147,6 +147,12 @@ def test_newton_preconditioner_is_the_trimmed_hessian(rested):
     indptr, indices, data = newton_preconditioner(H, pattern)
     assert np.array_equal(indptr, want.indptr) and np.array_equal(indices, want.indices)
     assert np.array_equal(data, want.data)
+    # the Newton step keeps the pairs apart from the fixed pattern: the same sum
+    within, apart = hessian_parts(model, state, x, settings=s, pattern=pattern)
+    assert within.nnz == len(pattern.indices) and apart.nnz == pair_hessian(
+        model, state, x, settings=s).nnz
+    np.testing.assert_allclose((within + apart).toarray(), H.toarray(), rtol=1e-12,
+                               atol=1e-9 * abs(H).max())
 
 
 def test_energy_sees_the_state_it_is_given(rested):

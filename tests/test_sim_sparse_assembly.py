@@ -57,3 +57,34 @@ def test_trim_to_near_keeps_near_pairs_and_moves_the_rest_to_the_diagonal():
     out = kernels.trim_to_near(H.indptr, H.indices[order], H.data[order], near_indptr,
                                near_indices)
     assert np.array_equal(sp.csr_matrix(out[::-1], shape=H.shape).toarray(), got)
+
+
+def test_scatter_points_adds_each_points_rank_one_blocks():
+    # two triangles sharing the edge 1-2: vertices 0 and 3 share none
+    tris = np.array([[0, 1, 2], [1, 3, 2]])
+    n = 4
+    dof = (3 * tris[:, :, None] + np.arange(3)).reshape(-1, 9)
+    rows, cols = np.repeat(dof, 9, axis=1).ravel(), np.tile(dof, (1, 9)).ravel()
+    P = sp.csr_matrix((np.zeros(len(rows)), (rows, cols)), shape=(3 * n, 3 * n))
+    P.sum_duplicates()
+    P.sort_indices()
+    rng = np.random.default_rng(7)
+    ids = np.array([[1, 2, 0], [0, 1, 2], [3, 2, 1]])
+    w = np.array([[0.3, 0.7, 0.0], [0.2, 0.5, 0.3], [0.1, 0.6, 0.3]])
+    v = rng.normal(size=(3, 3))
+    v /= np.linalg.norm(v, axis=1)[:, None]
+    k = np.array([2.0, 5.0, 7.0])
+    start = rng.normal(size=P.nnz)
+    out = start.copy()
+    assert kernels.scatter_points(P.indptr, P.indices, ids, w, v, k, out) == -1
+    want = sp.csr_matrix((start, P.indices, P.indptr), shape=P.shape).toarray()
+    for q in range(3):
+        wn = np.zeros(3 * n)
+        for a in range(3):
+            wn[3 * ids[q, a]:3 * ids[q, a] + 3] += w[q, a] * v[q]
+        want += k[q] * np.outer(wn, wn)
+    got = sp.csr_matrix((out, P.indices, P.indptr), shape=P.shape).toarray()
+    np.testing.assert_allclose(got, want, rtol=1e-13, atol=1e-13)
+    # a point whose vertices share no triangle is named, not written elsewhere
+    assert kernels.scatter_points(P.indptr, P.indices, np.array([[0, 3, 1]]),
+                                  np.array([[0.5, 0.5, 0.0]]), v[:1], k[:1], out) == 0

@@ -25,7 +25,7 @@ from .model import ClothModel
 from .settings import SolverSettings
 from .state import ContactState
 from .threads import both
-from .total_energy import (ContactLookups, HessianPattern, fits_pattern, hessian,
+from .total_energy import (ContactLookups, HessianPattern, fits_pattern, hessian_parts,
                            hessian_pattern)
 
 
@@ -142,24 +142,25 @@ def newton_direction(factors: Factors, model: ClothModel, state: ContactState, x
     energy's contact lookup cache (``total_energy.hessian``)."""
     s = settings
     pattern = factors.pattern_of(model, bending=s.newton_bending_preconditioner)
-    H = hessian(model, state, x, settings=s, pattern=pattern, lookups=lookups)
+    H, extra = hessian_parts(model, state, x, settings=s, pattern=pattern, lookups=lookups)
     if factors.newton is None:
         factors.newton = BlockCholesky(pattern.near_indptr, pattern.near_indices)
     if not factors.newton.factored or factors.cg_last > s.newton_refactor:
-        factors.newton.factor(*newton_preconditioner(H, pattern))
+        whole = H if extra is None else (H + extra).tocsr()
+        factors.newton.factor(*newton_preconditioner(whole, pattern))
         factors.count += 1
     b = -grad.ravel()
     b[np.repeat(~model.free, 3)] = 0.0
     prec = factors.newton.solve
     # H's rows in two halves of equal entries, one per thread (the same sums either way)
     rows = (0, int(np.searchsorted(H.indptr, H.indptr[-1] // 2)), H.shape[0])
-    hp = np.empty_like(b)
+    out = np.empty_like(b)
 
     def product(p):
-        both(*(lambda k=k: kernels.csr_rows_product(H.indptr, H.indices, H.data, p, hp,
+        both(*(lambda k=k: kernels.csr_rows_product(H.indptr, H.indices, H.data, p, out,
                                                     rows[k], rows[k + 1]) for k in (0, 1)),
              threads=factors.newton.threads)
-        return hp
+        return out if extra is None else out + extra @ p
 
     # (the dot products by kernels.dot: BLAS's threads only wait on a busy machine)
     dot = kernels.dot

@@ -31,7 +31,7 @@ from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge
                            membrane, membrane_hessian, point_contact, point_stiffness,
                            seam_springs, self_repulsion, unspared)
 from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
-from .sparse_assembly import csr_rows_product, scatter_hessian, trim_to_near
+from .sparse_assembly import csr_rows_product, scatter_hessian, scatter_points, trim_to_near
 
 __all__ = ["axpy", "block_backward", "block_factor_columns", "block_forward", "block_gather",
            "block_join_lists", "block_scatter", "block_spread", "block_symbolic", "contact",
@@ -39,5 +39,5 @@ __all__ = ["axpy", "block_backward", "block_factor_columns", "block_forward", "b
            "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move", "max_row_norm",
            "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs", "point_contact",
-           "point_stiffness", "scatter_hessian", "sdf_query", "SDF_SLOPE", "seam_springs",
+           "point_stiffness", "scatter_hessian", "scatter_points", "sdf_query", "SDF_SLOPE", "seam_springs",
            "self_repulsion", "smooth_sdf_query", "trim_to_near", "unspared"]

@@ -6,6 +6,8 @@
 - :func:`trim_to_near`: the lower triangle of the matrix factored to precondition Newton's
   conjugate gradients (``preconditioners.newton_preconditioner``), in one pass over the
   Hessian's CSR rows;
+- :func:`scatter_points`: the rank-one blocks of the body contact of points inside edges
+  and triangles, added straight into that data array;
 - :func:`csr_rows_product`: rows of a CSR matrix times a vector (the conjugate gradients'
   products, split between two threads by ``preconditioners.newton_direction``).
 
@@ -31,6 +33,34 @@ def scatter_hessian(bend, bend_slots, blocks, block_slots, out):
     flat = blocks.reshape(-1)
     for k in range(flat.shape[0]):
         out[block_slots[k]] += flat[k]
+
+
+@njit(cache=True)
+def scatter_points(indptr, indices, ids, w, v, k, out):
+    """Add ``k w_a w_b v v^T`` [N/m] of every point (``ids`` (p, j) its vertices, ``w`` (p, j)
+    their weights, ``v`` (p, 3) a unit direction, ``k`` (p,) [N/m]) to the 3 x 3 blocks of its
+    vertex pairs in a Hessian's CSR data ``out``, whose sorted rows (``indptr`` (3n + 1,),
+    ``indices``) hold the whole block of each pair (vertices that share a triangle: a point's
+    vertices do). Zero weights are skipped. Returns -1, or the first point with a vertex
+    pair outside the pattern (then ``out`` is partly written)."""
+    for q in range(ids.shape[0]):
+        for a in range(ids.shape[1]):
+            if w[q, a] == 0.0:
+                continue
+            for b in range(ids.shape[1]):
+                if w[q, b] == 0.0:
+                    continue
+                s = k[q] * w[q, a] * w[q, b]
+                col = 3 * ids[q, b]
+                for c in range(3):
+                    row = 3 * ids[q, a] + c
+                    lo, hi = indptr[row], indptr[row + 1]
+                    pos = lo + np.searchsorted(indices[lo:hi], col)
+                    if pos + 2 >= hi or indices[pos] != col:
+                        return q
+                    for c2 in range(3):
+                        out[pos + c2] += s * v[q, c] * v[q, c2]
+    return -1
 
 
 @njit(cache=True)
