@@ -222,6 +222,19 @@ def test_residual_of_an_unsupported_flat_sheet_is_its_weight():
     assert not res.checks.equilibrium and "residual_rms" in res.checks.to_dict()
 
 
+def test_weight_ratios_are_numpys_over_the_free_vertices_of_mass():
+    rng = np.random.default_rng(11)
+    grad = rng.normal(size=(50, 3))
+    mass = rng.uniform(1e-5, 1e-3, size=50)
+    mass[[3, 17]] = 0.0
+    free = rng.uniform(size=50) > 0.2
+    out = np.full(50, np.nan)
+    k = kernels.weight_ratios2(grad, mass, free, GRAVITY, out)
+    keep = free & (mass > 0)
+    want = (grad[keep] ** 2).sum(axis=1) / (mass[keep] * GRAVITY) ** 2
+    assert k == keep.sum() and np.array_equal(out[:k], want)
+
+
 def test_residual_is_the_finite_difference_force_of_the_total_energy():
     """A crumpled sheet pinned on one edge, lying on a sphere: the reported residual is the
     rms of |dE/dx_i| / (m_i g) with dE/dx taken by finite differences of the energy."""

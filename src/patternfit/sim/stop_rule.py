@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..constants import GRAVITY
+from . import kernels
 from .model import ClothModel
 from .settings import SolverSettings
 
@@ -21,8 +22,10 @@ def drift(x, it, marks, window) -> float:
 
 def _ratios2(model: ClothModel, grad) -> np.ndarray:
     """(|F_i| / (m_i g))^2 [-] over the free solved vertices of mass (k,), F = -grad."""
-    free = model.free & (model.mass > 0)
-    return (grad[free] ** 2).sum(axis=1) / (model.mass[free] * GRAVITY) ** 2
+    out = np.empty(len(grad))
+    k = kernels.weight_ratios2(np.ascontiguousarray(grad, dtype=np.float64), model.mass,
+                               model.free, GRAVITY, out)
+    return out[:k]
 
 
 def residual(model: ClothModel, grad) -> tuple[float, float]:

@@ -30,7 +30,8 @@ from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge
                            friction, friction_law, friction_offset, friction_stiffness,
                            membrane, membrane_hessian, point_contact, point_stiffness,
                            seam_springs, self_repulsion, unspared)
-from .optimiser import axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm
+from .optimiser import (axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move, max_row_norm,
+                        weight_ratios2)
 from .sparse_assembly import csr_rows_product, scatter_hessian, scatter_points, trim_to_near
 
 __all__ = ["axpy", "block_backward", "block_factor_columns", "block_forward", "block_gather",
@@ -40,4 +41,5 @@ __all__ = ["axpy", "block_backward", "block_factor_columns", "block_forward", "b
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move", "max_row_norm",
            "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs", "point_contact",
            "point_stiffness", "scatter_hessian", "scatter_points", "sdf_query", "SDF_SLOPE", "seam_springs",
-           "self_repulsion", "smooth_sdf_query", "trim_to_near", "unspared"]
+           "self_repulsion", "smooth_sdf_query", "trim_to_near", "unspared",
+           "weight_ratios2"]

@@ -88,3 +88,18 @@ def max_relative_move(x, x0):
         if v > best:
             best = v
     return np.sqrt(best)
+
+
+@njit(cache=True)
+def weight_ratios2(grad, mass, free, gravity, out):
+    """(|F_i| / (m_i g))^2 [-] of the free vertices of mass, in order, written to ``out[:k]``;
+    returns k. ``grad`` (n, 3) [N] (F = -grad), ``mass`` (n,) [kg], ``free`` (n,) bool,
+    ``gravity`` [m/s^2], ``out`` (n,). (The stopping rule's residual at every iteration:
+    the same values as NumPy's masked rows, without their copies.)"""
+    k = 0
+    for i in range(grad.shape[0]):
+        if free[i] and mass[i] > 0.0:
+            w = mass[i] * gravity
+            out[k] = (grad[i, 0] ** 2 + grad[i, 1] ** 2 + grad[i, 2] ** 2) / (w * w)
+            k += 1
+    return k
