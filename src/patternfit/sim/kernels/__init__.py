@@ -40,6 +40,6 @@ __all__ = ["axpy", "block_backward", "block_factor_columns", "block_forward", "b
            "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move", "max_row_norm",
            "membrane", "membrane_hessian", "near_edge_pairs", "near_pairs", "point_contact",
-           "point_stiffness", "scatter_hessian", "scatter_points", "sdf_query", "SDF_SLOPE", "seam_springs",
-           "self_repulsion", "smooth_sdf_query", "trim_to_near", "unspared",
+           "point_stiffness", "scatter_hessian", "scatter_points", "sdf_query", "SDF_SLOPE",
+           "seam_springs", "self_repulsion", "smooth_sdf_query", "trim_to_near", "unspared",
            "weight_ratios2"]
