@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from patternfit.sim import kernels
 
@@ -88,3 +90,37 @@ def test_scatter_points_adds_each_points_rank_one_blocks():
     # a point whose vertices share no triangle is named, not written elsewhere
     assert kernels.scatter_points(P.indptr, P.indices, np.array([[0, 3, 1]]),
                                   np.array([[0.5, 0.5, 0.0]]), v[:1], k[:1], out) == 0
+
+
+@settings(max_examples=40, deadline=None)
+@given(cols=st.integers(1, 4), rows=st.integers(1, 3), seed=st.integers(0, 2 ** 32 - 1),
+       count=st.integers(1, 12))
+def test_scatter_points_on_a_grid_mesh_is_the_dense_sum(cols, rows, seed, count):
+    # a grid of (cols + 1) x (rows + 1) vertices cut into triangles; points inside random
+    # triangles and edges, as the contact's face and edge points are
+    rng = np.random.default_rng(seed)
+    idx = np.arange((cols + 1) * (rows + 1)).reshape(rows + 1, cols + 1)
+    quads = np.c_[idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(),
+                  idx[1:, :-1].ravel()]
+    tris = np.r_[quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]
+    n = idx.size
+    dof = (3 * tris[:, :, None] + np.arange(3)).reshape(-1, 9)
+    P = sp.csr_matrix((np.zeros(dof.size * 9), (np.repeat(dof, 9, axis=1).ravel(),
+                                                 np.tile(dof, (1, 9)).ravel())),
+                      shape=(3 * n, 3 * n))
+    P.sum_duplicates()
+    P.sort_indices()
+    ids = tris[rng.integers(0, len(tris), count)]
+    w = rng.dirichlet(np.ones(3), count)
+    w[rng.uniform(size=count) < 0.5, 2] = 0.0  # edge points: a third weight of 0
+    v = rng.normal(size=(count, 3))
+    k = rng.uniform(1.0, 1e4, count)
+    out = np.zeros(P.nnz)
+    assert kernels.scatter_points(P.indptr, P.indices, ids, w, v, k, out) == -1
+    A = np.zeros((count, 3 * n))
+    for q in range(count):
+        for a in range(3):
+            A[q, 3 * ids[q, a]:3 * ids[q, a] + 3] += w[q, a] * v[q]
+    want = A.T @ (k[:, None] * A)
+    got = sp.csr_matrix((out, P.indices, P.indptr), shape=P.shape).toarray()
+    np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-10 * np.abs(want).max())
