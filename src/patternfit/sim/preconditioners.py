@@ -139,7 +139,8 @@ def newton_direction(factors: Factors, model: ClothModel, state: ContactState, x
     """Inexact Newton step (3n,) [m] at solved positions ``x`` (n, 3) [m] with gradient
     ``grad`` (n, 3) [N]: conjugate gradients on H d = -grad, preconditioned by the Cholesky
     factor of this or an earlier Hessian (refactored when CG was slow). ``lookups``: the
-    energy's contact lookup cache (``total_energy.hessian``)."""
+    energy's contact lookup cache (``total_energy.hessian_parts``, whose pairs CG multiplies
+    apart and a refactorisation adds)."""
     s = settings
     pattern = factors.pattern_of(model, bending=s.newton_bending_preconditioner)
     H, extra = hessian_parts(model, state, x, settings=s, pattern=pattern, lookups=lookups)

@@ -226,8 +226,8 @@ def hessian(model: ClothModel, state: ContactState, x, *, settings: SolverSettin
     (n, 3) [m] with the lagged terms of ``state``, plus the regulariser m / newton_dt^2;
     pinned rows and columns are identity. ``pattern``: :func:`hessian_pattern` of
     ``model``. ``lookups``: the energy's lookup cache of the same state (read only: the
-    distance is looked up only where it may be in contact); None looks every vertex up.
-    The sum of :func:`hessian_parts`."""
+    distance is looked up only where it may be in contact; the same matrix, bit for bit);
+    None looks every vertex up. The sum of :func:`hessian_parts`."""
     H, extra = hessian_parts(model, state, x, settings=settings, pattern=pattern,
                              lookups=lookups)
     return H if extra is None else (H + extra).tocsr()
