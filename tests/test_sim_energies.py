@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from patternfit.constants import GRAVITY
 from patternfit.sim import kernels
@@ -209,6 +212,44 @@ def test_bending_and_weld_springs_are_quadratic_forms_with_the_right_gradient():
     for y in (flat, rigid):
         assert np.abs(bend @ y).max() < 1e-9 * scale
     assert 0.5 * float(np.einsum("ij,ij->", fold, bend @ fold)) > 1e-9
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=st.integers(1, 40), density=st.floats(0.0, 0.5), seed=st.integers(0, 2**31 - 1))
+def test_the_quadratic_kernel_is_the_quadratic_form_with_forces(n, density, seed):
+    """``kernels.quadratic`` on any sparse Q (unsorted rows, explicit zeros, empty rows)
+    gives the energy ``x^T Q x / 2 - f . x`` and adds the gradient ``Q x - f``."""
+    rng = np.random.default_rng(seed)
+    Q = sp.random(n, n, density=density, random_state=rng, format="csr")
+    Q = (Q + Q.T).tocsr()
+    Q.data[rng.uniform(size=len(Q.data)) < 0.1] = 0.0
+    perm = rng.permutation(len(Q.indices))  # a row's entries in any order
+    for i in range(n):
+        lo, hi = Q.indptr[i], Q.indptr[i + 1]
+        order = lo + np.argsort(perm[lo:hi])
+        Q.indices[lo:hi], Q.data[lo:hi] = Q.indices[order], Q.data[order]
+    x = rng.normal(size=(n, 3))
+    f = rng.normal(size=(n, 3))
+    grad = rng.normal(size=(n, 3))
+    start = grad.copy()
+    e = kernels.quadratic(Q.indptr, Q.indices, Q.data, x, f, grad)
+    qx = Q @ x
+    want = 0.5 * float(np.sum(x * qx)) - float(np.sum(f * x))
+    assert e == pytest.approx(want, rel=1e-12, abs=1e-12 * (1.0 + np.abs(x * qx).sum()))
+    np.testing.assert_allclose(grad, start + qx - f, rtol=1e-12, atol=1e-12)
+
+
+def test_the_energy_refuses_a_quadratic_of_another_size():
+    """The kernel reads Q unchecked: a state whose Q is not the model's size is refused."""
+    v, t = rect_mesh(0.1, 0.1, 2e-4)
+    solver = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting",
+                           settings=SolverSettings(max_iterations=0, self_collision=False))
+    solver.solve(np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]])
+    state = solver.state
+    state.quadratic = sp.identity(len(v) - 1, format="csr")
+    x = np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]]
+    with pytest.raises(ValueError, match="state.quadratic"):
+        energy(solver.model, state, x, settings=solver.settings)
 
 
 def test_residual_of_an_unsupported_flat_sheet_is_its_weight():

@@ -112,10 +112,11 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
         e = kernels.membrane(x, t.tris, t.cu, t.cv, t.area, fab.stretch_warp,
                              fab.stretch_weft, fab.shear, settings.compression,
                              model.gather_slack, grad)
-        qx = state.quadratic @ x
-        e += 0.5 * float(np.einsum("ij,ij->", x, qx)) \
-            - float(np.einsum("ij,ij->", state.forces, x))
-        grad[...] += qx - state.forces
+        Q = state.quadratic
+        if Q.shape != (len(x), len(x)):  # the kernel reads it unchecked
+            raise ValueError(f"state.quadratic: {Q.shape[0]} x {Q.shape[1]}, not "
+                             f"{len(x)} x {len(x)}")
+        e += kernels.quadratic(Q.indptr, Q.indices, Q.data, x, state.forces, grad)
         if model.bend_friction is not None:
             e += model.bend_friction.energy(x, grad)
         return e

@@ -120,6 +120,32 @@ def membrane(x, tris, cu, cv, area, k_warp, k_weft, k_shear, compression, slack,
 SDF_SLOPE = 2.0
 
 
+@njit(cache=True, nogil=True)
+def quadratic(indptr, indices, data, x, forces, grad):
+    """Energy ``x^T Q x / 2 - f . x`` [J] of a quadratic ``Q`` (n x n CSR ``indptr``,
+    ``indices``, ``data`` [N/m], acting on each coordinate alike: bending and linear seam
+    springs) and the given forces ``f`` (n, 3) [N] at ``x`` (n, 3) [m]; adds ``Q x - f``
+    to ``grad``. One pass over ``Q`` (SciPy's product, two dot products and the sum took
+    three times as long: 0.58 ms of the 22K coat's 1.6 ms energy)."""
+    energy = 0.0
+    for i in range(x.shape[0]):
+        q0 = 0.0
+        q1 = 0.0
+        q2 = 0.0
+        for p in range(np.uint64(indptr[i]), np.uint64(indptr[i + 1])):
+            v = data[p]
+            j = np.uint64(indices[p])
+            q0 += v * x[j, 0]
+            q1 += v * x[j, 1]
+            q2 += v * x[j, 2]
+        energy += 0.5 * (x[i, 0] * q0 + x[i, 1] * q1 + x[i, 2] * q2) \
+            - (forces[i, 0] * x[i, 0] + forces[i, 1] * x[i, 1] + forces[i, 2] * x[i, 2])
+        grad[i, 0] += q0 - forces[i, 0]
+        grad[i, 1] += q1 - forces[i, 1]
+        grad[i, 2] += q2 - forces[i, 2]
+    return energy
+
+
 @njit(cache=True)
 def contact_law(pen, k, onset):
     """Contact penalty at the penetration ``pen`` [m] (> 0) into the contact layer, with
