@@ -166,3 +166,82 @@ def test_a_bad_pivot_in_either_half_is_refused_on_two_threads():
         with pytest.raises(np.linalg.LinAlgError, match=f"at vertex {vertex}$"):
             chol.factor(*_lower(A.tocsr()))
         assert not chol.factored
+
+
+def _trim_case(rng, n, *, cancel=True):
+    """A mesh's vertex graph, a 3n x 3n matrix H on a fixed pattern wider than the graph
+    (its pairs two edges apart too, as the bending's), sorted rows with some explicit zeros,
+    and a small symmetric E: some entries on H's pattern (one cancelling H's exactly), some
+    between vertices H leaves out."""
+    tri, graph = _mesh(rng, n)
+    A = _matrix(rng, tri, n, shift=0.0)
+    far = ((graph @ graph) > 0).astype(float) - (graph > 0).astype(float)
+    far = sp.triu(far, k=1).tocoo()
+    far_dof = sp.kron(sp.csr_matrix((rng.uniform(-0.3, 0.3, far.nnz), (far.row, far.col)),
+                                    shape=(n, n)), np.ones((3, 3))).tocsr()
+    H = (A + far_dof + far_dof.T).tocsr()
+    H.sum_duplicates()
+    H.sort_indices()
+    H.data[rng.uniform(size=H.nnz) < 0.05] = 0.0
+    # diagonally dominant (so positive definite) whatever was zeroed, the zeros kept
+    H.setdiag(H.diagonal() + 2.0 * abs(H).sum(axis=1).A1.max() + 1.0)
+    on = rng.choice(H.nnz, size=min(40, H.nnz), replace=False)
+    rows = np.repeat(np.arange(3 * n), np.diff(H.indptr))
+    er, ec = list(rows[on]), list(H.indices[on])
+    ev = list(rng.uniform(-0.05, 0.05, len(on)))
+    if cancel:
+        k = int(np.flatnonzero(rows != H.indices)[0])
+        er.append(rows[k]), ec.append(H.indices[k]), ev.append(-H.data[k])
+    for _ in range(10):  # pairs H leaves out (never near: H holds every near pair)
+        i, j = rng.integers(0, 3 * n, 2)
+        if H[i, j] == 0 and not graph[i // 3, j // 3]:
+            er.append(i), ec.append(j), ev.append(rng.uniform(-0.05, 0.05))
+    E = sp.coo_matrix((ev, (er, ec)), shape=(3 * n, 3 * n))
+    return graph, H, (E + E.T).tocsr()
+
+
+@settings(max_examples=25, deadline=None)
+@given(n=st.integers(4, 200), seed=st.integers(0, 2 ** 31 - 1))
+def test_the_trimmed_factor_is_the_factor_of_the_trimmed_sum_bit_for_bit(n, seed):
+    """``factor_trimmed`` (H on its fixed pattern, E apart) writes the same factor as
+    ``factor`` of ``kernels.trim_to_near`` of SciPy's H + E, and of H alone."""
+    from patternfit.sim import kernels
+
+    rng = np.random.default_rng(seed)
+    graph, H, E = _trim_case(rng, n)
+    near_ptr, near_idx = graph.indptr, graph.indices
+    for extra in (E, None):
+        whole = H if extra is None else (H + extra).tocsr()
+        old = BlockCholesky(near_ptr, near_idx)
+        old.factor(*kernels.trim_to_near(whole.indptr, whole.indices, whole.data, near_ptr,
+                                         near_idx))
+        new = BlockCholesky(near_ptr, near_idx)
+        new.factor_trimmed(new.trim_slots(H.indptr, H.indices, near_ptr, near_idx), H.data,
+                           extra)
+        assert np.array_equal(old.values, new.values)
+        b = rng.standard_normal(3 * n)
+        assert np.array_equal(old.solve(b), new.solve(b))
+
+
+def test_the_trimmed_factor_refuses_what_it_cannot_place():
+    rng = np.random.default_rng(3)
+    n = 30
+    graph, H, E = _trim_case(rng, n, cancel=False)
+    chol = BlockCholesky(graph.indptr, graph.indices)
+    slots = chol.trim_slots(H.indptr, H.indices, graph.indptr, graph.indices)
+    with pytest.raises(ValueError, match="data"):
+        chol.factor_trimmed(slots, H.data[:-1])
+    # an extra entry between near vertices where H's pattern has none
+    diag = sp.identity(3 * n, format="csr") * 10.0
+    only = chol.trim_slots(diag.indptr, diag.indices, graph.indptr, graph.indices)
+    i, j = 3 * graph.indices[graph.indptr[0]:graph.indptr[1]].max(), 0
+    near = sp.csr_matrix(([0.1, 0.1], ([i, j], [j, i])), shape=(3 * n, 3 * n))
+    with pytest.raises(ValueError, match="extra matrix"):
+        chol.factor_trimmed(only, diag.data, near)
+    assert not chol.factored
+    # a kept entry outside the factor's graph (a factor of the diagonal alone)
+    lone = BlockCholesky(np.arange(n + 1), np.arange(n))
+    with pytest.raises(ValueError, match="row"):
+        lone.trim_slots(H.indptr, H.indices, graph.indptr, graph.indices)
+    with pytest.raises(ValueError, match="indptr"):
+        chol.trim_slots(H.indptr[:-3], H.indices, graph.indptr, graph.indices)

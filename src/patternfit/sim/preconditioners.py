@@ -20,7 +20,7 @@ import scipy.sparse as sp
 from cholespy import CholeskySolverD, MatrixType
 
 from . import kernels
-from .block_cholesky import BlockCholesky
+from .block_cholesky import BlockCholesky, TrimSlots
 from .model import ClothModel
 from .settings import SolverSettings
 from .state import ContactState
@@ -46,6 +46,9 @@ class Factors:
     newton : BlockCholesky or None
         Factor of a trimmed recent Hessian (:func:`newton_preconditioner`), ordered for
         ``pattern``'s vertex graph.
+    trim : TrimSlots or None
+        Where ``pattern``'s entries go in ``newton`` when trimmed (made at its first
+        factorisation, forgotten with it).
     cg_last : int
         Conjugate-gradient iterations of the last Newton step.
     count : int
@@ -58,6 +61,7 @@ class Factors:
     diag: np.ndarray | None = None
     pattern: HessianPattern | None = None
     newton: BlockCholesky | None = None
+    trim: TrimSlots | None = None
     cg_last: int = 0
     count: int = 0
 
@@ -66,14 +70,14 @@ class Factors:
         (in solved vertices) are not those they were made for (after a weld)."""
         if self.pattern is not None and not np.array_equal(self.pattern.tris, model.terms.tris):
             self.pattern = None
-            self.newton = None
+            self.newton = self.trim = None
 
     def pattern_of(self, model: ClothModel, *, bending: bool = False) -> HessianPattern:
         """The Hessian's sparsity of ``model``, made when missing or stale; ``bending``: the
         preconditioner keeps the bending's pairs (:func:`hessian_pattern`)."""
         if not fits_pattern(self.pattern, model, bending=bending):
             self.pattern = hessian_pattern(model, bending=bending)
-            self.newton = None
+            self.newton = self.trim = None
         return self.pattern
 
 
@@ -146,9 +150,17 @@ def newton_direction(factors: Factors, model: ClothModel, state: ContactState, x
     H, extra = hessian_parts(model, state, x, settings=s, pattern=pattern, lookups=lookups)
     if factors.newton is None:
         factors.newton = BlockCholesky(pattern.near_indptr, pattern.near_indices)
+        factors.trim = None
     if not factors.newton.factored or factors.cg_last > s.newton_refactor:
-        whole = H if extra is None else (H + extra).tocsr()
-        factors.newton.factor(*newton_preconditioner(whole, pattern))
+        if model.free.all():  # H's entries are the pattern's, in its order
+            if factors.trim is None:
+                factors.trim = factors.newton.trim_slots(pattern.indptr, pattern.indices,
+                                                         pattern.near_indptr,
+                                                         pattern.near_indices)
+            factors.newton.factor_trimmed(factors.trim, H.data, extra)
+        else:  # pinned vertices: H is the pattern's matrix with their rows made identity
+            whole = H if extra is None else (H + extra).tocsr()
+            factors.newton.factor(*newton_preconditioner(whole, pattern))
         factors.count += 1
     b = -grad.ravel()
     b[np.repeat(~model.free, 3)] = 0.0

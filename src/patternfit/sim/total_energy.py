@@ -240,8 +240,10 @@ def hessian_parts(model: ClothModel, state: ContactState, x, *, settings: Solver
     """:func:`hessian` in two parts (3n x 3n CSR each) [N/m]: the terms within ``pattern``'s
     fixed sparsity (membrane, bending, every vertex's block, the body contact of the points
     inside edges and triangles) and the rest (self-repulsion pairs, bending friction), or
-    None when there is none. Kept apart, a Newton step does not copy the whole Hessian to
-    add a few pairs (the 22K coat: some 3 ms of a 13 ms assembly)."""
+    None when there is none. With every vertex free the first one's entries are
+    ``pattern``'s, in its order (pinned vertices' rows and columns are made identity). Kept
+    apart, a Newton step does not copy the whole Hessian to add a few pairs (the 22K coat:
+    some 3 ms of a 13 ms assembly)."""
     s = settings
     t = model.terms
     f = model.fabric

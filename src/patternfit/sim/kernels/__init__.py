@@ -25,7 +25,8 @@ from __future__ import annotations
 # the solver's distance lookups (compiled in body.sdf, where the distance field lives)
 from ...body.sdf import sdf_query, smooth_sdf_query
 from .cholesky import (block_backward, block_factor_columns, block_forward, block_gather,
-                       block_join_lists, block_scatter, block_spread, block_symbolic)
+                       block_join_lists, block_scatter, block_spread, block_symbolic,
+                       block_trim_scatter, block_trim_slots)
 from .collision import crossed_pairs, intersecting_pairs, near_edge_pairs, near_pairs
 from .energy_terms import (SDF_SLOPE, contact, contact_forces, contact_law, edge_repulsion,
                            friction, friction_law, friction_offset, friction_stiffness,
@@ -36,7 +37,8 @@ from .optimiser import (axpy, dot, lbfgs_back, lbfgs_forward, max_relative_move,
 from .sparse_assembly import csr_rows_product, scatter_hessian, scatter_points, trim_to_near
 
 __all__ = ["axpy", "block_backward", "block_factor_columns", "block_forward", "block_gather",
-           "block_join_lists", "block_scatter", "block_spread", "block_symbolic", "contact",
+           "block_join_lists", "block_scatter", "block_spread", "block_symbolic",
+           "block_trim_scatter", "block_trim_slots", "contact",
            "contact_forces", "contact_law", "csr_rows_product", "crossed_pairs", "dot",
            "edge_repulsion", "friction", "friction_law", "friction_offset", "friction_stiffness",
            "intersecting_pairs", "lbfgs_back", "lbfgs_forward", "max_relative_move", "max_row_norm",
