@@ -78,17 +78,39 @@ def block_symbolic(n, indptr, indices):
 
 
 @njit(cache=True, nogil=True)
-def _slot(colptr, rowidx, row, col):
-    """Position of block (``row``, ``col``), row >= col, in L's pattern, or -1."""
-    lo = colptr[col]
-    hi = colptr[col + 1] - 1
+def _find(keys, lo, hi, key):
+    """Position of ``key`` in ``keys[lo:hi]`` (ascending), or -1 (binary search)."""
+    end = hi
     while lo < hi:
         mid = (lo + hi) // 2
-        if rowidx[mid] < row:
+        if keys[mid] < key:
             lo = mid + 1
         else:
             hi = mid
-    return lo if rowidx[lo] == row else -1
+    return lo if lo < end and keys[lo] == key else -1
+
+
+@njit(cache=True, nogil=True)
+def _slot(colptr, rowidx, row, col):
+    """Position of block (``row``, ``col``), row >= col, in L's pattern, or -1."""
+    return _find(rowidx, colptr[col], colptr[col + 1], row)
+
+
+@njit(cache=True, nogil=True)
+def _entry_slots(colptr, rowidx, iperm, r, c):
+    """Position in L's ``values`` of the scalar entry (``r``, ``c``) of a matrix permuted
+    by ``iperm`` (its block's lower triangle), and of its mirror when it lies off the
+    diagonal of a diagonal block (else -1); (-1, -1) when L has no block for it."""
+    bi = iperm[r // 3]
+    bj = iperm[c // 3]
+    a = r % 3
+    b = c % 3
+    if bi < bj:
+        bi, bj, a, b = bj, bi, b, a
+    q = _slot(colptr, rowidx, bi, bj)
+    if q < 0:
+        return -1, -1
+    return 9 * q + 3 * a + b, (9 * q + 3 * b + a if bi == bj and a != b else -1)
 
 
 @njit(cache=True, nogil=True)
@@ -99,19 +121,12 @@ def block_scatter(colptr, rowidx, iperm, indptr, indices, data, values, r0, r1):
     different blocks. Returns the first row whose entry has no slot, or -1."""
     for r in range(r0, r1):
         for p in range(indptr[r], indptr[r + 1]):
-            c = indices[p]
-            bi = iperm[r // 3]
-            bj = iperm[c // 3]
-            a = r % 3
-            b = c % 3
-            if bi < bj:
-                bi, bj, a, b = bj, bi, b, a
-            q = _slot(colptr, rowidx, bi, bj)
-            if q < 0:
+            at, mirror = _entry_slots(colptr, rowidx, iperm, r, indices[p])
+            if at < 0:
                 return r
-            values[9 * q + 3 * a + b] += data[p]
-            if bi == bj and a != b:
-                values[9 * q + 3 * b + a] += data[p]
+            values[at] += data[p]
+            if mirror >= 0:
+                values[mirror] += data[p]
     return -1
 
 
@@ -283,18 +298,10 @@ def block_spread(y, perm, out):
         out[3 * v + 2] = y[3 * i + 2]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _near(near_indptr, near_indices, v, w):
-    """Whether vertex ``w`` is in vertex ``v``'s row of the sorted pattern (binary search)."""
-    lo = near_indptr[v]
-    hi = near_indptr[v + 1]
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if near_indices[mid] < w:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo < near_indptr[v + 1] and near_indices[lo] == w
+    """Whether vertex ``w`` is in vertex ``v``'s row of the sorted pattern."""
+    return _find(near_indices, near_indptr[v], near_indptr[v + 1], w) >= 0
 
 
 @njit(cache=True)
@@ -314,31 +321,19 @@ def block_trim_slots(colptr, rowidx, iperm, indptr, indices, near_indptr, near_i
     mirror = np.full(indices.shape[0], -1, np.int64)
     diagonal = np.empty(n3, np.int64)
     for r in range(n3):
-        bi0 = iperm[r // 3]
-        q = _slot(colptr, rowidx, bi0, bi0)
-        if q < 0:
+        diagonal[r] = _entry_slots(colptr, rowidx, iperm, r, r)[0]
+        if diagonal[r] < 0:
             return slot, mirror, diagonal, r
-        diagonal[r] = 9 * q + 4 * (r % 3)
         for p in range(indptr[r], indptr[r + 1]):
             c = indices[p]
             if not _near(near_indptr, near_indices, r // 3, c // 3):
                 slot[p] = -2
-                continue
-            if c > r:
+            elif c > r:
                 slot[p] = -1
-                continue
-            bi = bi0
-            bj = iperm[c // 3]
-            a = r % 3
-            b = c % 3
-            if bi < bj:
-                bi, bj, a, b = bj, bi, b, a
-            q = _slot(colptr, rowidx, bi, bj)
-            if q < 0:
-                return slot, mirror, diagonal, r
-            slot[p] = 9 * q + 3 * a + b
-            if bi == bj and a != b:
-                mirror[p] = 9 * q + 3 * b + a
+            else:
+                slot[p], mirror[p] = _entry_slots(colptr, rowidx, iperm, r, c)
+                if slot[p] < 0:
+                    return slot, mirror, diagonal, r
     return slot, mirror, diagonal, -1
 
 
