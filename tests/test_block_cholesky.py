@@ -231,6 +231,8 @@ def test_the_trimmed_factor_refuses_what_it_cannot_place():
     slots = chol.trim_slots(H.indptr, H.indices, graph.indptr, graph.indices)
     with pytest.raises(ValueError, match="data"):
         chol.factor_trimmed(slots, H.data[:-1])
+    with pytest.raises(ValueError, match="extra"):
+        chol.factor_trimmed(slots, H.data, sp.identity(3 * n - 3, format="csr"))
     # an extra entry between near vertices where H's pattern has none
     diag = sp.identity(3 * n, format="csr") * 10.0
     only = chol.trim_slots(diag.indptr, diag.indices, graph.indptr, graph.indices)

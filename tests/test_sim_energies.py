@@ -239,15 +239,20 @@ def test_the_quadratic_kernel_is_the_quadratic_form_with_forces(n, density, seed
     np.testing.assert_allclose(grad, start + qx - f, rtol=1e-12, atol=1e-12)
 
 
-def test_the_energy_refuses_a_quadratic_of_another_size():
-    """The kernel reads Q unchecked: a state whose Q is not the model's size is refused."""
+def test_the_energy_takes_any_sparse_quadratic_and_refuses_one_of_another_size():
+    """The kernel reads Q as CSR, unchecked: another sparse format gives the same energy,
+    and a state whose Q is not the model's size is refused."""
     v, t = rect_mesh(0.1, 0.1, 2e-4)
     solver = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting",
                            settings=SolverSettings(max_iterations=0, self_collision=False))
-    solver.solve(np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]])
+    x = np.c_[v[:, 0], 0.01 * np.sin(40 * v[:, 0]), v[:, 1]]
+    solver.solve(x)
     state = solver.state
+    e, g = energy(solver.model, state, x, settings=solver.settings)
+    state.quadratic = state.quadratic.tocsc()
+    e2, g2 = energy(solver.model, state, x, settings=solver.settings)
+    assert e2 == e and np.array_equal(g2, g)
     state.quadratic = sp.identity(len(v) - 1, format="csr")
-    x = np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]]
     with pytest.raises(ValueError, match="state.quadratic"):
         energy(solver.model, state, x, settings=solver.settings)
 

@@ -113,6 +113,8 @@ def energy(model: ClothModel, state: ContactState, x, *, settings: SolverSetting
                              fab.stretch_weft, fab.shear, settings.compression,
                              model.gather_slack, grad)
         Q = state.quadratic
+        if Q.format != "csr":
+            Q = Q.tocsr()
         if Q.shape != (len(x), len(x)):  # the kernel reads it unchecked
             raise ValueError(f"state.quadratic: {Q.shape[0]} x {Q.shape[1]}, not "
                              f"{len(x)} x {len(x)}")
