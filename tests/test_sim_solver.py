@@ -10,6 +10,7 @@ import triangle
 
 from patternfit.body.sdf import DistanceField
 from patternfit.constants import limits, tol
+from patternfit.sim.checks import depth_mm
 from patternfit.sim.fabrics import get_fabric
 from patternfit.sim.settings import SolverSettings
 from patternfit.sim.solver import GarmentSolver, takes_residual
@@ -285,6 +286,9 @@ def test_penetrations_are_counted_beyond_the_tolerance_and_fail_above_the_limit(
     x[1, 1] = -2.0 * tol.penetration  # beyond it
     c = solver.checks(x, converged=True, residual=(0.0, 0.0))
     assert c.inside_vertices == 1 and c.max_depth_mm == pytest.approx(2e3 * tol.penetration)
+    # the re-drape's start reads the depth alone (schedule.start_after_edit)
+    assert depth_mm(solver.model, x) == c.max_depth_mm
+    assert depth_mm(GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting").model, x) == 0
     assert c.inside_vertices > limits.body_penetrations and not c.passed
     x[1, 1] = 0.01
     ok = solver.checks(x, converged=True, residual=(0.0, 0.0))

@@ -79,6 +79,16 @@ def compressed_share(model: ClothModel, x, strain: float = 0.01) -> float:
     return float(t.area[short].sum() / t.area.sum())
 
 
+def depth_mm(model: ClothModel, x) -> float:
+    """Deepest point of simulated positions ``x`` (n3, 3) [m] in the body [mm], 0 when
+    none is inside or there is no body."""
+    if model.body is None:
+        return 0.0
+    x = array(x, "x", shape=(None, 3), contiguous=True)
+    d, _ = kernels.sdf_query(model.body.values, model.body.origin, model.body.spacing, x)
+    return float(max(0.0, -d.min()) * 1e3)
+
+
 def crossings(model: ClothModel, x) -> int:
     """Triangle pairs (sharing no vertex once welded) that cross each other at simulated
     positions ``x`` (n3, 3) [m]."""
