@@ -28,6 +28,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .sparse_assembly import is_near
+
 
 @njit(cache=True)
 def block_symbolic(n, indptr, indices):
@@ -78,22 +80,17 @@ def block_symbolic(n, indptr, indices):
 
 
 @njit(cache=True, nogil=True)
-def _find(keys, lo, hi, key):
-    """Position of ``key`` in ``keys[lo:hi]`` (ascending), or -1 (binary search)."""
-    end = hi
+def _slot(colptr, rowidx, row, col):
+    """Position of block (``row``, ``col``), row >= col, in L's pattern, or -1."""
+    lo = colptr[col]
+    hi = colptr[col + 1] - 1
     while lo < hi:
         mid = (lo + hi) // 2
-        if keys[mid] < key:
+        if rowidx[mid] < row:
             lo = mid + 1
         else:
             hi = mid
-    return lo if lo < end and keys[lo] == key else -1
-
-
-@njit(cache=True, nogil=True)
-def _slot(colptr, rowidx, row, col):
-    """Position of block (``row``, ``col``), row >= col, in L's pattern, or -1."""
-    return _find(rowidx, colptr[col], colptr[col + 1], row)
+    return lo if rowidx[lo] == row else -1
 
 
 @njit(cache=True, nogil=True)
@@ -298,12 +295,6 @@ def block_spread(y, perm, out):
         out[3 * v + 2] = y[3 * i + 2]
 
 
-@njit(cache=True, nogil=True)
-def _near(near_indptr, near_indices, v, w):
-    """Whether vertex ``w`` is in vertex ``v``'s row of the sorted pattern."""
-    return _find(near_indices, near_indptr[v], near_indptr[v + 1], w) >= 0
-
-
 @njit(cache=True)
 def block_trim_slots(colptr, rowidx, iperm, indptr, indices, near_indptr, near_indices):
     """Where each entry of a 3n x 3n scalar CSR pattern (``indptr``, ``indices``) goes when
@@ -326,7 +317,7 @@ def block_trim_slots(colptr, rowidx, iperm, indptr, indices, near_indptr, near_i
             return slot, mirror, diagonal, r
         for p in range(indptr[r], indptr[r + 1]):
             c = indices[p]
-            if not _near(near_indptr, near_indices, r // 3, c // 3):
+            if not is_near(near_indices, near_indptr[r // 3], near_indptr[r // 3 + 1], c // 3):
                 slot[p] = -2
             elif c > r:
                 slot[p] = -1
@@ -360,7 +351,8 @@ def block_trim_scatter(indptr, indices, data, slot, mirror, diagonal, e_indptr, 
                     extra += abs(data[p])
                 p += 1
             elif p >= p_end or e_indices[q] < indices[p]:
-                if _near(near_indptr, near_indices, r // 3, e_indices[q] // 3):
+                if is_near(near_indices, near_indptr[r // 3], near_indptr[r // 3 + 1],
+                           e_indices[q] // 3):
                     return r
                 extra += abs(e_data[q])
                 q += 1

@@ -64,8 +64,10 @@ def scatter_points(indptr, indices, ids, w, v, k, out):
 
 
 @njit(cache=True)
-def _is_near(near_indices, lo, hi, w):
-    """Whether vertex ``w`` is in ``near_indices[lo:hi]`` (sorted)."""
+def is_near(near_indices, lo, hi, w):
+    """Whether vertex ``w`` is in ``near_indices[lo:hi]`` (sorted): a row of the vertex
+    pattern the Newton preconditioner keeps (also ``kernels.cholesky``'s trimmed
+    scatter)."""
     for k in range(lo, hi):
         if near_indices[k] >= w:
             return near_indices[k] == w
@@ -94,12 +96,12 @@ def trim_to_near(indptr, indices, data, near_indptr, near_indices):
         lo, hi = near_indptr[i // 3], near_indptr[i // 3 + 1]
         extra = 0.0
         for jj in range(indptr[i], indptr[i + 1]):
-            if not _is_near(near_indices, lo, hi, indices[jj] // 3):
+            if not is_near(near_indices, lo, hi, indices[jj] // 3):
                 extra += abs(data[jj])
         diag = extra
         for jj in range(indptr[i], indptr[i + 1]):
             j = indices[jj]
-            if j > i or not _is_near(near_indices, lo, hi, j // 3):
+            if j > i or not is_near(near_indices, lo, hi, j // 3):
                 continue
             if j == i:
                 diag = data[jj] + extra
