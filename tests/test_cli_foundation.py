@@ -241,3 +241,9 @@ def test_a_saved_state_moved_since_its_drape_is_not_said_to_be_at_rest(tmp_path)
     res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
                               str(tmp_path / "a"), "--json", "--no-pictures"])
     assert json.loads(res.stdout)["checks"]["equilibrium"] is None, res.output
+    # a flag that is not one true or false is refused, not read as true ("False" is truthy)
+    for flag in (np.asarray("False"), np.asarray(np.nan), np.asarray([True, False])):
+        save_garment(tmp_path / "g", skirt, mesh, x, contact={"at_rest": flag})
+        res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
+                                  str(tmp_path / "b"), "--no-pictures"])
+        assert res.exit_code == 2 and "contact.npz: array 'at_rest'" in res.output, res.output

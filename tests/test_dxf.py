@@ -171,9 +171,10 @@ def test_side_file_errors_and_edge_indices(tmp_path):
     side["panels"]["front"]["edges"] = ["hem", "side", "neck", "centre"]
     side["seams"][0]["b"]["panel"] = "cuff"
     sidecar_path(path).write_text(json.dumps(side))
-    with pytest.raises(PatternError, match="missing panel") as info:
+    with pytest.raises(PatternError, match="names missing panel 'cuff'") as info:
         load_dxf(path)
-    assert info.value.panel == "cuff" and info.value.file == str(sidecar_path(path))
+    # the panel is what is missing, not the place of the fault
+    assert info.value.panel is None and info.value.file == str(sidecar_path(path))
 
 
 def test_builtin_patterns_round_trip(tmp_path):

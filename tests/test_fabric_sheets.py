@@ -175,6 +175,46 @@ def test_any_value_in_a_kes_sheet_reads_or_is_refused_by_name(tmp_path, field, v
     read_or_refused_by_name(path)
 
 
+@pytest.mark.parametrize("sheet, change, place", [
+    # each converts to 0 or infinity (a strain of 5e-324 %: its hundredth is 0), where
+    # Python's floats raised ZeroDivisionError or OverflowError, an internal error
+    (WOOL, {"EMT": 5e-324}, "EMT -> stretch_warp"),
+    (SUITING, {"E100": [5e-324, 4.1]}, "E100 -> stretch_warp"),
+    (SUITING, {"C": 1e120}, "C -> bending_warp"),
+    (SUITING, {"C": 1e-120, "B": 5.0}, "B"),
+    (SUITING, {"W": 5e-324, "B": 5.0}, "B"),
+    (SUITING, {"W": 5e-324}, "W -> density"),
+])
+def test_a_sheet_value_that_converts_to_zero_or_infinity_is_refused_by_name(
+        tmp_path, sheet, change, place):
+    with pytest.raises(FabricError) as err:
+        load_fabric(write(tmp_path, {**sheet, **change}))
+    assert err.value.place == f"field {place!r}", str(err.value)
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(field=st.sampled_from(["W", "T2", "B", "C", "G", "E100", "C1"]),
+       value=st.one_of(st.floats(allow_nan=False, allow_subnormal=True),
+                       st.sampled_from([5e-324, 1e-300, 1e300, 1.7e308]),
+                       st.lists(st.floats(allow_nan=False), min_size=2, max_size=2)))
+def test_any_value_in_a_fast_sheet_reads_or_is_refused_by_name(tmp_path, field, value):
+    data = {**SUITING, field: value}
+    if field == "C1":
+        del data["C"]
+        data["C2"] = 17.1
+    read_or_refused_by_name(write(tmp_path, data))
+
+
+def test_a_fabric_name_with_a_control_character_is_refused(tmp_path):
+    """An escape sequence in a name reached the terminal through the tables."""
+    path = write(tmp_path, {**WOOL, "name": "\x1b[31mred\x07"})
+    with pytest.raises(FabricError) as err:
+        load_fabric(path)
+    assert err.value.place == "field 'name'" and "control character" in str(err.value)
+    r = CliRunner().invoke(app, ["fabrics", str(path)])
+    assert r.exit_code == 2 and "\x1b" not in r.output and "\\x1b[31mred" in r.output, r.output
+
+
 def test_the_cli_shows_a_sheet_in_si_and_the_api_reads_it(tmp_path):
     path = write(tmp_path, WOOL)
     out = CliRunner().invoke(app, ["fabrics", str(path), "denim", "--json"])

@@ -211,7 +211,7 @@ def test_euler_convention_matches_maya_xyz():
 @pytest.mark.parametrize("mutate, panel, edge, text", [
     (lambda d: d["pattern"]["stitches"].append(
         [{"panel": "front", "edge": 0}, {"panel": "sleeve", "edge": 0}]),
-     "sleeve", "0", "missing panel"),
+     None, None, "names missing panel 'sleeve'"),
     (lambda d: d["pattern"]["stitches"].append(
         [{"panel": "front", "edge": 0}, {"panel": "front", "edge": 7}]),
      "front", "7", "out of range"),

@@ -80,6 +80,24 @@ def test_error_open_outline(tmp_path):
     assert exc.value.edge == doc["panels"][0]["outline"]["edges"][0]["name"]
 
 
+@pytest.mark.parametrize("where", ["panel", "edge", "seam"])
+def test_a_name_with_a_control_character_is_refused(tmp_path, where):
+    """An escape sequence in a name acted on the terminal, and the mesh file joins edge
+    names with \\x1f."""
+    doc = _doc(tmp_path)
+    bad = "side\x1b[2J"
+    if where == "panel":
+        old, doc["panels"][0]["name"] = doc["panels"][0]["name"], bad
+        for side in (s[k] for s in doc["seams"] for k in ("a", "b")):
+            side["panel"] = bad if side["panel"] == old else side["panel"]
+    elif where == "edge":
+        doc["panels"][0]["outline"]["edges"][0]["name"] = bad
+    else:
+        doc["seams"][0]["name"] = bad
+    with pytest.raises(PatternError, match=r"name .* holds a control character \('\\x1b'"):
+        load_pattern(_write(tmp_path, doc))
+
+
 def test_error_self_intersection(tmp_path):
     doc = {"format": "patternfit-pattern", "version": 1, "units": "m", "panels": [
         {"name": "bow", "outline": {"edges": [
@@ -98,7 +116,7 @@ def test_error_missing_edge_and_panel(tmp_path):
         load_pattern(_write(tmp_path, doc))
     doc = _doc(tmp_path)
     doc["seams"][0]["a"]["panel"] = "sleeve"
-    with pytest.raises(PatternError, match=r"panel 'sleeve'.*missing panel"):
+    with pytest.raises(PatternError, match=r"bad.json: seam '.*' names missing panel 'sleeve'$"):
         load_pattern(_write(tmp_path, doc))
 
 

@@ -774,7 +774,8 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
                          file=folder)
     fit = FitEvaluator(m, tight=tight, loose=loose)(x)
     # the drape that saved the state said whether it had come to rest (contact.npz)
-    at_rest = saved_at_rest(load_contact(garment_folder(folder)), x)
+    garment = garment_folder(folder)
+    at_rest = saved_at_rest(load_contact(garment), x, file=garment / CONTACT)
     if body is None:
         return FitOutcome(pat, m, None, None, x, fit, state="saved",
                           extra={"checks": unchecked_state(at_rest)})

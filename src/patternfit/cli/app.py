@@ -26,6 +26,7 @@ from typer.exceptions import TyperException
 from ..constants import limits
 from ..errors import ctrl_c
 from ..files import dumps_finite_json
+from ..text import printable
 
 #: set (to anything but empty) to get the traceback of an error instead of one line
 DEBUG_ENV = "PATTERNFIT_DEBUG"
@@ -41,8 +42,9 @@ INTERRUPTED = 130
 
 
 def say_warning(text: str) -> None:
-    """``warning: <text>`` in yellow, the text printed as it is (not read as markup)."""
-    console.print(f"[yellow]warning:[/] {escape(text)}", highlight=False)
+    """``warning: <text>`` in yellow, the text printed as it is (not read as markup; control
+    characters shown, not sent to the terminal)."""
+    console.print(f"[yellow]warning:[/] {escape(printable(text))}", highlight=False)
 
 
 def _warning_printer():
@@ -130,8 +132,9 @@ def print_json(data) -> None:
 
 
 def fail(message: str, code: int = REFUSED) -> None:
-    """Print an error in red on standard error and exit with ``code``."""
-    console.print(f"[bold red]error:[/] {escape(message)}", highlight=False)
+    """Print an error in red on standard error and exit with ``code``; a control character
+    the message quotes (a refused name, a file's name) is shown, not sent to the terminal."""
+    console.print(f"[bold red]error:[/] {escape(printable(message))}", highlight=False)
     raise typer.Exit(code)
 
 

@@ -99,17 +99,24 @@ def positions_digest(positions) -> str:
     return hashlib.sha256(np.ascontiguousarray(positions, dtype=np.float64).tobytes()).hexdigest()
 
 
-def saved_at_rest(contact: dict[str, np.ndarray] | None, positions) -> bool | None:
-    """Whether the drape that saved ``contact`` (:func:`load_contact`) ended at rest at
-    ``positions`` (n, 3) [m]: its ``at_rest`` flag, or None when not known (no contact state
-    or flag, or positions other than those it was saved with: a state moved since, which
-    read "at rest" and needed 981 iterations to get back there)."""
+def saved_at_rest(contact: dict[str, np.ndarray] | None, positions, *,
+                  file=None) -> bool | None:
+    """Whether the drape that saved ``contact`` (:func:`load_contact`, read from ``file``)
+    ended at rest at ``positions`` (n, 3) [m]: its ``at_rest`` flag, or None when not known
+    (no contact state or flag, or positions other than those it was saved with: a state
+    moved since, which read "at rest" and needed 981 iterations to get back there). A flag
+    that is not one true or false (a string "False", NaN, several values) is a
+    :class:`~patternfit.errors.GarmentFileError` naming ``file`` and the array."""
     if contact is None or "at_rest" not in contact:
         return None
     digest = contact.get(POSITIONS_DIGEST)
     if digest is not None and str(np.asarray(digest)) != positions_digest(positions):
         return None
-    return bool(np.asarray(contact["at_rest"]).reshape(-1)[:1].all())
+    flag = np.asarray(contact["at_rest"])
+    if flag.dtype.kind != "b" or flag.size != 1:
+        raise GarmentFileError(f"expected one true or false, got {flag.dtype} {flag.shape}",
+                               file=file, place="array 'at_rest'")
+    return bool(flag.item())
 
 
 def replace_pattern_and_mesh(pattern_path, pattern: Pattern, mesh_path, mesh: GarmentMesh, *,

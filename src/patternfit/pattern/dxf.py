@@ -28,6 +28,7 @@ import numpy as np
 
 from ..constants import UNITS, limits, tol
 from ..files import atomic_write_text, read_bytes_capped, read_json_file
+from ..text import CONTROL
 from .dxf_entities import LINE_KINDS, layer_of, why
 from .dxf_format import (LAYERS, PIECE_LAYERS, SIDEWAYS_GRAIN, curve_tolerance, field,
                          file_scale, read_document, read_piece, sideways, texts)
@@ -234,7 +235,7 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
                  if p.quantity == 0]
     if warnings:
         meta["warnings"] = warnings
-    pattern = Pattern(field(msp_texts, "Style Name") or path.stem, tuple(panels), (), meta)
+    pattern = Pattern(field(msp_texts, "Style Name") or CONTROL.sub("", path.stem), tuple(panels), (), meta)
     check_pattern(pattern)
     return pattern
 

@@ -13,7 +13,6 @@ METRIC`` (millimetres) or ``Units: ENGLISH`` (inches) and ``Sample Size:`` (the 
 from __future__ import annotations
 
 import io
-import re
 from dataclasses import dataclass, field as dc_field
 
 import numpy as np
@@ -26,6 +25,7 @@ from ..constants import limits
 from .dxf_entities import (LINE_KINDS, closed_loops, entity_name, entity_points, layer_of, why,
                            within_extent)
 from ..geometry import polygon_area
+from ..text import CONTROL
 from .errors import PatternError
 
 __all__ = ["ASTM_LAYERS", "LAYERS", "PIECE_LAYERS", "RawPiece", "curve_tolerance", "field",
@@ -46,17 +46,13 @@ _UNIT = {"METRIC": 0.001, "ENGLISH": 0.0254}
 _INSUNITS = {1: 0.0254, 2: 0.3048, 4: 0.001, 5: 0.01, 6: 1.0}
 
 
-#: control characters (an escape sequence in a piece name would reach the terminal)
-_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
-
-
 def texts(entities) -> list[str]:
     """The texts of ``entities`` (TEXT, ATTRIB, MTEXT, ATTDEF), control characters dropped."""
     out = []
     for e in entities:
         if e.dxftype() in ("TEXT", "ATTRIB", "MTEXT", "ATTDEF"):
             raw = e.dxf.get("text", "") if e.dxftype() != "MTEXT" else e.text
-            out.append(_CONTROL.sub("", str(raw or "")).strip())
+            out.append(CONTROL.sub("", str(raw or "")).strip())
     return out
 
 

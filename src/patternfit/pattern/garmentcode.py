@@ -53,6 +53,7 @@ from ..arguments import number
 from ..constants import UNITS, limits
 from ..files import atomic_write_text, read_json_file
 from ..geometry import euler_xyz_matrix
+from ..text import CONTROL
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
@@ -241,8 +242,7 @@ def _stitch_side(side: Any, i: int, k: int, names: dict[str, list[str]]) -> Seam
         raise PatternError(f"stitch #{i}: side {k} must be {{'panel': ..., 'edge': ...}}")
     panel, edge = json_field(side, "panel", str, f"stitch #{i} side {k}"), side.get("edge")
     if panel not in names:
-        raise PatternError(f"stitch #{i} names missing panel {panel!r}", panel=panel,
-                           edge=None if edge is None else _place(edge))
+        raise PatternError(f"stitch #{i} names missing panel {panel!r}")
     if isinstance(edge, bool) or not isinstance(edge, int) or not 0 <= edge < len(names[panel]):
         raise PatternError(f"stitch #{i}: edge index {shown(edge)} out of range (panel has "
                            f"{len(names[panel])} edges)", panel=panel, edge=_place(edge))
@@ -372,7 +372,7 @@ def load_garmentcode(path) -> Pattern:
     """
     path = Path(path)
     data = read_json_file(path, error=PatternError)
-    name = path.stem.removesuffix("_specification") or "pattern"
+    name = CONTROL.sub("", path.stem.removesuffix("_specification")) or "pattern"
     try:
         return garmentcode_from_dict(data, name=name)
     except PatternError as exc:

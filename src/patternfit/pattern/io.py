@@ -207,7 +207,7 @@ def _side_from_dict(d: Any, seam: str, outline_edges) -> SeamSide:
     edge = d.get("edge")
     if outline_edges is not None and isinstance(edge, int) and not isinstance(edge, bool):
         if panel not in outline_edges:
-            raise PatternError(f"seam '{seam}' names missing panel '{panel}'", panel=panel)
+            raise PatternError(f"seam '{seam}' names missing panel '{panel}'")
         if not 0 <= edge < len(outline_edges[panel]):
             raise PatternError(f"seam '{seam}': edge index {edge} out of range (the outline "
                                f"has {len(outline_edges[panel])} edges)", panel=panel,

@@ -20,6 +20,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..constants import limits, tol
+from ..text import control_at
 from .errors import PatternError
 from .model import Loop, Panel, Pattern
 
@@ -395,8 +396,8 @@ def check_seams(pattern: Pattern, *, unequal: str = "error") -> list[str]:
         for side in (seam.a, seam.b):
             panel = panels.get(side.panel)
             if panel is None:
-                raise PatternError(f"seam '{seam.name}' names missing panel '{side.panel}'",
-                                   panel=side.panel)
+                # no place: the panel it names is what is missing
+                raise PatternError(f"seam '{seam.name}' names missing panel '{side.panel}'")
             if side.panel not in edges:
                 edges[side.panel] = panel.edges()
             edge = edges[side.panel].get(side.edge)
@@ -447,14 +448,40 @@ def check_seams(pattern: Pattern, *, unequal: str = "error") -> list[str]:
     return warnings
 
 
+def check_names(pattern: Pattern) -> None:
+    """Raise :class:`PatternError` naming the place when a name of ``pattern`` (its own, a
+    panel's, a loop's, an edge's, an inner line's, a seam's) holds a control character
+    (:mod:`patternfit.text`: it would act on a terminal, and the mesh file joins edge names
+    with one)."""
+    def refuse(what: str, name: str, **where) -> None:
+        at = control_at(name)
+        if at is not None:
+            raise PatternError(f"{what} name {name!r:.80} holds a control character "
+                               f"({name[at]!r}, at {at})", **where)
+
+    refuse("pattern", pattern.name)
+    for panel in pattern.panels:
+        refuse("panel", panel.name)
+        for loop in panel.loops:
+            refuse("loop", loop.name, panel=panel.name)
+            for e in loop.edges:
+                refuse("edge", e.name, panel=panel.name)
+        for line in panel.lines:
+            refuse("inner line", line.name, panel=panel.name)
+    for seam in pattern.seams:
+        refuse("seam", seam.name)
+
+
 def check_pattern(pattern: Pattern) -> None:
     """Raise :class:`PatternError` if the pattern cannot be meshed and sewn: sizes within
-    :data:`~patternfit.constants.limits` (:func:`check_size`), unique panel names, every
-    panel (:func:`check_panel`), the seams (:func:`check_seams`)."""
+    :data:`~patternfit.constants.limits` (:func:`check_size`), names without control
+    characters (:func:`check_names`), unique panel names, every panel
+    (:func:`check_panel`), the seams (:func:`check_seams`)."""
     if not pattern.panels:
         raise PatternError(f"pattern '{pattern.name}' has no panels")
     check_size(len(pattern.panels), sum(len(lp.edges) for p in pattern.panels
                                         for lp in p.loops))
+    check_names(pattern)
     count = Counter(p.name for p in pattern.panels)
     dup = sorted(n for n, c in count.items() if c > 1)
     if dup:

@@ -37,6 +37,8 @@ read and not used; any other field is refused, so a misspelt one is not silently
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..arguments import number
 from ..constants import GRAVITY
 from ..errors import FabricError
@@ -104,9 +106,8 @@ def sheet_fields(data: dict, path) -> tuple[dict, dict]:
             raise FabricError(f"unknown in a {kind} sheet (its fields: "
                               f"{', '.join(_SINGLE[kind] + _DIRECTIONAL[kind])}; see "
                               "docs/fabrics.md)", file=path, place=f"field {key!r:.80}")
-    if kind == "KES-F":
-        return _kes(data, path)
-    return _fast(data, path)
+    with np.errstate(all="ignore"):  # an extreme value gives 0 or inf, refused later
+        return _kes(data, path) if kind == "KES-F" else _fast(data, path)
 
 
 def _instrument(value, path) -> str:
@@ -118,9 +119,12 @@ def _instrument(value, path) -> str:
 
 
 def _positive(value, path, field: str, unit: str, *, zero: bool = False) -> float:
-    """``value`` as a number above 0 (``zero``: at least 0), else a :class:`FabricError`."""
+    """``value`` as a number above 0 (``zero``: at least 0), else a :class:`FabricError`.
+    A NumPy float: a conversion of an extreme value (a strain that is 1e-320 %, a bending
+    length of 1e200 mm) then gives 0 or infinity, which the fabric's range check refuses
+    naming the field, where Python's floats raised ZeroDivisionError or OverflowError."""
     try:
-        return number(value, field, low=0.0, low_open=not zero)
+        return np.float64(number(value, field, low=0.0, low_open=not zero))
     except ValueError:
         want = "a number >= 0" if zero else "a positive number"
         raise FabricError(f"expected {want} [{unit}], got {value!r:.40}",
@@ -177,6 +181,10 @@ def _friction(data: dict, path) -> float:
                           file=path, place="field 'friction'") from None
 
 
+def _floats(fields: dict) -> dict:
+    return {k: float(v) for k, v in fields.items()}
+
+
 def _kes(data: dict, path) -> tuple[dict, dict]:
     w = _single(data, path, "W", "mg/cm^2")
     t = _single(data, path, "T", "mm")
@@ -196,7 +204,7 @@ def _kes(data: dict, path) -> tuple[dict, dict]:
     origin = {"density": "W", "thickness": "T", "bending_warp": b_from,
               "bending_weft": b_from, "shear": g_from, "stretch_warp": emt_from,
               "stretch_weft": emt_from, "bending_hysteresis": hb_from, "friction": "friction"}
-    return fields, origin
+    return _floats(fields), origin
 
 
 def _fast(data: dict, path) -> tuple[dict, dict]:
@@ -237,4 +245,4 @@ def _fast(data: dict, path) -> tuple[dict, dict]:
               "bending_weft": b_from, "shear": g_from, "stretch_warp": e_from,
               "stretch_weft": e_from, "bending_hysteresis": "bending_hysteresis",
               "friction": "friction"}
-    return fields, origin
+    return _floats(fields), origin

@@ -26,6 +26,7 @@ from ..arguments import instance, number
 from ..constants import GRAVITY
 from ..errors import FabricError
 from ..files import read_json_file
+from ..text import control_at
 from .fabric_arcsim import ARCSIM_BENDING_FACTOR, arcsim_fields, is_arcsim
 from .fabric_sheets import KES_BENDING, is_sheet, sheet_fields
 
@@ -134,6 +135,10 @@ def _check_values(values: dict, source, names: dict | None = None) -> None:
     name = values.get("name")
     if not isinstance(name, str) or not name.strip() or len(name) > _NAME_LENGTH:
         raise FabricError(f"expected a non-empty string of at most {_NAME_LENGTH} characters",
+                          file=source, place="field 'name'")
+    at = control_at(name)
+    if at is not None:  # printed in tables and reports (patternfit.text)
+        raise FabricError(f"{name!r:.80} holds a control character ({name[at]!r}, at {at})",
                           file=source, place="field 'name'")
 
 
