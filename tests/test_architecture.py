@@ -13,6 +13,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "patternfit"
 
 #: the stages, lowest first; a module imports only from its own sub-package or lower ranks
 RANK = {"constants": 0, "errors": 0, "files": 0, "geometry": 0, "arguments": 0, "defaults": 0,
+        "text": 0,
         "figures": 0,
         "pattern": 1, "body": 1, "coords": 1, "mesh": 2, "sim": 3, "fit": 4, "edit": 5,
         "loop": 6, "api": 7, "cli": 8, "studio": 8, "batch": 8}

@@ -471,3 +471,9 @@ def test_a_drapes_output_folder_reads_as_its_garment_folder(tmp_path):
     (tmp_path / "zero" / MESH).symlink_to("/dev/zero")
     with pytest.raises(GarmentFileError, match="not a regular file"):
         load_garment(tmp_path / "zero")
+    # a folder that is not there, or a file, is said to be so ("no mesh.npz here" was said
+    # of both)
+    with pytest.raises(GarmentFileError, match="nowhere: does not exist"):
+        load_garment(tmp_path / "nowhere")
+    with pytest.raises(GarmentFileError, match="positions.npy: is a file, not a garment folder"):
+        load_garment(tmp_path / "out" / "garment" / "positions.npy")

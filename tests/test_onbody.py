@@ -18,7 +18,7 @@ from patternfit.loop.correct import correct, refusal
 from patternfit.mesh.store import save_garment
 from patternfit.pattern import save_pattern
 from patternfit.pattern.library import build
-from patternfit.sim.onbody import ON_BODY, anchor_line, on_body_checks
+from patternfit.sim.onbody import ON_BODY, REBUILT_P99, anchor_line, on_body_checks
 from patternfit.sim.placement import place_on_body
 
 from scenes import draped, garment
@@ -132,6 +132,26 @@ def test_fit_of_a_saved_state_checks_where_it_rests(skirt, tmp_path):
     assert r.exit_code == 1 and "far from the body" in " ".join(r.output.split()), r.output
     aside = api.evaluate_saved(tmp_path / "aside", body=BODY)
     assert not aside.passed and aside.verdict == "failed" and aside.region_verdicts == {}
+
+
+def test_fit_of_a_saved_state_without_its_contact_state_checks_its_balance(skirt, tmp_path):
+    """Without a contact.npz of its positions nothing said whether a saved state was at rest,
+    and a skirt lifted 1 cm off its rest (on the body by every other check) read as a fit.
+    Its balance is now rebuilt as a restart would: the rest is still not known to be at rest
+    but passes, the lifted one is off balance at many vertices and fails."""
+    pattern, mesh, body, d = skirt
+    save_garment(tmp_path / "rest", pattern, mesh, d.positions)  # no contact.npz
+    save_garment(tmp_path / "lifted", pattern, mesh, d.positions + [0.0, 0.01, 0.0])
+    rest = api.evaluate_saved(tmp_path / "rest", body=BODY, fabric="cotton")
+    assert rest.passed and rest.checks["equilibrium"] is None
+    # the body's push and friction let free, the rest balances about as its drape did
+    assert rest.checks["rebuilt_residual_p99"] <= 2 * d.checks.residual_p99 + 0.01
+    lifted = api.evaluate_saved(tmp_path / "lifted", body=BODY, fabric="cotton")
+    assert on_body_checks(pattern, mesh, body, d.positions + [0.0, 0.01, 0.0]).passed
+    assert not lifted.passed and lifted.verdict == "failed"
+    assert lifted.checks["equilibrium"] is False
+    assert lifted.checks["rebuilt_residual_p99"] > 10 * REBUILT_P99
+    assert any(r.startswith("not at rest:") for r in lifted.checks["reasons"])
 
 
 def test_slid_a_little_still_on_the_body(skirt):
@@ -395,3 +415,12 @@ def test_trousers_longer_than_the_legs_rest_on_the_floor():
     assert 0.0 < lowest < 0.01, f"lowest point {lowest * 1000:.1f} mm above the floor"
     assert outcome.passed, outcome.checks["reasons"]
     assert outcome.checks["below_feet_vertices"] == 0
+    # each leg's front and back panels hang at its front and back; turned back to front
+    # (re-draped so, it passed every check: only torso panels were checked round the body)
+    assert outcome.checks["side_angle_max_deg"] < 15
+    axis = np.asarray(outcome.body.landmarks["torso_axis"])[:, [0, 2]].mean(axis=0)
+    turned = outcome.positions.copy()
+    turned[:, [0, 2]] = 2 * axis - turned[:, [0, 2]]
+    checks = on_body_checks(outcome.pattern, outcome.mesh, outcome.body, turned)
+    assert not checks.passed and checks.side_angle_max_deg > 150
+    assert checks.reasons[0].startswith("turned round the body: panel 'front_r'")

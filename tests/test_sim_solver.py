@@ -7,6 +7,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 import triangle
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from patternfit.body.sdf import DistanceField
 from patternfit.constants import limits, tol
@@ -295,3 +297,46 @@ def test_penetrations_are_counted_beyond_the_tolerance_and_fail_above_the_limit(
     assert ok.inside_vertices == 0 and ok.passed
     crossed = replace(ok, self_intersections=limits.self_intersections + 1)
     assert not crossed.passed
+
+
+@settings(max_examples=100, deadline=None)
+@given(force=st.lists(st.floats(-10, 10), min_size=3, max_size=3),
+       push=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
+       friction=st.floats(0.0, 1.5))
+def test_the_cone_residual_is_the_distance_to_coulombs_cone(force, push, friction):
+    """What a body contact of any size, with friction up to Coulomb's limit, cannot balance
+    (a saved state's rebuilt residual): against the nearest of the cone's rays, sampled."""
+    from types import SimpleNamespace
+
+    from patternfit.constants import GRAVITY
+    from patternfit.sim.stop_rule import cone_residual
+
+    f, c = np.array(force), np.array(push)
+    assume(np.linalg.norm(c) > 1e-3)
+    n = c / np.linalg.norm(c)
+    # a vertex that weighs 1 N, so the ratio is the force; a second one untouched
+    model = SimpleNamespace(mass=np.full(2, 1.0 / GRAVITY), free=np.ones(2, bool))
+    rms, _ = cone_residual(model, np.array([f, np.zeros(3)]), np.array([c, np.zeros(3)]),
+                           friction)
+    got = rms * np.sqrt(2.0)
+    # the body must add p = -f; the cone is convex, so the nearest point to p is p itself
+    # (inside), or on one of its rays d, at (p . d)+ along it
+    p = -f
+    u = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(n, u)
+    phi = np.linspace(0.0, 2 * np.pi, 20001)
+    rays = n + friction * (np.cos(phi)[:, None] * u + np.sin(phi)[:, None] * v)
+    rays /= np.linalg.norm(rays, axis=1)[:, None]
+    along = np.maximum(rays @ p, 0.0)
+    want = np.sqrt(max(p @ p - along.max() ** 2, 0.0))
+    tangent = np.linalg.norm(p - (p @ n) * n)
+    if p @ n >= 0.0 and tangent <= friction * (p @ n) + 1e-12:
+        want = 0.0
+    assert got == pytest.approx(want, abs=1e-6 * (1 + np.abs(f).sum()))
+    # untouched, all of the force is left; a vertex left out counts for nothing
+    alone, _ = cone_residual(model, np.array([f, f]), np.zeros((2, 3)), friction)
+    assert alone == pytest.approx(np.linalg.norm(f))
+    out, _ = cone_residual(model, np.array([f, f]), np.zeros((2, 3)), friction,
+                           leave_out=np.array([False, True]))
+    assert out == pytest.approx(np.linalg.norm(f))

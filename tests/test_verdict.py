@@ -215,6 +215,11 @@ def test_a_failed_drape_has_no_verdict_but_failed_and_a_slid_one_is_too_loose():
     v = judge(fit, m, style="trousers", limit=0.1,
               checks=slid | {"equilibrium": True, "solver_passed": False})
     assert v.overall == "too loose"
+    # slid with cloth inside the body (a saved state moved down by hand): failed
+    v = judge(fit, m, style="trousers", limit=0.1, checks=slid | {"inside_vertices": 54})
+    assert v.overall == "failed" and v.regions == {}
+    assert judge(fit, m, style="trousers", limit=0.1,
+                 checks=slid | {"inside_vertices": 0}).overall == "too loose"
 
 
 def test_a_waist_whose_top_slid_more_than_slid_cm_below_it_reads_loose_by_its_ease():

@@ -54,7 +54,7 @@ from .pattern.model import Pattern, Seam
 from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
-from .sim.drape import CONTACT_MARGIN, Drape, drape
+from .sim.drape import CONTACT_MARGIN, Drape, drape, saved_balance
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
                           check_bulk, fabric_with_notes, get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
@@ -721,8 +721,6 @@ def _start_state(start, pattern: Pattern, triangles: int):
         if why:
             raise ValueError(f"start: {why}")
         return x, None, mesh
-    if not Path(start).exists():
-        raise InputError("does not exist", file=start)
     start = garment_folder(start)
     saved, saved_mesh, x = load_garment(start)
     if x is None:
@@ -766,7 +764,10 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     says so), the fit measures and the verdict (contact distance the drape's default
     margin). Without a body nothing checks where the state lies: ϖ alone, its checks'
     ``passed`` None ("not checked"). A state its drape saved before it came to rest
-    (``contact.npz``'s ``at_rest`` false) fails either way."""
+    (``contact.npz``'s ``at_rest`` false) fails either way; one without a contact state of
+    its positions (none saved, or moved since) fails on the body when many of its vertices
+    are off balance (:func:`patternfit.sim.drape.saved_balance`, in ``fabric``; about 1 s
+    at 22K triangles)."""
     folder = path_arg(folder, "folder", what="a garment folder")
     pat, m, x = load_garment(folder)
     if x is None:
@@ -780,7 +781,8 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
         return FitOutcome(pat, m, None, None, x, fit, state="saved",
                           extra={"checks": unchecked_state(at_rest)})
     b, fab = read_body(body, units=units), read_fabric(fabric)
-    checks = saved_state_checks(pat, m, b, x, at_rest=at_rest)
+    checks = saved_state_checks(pat, m, b, x, at_rest=at_rest,
+                                balance=lambda: saved_balance(m, b, fab, x))
     measures, judgement = judge_state(pat, m, x, fit, b, fab, checks=checks,
                                       verdict_rules=verdict_rules)
     return FitOutcome(pat, m, b, fab, x, fit, state="saved", extra={"checks": checks},

@@ -147,6 +147,10 @@ def load_garment(folder) -> tuple[Pattern, GarmentMesh, np.ndarray | None]:
     origin), and :class:`~patternfit.pattern.errors.PatternError` for the pattern.
     """
     folder = garment_folder(folder)
+    if not os.path.lexists(folder):
+        raise GarmentFileError("does not exist", file=folder)
+    if not folder.is_dir():
+        raise GarmentFileError("is a file, not a garment folder", file=folder)
     if not os.path.lexists(folder / MESH):  # one that is there but no file is read, and said
         raise GarmentFileError(f"no {MESH} here: not a saved garment folder", file=folder)
     mesh = GarmentMesh.load(folder / MESH)

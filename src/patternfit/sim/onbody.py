@@ -11,6 +11,7 @@ result (:attr:`patternfit.sim.drape.Drape.onbody`) and the report's ``checks`` h
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,10 +59,11 @@ class OnBodySettings:
     min_area_ratio : float
         A state whose 3D area is below this share of the flat area has collapsed [-].
     side_angle : float
-        A torso panel named for the front or back whose centroid hangs more than this far
-        round the body from that side (:func:`side_angles`) is twisted [degrees] (the built-in
-        garments: at most 5; a dress turned a quarter round: 84 and 92; a gore of a
-        four-gore skirt: 45, and a princess seam's side panel may reach some 60-70).
+        A torso or leg panel named for the front or back whose centroid hangs more than
+        this far round the body (or its leg) from that side (:func:`side_angles`) is
+        twisted [degrees] (the built-in garments: at most 5; a dress turned a quarter
+        round: 84 and 92; a gore of a four-gore skirt: 45, and a princess seam's side
+        panel may reach some 60-70).
     named_anchor_level : float
         The edges named for the anchor (a "waist" or "neck" edge) must hang above this
         share of the garment's height from its lowest point, or it is upside down [-]
@@ -109,8 +111,8 @@ class OnBodyChecks:
     #: hang, as a share of the garment's height from its lowest point (1: at its top) [-];
     #: None without such edges
     named_anchor_level: float | None = None
-    #: the largest of :func:`side_angles` [degrees]; None without torso panels named for
-    #: the front or back
+    #: the largest of :func:`side_angles` [degrees]; None without torso or leg panels
+    #: named for the front or back
     side_angle_max_deg: float | None = None
     #: the anchor line ended below the body's crotch: nothing of the torso holds the
     #: garment there, it fell (a skirt round the shins, its hem on the floor)
@@ -197,26 +199,39 @@ def named_anchor_edges(pattern: Pattern, mesh: GarmentMesh) -> list[tuple[str, s
 
 
 def side_angles(pattern: Pattern, mesh: GarmentMesh, body, positions) -> dict[str, float]:
-    """How far round the body each torso panel named for the front or back (its role's
-    ``side_named``, :func:`~patternfit.pattern.roles.panel_roles`) hangs from that side, in
-    degrees: the angle, seen from above, between the direction from the body's torso axis
-    to the panel's area-weighted centroid (``positions`` (n, 3) [m], y up, the body facing
-    +z) and the side's direction. Panels named for one side and sewn to each other count as
-    one, under their names joined by ", " (an eight-gore skirt's outer front gore hangs
-    at the side, its front at the front). A side read from a placement or inferred from
-    the seams is no evidence (a four-gore skirt's unnamed side gores are told front or back
-    in turn, while a file's own placement may hang them at the sides); panels whose
-    centroid lies within 2 cm of the axis (one wrapped all round) are left out too."""
+    """How far round the body each panel named for the front or back (its role's
+    ``side_named``, :func:`~patternfit.pattern.roles.panel_roles`) of the torso or a leg
+    hangs from that side, in degrees: the angle, seen from above, between the direction
+    from the part's axis to the panel's area-weighted centroid (``positions`` (n, 3) [m], y
+    up, the body facing +z) and the side's direction. The torso's axis is the body's; a
+    leg's is half-way between its front and its back panels' centroids (trousers turned
+    back to front hung each front panel behind its leg, which the torso's axis, beside the
+    legs, does not see), and a leg without both is left out. Panels of one part named for
+    one side and sewn to each other count as one, under their names joined by ", " (an
+    eight-gore skirt's outer front gore hangs at the side, its front at the front). A side
+    read from a placement or inferred from the seams is no evidence (a four-gore skirt's
+    unnamed side gores are told front or back in turn, while a file's own placement may
+    hang them at the sides); panels whose centroid lies within 2 cm of the axis (one
+    wrapped all round) are left out too."""
     roles = panel_roles(pattern)
-    axis = np.asarray(body.landmarks["torso_axis"], dtype=np.float64)[:, [0, 2]].mean(axis=0)
     named = {}
     for i, name in enumerate(mesh.panel_names):
         role = roles[name]
-        if role.part == "torso" and role.side in ("front", "back") and role.side_named:
+        if role.part in ("torso", "leg_left", "leg_right") and role.side in ("front", "back") \
+                and role.side_named:
             tris = mesh.triangles[mesh.triangle_panel == i]
             area = triangle_areas(positions, tris)
-            named[name] = (role.side, area.sum(),
-                           (positions[tris].mean(axis=1) * area[:, None]).sum(axis=0))
+            if area.sum() > 0:
+                centroid = (positions[tris].mean(axis=1) * area[:, None]).sum(axis=0)
+                named[name] = (role.part, role.side, area.sum(), centroid[[0, 2]] / area.sum())
+    axes = {"torso": np.asarray(body.landmarks["torso_axis"],
+                                dtype=np.float64)[:, [0, 2]].mean(axis=0)}
+    for leg in ("leg_left", "leg_right"):
+        sides = [[c for part, side, _, c in named.values() if part == leg and side == want]
+                 for want in ("front", "back")]
+        if all(sides):
+            axes[leg] = (np.mean(sides[0], axis=0) + np.mean(sides[1], axis=0)) / 2
+    named = {k: v for k, v in named.items() if v[0] in axes}
     group = {name: name for name in named}
 
     def root(name):
@@ -226,19 +241,17 @@ def side_angles(pattern: Pattern, mesh: GarmentMesh, body, positions) -> dict[st
 
     for seam in pattern.seams:
         a, b = seam.a.panel, seam.b.panel
-        if a in named and b in named and named[a][0] == named[b][0]:
+        if a in named and b in named and named[a][:2] == named[b][:2]:
             group[root(a)] = root(b)
     out = {}
     for top in dict.fromkeys(root(name) for name in named):  # in the panels' order
         members = [name for name in named if root(name) == top]
-        area = sum(named[m][1] for m in members)
-        if not area > 0:
-            continue
-        d = sum(named[m][2] for m in members)[[0, 2]] / area - axis
+        area = sum(named[m][2] for m in members)
+        d = sum(named[m][3] * named[m][2] for m in members) / area - axes[named[top][0]]
         n = float(np.hypot(*d))
         if n < 0.02:
             continue
-        want = 1.0 if named[top][0] == "front" else -1.0
+        want = 1.0 if named[top][1] == "front" else -1.0
         out[", ".join(members)] = float(np.degrees(np.arccos(np.clip(want * d[1] / n,
                                                                       -1.0, 1.0))))
     return out
@@ -344,6 +357,12 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
 #: why a saved state known not to be at rest is no fit
 NOT_AT_REST = ("the drape that saved this state had not come to rest (no force balance): "
                "its shape is no fit")
+#: a saved state whose contact state is not known (no ``contact.npz``, or positions moved
+#: since) is no rest when the 99th percentile of its rebuilt residual
+#: (:func:`patternfit.sim.drape.saved_balance`) is above this many times a vertex's weight
+#: [-]: drapes at rest read 0.01-0.13 (1.2-1.5K skirts, trousers, shirt, coat and dress
+#: in four fabrics, the 22K coat), the same moved 1 cm up, down, aside or forward 2.8-9,300
+REBUILT_P99 = 1.0
 
 
 def unchecked_state(at_rest: bool | None) -> dict:
@@ -359,7 +378,8 @@ def unchecked_state(at_rest: bool | None) -> dict:
 
 
 def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
-                       spacing: float = 0.005, at_rest: bool | None = None) -> dict:
+                       spacing: float = 0.005, at_rest: bool | None = None,
+                       balance: Callable[[], tuple[float, float]] | None = None) -> dict:
     """The checks of a 3D state read back without the solver that made it (``patternfit
     fit`` of a saved garment folder), as a report's ``checks``: the on-body checks
     (:func:`on_body_checks`), the vertices inside the body (deeper than
@@ -370,7 +390,11 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     positions : (n, 3) float, the state of ``mesh`` [m]; ``body`` a
     :class:`patternfit.body.Body`; ``spacing`` the distance field's grid step [m];
     ``at_rest`` what the drape that saved the state said of it (``contact.npz``; None: not
-    known): False fails the checks."""
+    known): False fails the checks. Where it is not known and nothing else failed,
+    ``balance`` (when given) is called for the state's residual rebuilt without its contact
+    state, (rms, p99) (:func:`patternfit.sim.drape.saved_balance`; reported as
+    ``rebuilt_residual_rms`` / ``_p99``): a p99 above :data:`REBUILT_P99` is no rest
+    (``equilibrium`` False), else it is still not known."""
     onbody = on_body_checks(pattern, mesh, body, positions, spacing=spacing)
     x = np.asarray(positions, dtype=np.float64)
     reasons = list(onbody.reasons)
@@ -383,9 +407,17 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     reasons += [r for r in (inside_reason(inside, deepest), seam_gap_reason(gap)) if r]
     if at_rest is False:
         reasons.append(NOT_AT_REST)
+    rms = p99 = None
+    if at_rest is None and balance is not None and not reasons:
+        rms, p99 = balance()
+        if p99 > REBUILT_P99:
+            at_rest = False
+            reasons.append(f"not at rest: 1% of its vertices carry more than {p99:.3g} times "
+                           f"their weight unbalanced (limit {REBUILT_P99:g}), whatever the body "
+                           "pushes and friction holds (no contact.npz of these positions)")
     return {**onbody.to_dict(), "inside_vertices": inside, "max_depth_mm": deepest,
             "seam_gap_max_mm": gap, "solver_checked": False, "equilibrium": at_rest,
-            "passed": not reasons,
+            "rebuilt_residual_rms": rms, "rebuilt_residual_p99": p99, "passed": not reasons,
             "reasons": reasons}
 
 

@@ -38,6 +38,39 @@ def residual(model: ClothModel, grad) -> tuple[float, float]:
     return float(np.sqrt(np.mean(r2))), float(np.percentile(np.sqrt(r2), 99))
 
 
+def cone_residual(model: ClothModel, force, push, friction: float, *,
+                  leave_out=None) -> tuple[float, float]:
+    """(rms, 99th percentile) of |R_i| / (m_i g) [-] over the free solved vertices but
+    ``leave_out`` ((n_solved,) bool, optional), R_i the part of the force ``force``
+    (n_solved, 3) [N] on each that no body contact can balance: where ``push``
+    (n_solved, 3) [N] (a contact force, any size) is not zero the body may add any force
+    along it and up to ``friction`` [-] times that along the surface, and R_i is the
+    distance from -F_i to that cone (Coulomb's); elsewhere R_i = F_i."""
+    f = np.asarray(force, dtype=np.float64)
+    c = np.asarray(push, dtype=np.float64)
+    size = np.linalg.norm(c, axis=1)
+    touched = size > 0
+    n = c[touched] / size[touched, None]
+    need = -f[touched]  # what the body would have to add
+    pn = np.einsum("ij,ij->i", need, n)
+    pt = np.linalg.norm(need - pn[:, None] * n, axis=1)
+    # inside the cone: none left; in its polar cone (the cloth pulled off the surface): all
+    # of it; else the distance to the cone's side
+    dist = np.where((pn >= 0.0) & (pt <= friction * pn), 0.0,
+                    np.where(friction * pt <= -pn, np.hypot(pn, pt),
+                             (pt - friction * pn) / np.hypot(1.0, friction)))
+    left = f.copy()
+    left[touched] = 0.0
+    left[touched, 0] = dist
+    counted = model.free if leave_out is None else model.free & ~np.asarray(leave_out, bool)
+    r2 = np.empty(len(left))
+    r2 = r2[:kernels.weight_ratios2(left, model.mass, np.ascontiguousarray(counted), GRAVITY,
+                                    r2)]
+    if not len(r2):
+        return 0.0, 0.0
+    return float(np.sqrt(np.mean(r2))), float(np.percentile(np.sqrt(r2), 99))
+
+
 def residual_rms(model: ClothModel, grad) -> float:
     """rms of |F_i| / (m_i g) [-] over the free solved vertices (:func:`residual`'s first)."""
     r2 = _ratios2(model, grad)
