@@ -764,10 +764,10 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     says so), the fit measures and the verdict (contact distance the drape's default
     margin). Without a body nothing checks where the state lies: ϖ alone, its checks'
     ``passed`` None ("not checked"). A state its drape saved before it came to rest
-    (``contact.npz``'s ``at_rest`` false) fails either way; one without a contact state of
-    its positions (none saved, or moved since) fails on the body when many of its vertices
-    are off balance (:func:`patternfit.sim.drape.saved_balance`, in ``fabric``; about 1 s
-    at 22K triangles)."""
+    (``contact.npz``'s ``at_rest`` false) fails either way; with a body, one without a
+    contact state of its positions (none saved, or moved since) has its balance rebuilt in
+    ``fabric`` (:func:`patternfit.sim.drape.saved_balance`, 0.7 s at 22K triangles) and
+    fails when 1 % of its vertices are off by more than their weight."""
     folder = path_arg(folder, "folder", what="a garment folder")
     pat, m, x = load_garment(folder)
     if x is None:

@@ -235,7 +235,8 @@ def _read_dxf(path: Path, units: str | None, prefer_sew: bool, size: str | None,
                  if p.quantity == 0]
     if warnings:
         meta["warnings"] = warnings
-    pattern = Pattern(field(msp_texts, "Style Name") or CONTROL.sub("", path.stem), tuple(panels), (), meta)
+    name = field(msp_texts, "Style Name") or CONTROL.sub("", path.stem)
+    pattern = Pattern(name, tuple(panels), (), meta)
     check_pattern(pattern)
     return pattern
 

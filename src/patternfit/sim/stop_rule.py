@@ -32,7 +32,11 @@ def residual(model: ClothModel, grad) -> tuple[float, float]:
     """(rms, 99th percentile) of |F_i| / (m_i g) [-] over the free solved vertices, F = -grad
     ((n_solved, 3) [N]) of the energy minimised (lagged terms at their current anchors and
     pairs)."""
-    r2 = _ratios2(model, grad)
+    return _rms_p99(_ratios2(model, grad))
+
+
+def _rms_p99(r2) -> tuple[float, float]:
+    """(rms, 99th percentile) of the ratios whose squares are ``r2`` (k,); 0, 0 for none."""
     if not len(r2):
         return 0.0, 0.0
     return float(np.sqrt(np.mean(r2))), float(np.percentile(np.sqrt(r2), 99))
@@ -64,11 +68,8 @@ def cone_residual(model: ClothModel, force, push, friction: float, *,
     left[touched, 0] = dist
     counted = model.free if leave_out is None else model.free & ~np.asarray(leave_out, bool)
     r2 = np.empty(len(left))
-    r2 = r2[:kernels.weight_ratios2(left, model.mass, np.ascontiguousarray(counted), GRAVITY,
-                                    r2)]
-    if not len(r2):
-        return 0.0, 0.0
-    return float(np.sqrt(np.mean(r2))), float(np.percentile(np.sqrt(r2), 99))
+    return _rms_p99(r2[:kernels.weight_ratios2(left, model.mass, np.ascontiguousarray(counted),
+                                               GRAVITY, r2)])
 
 
 def residual_rms(model: ClothModel, grad) -> float:
