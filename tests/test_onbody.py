@@ -146,6 +146,9 @@ def test_fit_of_a_saved_state_without_its_contact_state_checks_its_balance(skirt
     assert rest.passed and rest.checks["equilibrium"] is None
     # the body's push and friction let free, the rest balances about as its drape did
     assert rest.checks["rebuilt_residual_p99"] <= 2 * d.checks.residual_p99 + 0.01
+    r = CliRunner().invoke(app, ["fit", "-g", str(tmp_path / "rest"), "-b", BODY, "-f",
+                                 "cotton", "-o", str(tmp_path / "a"), "--no-pictures"])
+    assert r.exit_code == 0 and "equilibrium not known:" in r.output, r.output
     lifted = api.evaluate_saved(tmp_path / "lifted", body=BODY, fabric="cotton")
     assert on_body_checks(pattern, mesh, body, d.positions + [0.0, 0.01, 0.0]).passed
     assert not lifted.passed and lifted.verdict == "failed"

@@ -152,6 +152,13 @@ def fit(
         if body is None:
             console.print("[yellow]not checked:[/] without --body nothing says whether the "
                           "garment rests on a body; ϖ alone is not a fit verdict")
+        elif report["checks"].get("rebuilt_residual_p99") is not None \
+                and report["checks"]["equilibrium"] is None:
+            console.print(
+                "[yellow]equilibrium not known:[/] no contact.npz of these positions; with "
+                "the body pushing and friction holding as they may, 1% of the vertices are "
+                f"off by {report['checks']['rebuilt_residual_p99']:.3g} of their weight or "
+                "more (above 1 fails); `patternfit drape --start` settles and checks it")
     exit_if_checks_failed(report, out)
 
 
