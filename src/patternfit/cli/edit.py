@@ -79,8 +79,13 @@ def edit_command(
     dx: float = typer.Option(0.0, help="Offset in x \\[m]."),
     dy: float = typer.Option(0.0, help="Offset in y \\[m]."),
     control: int = typer.Option(1, help="edit-curve: Bézier control point number."),
-    a: Optional[str] = typer.Option(None, help="lengthen: first point 'x,y' \\[m]."),
-    b: Optional[str] = typer.Option(None, help="lengthen: second point 'x,y' \\[m]."),
+    a: Optional[str] = typer.Option(None, help="lengthen: a point 'x,y' \\[m] before the "
+                                          "cut; the panel is lengthened along a→b (not "
+                                          "along the cut line: a and b lie across it), cut "
+                                          "at their midpoint, square to a–b."),
+    b: Optional[str] = typer.Option(None, help="lengthen: a point 'x,y' \\[m] beyond the "
+                                          "cut, in the direction the part beyond it moves "
+                                          "(e.g. --a 0,0.3 --b 0,0.1 lowers a hem)."),
     amount: Optional[float] = typer.Option(None, help="lengthen: added length \\[m] "
                                            "(negative shortens)."),
     sx: float = typer.Option(1.0, help="grade: scale in x."),
