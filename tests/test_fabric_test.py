@@ -283,6 +283,23 @@ def test_cusick_mesh_check_drapes_the_first_start_again_on_twice_the_triangles()
     assert res.exit_code == 2 and "--mesh-check applies to cusick" in res.output
 
 
+def test_a_kit_mesh_its_cap_left_too_coarse_fails_unless_checked(monkeypatch):
+    """A fabric of 1 mm bending length got the kit's most triangles, 0.4 edges per bending
+    length against its own 2.5, and passed with exit 0. The cap is lowered here so that
+    shirting meets it at 600 triangles."""
+    from patternfit.sim.fabric_test import cusick
+
+    monkeypatch.setattr(cusick, "CUSICK_TRIANGLES", (50, 600))
+    capped = kit.cusick_test("cotton_shirting", seeds=(0,))
+    assert capped.mesh_capped and capped.triangles < 700 and not capped.passed
+    assert capped.failures[-1].startswith("mesh too coarse for the fabric")
+    assert capped.to_dict()["mesh_capped"] is True
+    checked = dataclasses.replace(capped, mesh_change=0.01, mesh_check_at_rest=True)
+    assert not any(f.startswith("mesh too coarse") for f in checked.failures)
+    chosen = kit.cusick_test("cotton_shirting", seeds=(0,), triangles=600)
+    assert not chosen.mesh_capped
+
+
 def test_cusick_top_view_picture(drapes, tmp_path):
     path = kit.write_cusick_picture(drapes["jersey_knit"], tmp_path / "top.png")
     data = path.read_bytes()

@@ -49,14 +49,17 @@ def cusick_triangles(fabric: Fabric | str, specimen: float = CUSICK_SPECIMEN) ->
     """The kit's triangle count for the Cusick test of ``fabric`` on a specimen of diameter
     ``specimen`` [m]: edges of at most 1 / ``CUSICK_EDGES_PER_BENDING_LENGTH`` of the
     fabric's smaller bending length (warp or weft) [m], within ``CUSICK_TRIANGLES``."""
+    low, high = CUSICK_TRIANGLES
+    return int(min(max(math.ceil(_wanted_triangles(fabric, specimen)), low), high))
+
+
+def _wanted_triangles(fabric: Fabric | str, specimen: float) -> float:
+    """Equilateral triangles of edge ``1 / CUSICK_EDGES_PER_BENDING_LENGTH`` of the
+    fabric's smaller bending length on a specimen of diameter ``specimen`` [m]."""
     fab = get_fabric(fabric)
     specimen = number(specimen, "specimen", low=0.02, high=2.0)
-    c = min(fab.bending_length, fab.bending_length_weft)
-    h = c / CUSICK_EDGES_PER_BENDING_LENGTH
-    area = math.pi * (specimen / 2) ** 2
-    wanted = 4 * area / (math.sqrt(3) * h * h)  # equilateral triangles of edge h
-    low, high = CUSICK_TRIANGLES
-    return int(min(max(math.ceil(wanted), low), high))
+    h = min(fab.bending_length, fab.bending_length_weft) / CUSICK_EDGES_PER_BENDING_LENGTH
+    return 4 * math.pi * (specimen / 2) ** 2 / (math.sqrt(3) * h * h)
 
 
 def _disc_mesh(r_specimen: float, r_disc: float, triangles: int):
@@ -186,6 +189,10 @@ class CusickResult:
     mesh_check_at_rest : bool or None
         With the mesh check: whether that solve ended at rest (a change read off a solve
         still moving says nothing).
+    mesh_capped : bool
+        The kit chose the mesh and its cap (``CUSICK_TRIANGLES``) left it coarser than
+        ``CUSICK_EDGES_PER_BENDING_LENGTH`` edges per bending length: without a mesh check
+        that passed, the test fails (the folds of a fabric that limp lock on it).
     """
 
     fabric: str
@@ -209,6 +216,7 @@ class CusickResult:
     mesh_check_triangles: int | None = None
     mesh_change: float | None = None
     mesh_check_at_rest: bool | None = None
+    mesh_capped: bool = False
 
     @property
     def converged(self) -> bool:
@@ -231,6 +239,11 @@ class CusickResult:
         if self.mesh_check_at_rest is False:
             out.append(f"the mesh check's start on {self.mesh_check_triangles} triangles did "
                        "not reach rest")
+        if self.mesh_capped and self.mesh_change is None:
+            out.append(f"mesh too coarse for the fabric: the kit's {self.triangles} triangles "
+                       f"(its most) give fewer than {CUSICK_EDGES_PER_BENDING_LENGTH:g} edges "
+                       "per bending length, where its folds lock; check it with --mesh-check "
+                       "or give more --triangles")
         if self.mesh_change is not None and abs(self.mesh_change) > CUSICK_MESH_TOLERANCE:
             out.append(f"not mesh-converged: start {self.runs[0].seed}'s drape coefficient "
                        f"moved by {self.mesh_change:+.3f} from {self.triangles} to "
@@ -240,9 +253,9 @@ class CusickResult:
 
     @property
     def passed(self) -> bool:
-        """Every start ended at rest without crossings, every DC lies in [0, 1] and, with
-        the mesh check, the first start's moved by at most ``CUSICK_MESH_TOLERANCE`` on the
-        finer mesh."""
+        """Every start ended at rest without crossings, every DC lies in [0, 1], a mesh the
+        kit's cap left too coarse was checked and, with the mesh check, the first start's
+        moved by at most ``CUSICK_MESH_TOLERANCE`` on the finer mesh."""
         return not self.failures
 
     def to_dict(self) -> dict:
@@ -307,6 +320,7 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
     if not disc < specimen:
         raise ValueError(f"disc: the disc ({disc} m) must be smaller than the specimen "
                          f"({specimen} m)")
+    capped = triangles is None and _wanted_triangles(fab, specimen) > CUSICK_TRIANGLES[1]
     if triangles is None:
         triangles = cusick_triangles(fab, specimen)
     triangles = int(number(triangles, "triangles", low=50, high=200_000))
@@ -345,7 +359,7 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
         triangles=len(spec.t), vertices=len(spec.v), perturbation_m=perturbation,
         pixel_m=pixel, seconds=time.perf_counter() - t0, positions=positions, rest=spec.v,
         mesh_triangles=spec.t, mesh_check_triangles=finer, mesh_change=change,
-        mesh_check_at_rest=calm)
+        mesh_check_at_rest=calm, mesh_capped=capped)
 
 
 @dataclass(frozen=True)
