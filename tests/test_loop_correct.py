@@ -165,3 +165,26 @@ def test_a_round_whose_redrape_falls_off_the_body_is_stepped_back_then_undone(mo
     assert "round 1's" in result.failed and "undone" in result.failed
     assert "24.2 cm below the waist" in result.failed and not result.reached
     assert result.to_dict()["edits_made"] == 0
+
+
+def test_a_first_drape_that_did_not_come_to_rest_is_not_corrected_from(monkeypatch):
+    """A first drape stopped after 5 iterations (57 vertices inside the body, far from rest)
+    was edited from: 12 edits, as if its shape said something of the pattern."""
+    import functools
+
+    import patternfit.loop.session as loop_session
+    from patternfit.sim.settings import SolverSettings
+
+    s = DesignSession(SKIRT.pattern(), load_body(SKIRT.body), SKIRT.fabric, 600, 0.95,
+                      relax=SKIRT.relax)
+    real = loop_session.drape
+    monkeypatch.setattr(loop_session, "drape",
+                        functools.partial(real, settings=SolverSettings(max_iterations=5)))
+    s.redrape()
+    monkeypatch.setattr(loop_session, "drape", real)
+    assert s.state.checks["equilibrium"] is False
+    start = s.pattern
+    result = correct(s, settings=CorrectionSettings(threshold=0.95, max_iterations=1))
+    assert result.failed.startswith("the drape failed: not at rest")
+    assert [len(it.edits) for it in result.iterations] == [0] and not result.reached
+    assert s.pattern == start and len(s.history) == 1

@@ -226,7 +226,13 @@ def test_the_correction_refuses_a_failed_drape(skirt, tmp_path):
     assert not result.reached and len(result.iterations) == 1
     assert result.iterations[0].edits == [] and len(session.history) == 1
     assert "below the feet" in result.failed and result.to_dict()["failed"] == result.failed
-    assert refusal({"passed": False, "on_body": True}, 0.95) is None  # solver-only failure
+    assert refusal({"passed": False, "on_body": True}, 0.95) is None  # crossed pairs only
+    # a shape still moving, or cloth inside the body, says nothing of the pattern (a first
+    # drape stopped after 5 iterations, 57 vertices inside, was edited from)
+    assert refusal({"on_body": True, "equilibrium": False, "residual_rms": 6.9},
+                   0.95) == "the drape failed: not at rest (residual rms 6.9 of a vertex's weight)"
+    assert refusal({"on_body": True, "equilibrium": True, "inside_vertices": 57},
+                   0.95) == "the drape failed: 57 vertices inside the body"
     assert "not finite" in refusal(None, float("nan"))
     report = write_correction_outputs(tmp_path, session, result)
     assert report["failed"] and "pattern" not in report["files"]

@@ -26,14 +26,11 @@ MISSING = "#f0f0f0"
 def verdict_of(row: dict) -> str:
     """A row's verdict: the drape's own (``FitOutcome.verdict``, judged by
     :class:`~patternfit.fit.verdict_rules.VerdictRules`), ``failed`` for a failed drape
-    whatever else it reads, or ``no verdict`` for a row written without one. A failed drape
-    that reads ``too loose`` slid off its anchor, still on the body and at rest (the verdict
-    says so whatever else failed: docs/fit-correction.md): too loose, as its CSV row says
-    (the matrix said "failed" beside it)."""
-    verdict = row.get("verdict")
+    whatever else it reads (one that slid off its anchor too: its reason says it is too
+    loose to hang there), or ``no verdict`` for a row written without one."""
     if row["status"] != "ok":
-        return "too loose" if verdict == "too loose" else "failed"
-    return verdict or "no verdict"
+        return "failed"
+    return row.get("verdict") or "no verdict"
 
 
 def tightest_girth(row: dict) -> str | None:

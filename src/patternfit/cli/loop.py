@@ -79,10 +79,10 @@ def correct_command(
     are let out by translating their edges; with --take-in, too-loose regions are taken in. Writes
     OUT/pattern.json (the corrected pattern; never the input), OUT/report.json, before/
     and after/ fit outputs and the regions outlined on the 2D pattern. A drape that failed
-    only the solver's checks (crossed triangles, no equilibrium) is corrected from, its
-    checks in the report. From a first drape that is not on the body where the pattern
-    says (fell, slid off its anchor, collapsed) it corrects nothing, writes no pattern and
-    exits with status 1; a round whose re-drape falls off the body is stepped back, then
+    only by crossed triangles is corrected from, its checks in the report. From a first
+    drape that is no fit (not on the body where the pattern says: fell, slid off its
+    anchor, collapsed; not at rest; cloth inside the body) it corrects nothing, writes no
+    pattern and exits with status 1; a round whose re-drape is no fit is stepped back, then
     undone: the pattern written holds the edits before it, and the status is 1, as it is
     when the last drape failed its checks.
     """

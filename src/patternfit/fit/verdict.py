@@ -15,12 +15,11 @@ warp/weft stretch of :class:`~patternfit.fit.metrics.FitResult`) against the thr
 - fits: none of these.
 
 Overall: the first of too tight, too loose, tight, loose that a region reads, else fits.
-A garment that slid off its anchor (its top more than the on-body tolerance below the
-waist or neck it hangs from, :mod:`patternfit.sim.onbody`), still sewn and on the body, is
-too loose, whatever else it failed, and its reason names the regions that read tight where
-it came to rest; any other failed check (fallen past the hips, to the
-floor or below the feet, far from the body, collapsed, seams open) makes it "failed", with
-no region verdicts.
+A drape that failed its checks is "failed", with no region verdicts, and its reason says
+why: one that slid off its anchor (its top more than the on-body tolerance below the waist
+or neck it hangs from, :mod:`patternfit.sim.onbody`), still sewn and on the body, adds that
+it is too loose to hang from it; one that fell (past the hips, to the floor or below the
+feet), lies far from the body, collapsed or left seams open says only that.
 """
 
 from __future__ import annotations
@@ -92,8 +91,9 @@ FLOOR_TOUCH_MM = 10.0
 def slid_off(checks: dict | None) -> str | None:
     """Why the drape with these ``checks`` slid off its anchor (its top more than the
     on-body tolerance below it, the garment otherwise on the body: sewn, not fallen below
-    the feet, not far from the body, not collapsed), or None. A garment that fell or
-    never closed its seams is not too loose: its drape failed (a pattern in millimetres
+    the feet, not far from the body, not collapsed), or None: the drape failed, and its
+    reason says it slid, too loose to hang from its anchor. A garment that fell or never
+    closed its seams is not too loose: its drape failed for that (a pattern in millimetres
     read as metres fell 25 m, or onto the floor the body stands on, where its top lies
     within the anchor tolerance of the floor, y = 0, or past the hips, its top below the
     crotch: a skirt 125 cm round on 96 cm hips, round her shins, its hem on the floor; or
@@ -184,9 +184,14 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
     the drape's checks (None: passed)."""
     limit = rules.stretch_limit if rules.stretch_limit is not None else limit
     slid = slid_off(checks)
-    if checks and checks.get("passed") is False and not slid:
-        reasons = "; ".join(str(r) for r in checks.get("reasons") or []) or "checks failed"
-        return Verdict(FAILED, {}, f"the drape failed: {reasons}", style, limit)
+    if slid or (checks and checks.get("passed") is False):
+        # one that slid off its anchor too: it is too big to hang there, but where it came
+        # to rest is no fit to judge (it read "too loose" with every region "fits", exit 1,
+        # and a batch counted it as too loose, not failed)
+        reasons = [str(r) for r in checks.get("reasons") or []] or ["checks failed"]
+        if slid:
+            reasons.append(f"{slid}: too loose to hang from it")
+        return Verdict(FAILED, {}, f"the drape failed: {'; '.join(reasons)}", style, limit)
     stretch = np.maximum(fit.warp, fit.weft) - 1.0
     total = float(fit.area_2d.sum())
     sections = measures.sections
@@ -232,12 +237,6 @@ def judge(fit: FitResult, measures: FitMeasures, *, style: str, limit: float,
                                         "down to where the body is as wide", held, why) if w)
         regions[name] = RegionVerdict(word, e, p, s, area, why)
     words = [v.verdict for v in regions.values()]
-    if slid:
-        # too big to hang where it should, and still tight where it came to rest (shorts
-        # slid down a man's hips, tight at the thighs): both are the designer's to mend
-        tight = [f"{w} at {', '.join(k for k, v in regions.items() if v.verdict == w)}"
-                 for w in ("too tight", "tight") if w in words]
-        return Verdict("too loose", regions, "; ".join([slid] + tight), style, limit)
     for w in _PRIORITY:
         if w in words:
             where = [k for k, v in regions.items() if v.verdict == w]
