@@ -203,6 +203,17 @@ def test_a_failed_drape_exits_non_zero_and_says_why(skirt, tmp_path):
     report = api.evaluate_saved(out / "garment")  # the state was written all the same
     assert report.positions[:, 1].max() < -10
     assert (out / "fit_3d.png").exists() and (out / "fit_2d.png").exists()
+    # every picture's title is red, and whole: the one-girth sections picture cut its
+    # title at both sides ("FAILED" out of sight), the gap and pressure maps' were black
+    from PIL import Image
+
+    for name in ("sections.png", "gap_3d.png", "gap_2d.png", "pressure_3d.png"):
+        picture = np.asarray(Image.open(out / name).convert("RGB")).astype(int)
+        red = (picture[:, :, 0] > 150) & (picture[:, :, 1] < 60) & (picture[:, :, 2] < 60)
+        rows = np.flatnonzero(red.any(axis=1))
+        assert len(rows) and rows[0] < 80, name
+        cols = np.flatnonzero(red[:80].any(axis=0))
+        assert cols[0] > 2 and cols[-1] < picture.shape[1] - 3, name  # not cut at a side
 
 
 def test_the_correction_refuses_a_failed_drape(skirt, tmp_path):

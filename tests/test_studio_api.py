@@ -124,6 +124,23 @@ def test_drape_progress_stop_and_exports(client):
         assert r.status_code == 200 and len(r.content) > 100, name
     assert client.get("/api/export/report.json").json()["fitting_ratio"] == \
         pytest.approx(s["fitting_ratio"])
+    # a failed drape's exports show no fit colour (they were green, the garment's header
+    # without a word of it, while the page said "failed")
+    state = studio.ensure().state
+    kept = state.checks
+    try:
+        state.checks = {**kept, "passed": False, "reasons": ["fell below the feet"]}
+        obj = client.get("/api/export/garment.obj").text
+        head = obj.splitlines()[0]
+        assert '"checks_passed": false' in head and "fell below the feet" in head
+        colours = {tuple(line.split()[4:7]) for line in obj.splitlines()
+                   if line.startswith("v ")}
+        assert len(colours) == 1
+        svg = client.get("/api/export/pattern.svg").text
+        assert "#9e9e9e" in svg.lower() and not any(c in svg.lower() for c in ("#4dac26",
+                                                                              "#99cc8c"))
+    finally:
+        state.checks = kept
 
 
 def test_automatic_correction_runs_in_the_background(client):

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..figures import pyplot
 from ..mesh.garment import GarmentMesh
-from .pictures import flat_layout, render_views
+from .pictures import flat_layout, render_views, title_colour, wrapped
 
 
 @dataclass(frozen=True)
@@ -60,10 +60,12 @@ def _colorbar(fig, ax, scale: MeasureScale) -> None:
 
 
 def plot_measure_maps(mesh: GarmentMesh, positions, values, scale: MeasureScale, stem, *,
-                      body=None, title: str | None = None) -> list[Path]:
+                      body=None, title: str | None = None,
+                      failed: str | None = None) -> list[Path]:
     """Write ``<stem>_3d.png`` (the garment coloured by ``values`` (n,) per vertex, front
     and back, the body grey) and ``<stem>_2d.png`` (the flat pattern, each triangle the
-    mean of its corners). ``positions`` (n, 3) [m]; ``body`` optional (vertices, faces).
+    mean of its corners). ``positions`` (n, 3) [m]; ``body`` optional (vertices, faces);
+    ``failed``: why the drape failed (the titles in red: the map shows why, not a fit).
     Returns the two paths."""
     plt = pyplot()
     from matplotlib.collections import PolyCollection
@@ -78,7 +80,8 @@ def plot_measure_maps(mesh: GarmentMesh, positions, values, scale: MeasureScale,
         ax.imshow(img)
         ax.set_title(label, fontsize=10)
         ax.axis("off")
-    fig.suptitle(f"{head}{scale.label}", fontsize=11)
+    fig.suptitle(wrapped(f"{head}{scale.label}", 11, 11), fontsize=11,
+                 color=title_colour(failed))
     _colorbar(fig, axes[1], scale)
     path3 = stem.with_name(stem.name + "_3d.png")
     fig.savefig(path3, dpi=100)
@@ -86,8 +89,9 @@ def plot_measure_maps(mesh: GarmentMesh, positions, values, scale: MeasureScale,
 
     xy = flat_layout(mesh)
     width, height = np.ptp(xy[:, 0]), np.ptp(xy[:, 1])
-    fig, ax = plt.subplots(figsize=(min(16.0, 3.0 + 10.0 * width / max(width, height)),
-                                    8.0 * height / max(width, height) + 1.5))
+    size = (min(16.0, 3.0 + 10.0 * width / max(width, height)),
+            8.0 * height / max(width, height) + 1.5)
+    fig, ax = plt.subplots(figsize=size)
     colors = scale.colors(v[mesh.triangles].mean(axis=1))
     ax.add_collection(PolyCollection(xy[mesh.triangles], facecolors=colors,
                                      edgecolors=colors, linewidths=0.3))
@@ -98,7 +102,9 @@ def plot_measure_maps(mesh: GarmentMesh, positions, values, scale: MeasureScale,
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.set_xlabel("m")
-    ax.set_title(f"{head}{scale.label} on the flat pattern", fontsize=10)
+    # (over the axes, beside the colour bar: narrower than the figure)
+    ax.set_title(wrapped(f"{head}{scale.label} on the flat pattern", 0.7 * size[0], 10),
+                 fontsize=10, color=title_colour(failed))
     _colorbar(fig, ax, scale)
     fig.tight_layout()
     path2 = stem.with_name(stem.name + "_2d.png")

@@ -51,8 +51,6 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
     scale = FitScale(band=fit.thresholds[0])
     say("garment state")
     save_garment(folder / GARMENT, pattern, mesh, positions, contact=contact)
-    rgb = scale.colors(vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices,
-                                     fit.area_2d))
     files = {"garment": f"{GARMENT}/"}
     files.update({f"garment_{kind}": f"garment.{kind}" for kind in ("glb", "obj")})
     if pictures:
@@ -69,20 +67,14 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
                          "description": scale.describe()},
         "files": files, **extra})
     failed = failure(report)
-    if failed:  # the exported garment is grey too: its colours would read as a fit
-        rgb = np.broadcast_to(FAILED_GREY, rgb.shape).copy()
     checks = report["checks"]
     # a state nobody checked on a body (a saved one read back alone) says so on its maps
     name = pattern.name if checks.get("passed") is not None else \
         f"{pattern.name} (NOT CHECKED on a body: ϖ alone)"
-    status = {"garment": pattern.name, "state": state, "checks_passed": checks.get("passed"),
-              "verdict": report.get("verdict"),
-              "fitting_ratio": None if failed else report.get("fitting_ratio"),
-              "reasons": [str(r) for r in checks.get("reasons") or []]}
     for kind in ("glb", "obj"):
         say(f"garment.{kind}")
-        export_garment(positions, mesh.triangles, rgb, folder / f"garment.{kind}",
-                       status=status)
+        write_garment(folder / f"garment.{kind}", pattern, mesh, positions, fit, report,
+                      state=state, scale=scale)
     if pictures:
         say("2D colour map")
         plot_flat_map(mesh, fit, [folder / "fit_2d.png", folder / "fit_2d.svg"], scale=scale,
@@ -97,11 +89,33 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
             head = picture_title(fit, pattern.name, failed) if failed else \
                 f"{pattern.name}: {verdict}" if verdict else pattern.name
             say("girth sections")
-            plot_sections(measures.sections, folder / "sections.png", title=head)
+            plot_sections(measures.sections, folder / "sections.png", title=head,
+                          failed=failed)
             say("gap and pressure maps")
             plot_measure_maps(mesh, positions, measures.gap_mm, gap_scale(), folder / "gap",
-                              body=body, title=head)
+                              body=body, title=head, failed=failed)
             plot_measure_maps(mesh, positions, measures.pressure_kpa, pressure_scale(),
-                              folder / "pressure", body=body, title=head)
+                              folder / "pressure", body=body, title=head, failed=failed)
     write_report(report, folder / "report.json")
     return report
+
+
+def write_garment(path, pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult,
+                  report: dict, *, state: str, scale: FitScale | None = None) -> Path:
+    """Write the draped garment ``positions`` (n, 3) [m] of ``mesh`` to ``path`` (.glb, .obj,
+    .ply) coloured by ``fit``'s area change on ``scale``, or all grey when ``report`` (its
+    :func:`~patternfit.fit.report.fit_report`) says the drape failed: its colours would read
+    as a fit. The file carries the report's status (checks passed, verdict, ϖ, reasons;
+    :func:`~patternfit.fit.export.export_garment`)."""
+    scale = scale or FitScale(band=fit.thresholds[0])
+    failed = failure(report)
+    rgb = scale.colors(vertex_values(mesh.triangles, fit.area_change, mesh.n_vertices,
+                                     fit.area_2d))
+    if failed:
+        rgb = np.broadcast_to(FAILED_GREY, rgb.shape).copy()
+    checks = report["checks"]
+    status = {"garment": pattern.name, "state": state, "checks_passed": checks.get("passed"),
+              "verdict": report.get("verdict"),
+              "fitting_ratio": None if failed else report.get("fitting_ratio"),
+              "reasons": [str(r) for r in checks.get("reasons") or []]}
+    return export_garment(positions, mesh.triangles, rgb, path, status=status)

@@ -54,6 +54,14 @@ def title_colour(failed: str | None) -> str:
     return "#c00000" if failed else "black"
 
 
+def wrapped(text: str, width_in: float, fontsize: float) -> str:
+    """``text`` wrapped to lines that fit a figure ``width_in`` [inch] wide at ``fontsize``
+    [pt] (a failed drape's title on the one-girth sections picture, 3.2 inches, was cut at
+    both sides, "FAILED" out of sight)."""
+    chars = max(20, int(width_in * 72 / (0.6 * fontsize)))
+    return "\n".join(textwrap.wrap(" ".join(text.split()), chars))
+
+
 #: the colour of a garment whose drape failed its checks: no fit colour may suggest a fit
 FAILED_GREY = np.array([0.62, 0.62, 0.62])
 
@@ -178,14 +186,16 @@ def plot_3d_map(positions, mesh: GarmentMesh, fit: FitResult, path, *,
     return Path(path)
 
 
-def plot_sections(sections: dict, path, *, title: str | None = None) -> Path:
+def plot_sections(sections: dict, path, *, title: str | None = None,
+                  failed: str | None = None) -> Path:
     """Draw each girth's section, seen from above (bust, waist, hip horizontal: x across,
     z front up; a bicep in the plane across the arm): the body's section (grey, filled
     hull), the garment's section points (blue dots) and its convex hull (blue line),
     titled with the girth's ease in cm ("not all around" where the garment leaves a gap);
     girths the garment does not reach are left out.
 
-    ``sections``: name → :class:`~patternfit.fit.measures.Section`. Returns the path."""
+    ``sections``: name → :class:`~patternfit.fit.measures.Section`; ``failed``: why the
+    drape failed (the title in red). Returns the path."""
     plt = pyplot()
 
     path = Path(path)
@@ -221,7 +231,8 @@ def plot_sections(sections: dict, path, *, title: str | None = None) -> Path:
         ax.set_title(f"{name}: {head}\nbody {s.body_cm:.1f} cm", fontsize=9,
                      color="black" if s.covered else "0.45")
         ax.set_xlabel("cm", fontsize=7)
-    fig.suptitle(f"{title + ' — ' if title else ''}girth sections, top view", fontsize=10)
+    fig.suptitle(wrapped(f"{title + ' — ' if title else ''}girth sections, top view",
+                         3.2 * cols, 10), fontsize=10, color=title_colour(failed))
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)

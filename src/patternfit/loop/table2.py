@@ -101,12 +101,14 @@ def run_row(row: Row, *, triangles: int | None = None, settings=CorrectionSettin
             if it.measured is not None:
                 head = (f"{row.garment} on {row.body} ({name}): "
                         f"{it.verdict.overall if it.verdict else 'n/a'}")
-                plot_sections(it.measured.sections, f"{stem}_sections.png", title=head)
+                plot_sections(it.measured.sections, f"{stem}_sections.png", title=head,
+                              failed=failed)
                 for kind, values, scale in (("gap", it.measured.gap_mm, gap_scale()),
                                             ("pressure", it.measured.pressure_kpa,
                                              pressure_scale())):
                     for path in plot_measure_maps(state.mesh, state.positions, values, scale,
-                                                  f"{stem}_{kind}", body=body, title=head):
+                                                  f"{stem}_{kind}", body=body, title=head,
+                                                  failed=failed):
                         compress_png(path, path)
     return {"garment": row.garment, "body": row.body, "fabric": row.fabric,
             "narrow": row.narrow, "relax": row.relax, "size": row.size,

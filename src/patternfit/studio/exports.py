@@ -7,9 +7,10 @@ import tempfile
 from pathlib import Path
 
 from .. import api
-from ..fit.colormap import FitScale, vertex_values
-from ..fit.export import export_garment
-from ..fit.report import fit_report, write_report
+from ..fit.colormap import FitScale
+from ..fit.outputs import write_garment
+from ..fit.pictures import fit_colours
+from ..fit.report import failure, fit_report, write_report
 from ..pattern.formats import save_any_pattern
 from .payload import stale_maps
 from .jobs import Refused
@@ -33,11 +34,13 @@ def export(studio: Studio, name: str) -> bytes:
         path = Path(tmp) / name
         kind = EXPORTS[name]
         if kind == "pattern":
-            fit = studio.views.fit(s.state) if s.positions is not None and path.suffix in (".svg", ".pdf") \
-                else None
-            colours = None if fit is None else (s.mesh.vertices, s.mesh.triangles,
-                                                FitScale().colors(fit.area_change),
-                                                s.mesh.triangle_panel)
+            fit = studio.views.fit(s.state) if s.positions is not None \
+                and path.suffix in (".svg", ".pdf") and not stale_maps(s.state) else None
+            colours = None if fit is None else (
+                s.mesh.vertices, s.mesh.triangles,
+                # a failed drape's colours would read as a fit
+                fit_colours(FitScale(), fit.area_change, failure(report(s, fit))),
+                s.mesh.triangle_panel)
             save_any_pattern(s.pattern, path, fit=colours)
         elif s.positions is None:
             raise Refused("there is no drape to export yet: drape the garment first")
@@ -46,9 +49,8 @@ def export(studio: Studio, name: str) -> bytes:
                           "first")
         elif kind == "garment":
             fit = studio.views.fit(s.state)
-            rgb = FitScale().colors(vertex_values(s.mesh.triangles, fit.area_change,
-                                                  s.mesh.n_vertices, weights=fit.area_2d))
-            path = export_garment(s.positions, s.mesh.triangles, rgb, path)
+            path = write_garment(path, s.pattern, s.mesh, s.positions, fit, report(s, fit),
+                                 state="draped", scale=FitScale())
         else:
             path = write_report(report(s, studio.views.fit(s.state)), path)
         return Path(path).read_bytes()
