@@ -162,6 +162,18 @@ def test_ctrl_c_anywhere_exits_130_in_one_line(monkeypatch, error):
     assert "internal error" not in res.output and "Aborted" not in res.output
 
 
+def test_a_reader_gone_away_ends_quietly(monkeypatch):
+    """``patternfit drape --help | head``: "internal error: BrokenPipeError", status 3."""
+    import patternfit.api as api
+
+    def gone(*args, **kwargs):
+        raise BrokenPipeError(32, "Broken pipe")
+
+    monkeypatch.setattr(api, "read_pattern", gone)
+    res = runner.invoke(app, ["seams", "skirt"])
+    assert res.exit_code == 141 and "internal error" not in res.output, res.output
+
+
 def test_fit_refuses_a_fabric_without_a_body(tmp_path):
     """--fabric was never read without --body: a file that does not exist exited 0."""
     res = runner.invoke(app, ["fit", "--garment", str(tmp_path), "--fabric", "nonexistent.json",
@@ -189,6 +201,31 @@ def test_ctrl_c_in_a_drape_writes_the_state_reached_and_exits_130(tmp_path, monk
     report = json.loads((out / "report.json").read_text())
     assert report["checks"]["passed"] is False and report["verdict"] == "failed"
     assert "interrupted" in json.dumps(report["checks"]["reasons"])
+
+
+def test_sigterm_in_a_drape_stops_it_as_ctrl_c_does(tmp_path, monkeypatch):
+    """``timeout`` ends a command with SIGTERM: the process died at once, its log empty and
+    nothing of the drape written. It now stops as Ctrl-C stops it, and the handler before
+    it is back afterwards."""
+    import contextlib
+    import os
+    import signal
+
+    import patternfit.cli.drape as drape_cli
+
+    def stop(iteration, *rest, **kw):
+        if iteration == 3:
+            os.kill(os.getpid(), signal.SIGTERM)
+
+    before = signal.getsignal(signal.SIGTERM)
+    monkeypatch.setattr(drape_cli, "drape_progress",
+                        lambda **kw: (contextlib.nullcontext(), stop))
+    out = tmp_path / "d"
+    res = runner.invoke(app, ["drape", "--pattern", "skirt", "--body", "female_average",
+                              "--triangles", "300", "--no-pictures", "--out", str(out)])
+    assert res.exit_code == 130 and "interrupted: the state reached" in res.output, res.output
+    assert json.loads((out / "report.json").read_text())["verdict"] == "failed"
+    assert signal.getsignal(signal.SIGTERM) is before
 
 
 def test_a_saved_state_read_alone_is_not_checked_and_one_not_at_rest_fails(tmp_path):

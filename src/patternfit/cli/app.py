@@ -4,7 +4,8 @@ Exit status of every command: 0 done; 1 the result failed its checks (a drape or
 went wrong); 2 an input file or option was refused, or a path could not be read or written
 (``error: <message>`` on standard error, naming it);
 3 an internal error (one line; ``PATTERNFIT_DEBUG=1`` shows the traceback); 130 stopped by
-Ctrl-C.
+Ctrl-C or SIGTERM (the last state kept, as Ctrl-C keeps it); 141 the reader of the output
+went away (``| head``).
 """
 
 from __future__ import annotations
@@ -12,8 +13,10 @@ from __future__ import annotations
 import inspect
 import math
 import os
+import signal
 import sys
 import tempfile
+import threading
 import warnings
 from pathlib import Path
 
@@ -37,8 +40,10 @@ CHECKS_FAILED = 1
 REFUSED = 2
 #: exit status of an internal error
 INTERNAL = 3
-#: exit status after Ctrl-C (128 + SIGINT, as a shell reports it)
+#: exit status after Ctrl-C or SIGTERM (128 + SIGINT, as a shell reports it)
 INTERRUPTED = 130
+#: exit status when the output's reader went away (128 + SIGPIPE, as a shell reports it)
+BROKEN_PIPE = 141
 
 
 def say_warning(text: str) -> None:
@@ -80,6 +85,7 @@ class _Boundary(Group):
     :meth:`invoke`, so ``CliRunner`` and the console script share one error boundary."""
 
     def invoke(self, ctx):
+        terminate = _stop_on_terminate()
         try:
             with warnings.catch_warnings():
                 # a library warning (a placement replaced, a unit guessed) is one line to
@@ -88,6 +94,15 @@ class _Boundary(Group):
                 return super().invoke(ctx)
         except (typer.Exit, typer.Abort, TyperException):
             raise  # exits, usage errors: Typer prints these itself
+        except BrokenPipeError:
+            # the reader went away (``patternfit drape --help | head``): stop quietly, as
+            # the shell's own commands do, not with "internal error"; the interpreter's
+            # last flush of the closed pipe goes nowhere
+            try:
+                os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            except (OSError, ValueError):  # no file behind it (a test's runner)
+                pass
+            raise typer.Exit(BROKEN_PIPE) from None
         except (KeyboardInterrupt, Exception) as exc:
             if ctrl_c(exc):
                 # the shell's status for SIGINT, not Click's "Aborted!" with status 1, which
@@ -108,6 +123,23 @@ class _Boundary(Group):
             first = (str(exc).strip().splitlines() or [""])[0]
             fail(f"internal error: {type(exc).__name__}: {first} (rerun with {DEBUG_ENV}=1 "
                  "for the traceback)", INTERNAL)
+        finally:
+            terminate()
+
+
+def _stop_on_terminate():
+    """Make SIGTERM (``timeout``, ``kill``, a scheduler's stop) stop a command as Ctrl-C
+    does, its last state kept and its messages out, instead of ending the process at once
+    (a drape stopped by ``timeout`` left an empty log); returns what puts the previous
+    handler back. Outside the main thread (where no handler can be set) nothing changes."""
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
+
+    def stop(signum, frame):
+        raise KeyboardInterrupt
+
+    before = signal.signal(signal.SIGTERM, stop)
+    return lambda: signal.signal(signal.SIGTERM, before)
 
 
 app = typer.Typer(name="patternfit", cls=_Boundary, no_args_is_help=True, add_completion=False,
@@ -115,7 +147,8 @@ app = typer.Typer(name="patternfit", cls=_Boundary, no_args_is_help=True, add_co
                        "edit the pattern. Lengths in metres unless an option says otherwise.",
                   epilog="Exit status: 0 done, 1 the result failed its checks, 2 an input or "
                          "option was refused, 3 an internal error (PATTERNFIT_DEBUG=1 shows "
-                         "its traceback), 130 stopped by Ctrl-C.")
+                         "its traceback), 130 stopped by Ctrl-C or SIGTERM (the state reached "
+                         "is kept), 141 the output's reader went away.")
 
 # A long path is printed whole on one line (soft wrap), not broken at the width, so that it
 # can be copied; in a pipe or a CI log (no terminal, no COLUMNS) Rich assumes 80 columns and
