@@ -222,6 +222,15 @@ def test_implausible_size_is_warned(tmp_path):
     doc.saveas(path)
     (w,) = load_dxf(path).meta["warnings"]
     assert "FRONT" in w and "implausible" in w and "units='mm'" in w
+    # warned, and not draped: a 16 m piece draped for more than 400 s before it failed
+    from patternfit import api
+    from patternfit.pattern.errors import PatternError
+
+    with pytest.raises(PatternError, match=r"big.dxf: panel 'FRONT.*m across: no garment "
+                                           r"piece is larger than 6 m"):
+        api.drape_and_evaluate(path, "female_average", triangles=300)
+    with pytest.raises(PatternError, match="no garment piece"):
+        api.design_session(path, triangles=300).redrape()
     # a metre-unit CLO file of a millimetre drawing stays within the extent limit only when
     # small: a 0.5 mm piece read in mm is implausibly small
     tiny = [r / 1000 for r in runs]

@@ -51,6 +51,7 @@ from .pattern.errors import PatternError
 from .pattern.formats import load_any_pattern, save_any_pattern
 from .pattern.library import GARMENTS, build
 from .pattern.model import Pattern, Seam
+from .pattern.plausible import check_drapeable_size
 from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
@@ -661,8 +662,9 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
     if progress is not None and not callable(progress):
         raise ValueError(f"progress: expected a function, got {progress!r:.60}")
     pat = read_pattern(pattern, size=size)
-    check_sewn(pat, source=None if isinstance(pattern, Pattern) or str(pattern) in GARMENTS
-               else pattern)
+    source = None if isinstance(pattern, Pattern) or str(pattern) in GARMENTS else pattern
+    check_sewn(pat, source=source)
+    check_drapeable_size(pat, source=source)
     b = read_body(body, units=units)
     fab = read_fabric(fabric)
     if start is not None:

@@ -38,6 +38,7 @@ from ..pattern.errors import PatternError
 from ..pattern.io import load_pattern
 from ..pattern.library import build
 from ..pattern.model import Pattern
+from ..pattern.plausible import check_drapeable_size
 from ..pattern.seam_suggest import check_sewn
 from ..sim.drape import Drape, drape, redrape
 from ..sim.fabrics import Fabric, get_fabric
@@ -208,11 +209,13 @@ class DesignSession:
         """Drape the current state from where :meth:`next_start` says: warm-started from the
         last drape when the mesh kept its topology, from an earlier drape carried over when
         a panel was re-meshed, from the placement otherwise. Records ϖ and the checks in
-        the history. A pattern of several pieces not sewn together is refused
-        (:func:`~patternfit.pattern.seam_suggest.check_sewn`). Ctrl-C in the solve raises
-        KeyboardInterrupt with nothing of the stopped drape recorded."""
+        the history. A pattern of several pieces not sewn together, or with a piece no
+        garment has (:func:`~patternfit.pattern.seam_suggest.check_sewn`,
+        :func:`~patternfit.pattern.plausible.check_drapeable_size`), is refused. Ctrl-C in
+        the solve raises KeyboardInterrupt with nothing of the stopped drape recorded."""
         st = self.state
         check_sewn(st.pattern)
+        check_drapeable_size(st.pattern)
         how = self.next_start()
         if how == "warm":
             result = self._staged_redrape(st.mesh, st.positions, progress, st.start_rest)

@@ -10,10 +10,15 @@ from typing import Callable
 import numpy as np
 
 from ..constants import UNITS
+from .errors import PatternError
 
 #: sizes across (largest side of the bounding box) a garment piece plausibly has; outside
 #: them the file's units are probably misread and the reader warns [m]
 PLAUSIBLE = (0.01, 3.0)
+#: a piece larger across than this is no garment piece at all [m] (twice the plausible
+#: largest): draping is refused (a DXF read in inches over millimetres, 16 m pieces, was
+#: draped for more than 400 s before it failed)
+ABSURD = 2 * PLAUSIBLE[1]
 #: the least size across the largest piece of a garment plausibly has [m]: below it the whole
 #: pattern is probably read in too small a unit (CLO writes ``UNITS: METRIC`` over centimetres)
 PLAUSIBLE_LARGEST = 0.1
@@ -21,6 +26,12 @@ PLAUSIBLE_LARGEST = 0.1
 #: the units as a message names them ("read in in" read as a typo)
 _UNIT_NAMES = {0.001: "millimetres", 0.01: "centimetres", 0.0254: "inches", 0.3048: "feet",
                1.0: "metres"}
+
+
+def across(panel) -> float:
+    """A panel's size across [m]: the largest side of its outline's bounding box."""
+    poly = panel.outline.polygon(8)
+    return float(np.max(poly.max(axis=0) - poly.min(axis=0)))
 
 
 def size_warnings(panels, scale: float, unit_says: str, *,
@@ -35,8 +46,7 @@ def size_warnings(panels, scale: float, unit_says: str, *,
     unit = _UNIT_NAMES.get(scale, f"{scale:g} m")
     sizes = []
     for panel in panels:
-        poly = panel.outline.polygon(8)
-        size = float(np.max(poly.max(axis=0) - poly.min(axis=0)))
+        size = across(panel)
         sizes.append(size)
         if lo <= size <= hi:
             continue
@@ -52,6 +62,19 @@ def size_warnings(panels, scale: float, unit_says: str, *,
                    f"({unit_says}): small for a garment (at least {PLAUSIBLE_LARGEST * 100:g}"
                    " cm expected); " + _as_other_units(largest / scale, fits, hint))
     return out
+
+
+def check_drapeable_size(pattern, *, source=None) -> None:
+    """Refuse (:class:`~patternfit.pattern.errors.PatternError` naming ``source`` and the
+    panel) a pattern with a piece larger across than :data:`ABSURD`: its units were
+    misread, and no drape of it is a garment's."""
+    for panel in pattern.panels:
+        size = across(panel)
+        if size > ABSURD:
+            raise PatternError(f"{size:.3g} m across: no garment piece is larger than "
+                               f"{ABSURD:g} m (were the file's units misread? the reader's "
+                               "warning names the units that fit); not draped",
+                               file=source, panel=panel.name)
 
 
 def _as_other_units(drawn: float, fits: list[str], hint: Callable[[str], str]) -> str:
