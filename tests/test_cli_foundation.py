@@ -182,30 +182,11 @@ def test_fit_refuses_a_fabric_without_a_body(tmp_path):
     assert not (tmp_path / "o").exists()  # a refused command leaves no output folder behind
 
 
-def test_ctrl_c_in_a_drape_writes_the_state_reached_and_exits_130(tmp_path, monkeypatch):
-    """The stopped drape was written and the command exited 1, a failed garment's status."""
-    import contextlib
-
-    import patternfit.cli.drape as drape_cli
-
-    def stop(iteration, *rest, **kw):
-        if iteration >= 3:
-            raise KeyboardInterrupt
-
-    monkeypatch.setattr(drape_cli, "drape_progress",
-                        lambda **kw: (contextlib.nullcontext(), stop))
-    out = tmp_path / "d"
-    res = runner.invoke(app, ["drape", "--pattern", "skirt", "--body", "female_average",
-                              "--triangles", "300", "--no-pictures", "--out", str(out)])
-    assert res.exit_code == 130 and "interrupted: the state reached" in res.output, res.output
-    report = json.loads((out / "report.json").read_text())
-    assert report["checks"]["passed"] is False and report["verdict"] == "failed"
-    assert "interrupted" in json.dumps(report["checks"]["reasons"])
-
-
-def test_sigterm_in_a_drape_stops_it_as_ctrl_c_does(tmp_path, monkeypatch):
-    """``timeout`` ends a command with SIGTERM: the process died at once, its log empty and
-    nothing of the drape written. It now stops as Ctrl-C stops it, and the handler before
+@pytest.mark.parametrize("how", ["ctrl-c", "sigterm"])
+def test_a_stopped_drape_writes_the_state_reached_and_exits_130(tmp_path, monkeypatch, how):
+    """The stopped drape was written and the command exited 1, a failed garment's status.
+    ``timeout`` ends a command with SIGTERM: the process died at once, its log empty and
+    nothing of the drape written; it now stops as Ctrl-C stops it, and the handler before
     it is back afterwards."""
     import contextlib
     import os
@@ -215,7 +196,10 @@ def test_sigterm_in_a_drape_stops_it_as_ctrl_c_does(tmp_path, monkeypatch):
 
     def stop(iteration, *rest, **kw):
         if iteration == 3:
-            os.kill(os.getpid(), signal.SIGTERM)
+            if how == "sigterm":
+                os.kill(os.getpid(), signal.SIGTERM)
+            else:
+                raise KeyboardInterrupt
 
     before = signal.getsignal(signal.SIGTERM)
     monkeypatch.setattr(drape_cli, "drape_progress",
@@ -224,7 +208,9 @@ def test_sigterm_in_a_drape_stops_it_as_ctrl_c_does(tmp_path, monkeypatch):
     res = runner.invoke(app, ["drape", "--pattern", "skirt", "--body", "female_average",
                               "--triangles", "300", "--no-pictures", "--out", str(out)])
     assert res.exit_code == 130 and "interrupted: the state reached" in res.output, res.output
-    assert json.loads((out / "report.json").read_text())["verdict"] == "failed"
+    report = json.loads((out / "report.json").read_text())
+    assert report["checks"]["passed"] is False and report["verdict"] == "failed"
+    assert "interrupted" in json.dumps(report["checks"]["reasons"])
     assert signal.getsignal(signal.SIGTERM) is before
 
 
