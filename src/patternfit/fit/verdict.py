@@ -100,7 +100,7 @@ def slid_off(checks: dict | None) -> str | None:
     until the floor holds it, its lowest point within :data:`FLOOR_TOUCH_MM` of it); nor
     is one that never came to rest (its ease and regions are of a state still moving: it
     read "too loose" beside a hip "too tight"), or has cloth inside the body. Crossed pairs
-    pooled in a hem do not stop a slide from reading too loose."""
+    pooled in a hem do not stop a slide from being said."""
     checks = checks or {}
     offset = checks.get("anchor_offset_mm")
     if offset is None or offset >= -1000.0 * ON_BODY.anchor_tolerance:
