@@ -18,7 +18,8 @@ from patternfit.loop.correct import correct, refusal
 from patternfit.mesh.store import save_garment
 from patternfit.pattern import save_pattern
 from patternfit.pattern.library import build
-from patternfit.sim.onbody import ON_BODY, REBUILT_P99, anchor_line, on_body_checks
+from patternfit.sim.onbody import (ON_BODY, REBUILT_MAX, REBUILT_P99, anchor_line,
+                                   on_body_checks)
 from patternfit.sim.placement import place_on_body
 
 from scenes import draped, garment
@@ -155,6 +156,16 @@ def test_fit_of_a_saved_state_without_its_contact_state_checks_its_balance(skirt
     assert lifted.checks["equilibrium"] is False
     assert lifted.checks["rebuilt_residual_p99"] > 10 * REBUILT_P99
     assert any(r.startswith("not at rest:") for r in lifted.checks["reasons"])
+    # one vertex pulled 5 cm off the rest: at 3K under 1 % of them, the p99 the rest's, and
+    # it was left out besides, paired with its own cloth an edge away; its own is counted
+    spike = d.positions.copy()
+    inner = np.setdiff1d(np.arange(mesh.n_vertices), mesh.boundary_vertices)
+    i = int(inner[np.argmax(spike[inner, 2])])  # the front's most forward inner vertex
+    spike[i, 2] += 0.05
+    save_garment(tmp_path / "spike", pattern, mesh, spike)
+    pulled = api.evaluate_saved(tmp_path / "spike", body=BODY, fabric="cotton")
+    assert pulled.checks["rebuilt_residual_max"] > REBUILT_MAX and not pulled.passed
+    assert rest.checks["rebuilt_residual_max"] < REBUILT_MAX / 10
 
 
 def test_slid_a_little_still_on_the_body(skirt):

@@ -316,8 +316,8 @@ def test_the_cone_residual_is_the_distance_to_coulombs_cone(force, push, frictio
     n = c / np.linalg.norm(c)
     # a vertex that weighs 1 N, so the ratio is the force; a second one untouched
     model = SimpleNamespace(mass=np.full(2, 1.0 / GRAVITY), free=np.ones(2, bool))
-    rms, _ = cone_residual(model, np.array([f, np.zeros(3)]), np.array([c, np.zeros(3)]),
-                           friction)
+    rms, _, top = cone_residual(model, np.array([f, np.zeros(3)]),
+                                np.array([c, np.zeros(3)]), friction)
     got = rms * np.sqrt(2.0)
     # the body must add p = -f; the cone is convex, so the nearest point to p is p itself
     # (inside), or on one of its rays d, at (p . d)+ along it
@@ -334,9 +334,10 @@ def test_the_cone_residual_is_the_distance_to_coulombs_cone(force, push, frictio
     if p @ n >= 0.0 and tangent <= friction * (p @ n) + 1e-12:
         want = 0.0
     assert got == pytest.approx(want, abs=1e-6 * (1 + np.abs(f).sum()))
+    assert top == pytest.approx(got)  # the other vertex is untouched and free of force
     # untouched, all of the force is left; a vertex left out counts for nothing
-    alone, _ = cone_residual(model, np.array([f, f]), np.zeros((2, 3)), friction)
+    alone, _, _ = cone_residual(model, np.array([f, f]), np.zeros((2, 3)), friction)
     assert alone == pytest.approx(np.linalg.norm(f))
-    out, _ = cone_residual(model, np.array([f, f]), np.zeros((2, 3)), friction,
-                           leave_out=np.array([False, True]))
+    out, _, _ = cone_residual(model, np.array([f, f]), np.zeros((2, 3)), friction,
+                              leave_out=np.array([False, True]))
     assert out == pytest.approx(np.linalg.norm(f))

@@ -158,7 +158,8 @@ def fit(
                 "[yellow]equilibrium not known:[/] no contact.npz of these positions; with "
                 "the body pushing and friction holding as they may, 1% of the vertices are "
                 f"off by {report['checks']['rebuilt_residual_p99']:.3g} of their weight or "
-                "more (above 1 fails); `patternfit drape --start` settles and checks it")
+                f"more, the most by {report['checks']['rebuilt_residual_max']:.3g} (above 1 "
+                "and 5000 fail); `patternfit drape --start` settles and checks it")
     exit_if_checks_failed(report, out)
 
 

@@ -407,8 +407,8 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
 
 def saved_balance(mesh: GarmentMesh, body, fabric: Fabric | str, positions, *,
                   spacing: float = 0.005, contact_margin: float = CONTACT_MARGIN
-                  ) -> tuple[float, float]:
-    """Residual (rms, 99th percentile) of |F_i| / (m_i g) [-] over the free vertices of the
+                  ) -> tuple[float, float, float]:
+    """Residual (rms, 99th percentile, largest) of |F_i| / (m_i g) [-] over the free vertices of the
     3D state ``positions`` (n, 3) [m] of ``mesh`` on ``body`` in ``fabric``, for a state
     whose contact state is not known (a saved state without its ``contact.npz``).
 
@@ -444,11 +444,37 @@ def saved_balance(mesh: GarmentMesh, body, fabric: Fabric | str, positions, *,
     cloth = total_energy.energy(replace(model, body=None), state, xr,
                                 settings=solver.settings)[1]
     touch = total_energy.energy(model, state, xr, settings=solver.settings)[1] - cloth
-    layered = np.zeros(model.n, bool)
-    layered[state.pairs[:, 0]] = True
-    layered[model.terms.tris[state.pairs[:, 1]]] = True
-    layered[state.near_edges[state.edge_pairs].ravel()] = True
-    return cone_residual(model, -cloth, -touch, fab.friction, leave_out=layered)
+    # the body holds a vertex through its edges' contact points only while it lies within
+    # half an edge of the body: one pulled 5 cm off a rest, touched through an edge whose
+    # far end rested on the body, was let be held there at any force
+    half = np.zeros(model.n)
+    for end in (0, 1):
+        np.maximum.at(half, model.edges[:, end], model.rest_lengths() / 2)
+    near = total_energy.distance(model, xr)[0] <= model.reach(solver.settings) + half
+    touch[~near] = 0.0
+    return cone_residual(model, -cloth, -touch, fab.friction,
+                         leave_out=_layered(model, state, xr, cloth, solver.settings))
+
+
+def _layered(model, state, x, cloth, settings) -> np.ndarray:
+    """(n,) bool: the solved vertices pressed to another layer of the cloth at ``x`` (n, 3)
+    [m]: pushed by a self-repulsion pair of ``state`` (``cloth`` the gradient with them), or
+    a vertex-triangle pair's within twice the gap kept (one the drape held, its projection
+    just off the triangle, which the search at ``x`` lost). Not the pairs the search finds
+    up to its detection radius: a vertex pulled 5 cm off a rest was paired with its own
+    cloth an edge away, and left out."""
+    bare = state.copy()
+    bare.pairs = np.zeros((0, 2), np.int64)
+    bare.edge_pairs = np.zeros((0, 2), np.int64)
+    pushed = total_energy.energy(replace(model, body=None), bare, x, settings=settings)[1]
+    out = np.any(pushed != cloth, axis=1)
+    tris = model.terms.tris[state.pairs[:, 1]]
+    d = np.einsum("pc,pc->p", state.pair_normal,
+                  x[state.pairs[:, 0]] - np.einsum("pj,pjc->pc", state.bary, x[tris]))
+    close = np.abs(d) < 2 * model.self_gap(settings)
+    out[state.pairs[close, 0]] = True
+    out[tris[close].ravel()] = True
+    return out
 
 
 def _start_faults(solver: GarmentSolver, x, *, depth: float = tol.penetration) -> int:

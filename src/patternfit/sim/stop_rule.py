@@ -43,8 +43,8 @@ def _rms_p99(r2) -> tuple[float, float]:
 
 
 def cone_residual(model: ClothModel, force, push, friction: float, *,
-                  leave_out=None) -> tuple[float, float]:
-    """(rms, 99th percentile) of |R_i| / (m_i g) [-] over the free solved vertices but
+                  leave_out=None) -> tuple[float, float, float]:
+    """(rms, 99th percentile, largest) of |R_i| / (m_i g) [-] over the free solved vertices but
     ``leave_out`` ((n_solved,) bool, optional), R_i the part of the force ``force``
     (n_solved, 3) [N] on each that no body contact can balance: where ``push``
     (n_solved, 3) [N] (a contact force, any size) is not zero the body may add any force
@@ -68,8 +68,9 @@ def cone_residual(model: ClothModel, force, push, friction: float, *,
     left[touched, 0] = dist
     counted = model.free if leave_out is None else model.free & ~np.asarray(leave_out, bool)
     r2 = np.empty(len(left))
-    return _rms_p99(r2[:kernels.weight_ratios2(left, model.mass, np.ascontiguousarray(counted),
-                                               GRAVITY, r2)])
+    r2 = r2[:kernels.weight_ratios2(left, model.mass, np.ascontiguousarray(counted), GRAVITY,
+                                    r2)]
+    return (*_rms_p99(r2), float(np.sqrt(r2.max(initial=0.0))))
 
 
 def residual_rms(model: ClothModel, grad) -> float:
