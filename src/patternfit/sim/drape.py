@@ -408,23 +408,25 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
 def saved_balance(mesh: GarmentMesh, body, fabric: Fabric | str, positions, *,
                   spacing: float = 0.005, contact_margin: float = CONTACT_MARGIN
                   ) -> tuple[float, float, float]:
-    """Residual (rms, 99th percentile, largest) of |F_i| / (m_i g) [-] over the free vertices of the
-    3D state ``positions`` (n, 3) [m] of ``mesh`` on ``body`` in ``fabric``, for a state
-    whose contact state is not known (a saved state without its ``contact.npz``).
+    """Residual (rms, 99th percentile, largest) of |F_i| / (m_i g) [-] over the free
+    vertices of the 3D state ``positions`` (n, 3) [m] of ``mesh`` on ``body`` in
+    ``fabric``, for a state whose contact state is not known (a saved state without its
+    ``contact.npz``).
 
     What the drape's residual takes from its contact state (each contact's stiffness and
     friction anchor, the self-repulsion pairs it held) is not known, so the body is let push
     as it may: where it touches a vertex (its or its edges' contact points within reach,
-    the contact pushing as the body's surface does there) it may add any force along that
-    push and, along the surface, a friction force up to ``fabric.friction`` times that
-    (Coulomb's cone); F_i is what remains of the cloth's own force (membrane, bending,
-    seams, gravity, the self-repulsion of the pairs found at ``positions``) once the cone
-    takes its nearest point to it, all of it where the body does not touch. Vertices in a
-    self-collision pair (pressed to another layer of the cloth, whose force the drape's held
-    pairs carried) are left out. A rest reads about its drape's residual; a state moved off
-    its rest (lifted or shifted by a centimetre, stretched, stopped early) leaves the
-    vertices that held it, or all of them, off by many times their weight. The state is not
-    moved. 0.1 s at 1.5K triangles, 0.7 s at 22K."""
+    the vertex within half an edge of the body; the contact pushing as the body's surface
+    does there) it may add any force along that push and, along the surface, a friction
+    force up to ``fabric.friction`` times that (Coulomb's cone); F_i is what remains of the
+    cloth's own force (membrane, bending, seams, gravity, the self-repulsion of the pairs
+    found at ``positions``) once the cone takes its nearest point to it, all of it where
+    the body does not touch. Vertices pressed to another layer of the cloth
+    (:func:`_layered`), whose force the drape's held pairs carried, are left out. A rest
+    reads about its drape's residual; a state moved off its rest (lifted or shifted by a
+    centimetre, stretched, stopped early, one vertex pulled off) leaves the vertices that
+    held it, or all of them, off by many times their weight. The state is not moved. 0.1 s
+    at 1.5K triangles, 0.7 s at 22K."""
     x = np.asanyarray(positions, dtype=np.float64)
     if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
         raise ValueError(f"positions: expected finite ({mesh.n_vertices}, 3) positions, "
