@@ -415,9 +415,10 @@ def saved_balance(mesh: GarmentMesh, body, fabric: Fabric | str, positions, *,
 
     What the drape's residual takes from its contact state (each contact's stiffness and
     friction anchor, the self-repulsion pairs it held) is not known, so the body is let push
-    as it may: where it touches a vertex (its or its edges' contact points within reach,
-    the vertex within half an edge of the body; the contact pushing as the body's surface
-    does there) it may add any force along that push and, along the surface, a friction
+    as it may: where it touches a vertex (its own or its edges' and triangles' contact
+    points within reach, the contact pushing as the body's surface does there; a coarse
+    triangle over a shoulder touches in its middle, its corners 15 cm off the body) it may
+    add any force along that push and, along the surface, a friction
     force up to ``fabric.friction`` times that (Coulomb's cone); F_i is what remains of the
     cloth's own force (membrane, bending, seams, gravity, the self-repulsion of the pairs
     found at ``positions``) once the cone takes its nearest point to it, all of it where
@@ -446,14 +447,6 @@ def saved_balance(mesh: GarmentMesh, body, fabric: Fabric | str, positions, *,
     cloth = total_energy.energy(replace(model, body=None), state, xr,
                                 settings=solver.settings)[1]
     touch = total_energy.energy(model, state, xr, settings=solver.settings)[1] - cloth
-    # the body holds a vertex through its edges' contact points only while it lies within
-    # half an edge of the body: one pulled 5 cm off a rest, touched through an edge whose
-    # far end rested on the body, was let be held there at any force
-    half = np.zeros(model.n)
-    for end in (0, 1):
-        np.maximum.at(half, model.edges[:, end], model.rest_lengths() / 2)
-    near = total_energy.distance(model, xr)[0] <= model.reach(solver.settings) + half
-    touch[~near] = 0.0
     return cone_residual(model, -cloth, -touch, fab.friction,
                          leave_out=_layered(model, state, xr, cloth, solver.settings))
 
