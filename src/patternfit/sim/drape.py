@@ -444,29 +444,31 @@ def saved_balance(mesh: GarmentMesh, body, fabric: Fabric | str, positions, *,
     model, state = solver.model, solver.state.copy()
     state.friction_idx = np.zeros(0, np.int64)
     xr = model.reduce(x)
-    cloth = total_energy.energy(replace(model, body=None), state, xr,
-                                settings=solver.settings)[1]
+    # the cloth alone (its terms rebuilt once: 0.13 s at 22K)
+    bodiless = replace(model, body=None)
+    cloth = total_energy.energy(bodiless, state, xr, settings=solver.settings)[1]
     touch = total_energy.energy(model, state, xr, settings=solver.settings)[1] - cloth
     return cone_residual(model, -cloth, -touch, fab.friction,
-                         leave_out=_layered(model, state, xr, cloth, solver.settings))
+                         leave_out=_layered(bodiless, state, xr, cloth, solver.settings))
 
 
-def _layered(model, state, x, cloth, settings) -> np.ndarray:
+def _layered(bodiless, state, x, cloth, settings) -> np.ndarray:
     """(n,) bool: the solved vertices pressed to another layer of the cloth at ``x`` (n, 3)
-    [m]: pushed by a self-repulsion pair of ``state`` (``cloth`` the gradient with them), or
-    a vertex-triangle pair's within twice the gap kept (one the drape held, its projection
-    just off the triangle, which the search at ``x`` lost). Not the pairs the search finds
-    up to its detection radius: a vertex pulled 5 cm off a rest was paired with its own
-    cloth an edge away, and left out."""
+    [m]: pushed by a self-repulsion pair of ``state`` (``cloth`` the gradient of
+    ``bodiless``, the model without its body, with them), or a vertex-triangle pair's
+    within twice the gap kept (one the drape held, its projection just off the triangle,
+    which the search at ``x`` lost). Not the pairs the search finds up to its detection
+    radius: a vertex pulled 5 cm off a rest was paired with its own cloth an edge away, and
+    left out."""
     bare = state.copy()
     bare.pairs = np.zeros((0, 2), np.int64)
     bare.edge_pairs = np.zeros((0, 2), np.int64)
-    pushed = total_energy.energy(replace(model, body=None), bare, x, settings=settings)[1]
+    pushed = total_energy.energy(bodiless, bare, x, settings=settings)[1]
     out = np.any(pushed != cloth, axis=1)
-    tris = model.terms.tris[state.pairs[:, 1]]
+    tris = bodiless.terms.tris[state.pairs[:, 1]]
     d = np.einsum("pc,pc->p", state.pair_normal,
                   x[state.pairs[:, 0]] - np.einsum("pj,pjc->pc", state.bary, x[tris]))
-    close = np.abs(d) < 2 * model.self_gap(settings)
+    close = np.abs(d) < 2 * bodiless.self_gap(settings)
     out[state.pairs[close, 0]] = True
     out[tris[close].ravel()] = True
     return out

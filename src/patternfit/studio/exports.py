@@ -38,8 +38,8 @@ def export(studio: Studio, name: str) -> bytes:
                 and path.suffix in (".svg", ".pdf") and not stale_maps(s.state) else None
             colours = None if fit is None else (
                 s.mesh.vertices, s.mesh.triangles,
-                # a failed drape's colours would read as a fit
-                fit_colours(FitScale(), fit.area_change, failure(report(s, fit))),
+                # a failed drape's colours would read as a fit (as the page's maps decide)
+                fit_colours(FitScale(), fit.area_change, failure(s.state.checks)),
                 s.mesh.triangle_panel)
             save_any_pattern(s.pattern, path, fit=colours)
         elif s.positions is None:
