@@ -82,10 +82,20 @@ def compressed_share(model: ClothModel, x, strain: float = 0.01) -> float:
 def depth_mm(model: ClothModel, x) -> float:
     """Deepest point of simulated positions ``x`` (n3, 3) [m] in the body [mm], 0 when
     none is inside or there is no body."""
-    if model.body is None:
-        return 0.0
-    x = array(x, "x", shape=(None, 3), contiguous=True)
-    d, _ = kernels.sdf_query(model.body.values, model.body.origin, model.body.spacing, x)
+    d = _body_distance(model, array(x, "x", shape=(None, 3), contiguous=True))
+    return 0.0 if d is None else _deepest_mm(d)
+
+
+def _body_distance(model: ClothModel, x: np.ndarray) -> np.ndarray | None:
+    """Signed distance (n3,) [m] of positions ``x`` to ``model``'s body, None without one."""
+    body = model.body
+    if body is None:
+        return None
+    return kernels.sdf_query(body.values, body.origin, body.spacing, x)[0]
+
+
+def _deepest_mm(d: np.ndarray) -> float:
+    """Deepest of signed distances ``d`` [m] inside the body [mm], 0 when none is inside."""
     return float(max(0.0, -d.min()) * 1e3)
 
 
@@ -213,11 +223,10 @@ def drape_checks(model: ClothModel, x, *, settings: SolverSettings, converged: b
     ``residual``: (rms, p99) of the residual force at ``x`` when known; then ``equilibrium``
     also needs them within the ``settings``' thresholds (force rule)."""
     x = array(x, "x", shape=(None, 3), contiguous=True)
-    body = model.body
-    if body is not None:
-        d, _ = kernels.sdf_query(body.values, body.origin, body.spacing, x)
+    d = _body_distance(model, x)
+    if d is not None:
         inside = int((d < -tol.penetration).sum())
-        depth = float(max(0.0, -d.min()) * 1e3)
+        depth = _deepest_mm(d)
         clearance = float(d.min() * 1e3)
     else:
         inside, depth, clearance = 0, 0.0, None
