@@ -12,6 +12,7 @@ from patternfit import api
 from patternfit.errors import GarmentFileError, InputError
 from patternfit.mesh.store import CONTACT, load_contact, save_garment
 from patternfit.sim.outer_updates import saved_contact_scale
+from patternfit.sim.settings import SolverSettings
 from patternfit.sim.state import SAVED, ContactState, SavedStateError
 from patternfit.sim.total_energy import distance, edge_points
 
@@ -56,6 +57,16 @@ def test_a_drape_started_from_its_folder_continues_it(saved):
     assert np.abs(again.positions - outcome.positions).max() == 0.0
     assert again.drape.checks.residual_rms == pytest.approx(
         outcome.drape.checks.residual_rms, rel=1e-9)
+
+
+def test_a_restart_at_rest_with_no_iteration_to_spare_is_at_rest(saved):
+    # the iteration limit was checked before the rest: rms 0.004 read "no equilibrium"
+    outcome, folder = saved
+    again = api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES, start=folder,
+                                   settings=SolverSettings(max_iterations=0))
+    assert again.drape.result.iterations == 0
+    assert again.drape.result.stop_reason == "converged"
+    assert again.drape.checks.equilibrium and again.drape.passed, again.drape.reasons
 
 
 def test_contact_scales_are_read_back_away_from_self_pairs(saved):
