@@ -260,18 +260,27 @@ def test_default_drape_is_at_rest_and_a_warm_start_stays_put():
 
 
 def test_kinematic_rule_reports_the_residual_it_leaves():
-    """The earlier rule's rest is not a force balance; the checks say how far."""
+    """The earlier rule's rest, or one of looser settings, is not a force balance; the
+    checks say how far, and ``equilibrium`` holds only within 0.01 / 0.1 whatever stopped
+    the solver (the kinematic rule read "at rest" at rms 1.6, thresholds of 0.5 / 5 at
+    0.24)."""
     v, t = rect_mesh(0.1, 0.1, 4e-4)
     pinned = np.flatnonzero(v[:, 0] < 1e-9)
     x0 = np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]]
+    ends = []
     for settings in (SolverSettings(self_collision=False, stop="kinematic"),
+                     SolverSettings(self_collision=False, residual_rms=1e3,
+                                    residual_p99=1e4),
                      SolverSettings(self_collision=False)):
         res = GarmentSolver(v, t, grain_at(0, len(t)), "cotton_shirting", pinned=pinned,
                             settings=settings).solve(x0)
-        assert res.converged and res.checks.residual_rms is not None
-        if settings.stop == "force":
-            assert res.checks.residual_rms <= 0.01 and res.checks.residual_p99 <= 0.1
-            assert res.checks.equilibrium
+        c = res.checks
+        assert res.converged and c.residual_rms is not None
+        assert c.equilibrium == (c.residual_rms <= tol.rest_rms
+                                 and c.residual_p99 <= tol.rest_p99), c
+        ends.append(c.residual_rms)
+    assert ends[1] > tol.rest_rms  # the loose settings stopped short of the balance
+    assert res.checks.equilibrium
 
 
 def test_penetrations_are_counted_beyond_the_tolerance_and_fail_above_the_limit():

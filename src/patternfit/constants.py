@@ -54,6 +54,12 @@ class Tolerances:
     #: spacing make the piece's segments grade towards them (Triangle copes with less abrupt
     #: changes; the built-in garments' meshes at 1,500 triangles stay as they were) [-]
     mesh_grade: float = 0.4
+    #: a drape is at rest (its ``equilibrium``) only when the residual force |F_i| / (m_i g)
+    #: over its free vertices has an rms at most this [-] ...
+    rest_rms: float = 0.01
+    #: ... and a 99th percentile at most this [-], whatever rule or settings stopped the
+    #: solver (looser settings or the kinematic rule read "at rest" at rms 0.24 and 1.6)
+    rest_p99: float = 0.1
 
 
 tol = Tolerances()

@@ -37,8 +37,8 @@ class DrapeChecks:
     #: triangle pairs (sharing no vertex) that cross each other
     self_intersections: int
     #: whether the garment is at rest: the stop criterion was met and, where the residual
-    #: is known, residual_rms <= SolverSettings.residual_rms and residual_p99 <=
-    #: SolverSettings.residual_p99
+    #: is known, residual_rms and residual_p99 are within ``tol.rest_rms`` and
+    #: ``tol.rest_p99`` (0.01 and 0.1) and within SolverSettings' own when they are stricter
     equilibrium: bool
     #: residual force |F_i| / (m_i g) over the free vertices: rms and 99th percentile [-]
     #: (None where unknown, e.g. a state checked without the solver's energy)
@@ -237,8 +237,8 @@ def drape_checks(model: ClothModel, x, *, settings: SolverSettings, converged: b
     at_rest = bool(converged)
     if residual is not None:
         rms, p99 = float(residual[0]), float(residual[1])
-        if settings.stop == "force":
-            at_rest = at_rest and rms <= settings.residual_rms and p99 <= settings.residual_p99
+        at_rest = at_rest and rms <= min(settings.residual_rms, tol.rest_rms) \
+            and p99 <= min(settings.residual_p99, tol.rest_p99)
     return DrapeChecks(inside_vertices=inside, max_depth_mm=depth, edges_in_body=through,
                        faces_in_body=pierced,
                        min_clearance_mm=clearance,

@@ -155,7 +155,8 @@ def solver_reasons(checks, stop_reason: str | None = None,
             # how far from a balance, not only that it is not one
             said.append(f"residual rms {checks.residual_rms:.3g}, p99 "
                         f"{checks.residual_p99:.3g} of a vertex's weight; at rest at most "
-                        f"{rest.residual_rms:g} and {rest.residual_p99:g}")
+                        f"{min(rest.residual_rms, tol.rest_rms):g} and "
+                        f"{min(rest.residual_p99, tol.rest_p99):g}")
         out.append("no equilibrium" + (f" ({'; '.join(said)})" if said else ""))
     return [r for r in out if r] or ["the solver's checks failed"]
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..arguments import number
-from ..constants import GRAVITY
+from ..constants import GRAVITY, tol
 
 #: the stopping rules (``SolverSettings.stop``)
 STOP_RULES = ("force", "kinematic")
@@ -46,9 +46,10 @@ class SolverSettings:
     #: equilibrium: the residual |F_i| / (m_i g) over the free vertices (F_i the total force
     #: -dE/dx_i of the energy minimised, m_i the lumped mass, g = 9.80665 m/s^2) has an rms
     #: at most this [-] ...
-    residual_rms: float = 0.01
-    #: ... and a 99th percentile at most this [-]
-    residual_p99: float = 0.1
+    residual_rms: float = tol.rest_rms
+    #: ... and a 99th percentile at most this [-] (looser values stop the solver sooner,
+    #: but its checks' ``equilibrium`` still asks for ``tol.rest_rms`` / ``tol.rest_p99``)
+    residual_p99: float = tol.rest_p99
     #: Newton: the Hessian gets the regulariser m / newton_dt^2 [s] (rigid motions of a
     #: garment without support or friction are otherwise singular)
     newton_dt: float = 1.0
