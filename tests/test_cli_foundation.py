@@ -249,7 +249,7 @@ def test_a_saved_state_moved_since_its_drape_is_not_said_to_be_at_rest(tmp_path)
     "equilibrium: true" (a drape from there moved 20.6 mm over 981 iterations). The contact
     state holds the digest of the positions it was saved with; other positions are of a
     state whose rest is not known."""
-    from patternfit.mesh.store import load_contact, save_garment, saved_at_rest
+    from patternfit.mesh.store import load_contact, save_garment, saved_rest
     from patternfit.mesh.triangulate import mesh_pattern
     from patternfit.pattern.library import build
 
@@ -258,8 +258,9 @@ def test_a_saved_state_moved_since_its_drape_is_not_said_to_be_at_rest(tmp_path)
     x = np.c_[mesh.vertices, np.ones(mesh.n_vertices)]
     save_garment(tmp_path / "g", skirt, mesh, x, contact={"at_rest": np.asarray(True)})
     contact = load_contact(tmp_path / "g")
-    assert saved_at_rest(contact, x) is True
-    assert saved_at_rest(contact, x + [0.0, 0.03, 0.0]) is None
+    assert saved_rest(contact, x, mesh=mesh) == (True, None)
+    assert saved_rest(contact, x + [0.0, 0.03, 0.0]) == (
+        None, "contact.npz was saved for other positions (moved since)")
     np.save(tmp_path / "g" / "positions.npy", x + [0.0, 0.03, 0.0])  # moved by hand
     res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
                               str(tmp_path / "a"), "--json", "--no-pictures"])
@@ -270,3 +271,16 @@ def test_a_saved_state_moved_since_its_drape_is_not_said_to_be_at_rest(tmp_path)
         res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
                                   str(tmp_path / "b"), "--no-pictures"])
         assert res.exit_code == 2 and "contact.npz: array 'at_rest'" in res.output, res.output
+    # ... and so are a fabric or a residual that are not one
+    ok = np.asarray(True)
+    for name, value in (("fabric_json", np.asarray("{not json")),
+                        ("fabric_json", np.asarray('{"name": "x", "density": -1}')),
+                        ("fabric_json", np.asarray([1.0, 2.0])),
+                        ("residual_rms", np.asarray("0.001")),
+                        ("residual_p99", np.asarray(np.nan))):
+        other = {"residual_rms": np.asarray(0.001), "residual_p99": np.asarray(0.01)}
+        save_garment(tmp_path / "g", skirt, mesh, x,
+                     contact={**other, "at_rest": ok, name: value})
+        res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
+                                  str(tmp_path / "b"), "--no-pictures"])
+        assert res.exit_code == 2 and f"contact.npz: array '{name}'" in res.output, res.output

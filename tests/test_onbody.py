@@ -168,6 +168,58 @@ def test_fit_of_a_saved_state_without_its_contact_state_checks_its_balance(skirt
     assert rest.checks["rebuilt_residual_max"] < REBUILT_MAX / 10
 
 
+def test_a_saved_rest_is_a_rest_only_for_its_own_mesh_body_and_fabric(skirt, tmp_path):
+    """contact.npz said "at rest" for the positions it was saved with, whatever else
+    changed: a pattern edited in place with its mesh read ϖ 118 % "loose", exit 0, and a
+    skirt at rest on one body read "equilibrium: true" on another. It now holds the mesh's,
+    body's and fabric's digests (and the fabric itself, the one the state is judged in);
+    another of any leaves the rest not known and the balance is rebuilt. A fit's output
+    keeps the contact state: written without it, a state not at rest passed the next read."""
+    from patternfit.edit import move_edge, update_mesh
+    from patternfit.mesh.store import CONTACT, MESH, PATTERN
+    from patternfit.mesh.store import load_contact
+    from patternfit.sim.fabrics import get_fabric
+    from patternfit.sim.provenance import saved_provenance
+
+    pattern, mesh, body, d = skirt
+    folder = save_garment(tmp_path / "rest", pattern, mesh, d.positions,
+                          contact=d.saved_contact())
+    rest = api.evaluate_saved(folder, body=BODY)
+    assert rest.checks["equilibrium"] is True and rest.passed
+    assert rest.fabric == d.solver.model.fabric
+    # judged in the fabric the contact state says it was draped in, not the default
+    knit = save_garment(tmp_path / "knit", pattern, mesh, d.positions, contact={
+        **d.saved_contact(), **saved_provenance(body, get_fabric("jersey_knit"))})
+    assert api.evaluate_saved(knit, body=BODY).fabric.name == "jersey_knit"
+    assert rest.checks["residual_rms"] == d.checks.residual_rms
+    assert rest.checks["residual_p99"] == d.checks.residual_p99
+    for kw, what in (({"body": "female_average"}, "another body"),
+                     ({"body": BODY, "fabric": "jersey_knit"}, "another fabric")):
+        other = api.evaluate_saved(folder, **kw)
+        assert other.checks["equilibrium"] is not True, kw
+        assert other.checks["residual_rms"] is None
+        if other.checks["equilibrium"] is None:
+            assert what in other.checks["equilibrium_unknown"]
+    # the pattern edited in place, the mesh following it, the 3D state and contact kept
+    edited = move_edge(pattern, "front", "hem", (0.0, -0.05), partner=True)
+    moved = update_mesh(pattern, edited, mesh)
+    save_pattern(edited, folder / PATTERN)
+    (folder / MESH).write_bytes(moved.to_bytes())
+    after = api.evaluate_saved(folder, body=BODY)
+    assert after.checks["equilibrium"] is not True and not after.passed
+    assert after.checks["rebuilt_residual_p99"] > REBUILT_P99
+    # a state its drape saved before rest, read back and written again, stays not at rest
+    save_garment(tmp_path / "early", pattern, mesh, d.positions,
+                 contact={**d.saved_contact(), "at_rest": np.asarray(False)})
+    once = api.evaluate_saved(tmp_path / "early", body=BODY)
+    once.write(tmp_path / "fit1", pictures=False)
+    assert (tmp_path / "fit1" / "garment" / CONTACT).is_file()
+    assert load_contact(tmp_path / "fit1" / "garment")["body_sha256"] \
+        == d.saved_contact()["body_sha256"]
+    twice = api.evaluate_saved(tmp_path / "fit1", body=BODY)
+    assert not once.passed and not twice.passed and twice.checks["equilibrium"] is False
+
+
 def test_slid_a_little_still_on_the_body(skirt):
     pattern, mesh, body, d = skirt
     x = _at_anchor_offset(pattern, mesh, body, d.positions, -0.04)

@@ -45,7 +45,7 @@ from .loop.session import DesignSession
 from .loop.table2 import ROWS
 from .mesh.garment import GarmentMesh
 from .mesh.store import (CONTACT, garment_folder, load_contact, load_garment, save_garment,
-                         saved_at_rest)
+                         saved_rest)
 from .mesh.triangulate import mesh_pattern
 from .pattern.errors import PatternError
 from .pattern.formats import load_any_pattern, save_any_pattern
@@ -56,6 +56,7 @@ from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
 from .sim.drape import CONTACT_MARGIN, Drape, drape, saved_balance
+from .sim.provenance import draped_for, saved_fabric, saved_residual
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
                           check_bulk, fabric_with_notes, get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
@@ -489,6 +490,9 @@ class FitOutcome:
         (:mod:`patternfit.fit.measures`); None without a body (a saved state read back).
     judgement : Verdict or None
         The fit verdict (:mod:`patternfit.fit.verdict`); None without measures.
+    contact : dict or None
+        A saved state's contact state read back (``contact.npz``), written with it again
+        (a state not at rest read back and written without it passed the next read).
     """
 
     pattern: Pattern
@@ -503,6 +507,7 @@ class FitOutcome:
     state: str = "draped"
     measures: FitMeasures | None = None
     judgement: Verdict | None = None
+    contact: dict | None = field(default=None, repr=False)
 
     @property
     def verdict(self) -> str | None:
@@ -559,7 +564,7 @@ class FitOutcome:
         return write_fit_outputs(folder, self.pattern, self.mesh, self.positions, self.fit,
                                  state=self.state, body=body, pictures=pictures, extra=extra,
                                  progress=progress, measures=self.measures,
-                                 contact=None if self.drape is None
+                                 contact=self.contact if self.drape is None
                                  else self.drape.saved_contact())
 
 
@@ -756,39 +761,52 @@ def _collapsed(mesh: GarmentMesh, x) -> str | None:
 
 def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
                    loose: float = DEFAULTS.loose, body: Body | str | Path | None = None,
-                   fabric: Fabric | str | Path = DEFAULTS.fabric, units: str | None = None,
+                   fabric: Fabric | str | Path | None = None, units: str | None = None,
                    verdict_rules: VerdictRules | None = None) -> FitOutcome:
     """The fit of a saved garment folder's 3D state (``pattern.json``, ``mesh.npz``,
     ``positions.npy``); :class:`InputError` when the folder holds no 3D state. With the
-    ``body`` it was draped on (and its ``fabric``), also the state's checks on that body
+    ``body`` it was draped on (and its ``fabric``: None, the one its drape saved in
+    ``contact.npz``, else the default), also the state's checks on that body
     (:func:`patternfit.sim.onbody.saved_state_checks`: where it rests, vertices inside,
     seams; a state that fell, slid or was moved off the body fails them and its verdict
     says so), the fit measures and the verdict (contact distance the drape's default
     margin). Without a body nothing checks where the state lies: ϖ alone, its checks'
     ``passed`` None ("not checked"). A state its drape saved before it came to rest
-    (``contact.npz``'s ``at_rest`` false) fails either way; with a body, one without a
-    contact state of its positions (none saved, or moved since) has its balance rebuilt in
-    ``fabric`` (:func:`patternfit.sim.drape.saved_balance`, 0.7 s at 22K triangles) and
-    fails when 1 % of its vertices are off by more than their weight."""
+    (``contact.npz``'s ``at_rest`` false) fails either way; its ``residual_rms`` /
+    ``residual_p99`` are the drape's. With a body, one whose contact state is not of these
+    positions, this mesh, this body and this fabric (none saved, moved since, the pattern
+    edited in place, read on another body or in another fabric:
+    ``checks.equilibrium_unknown`` says which) has its balance rebuilt in the fabric
+    (:func:`patternfit.sim.drape.saved_balance`, 0.7 s at 22K triangles) and fails when 1 %
+    of its vertices are off by more than their weight. The outcome keeps the contact state,
+    and writes it with the state again."""
     folder = path_arg(folder, "folder", what="a garment folder")
     pat, m, x = load_garment(folder)
     if x is None:
         raise InputError("holds no 3D state (positions.npy): place or drape the garment first",
                          file=folder)
     fit = FitEvaluator(m, tight=tight, loose=loose)(x)
-    # the drape that saved the state said whether it had come to rest (contact.npz)
+    # the drape that saved the state said whether it had come to rest, on which body and
+    # in which fabric (contact.npz)
     garment = garment_folder(folder)
-    at_rest = saved_at_rest(load_contact(garment), x, file=garment / CONTACT)
-    if body is None:
+    file = garment / CONTACT
+    contact = load_contact(garment)
+    b = None if body is None else read_body(body, units=units)
+    fab = read_fabric(fabric) if fabric is not None \
+        else saved_fabric(contact, file=file) or read_fabric(DEFAULTS.fabric)
+    at_rest, unknown = saved_rest(contact, x, mesh=m, file=file,
+                                  draped_for=draped_for(b, fab if b is not None else None))
+    rest = {"at_rest": at_rest, "unknown": unknown,
+            "residual": None if at_rest is None else saved_residual(contact, file=file)}
+    if b is None:
         return FitOutcome(pat, m, None, None, x, fit, state="saved",
-                          extra={"checks": unchecked_state(at_rest)})
-    b, fab = read_body(body, units=units), read_fabric(fabric)
-    checks = saved_state_checks(pat, m, b, x, at_rest=at_rest,
-                                balance=lambda: saved_balance(m, b, fab, x))
+                          extra={"checks": unchecked_state(**rest)}, contact=contact)
+    checks = saved_state_checks(pat, m, b, x, balance=lambda: saved_balance(m, b, fab, x),
+                                **rest)
     measures, judgement = judge_state(pat, m, x, fit, b, fab, checks=checks,
                                       verdict_rules=verdict_rules)
     return FitOutcome(pat, m, b, fab, x, fit, state="saved", extra={"checks": checks},
-                      measures=measures, judgement=judgement)
+                      measures=measures, judgement=judgement, contact=contact)
 
 
 def judge_state(pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult, body: Body,

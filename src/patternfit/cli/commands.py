@@ -10,9 +10,11 @@ from pathlib import Path
 from typing import Optional
 
 import typer
+from rich.markup import escape
 from rich.table import Table
 
 from ..defaults import DEFAULTS
+from ..text import printable
 from .app import (SIZE_HELP, app, console, fail, finite, output_folder, print_json,
                   triangles_option, verdict_options)
 from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
@@ -120,7 +122,8 @@ def fit(
                                        "of where it rests, the fit measures and the "
                                        "verdict."),
     fabric: Optional[str] = typer.Option(None, "--fabric", "-f",
-                                         help=f"Its fabric (with --body; default "
+                                         help=f"Its fabric (with --body; default: the "
+                                              f"one its drape saved, else "
                                               f"{DEFAULTS.fabric})."),
     pressure_max: float = verdict_options()["pressure_max"],
     stretch_limit: float = verdict_options()["stretch_limit"],
@@ -143,7 +146,7 @@ def fit(
     rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
                               style=style)
     outcome = api.evaluate_saved(garment, tight=tight, loose=loose, body=body,
-                                 fabric=fabric or DEFAULTS.fabric, verdict_rules=rules)
+                                 fabric=fabric, verdict_rules=rules)
     report = outcome.write(out, pictures=pictures)
     if json_out:
         print_json(report)
@@ -154,12 +157,14 @@ def fit(
                           "garment rests on a body; ϖ alone is not a fit verdict")
         elif report["checks"].get("rebuilt_residual_p99") is not None \
                 and report["checks"]["equilibrium"] is None:
+            c = report["checks"]
             console.print(
-                "[yellow]equilibrium not known:[/] no contact.npz of these positions; with "
-                "the body pushing and friction holding as they may, 1% of the vertices are "
-                f"off by {report['checks']['rebuilt_residual_p99']:.3g} of their weight or "
-                f"more, the most by {report['checks']['rebuilt_residual_max']:.3g} (above 1 "
-                "and 5000 fail); `patternfit drape --start` settles and checks it")
+                f"[yellow]equilibrium not known:[/] "
+                f"{escape(printable(c['equilibrium_unknown'] or ''))}; with the body pushing "
+                f"and friction holding as they may, 1% of the vertices are off by "
+                f"{c['rebuilt_residual_p99']:.3g} of their weight or more, the most by "
+                f"{c['rebuilt_residual_max']:.3g} (above 1 and 5000 fail); `patternfit drape "
+                "--start` settles and checks it", highlight=False)
     exit_if_checks_failed(report, out)
 
 

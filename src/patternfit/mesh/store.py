@@ -31,6 +31,8 @@ from .garment import GarmentMesh
 PATTERN, MESH, POSITIONS, CONTACT = "pattern.json", "mesh.npz", "positions.npy", "contact.npz"
 #: the array of ``contact.npz`` that holds the digest of the positions it was saved with
 POSITIONS_DIGEST = "positions_sha256"
+#: ... and of the mesh (flat rest shapes, triangles, grain, seams) its drape solved
+MESH_DIGEST = "mesh_sha256"
 #: the garment folder inside a drape's or a fit's output folder
 GARMENT = "garment"
 
@@ -69,7 +71,10 @@ def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None, *,
     if positions is not None:
         files[folder / POSITIONS] = _positions_bytes(positions, mesh)
     if positions is not None and contact is not None:
-        contact = {**contact, POSITIONS_DIGEST: np.array(positions_digest(positions))}
+        # a contact state read back keeps the digests of the drape that made it: a state
+        # whose pattern was edited since is not at rest again by being written anew
+        contact = {POSITIONS_DIGEST: np.array(positions_digest(positions)),
+                   MESH_DIGEST: np.array(mesh_digest(mesh)), **contact}
         buf = io.BytesIO()
         np.savez_compressed(buf, **{k: np.asarray(v) for k, v in contact.items()})
         files[folder / CONTACT] = buf.getvalue()
@@ -93,30 +98,55 @@ def load_contact(folder) -> dict[str, np.ndarray] | None:
     return read_npz(file, limit=limits.mesh_bytes, error=GarmentFileError)
 
 
+def digest(*arrays) -> str:
+    """SHA-256 (hex) of arrays, each by its dtype, shape and bytes."""
+    h = hashlib.sha256()
+    for a in arrays:
+        a = np.ascontiguousarray(a)
+        h.update(f"{a.dtype.str}{a.shape}".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
 def positions_digest(positions) -> str:
     """SHA-256 (hex) of positions (n, 3) [m] as float64: what ``contact.npz`` was saved
     with (:func:`save_garment`)."""
     return hashlib.sha256(np.ascontiguousarray(positions, dtype=np.float64).tobytes()).hexdigest()
 
 
-def saved_at_rest(contact: dict[str, np.ndarray] | None, positions, *,
-                  file=None) -> bool | None:
+def mesh_digest(mesh: GarmentMesh) -> str:
+    """SHA-256 (hex) of what a drape solves of ``mesh``: its flat rest shapes, triangles,
+    grain lines and seam pairs."""
+    return digest(np.asarray(mesh.vertices, np.float64), np.asarray(mesh.triangles, np.int64),
+                  np.asarray(mesh.grain, np.float64), np.asarray(mesh.seam_pairs, np.int64))
+
+
+def saved_rest(contact: dict[str, np.ndarray] | None, positions, *, mesh=None,
+               draped_for: dict[str, tuple[str, str]] | None = None,
+               file=None) -> tuple[bool | None, str | None]:
     """Whether the drape that saved ``contact`` (:func:`load_contact`, read from ``file``)
-    ended at rest at ``positions`` (n, 3) [m]: its ``at_rest`` flag, or None when not known
-    (no contact state or flag, or positions other than those it was saved with: a state
-    moved since, which read "at rest" and needed 981 iterations to get back there). A flag
-    that is not one true or false (a string "False", NaN, several values) is a
+    ended at rest at ``positions`` (n, 3) [m] of ``mesh``: its ``at_rest`` flag, or None
+    with the reason in words when that is not known: no contact state or flag, positions
+    other than those it was saved with (a state moved since read "at rest" and needed 981
+    iterations to get back there), another mesh (a pattern edited in place), or a digest in
+    ``draped_for`` (name -> (digest, "another body"), e.g. the body and fabric:
+    :func:`patternfit.sim.provenance.draped_for`) other than the saved one. A flag that is
+    not one true or false (a string "False", NaN, several values) is a
     :class:`~patternfit.errors.GarmentFileError` naming ``file`` and the array."""
     if contact is None or "at_rest" not in contact:
-        return None
-    digest = contact.get(POSITIONS_DIGEST)
-    if digest is not None and str(np.asarray(digest)) != positions_digest(positions):
-        return None
+        return None, f"no {CONTACT} of these positions"
+    wanted = {POSITIONS_DIGEST: (positions_digest(positions), "other positions (moved since)")}
+    if mesh is not None:
+        wanted[MESH_DIGEST] = (mesh_digest(mesh), "another mesh (the pattern was edited since)")
+    wanted.update(draped_for or {})
+    for name, (value, what) in wanted.items():
+        if name in contact and str(np.asarray(contact[name])) != value:
+            return None, f"{CONTACT} was saved for {what}"
     flag = np.asarray(contact["at_rest"])
     if flag.dtype.kind != "b" or flag.size != 1:
         raise GarmentFileError(f"expected one true or false, got {flag.dtype} {flag.shape}",
                                file=file, place="array 'at_rest'")
-    return bool(flag.item())
+    return bool(flag.item()), None
 
 
 def replace_pattern_and_mesh(pattern_path, pattern: Pattern, mesh_path, mesh: GarmentMesh, *,

@@ -24,6 +24,7 @@ from .fabrics import Fabric, get_fabric
 from .gathers import GatherWarning, oblique_gathers
 from .onbody import OnBodyChecks, on_body_checks
 from .placement import MAX_CLEARANCE, place_on_body
+from .provenance import saved_provenance
 from .schedule import Plan, PlanRun, run_plan
 from .result import DrapeResult
 from .settings import SolverSettings
@@ -93,13 +94,19 @@ class Drape:
 
     def saved_contact(self) -> dict[str, np.ndarray] | None:
         """The contact state at :attr:`positions` to save beside them
-        (:meth:`ContactState.saved_arrays`, ``save_garment(contact=...)``), or None when the
-        solver did not end at them (another engine's drape)."""
+        (:meth:`ContactState.saved_arrays`, ``save_garment(contact=...)``), with the body and
+        fabric it was draped on and in (:func:`provenance.saved_provenance`) and the
+        residual's rms and p99 when known, or None when the solver did not end at them
+        (another engine's drape)."""
         held = self.solver.state.x
         if held is None or held.shape != self.positions.shape \
                 or not np.array_equal(held, self.positions):
             return None
-        return self.solver.state.saved_arrays()
+        c = self.result.checks
+        residual = {} if c.residual_rms is None else {
+            "residual_rms": np.asarray(c.residual_rms), "residual_p99": np.asarray(c.residual_p99)}
+        return {**self.solver.state.saved_arrays(), **residual,
+                **saved_provenance(self.body, self.solver.model.fabric)}
 
     @property
     def reasons(self) -> list[str]:

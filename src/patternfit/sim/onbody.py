@@ -371,22 +371,34 @@ REBUILT_P99 = 1.0
 REBUILT_MAX = 5000.0
 
 
-def unchecked_state(at_rest: bool | None) -> dict:
+def _saved_rest(at_rest: bool | None, residual, unknown: str | None) -> dict:
+    """The report keys of a saved state's rest: ``equilibrium``, the residual its drape
+    ended at (``residual_rms`` / ``residual_p99``, None when not known: given only where
+    its contact state is that of these positions) and why the rest is not known
+    (``equilibrium_unknown``)."""
+    rms, p99 = (None, None) if residual is None else residual
+    return {"equilibrium": at_rest, "residual_rms": rms, "residual_p99": p99,
+            "equilibrium_unknown": unknown if at_rest is None else None}
+
+
+def unchecked_state(at_rest: bool | None, *, residual=None, unknown: str | None = None) -> dict:
     """The checks of a saved 3D state read back without a body: nothing says where it rests,
     so ``passed`` is None ("not checked"), False when its drape saved it before it came to
-    rest (``at_rest`` False; None: not known)."""
+    rest (``at_rest`` False; None: not known, ``unknown`` says why); ``residual`` (rms,
+    p99) the one its drape ended at, when known."""
     reasons = ["not checked: without the body it was draped on nothing says whether it rests "
                "on it"]
     if at_rest is False:
         reasons.insert(0, NOT_AT_REST)
-    return {"solver_checked": False, "on_body": None, "equilibrium": at_rest,
+    return {"solver_checked": False, "on_body": None, **_saved_rest(at_rest, residual, unknown),
             "passed": False if at_rest is False else None, "reasons": reasons}
 
 
 def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                        spacing: float = 0.005, at_rest: bool | None = None,
-                       balance: Callable[[], tuple[float, float, float]] | None = None
-                       ) -> dict:
+                       balance: Callable[[], tuple[float, float, float]] | None = None,
+                       residual: tuple[float, float] | None = None,
+                       unknown: str | None = None) -> dict:
     """The checks of a 3D state read back without the solver that made it (``patternfit
     fit`` of a saved garment folder), as a report's ``checks``: the on-body checks
     (:func:`on_body_checks`), the vertices inside the body (deeper than
@@ -397,7 +409,8 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     positions : (n, 3) float, the state of ``mesh`` [m]; ``body`` a
     :class:`patternfit.body.Body`; ``spacing`` the distance field's grid step [m];
     ``at_rest`` what the drape that saved the state said of it (``contact.npz``; None: not
-    known): False fails the checks. Where it is not known and nothing else failed,
+    known, ``unknown`` says why), ``residual`` (rms, p99) the residual it ended at: False
+    fails the checks. Where it is not known and nothing else failed,
     ``balance`` (when given) is called for the state's residual rebuilt without its contact
     state, (rms, p99, largest) (:func:`patternfit.sim.drape.saved_balance`; reported as
     ``rebuilt_residual_rms`` / ``_p99`` / ``_max``): a p99 above :data:`REBUILT_P99` or a
@@ -423,11 +436,12 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
             reasons.append(f"not at rest: 1% of its vertices carry more than {p99:.3g} times "
                            f"their weight unbalanced, one {top:.3g} times (limits "
                            f"{REBUILT_P99:g} and {REBUILT_MAX:g}), whatever the body pushes "
-                           "and friction holds (no contact.npz of these positions)")
+                           f"and friction holds ({unknown or 'its contact state not known'})")
     return {**onbody.to_dict(), "inside_vertices": inside, "max_depth_mm": deepest,
-            "seam_gap_max_mm": gap, "solver_checked": False, "equilibrium": at_rest,
-            "rebuilt_residual_rms": rms, "rebuilt_residual_p99": p99,
-            "rebuilt_residual_max": top, "passed": not reasons, "reasons": reasons}
+            "seam_gap_max_mm": gap, "solver_checked": False,
+            **_saved_rest(at_rest, residual, unknown), "rebuilt_residual_rms": rms,
+            "rebuilt_residual_p99": p99, "rebuilt_residual_max": top, "passed": not reasons,
+            "reasons": reasons}
 
 
 def _length(metres: float) -> str:

@@ -1,0 +1,98 @@
+"""What a saved drape was draped on and in, and how near rest it ended: its body and fabric,
+kept in its contact state (``contact.npz``) beside the mesh's and positions' digests, so
+that a state read back on another body or in another fabric is not taken for a rest there
+(a skirt at rest on one body read "equilibrium: true" on another, 92 of its vertices inside
+it) and is judged in the fabric it was draped in; and its residual's rms and p99."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict
+
+import numpy as np
+
+from ..errors import FabricError, GarmentFileError
+from ..mesh.store import digest
+from .fabrics import Fabric
+
+#: the arrays of ``contact.npz`` that hold the body's and the fabric's digests ...
+BODY_DIGEST, FABRIC_DIGEST = "body_sha256", "fabric_sha256"
+#: ... and the fabric itself, as JSON in SI units
+FABRIC_JSON = "fabric_json"
+#: the longest fabric JSON read back [characters]
+_FABRIC_CHARS = 4096
+
+
+def body_digest(body) -> str:
+    """SHA-256 (hex) of a :class:`patternfit.body.Body`'s surface (vertices [m], faces)."""
+    return digest(np.asarray(body.vertices, np.float64), np.asarray(body.faces, np.int64))
+
+
+def fabric_digest(fabric: Fabric) -> str:
+    """SHA-256 (hex) of a fabric's constants (its name left out)."""
+    values = asdict(fabric)
+    del values["name"]
+    return digest(np.array([float(values[k]) for k in sorted(values)]))
+
+
+def saved_provenance(body, fabric: Fabric) -> dict[str, np.ndarray]:
+    """The arrays a drape on ``body`` (None: not known) in ``fabric`` adds to its saved
+    contact state."""
+    out = {FABRIC_DIGEST: np.array(fabric_digest(fabric)),
+           FABRIC_JSON: np.array(json.dumps(fabric.to_dict()))}
+    if body is not None:
+        out[BODY_DIGEST] = np.array(body_digest(body))
+    return out
+
+
+def draped_for(body=None, fabric: Fabric | None = None) -> dict[str, tuple[str, str]]:
+    """The digests a saved contact state must hold to be a rest on ``body`` in ``fabric``
+    (each None: not compared), for :func:`patternfit.mesh.store.saved_rest`."""
+    out = {}
+    if body is not None:
+        out[BODY_DIGEST] = (body_digest(body), f"another body than {body.name}")
+    if fabric is not None:
+        out[FABRIC_DIGEST] = (fabric_digest(fabric), f"another fabric than {fabric.name}")
+    return out
+
+
+def saved_fabric(contact: dict[str, np.ndarray] | None, *, file=None) -> Fabric | None:
+    """The fabric a saved contact state (read from ``file``) was draped in, or None when it
+    does not say; one that is not a valid fabric is a
+    :class:`~patternfit.errors.GarmentFileError` naming ``file`` and the array."""
+    if contact is None or FABRIC_JSON not in contact:
+        return None
+    place = f"array '{FABRIC_JSON}'"
+    a = np.asarray(contact[FABRIC_JSON])
+    if a.dtype.kind != "U" or a.size != 1 or len(str(a.item())) > _FABRIC_CHARS:
+        raise GarmentFileError(f"expected one text of at most {_FABRIC_CHARS} characters, "
+                               f"got {a.dtype} {a.shape}", file=file, place=place)
+    try:
+        values = json.loads(str(a.item()))
+        if not isinstance(values, dict):
+            raise ValueError("not an object")
+        return Fabric(**values)
+    except FabricError as exc:
+        raise GarmentFileError(f"not a valid fabric: {exc}", file=file, place=place) from None
+    except (ValueError, TypeError) as exc:
+        raise GarmentFileError(f"not a fabric in JSON: {exc}", file=file, place=place) \
+            from None
+
+
+def saved_residual(contact: dict[str, np.ndarray] | None, *,
+                   file=None) -> tuple[float, float] | None:
+    """The residual (rms, p99) of |F_i| / (m_i g) [-] the drape that saved ``contact``
+    (read from ``file``) ended at, or None when it does not say; a value that is not one
+    finite number >= 0 is a :class:`~patternfit.errors.GarmentFileError` naming ``file``
+    and the array."""
+    if contact is None or "residual_rms" not in contact or "residual_p99" not in contact:
+        return None
+    out = []
+    for name in ("residual_rms", "residual_p99"):
+        a = np.asarray(contact[name])
+        if a.dtype.kind not in "fiu" or a.size != 1 or not np.isfinite(a).all() \
+                or float(a.item()) < 0:
+            raise GarmentFileError(f"expected one finite number >= 0, got {a.dtype} {a.shape}",
+                                   file=file, place=f"array '{name}'")
+        out.append(float(a.item()))
+    return out[0], out[1]
