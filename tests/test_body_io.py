@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 import trimesh
+from hypothesis import given, settings, strategies as st
 
 from patternfit.body import BodyMeshError, load_body, load_body_mesh, save_body_mesh
 from patternfit.body.mesh_io import body_from_arrays
@@ -33,6 +34,54 @@ def test_units_and_up_axis_guessed(body, tmp_path):
     assert abs(back.measurements["hip"] - body.measurements["hip"]) < 0.02
     given = load_body_mesh(tmp_path / "cm_zup.ply", units="cm", up="z")
     assert given.height == pytest.approx(body.height, abs=1e-4)
+
+
+def test_a_body_written_out_reads_back_where_it_was(body, tmp_path):
+    """A built-in body lies 3.8 cm off the Y axis; read back from a file it was moved onto
+    the axis, and a drape on one read 136 vertices inside the other. Near the axis a body
+    now stays where its file puts it; far from it, it is moved onto it."""
+    path = save_body_mesh(body, tmp_path / "b.ply")
+    assert np.abs(load_body_mesh(path).vertices - body.vertices).max() < 1e-6
+    trimesh.Trimesh(body.vertices + [1000.0, 0.5, -3.0], body.faces,
+                    process=False).export(tmp_path / "far.ply")
+    far = load_body_mesh(tmp_path / "far.ply")
+    box = 0.5 * (far.vertices.min(axis=0) + far.vertices.max(axis=0))
+    assert abs(box[0]) < 1e-6 and abs(box[2]) < 1e-6 and abs(far.vertices[:, 1].min()) < 1e-9
+
+
+@settings(max_examples=12, deadline=None)
+@given(turn=st.floats(-180.0, 180.0))
+def test_a_body_facing_another_way_is_turned_to_face_z(body, turn):
+    """Placement puts fronts at +Z: a body facing -Z was read as it was and got its
+    garments back to front, one turned 10-45 degrees got them twisted, and both passed.
+    A body whose toes point elsewhere is turned about the vertical to face +Z."""
+    rot = trimesh.transformations.rotation_matrix(np.radians(turn), (0, 1, 0))[:3, :3]
+    back = body_from_arrays(body.vertices @ rot.T, body.faces, units="m")
+    if abs(turn) <= 2.0:
+        assert "turned_deg" not in back.meta
+        return
+    off = (back.meta["turned_deg"] - turn + 180.0) % 360.0 - 180.0
+    assert abs(off) < 0.5, back.meta
+    # turned back whole: the surface lies where the unturned one does
+    assert np.abs(back.vertices - body.vertices).max() < 0.01
+    for name in ("bust", "waist", "hip"):
+        assert back.measurements[name] == pytest.approx(body.measurements[name], abs=1e-3)
+
+
+def test_a_scan_with_denser_legs_is_read_the_right_way_up(body):
+    """The up axis was guessed from where most vertices lie: a scan whose legs are meshed
+    finer than its torso was read upside down and refused ("cannot find the armpits"). The
+    other way up is tried when no body is found the first way."""
+    # the legs stretched 4 times, the whole split to 3 cm edges, the legs shrunk back
+    low = 0.5
+    v = body.vertices.copy()
+    v[:, 1] = np.where(v[:, 1] < low, 4 * v[:, 1], 3 * low + v[:, 1])
+    v, f = trimesh.remesh.subdivide_to_size(v, body.faces, max_edge=0.03, max_iter=6)
+    v[:, 1] = np.where(v[:, 1] < 4 * low, v[:, 1] / 4, v[:, 1] - 3 * low)
+    assert v[:, 1].mean() < 0.5 * body.height  # the first guess is upside down
+    back = body_from_arrays(v, f, units="m")
+    assert back.meta["up"] == "y" and back.meta["up_guessed"]
+    assert back.height == pytest.approx(body.height, abs=1e-4)
 
 
 def test_small_hole_is_filled(body):

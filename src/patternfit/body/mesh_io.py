@@ -1,8 +1,8 @@
 """Load any body mesh (OBJ, PLY, STL, GLB/glTF, OFF through trimesh; a body saved as
 ``.npz``) and write bodies out.
 
-A loaded body is brought to patternfit's frame: metres, Y up, feet on y = 0, centred on the
-Y axis. It must be closed and a standing adult in an A-pose: small holes are filled,
+A loaded body is brought to patternfit's frame: metres, Y up, feet on y = 0, near the Y axis
+(moved onto it from farther than 0.5 m), facing +Z. It must be closed and a standing adult in an A-pose: small holes are filled,
 anything else is refused with a :class:`BodyMeshError` that names the file and says what is
 wrong (the missing landmark of a sphere, the unit guessed for an absurd size, ...).
 
@@ -44,6 +44,21 @@ _FILE_BYTES_PER_VERTEX = 200
 #: the mesh formats read (trimesh also opens archives, which could expand without bound)
 _FORMATS = ("obj", "ply", "stl", "glb", "gltf", "off")
 _AXES = {"x": 0, "y": 1, "z": 2}
+#: a body facing more than this away from +Z about the vertical is turned to face +Z
+#: [degrees]: the built-in bodies read 0.0, each turned 10, 45, 90, 180 or -135 degrees
+#: read its turn to 0.1
+_HEADING_TOLERANCE = 2.0
+#: a body whose box is centred farther than this from the Y axis is moved onto it [m]
+_NEAR_AXIS = 0.5
+#: the feet (up to this share of the height) and the shins above them (between these
+#: shares): the toes reach 18-21 cm forward of the shins' middle and the heels 5-7 cm back
+_FEET, _SHINS = 0.025, (0.06, 0.09)
+#: the toes tell front from back only when they reach this much farther forward than the
+#: heels back [m] ...
+_TOE_REACH = 0.03
+#: ... and the left-right axis is the body's widest across only when its spread is this
+#: many times the front-back one (A-posed arms: 9 to 13 on the built-in bodies) [-]
+_WIDE = 2.0
 
 
 class BodyMeshError(InputError):
@@ -63,25 +78,52 @@ def _guess_units(extent: float, file) -> str:
     return unit
 
 
-def _up_rotation(vertices, up: str | None) -> np.ndarray:
-    """(3, 3) rotation taking the given (or guessed) up direction to +Y."""
-    if up is None:
-        # Standing body: the longest side is vertical, and the centre of the vertices lies
-        # above mid-height (torso and head carry more surface than the legs).
-        ext = np.ptp(vertices, axis=0)
-        axis = int(np.argmax(ext))
-        mid = 0.5 * (vertices[:, axis].min() + vertices[:, axis].max())
-        sign = 1.0 if vertices[:, axis].mean() >= mid else -1.0
-    else:
-        key = up.strip().lower()
-        sign = -1.0 if key.startswith("-") else 1.0
-        key = key.lstrip("+-")
-        if key not in _AXES:
-            raise ValueError(f"up: expected one of x, y, z, -x, -y, -z, got {up!r}")
-        axis = _AXES[key]
+def _guess_up(vertices) -> str:
+    """The up axis of a standing body (``"y"``, ``"-z"``, ...): the longest side is
+    vertical, and the centre of the vertices lies above mid-height (torso and head carry
+    more surface than the legs; a scan with denser legs is read the other way up, which
+    :func:`body_from_arrays` then tries)."""
+    axis = int(np.argmax(np.ptp(vertices, axis=0)))
+    mid = 0.5 * (vertices[:, axis].min() + vertices[:, axis].max())
+    return ("" if vertices[:, axis].mean() >= mid else "-") + "xyz"[axis]
+
+
+def _up_rotation(up: str) -> np.ndarray:
+    """(3, 3) rotation taking the up direction ``up`` (``"y"``, ``"-z"``, ...) to +Y."""
+    key = up.strip().lower()
+    sign = -1.0 if key.startswith("-") else 1.0
+    key = key.lstrip("+-")
+    if key not in _AXES:
+        raise ValueError(f"up: expected one of x, y, z, -x, -y, -z, got {up!r}")
     src = np.zeros(3)
-    src[axis] = sign
+    src[_AXES[key]] = sign
     return rotation_between(src, (0.0, 1.0, 0.0))  # -y up: the half turn about x
+
+
+def _heading(vertices, faces) -> float | None:
+    """Angle [degrees] about +Y from +Z to the way a standing body (Y up, feet on y = 0)
+    faces, positive towards +X; None when it cannot be told. The left-right axis is the
+    widest across (the area-weighted spread of the surface seen from above: A-posed arms,
+    shoulders, hips); the front is the side the toes point to."""
+    tm = trimesh.Trimesh(vertices, faces, process=False)
+    area = tm.area_faces
+    across = tm.triangles_center[:, [0, 2]]
+    across = across - area @ across / area.sum()
+    spread, axes = np.linalg.eigh((area[:, None] * across).T @ across)
+    if spread[1] < _WIDE * spread[0]:
+        return None
+    forward = np.array([-axes[1, 1], axes[0, 1]])  # (x, z) across the widest axis
+    height = np.ptp(vertices[:, 1])
+    feet = vertices[vertices[:, 1] < _FEET * height][:, [0, 2]] @ forward
+    low, high = _SHINS[0] * height, _SHINS[1] * height
+    shins = vertices[(vertices[:, 1] > low) & (vertices[:, 1] < high)][:, [0, 2]] @ forward
+    if not len(feet) or not len(shins):
+        return None
+    toes = 0.5 * (feet.max() + feet.min()) - shins.mean()
+    if abs(toes) < _TOE_REACH:
+        return None
+    forward *= np.sign(toes)
+    return float(np.degrees(np.arctan2(forward[0], forward[1])))
 
 
 def _consistent_winding(faces) -> np.ndarray:
@@ -150,7 +192,7 @@ def _hole_fans(faces) -> np.ndarray:
 
 
 def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | None = None,
-                     name: str = "body", file=None) -> Body:
+                     name: str = "body", file=None, guessed: bool = False) -> Body:
     """Check, repair and normalise a body mesh given as arrays.
 
     Parameters
@@ -163,15 +205,20 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
         One of ``m``, ``cm``, ``mm``, ``in``. When None, the unit that makes the height
         closest to a typical adult's is guessed.
     up : str, optional
-        The mesh's up axis (``y``, ``z``, ``-z``, ...); guessed when None.
+        The mesh's up axis (``y``, ``z``, ``-z``, ...); guessed when None (the longest side,
+        the way most of the surface lies; the other way when no body's landmarks are found
+        that way up: ``meta["up_guessed"]``).
+    guessed : bool
+        ``up`` was guessed (recorded in ``meta``).
     name : str
         Name of the body.
     file : path, optional
         Where the arrays come from, named in errors.
 
-    Returns a :class:`Body` in metres, Y up, feet on y = 0, with its measurements and
-    landmarks; ``meta`` holds ``units`` (the unit used), ``units_guessed`` and
-    ``scale_to_m``.
+    Returns a :class:`Body` in metres, Y up, feet on y = 0, near the Y axis, facing +Z (a body whose toes
+    point elsewhere is turned about the vertical: ``meta["turned_deg"]``, the angle from +Z
+    to where it faced, positive towards +X), with its measurements and landmarks; ``meta``
+    holds ``units`` (the unit used), ``units_guessed`` and ``scale_to_m``.
 
     Raises :class:`BodyMeshError` naming ``file`` (and the place: ``units``, ``faces``, a
     landmark) when the mesh is empty, too large, has NaN coordinates or bad face indices, a
@@ -203,8 +250,21 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
                             "vertices", file=file, place="faces")
     if units is not None and units not in UNITS:
         raise ValueError(f"units: expected one of {', '.join(UNITS)}, got {units!r}")
-    rot = _up_rotation(v, up)
-    v = v @ rot.T
+    if up is None:
+        guess = _guess_up(v)
+        try:
+            return body_from_arrays(v, f, units=units, up=guess, name=name, file=file,
+                                    guessed=True)
+        except BodyMeshError as exc:
+            if not (exc.place or "").startswith("landmark"):
+                raise
+            other = guess[1:] if guess.startswith("-") else "-" + guess
+            try:
+                return body_from_arrays(v, f, units=units, up=other, name=name, file=file,
+                                        guessed=True)
+            except BodyMeshError:
+                raise exc from None
+    v = v @ _up_rotation(up).T
     extent = float(np.ptp(v[:, 1]))
     if not 0.0 < extent < np.inf:
         raise BodyMeshError("the mesh has no height (flat or beyond float range)", file=file)
@@ -239,17 +299,36 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
     if tm.volume < 0:
         tm.invert()
     v = np.asarray(tm.vertices, dtype=np.float64)
-    v -= [0.5 * (v[:, 0].min() + v[:, 0].max()), v[:, 1].min(),
-          0.5 * (v[:, 2].min() + v[:, 2].max())]
     faces_out = np.asarray(tm.faces, dtype=np.int64)
     meta = {"source": str(file) if file else "arrays", "units": unit,
-            "units_guessed": units is None, "scale_to_m": scale}
+            "units_guessed": units is None, "scale_to_m": scale, "up": up,
+            "up_guessed": guessed}
+    v = _centred(v)
+    heading = _heading(v, faces_out)
+    if heading is not None and abs(heading) > _HEADING_TOLERANCE:
+        # placement puts fronts at +Z and left sides at +X: a body facing elsewhere got
+        # its garments back to front (-Z), or twisted (45 degrees), and passed
+        turn = trimesh.transformations.rotation_matrix(np.radians(-heading), (0, 1, 0))
+        v = v @ turn[:3, :3].T
+        meta["turned_deg"] = round(heading, 1)
     try:
         meas, lm = measure(v, faces_out)
         return Body(v, faces_out, name=name, measurements=meas, landmarks=lm, meta=meta)
     except LandmarkError as exc:
         raise BodyMeshError(f"no standing human body in an A-pose: {exc}", file=file,
                             place=f"landmark '{exc.landmark}'") from None
+
+
+def _centred(v: np.ndarray) -> np.ndarray:
+    """Vertices (n, 3) [m] moved so that the feet are on y = 0 and, when the box round the
+    body is centred more than :data:`_NEAR_AXIS` from the Y axis, that it is centred on it
+    (a body near the axis stays where it is: a built-in body, 3.8 cm off it, written out
+    and read back came back 3.8 cm away, and its own drape read 136 vertices inside it)."""
+    centre = 0.5 * (v.min(axis=0) + v.max(axis=0))
+    shift = np.array([0.0, v[:, 1].min(), 0.0])
+    if np.hypot(centre[0], centre[2]) > _NEAR_AXIS:
+        shift[[0, 2]] = centre[[0, 2]]
+    return v - shift
 
 
 def load_body_mesh(path, *, units: str | None = None, up: str | None = None) -> Body:

@@ -155,14 +155,19 @@ def exit_if_correction_failed(report: dict, out: Path) -> None:
 
 
 def say_guessed_units(body, source) -> None:
-    """Print the unit a body mesh file was read in when it was guessed, not given: a wrong
-    guess (a child's body in inches read as centimetres) changes every result."""
-    if not body.meta.get("units_guessed"):
-        return
-    unit = body.meta["units"]
-    console.print(f"[yellow]note:[/] {escape(str(source))}: units guessed as '{unit}' from the "
-                  f"body's height ({np.ptp(body.vertices[:, 1]):.2f} m); give --units if "
-                  "that is wrong", highlight=False)
+    """Print the unit a body mesh file was read in when it was guessed, not given (a wrong
+    guess, a child's body in inches read as centimetres, changes every result), and the
+    turn that made it face +Z when it faced elsewhere."""
+    if body.meta.get("units_guessed"):
+        console.print(f"[yellow]note:[/] {escape(str(source))}: units guessed as "
+                      f"'{body.meta['units']}' from the body's height "
+                      f"({np.ptp(body.vertices[:, 1]):.2f} m); give --units if that is wrong",
+                      highlight=False)
+    if body.meta.get("turned_deg") is not None:
+        console.print(f"[yellow]note:[/] {escape(str(source))}: the body faced "
+                      f"{body.meta['turned_deg']:+.1f}° from +Z about the vertical (the way "
+                      "its toes point); turned to face +Z, where garments are placed",
+                      highlight=False)
 
 
 def drape_progress(*, total: int, rest: float | None = None):
