@@ -98,6 +98,19 @@ def test_a_name_with_a_control_character_is_refused(tmp_path, where):
         load_pattern(_write(tmp_path, doc))
 
 
+@pytest.mark.parametrize("anchor", ["bust", 3, None, ["waist"]])
+def test_an_anchor_other_than_the_neck_or_the_waist_is_refused(tmp_path, anchor):
+    """A strapless top given meta.anchor "bust" was read as hung from the waist without a
+    word, draped round the belly and passed."""
+    doc = _doc(tmp_path)
+    doc["meta"] = {"anchor": anchor}
+    with pytest.raises(PatternError, match=r"meta 'anchor'.*expected 'waist' or 'neck'") as e:
+        load_pattern(_write(tmp_path, doc))
+    assert str(tmp_path) in str(e.value)
+    doc["meta"] = {"anchor": "neck"}
+    assert load_pattern(_write(tmp_path, doc)).anchor == "neck"
+
+
 def test_error_self_intersection(tmp_path):
     doc = {"format": "patternfit-pattern", "version": 1, "units": "m", "panels": [
         {"name": "bow", "outline": {"edges": [

@@ -22,7 +22,7 @@ import numpy as np
 from ..constants import limits, tol
 from ..text import control_at
 from .errors import PatternError
-from .model import Loop, Panel, Pattern
+from .model import ANCHORS, Loop, Panel, Pattern
 
 #: polyline segments per curved edge for the geometry tests (fewer on curves so short that
 #: their segments would be shorter than ``tol.edge_length``)
@@ -472,13 +472,27 @@ def check_names(pattern: Pattern) -> None:
         refuse("seam", seam.name)
 
 
+def check_anchor(pattern: Pattern) -> None:
+    """Raise :class:`PatternError` when ``meta["anchor"]`` is given and is not one of
+    :data:`~patternfit.pattern.model.ANCHORS`: a strapless top given ``"bust"`` was read as
+    hung from the waist without a word, draped round the belly and passed."""
+    meta = pattern.meta if isinstance(pattern.meta, dict) else {}
+    if "anchor" in meta and meta["anchor"] not in ANCHORS:
+        raise PatternError(f"meta 'anchor' {meta['anchor']!r:.40}: expected "
+                           f"{' or '.join(repr(a) for a in ANCHORS)} (where the garment hangs "
+                           "from; a garment held up elsewhere, such as a strapless top held "
+                           "at the bust, is not supported), or leave it out to have it read "
+                           "from the panels")
+
+
 def check_pattern(pattern: Pattern) -> None:
     """Raise :class:`PatternError` if the pattern cannot be meshed and sewn: sizes within
     :data:`~patternfit.constants.limits` (:func:`check_size`), names without control
-    characters (:func:`check_names`), unique panel names, every panel
-    (:func:`check_panel`), the seams (:func:`check_seams`)."""
+    characters (:func:`check_names`), a known anchor (:func:`check_anchor`), unique panel
+    names, every panel (:func:`check_panel`), the seams (:func:`check_seams`)."""
     if not pattern.panels:
         raise PatternError(f"pattern '{pattern.name}' has no panels")
+    check_anchor(pattern)
     check_size(len(pattern.panels), sum(len(lp.edges) for p in pattern.panels
                                         for lp in p.loops))
     check_names(pattern)
