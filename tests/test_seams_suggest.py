@@ -60,6 +60,20 @@ def test_built_ins_without_seams_get_their_seams_back(garment, names):
     check_pattern(replace(truth, seams=tuple(s.seam for s in found)))
 
 
+@pytest.mark.parametrize("garment", [g for g in GARMENTS if build(g, "M").anchor == "neck"])
+def test_a_bodice_without_its_anchor_keeps_its_armholes_open(garment):
+    """A DXF without notches or side file says nothing of where the garment hangs from, and
+    unsewn a bodice has no shoulder seams: it read as hung from the waist, needing two
+    openings, and each front armhole was sewn to the back one (a tank top and the dress from
+    Gerber DXFs drape with 6 edges through the body). The openings are counted on the
+    pattern sewn as suggested."""
+    truth = generic_names(build(garment, "M"))
+    truth = replace(truth, meta={})
+    found = suggest_seams(replace(truth, seams=()))
+    precision, recall, _ = precision_recall(truth, found)
+    assert precision == 1.0 and recall == 1.0, garment
+
+
 @pytest.mark.parametrize("names", ["named", "generic"])
 def test_the_left_leg_is_never_sewn_to_the_right_leg(names):
     trousers = build("trousers", "M")

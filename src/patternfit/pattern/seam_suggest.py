@@ -39,7 +39,7 @@ two armholes sewn shut). Lengths in metres.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -581,7 +581,9 @@ def openings(pattern: Pattern, seams=None) -> int:
 
 def _needed_openings(pattern: Pattern) -> int:
     """Openings a garment needs: a top and a bottom one; two more for the arms of a garment
-    hung from the neck, one more for the second leg of one with left and right pieces."""
+    hung from the neck, one more for the second leg of one with left and right pieces.
+    ``pattern`` holds the seams suggested: unsewn, a bodice has no shoulder seams and read
+    as hung from the waist, and its armholes were sewn shut (a tank top from a DXF)."""
     if pattern.anchor == "neck":
         return 4
     sides = {_kind_and_side(p)[1] for p in pattern.panels}
@@ -600,7 +602,8 @@ def _keep_openings(pattern: Pattern, found: list[SeamSuggestion]) -> list[SeamSu
     """``found`` without the suggestions that would close the garment's openings (two cuffs
     or two armholes sewn to each other): while the sewn garment has fewer openings than it
     needs, the lowest-scored suggestion whose removal opens one more is dropped."""
-    need = _needed_openings(pattern)
+    need = _needed_openings(replace(pattern, seams=pattern.seams
+                                    + tuple(s.seam for s in found)))
     keep = list(found)
     have = openings(pattern, pattern.seams + tuple(s.seam for s in keep))
     while have < need:
