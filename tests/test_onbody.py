@@ -2,6 +2,7 @@
 fit (report, CLI, pictures' titles, correction loop, studio), and a drape started from a
 saved one (``--start``)."""
 
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -21,6 +22,7 @@ from patternfit.pattern.library import build
 from patternfit.sim.onbody import (ON_BODY, REBUILT_MAX, REBUILT_P99, anchor_line,
                                    on_body_checks)
 from patternfit.sim.placement import place_on_body
+from patternfit.sim.settings import SolverSettings
 
 from scenes import draped, garment
 
@@ -333,6 +335,28 @@ def test_start_refuses_another_pattern_and_keeps_its_own_mesh(skirt, tmp_path):
     with pytest.raises(ValueError, match="start"):
         api.drape_and_evaluate(pattern, body, "cotton", triangles=1500,
                                start=np.zeros((3, 3)))
+    # the same pattern edited since: said so, not "another pattern ('skirt' size M), not of
+    # this 'skirt' size M"
+    from patternfit.edit import move_edge
+    edited = move_edge(pattern, "front", "hem", (0.0, -0.03), partner=True)
+    with pytest.raises(InputError, match="another version of 'skirt' size M"):
+        api.drape_and_evaluate(edited, body, "cotton", start=tmp_path / "g")
+
+
+def test_a_start_draped_on_another_body_is_said(skirt, tmp_path):
+    """A drape continued from one on another body starts where that body was (11 mm inside
+    a heavier one) and may end in another rest ("tight at hip" against "loose" from the
+    placement): it is drawn, with a warning."""
+    pattern, mesh, body, d = skirt
+    folder = save_garment(tmp_path / "g", pattern, mesh, d.positions,
+                          contact=d.saved_contact())
+    quick = SolverSettings(max_iterations=2)
+    with pytest.warns(api.StartWarning, match="another body than female_average"):
+        api.drape_and_evaluate(pattern, "female_average", "cotton", start=folder,
+                               settings=quick)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", api.StartWarning)
+        api.drape_and_evaluate(pattern, body, "cotton", start=folder, settings=quick)
 
 
 @pytest.fixture(scope="module")

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import inspect
 import time
+import warnings
 from fnmatch import fnmatchcase
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -56,7 +57,7 @@ from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
 from .sim.drape import CONTACT_MARGIN, Drape, drape, saved_balance
-from .sim.provenance import draped_for, saved_fabric, saved_residual
+from .sim.provenance import draped_for, not_draped_for, saved_fabric, saved_residual
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
                           check_bulk, fabric_with_notes, get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
@@ -68,7 +69,8 @@ from .sim.state import SavedStateError
 
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
            "DesignSession", "FABRIC_RANGES", "FABRIC_TESTS", "Fabric", "FabricError", "FitOutcome",
-           "GIRTHS", "InputError", "PatternError", "SeamSuggestion", "SolverSettings", "Verdict",
+           "GIRTHS", "InputError", "PatternError", "SeamSuggestion", "SolverSettings",
+           "StartWarning", "Verdict",
            "VerdictRules", "accept_seams", "add_seam", "body_from_measurements", "check_bulk",
            "check_sewn",
            "correct", "correct_design", "design_session", "drafted_too_small",
@@ -81,6 +83,10 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "remove_seam", "save_any_pattern", "save_garment", "seam_table", "set_seam_ease",
            "suggest_seams", "verdict_rules", "with_distance_field", "write_fabric_test_picture",
            "write_pattern"]
+
+
+class StartWarning(UserWarning):
+    """A drape started from a saved one draped on another body (``start=``)."""
 
 
 def list_garments() -> list[str]:
@@ -676,6 +682,12 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
         if engine != "static":
             raise ValueError("start: a saved drape is continued by the static engine only")
         x, contact, m = _start_state(start, pat, triangles)
+        for other in not_draped_for(contact, b):
+            # the start lies where the other body was (11 mm inside a heavier one) and
+            # may settle in another rest than a drape from placement (tight, not loose)
+            warnings.warn(f"start: the saved drape was draped on {other}; draping on from "
+                          "its rest may end in another rest than a drape from the placement",
+                          StartWarning, stacklevel=2)
         try:
             d = drape(pat, m, b, fab, settings=settings, clearance=clearance, start=x,
                       start_contact=contact, progress=progress)
@@ -738,6 +750,13 @@ def _start_state(start, pattern: Pattern, triangles: int):
             size = p.meta.get("size")
             return f"'{p.name}'" + (f" size {size}" if size else "")
 
+        if named(saved) == named(pattern) and saved.panels != pattern.panels \
+                and [p.name for p in saved.panels] == [p.name for p in pattern.panels]:
+            # "another pattern ('skirt' size S ...), not of this 'skirt' size S" said nothing
+            raise InputError(f"holds a drape of another version of {named(pattern)} (the "
+                             "same pieces in other shapes: edited or corrected since); start "
+                             "from its own pattern.json (--pattern), or from a drape of this "
+                             "one", file=start)
         raise InputError(f"holds a drape of another pattern ({named(saved)}, panels "
                          f"{', '.join(p.name for p in saved.panels)}), not of this "
                          f"{named(pattern)}: start from a drape of the same pattern",

@@ -56,6 +56,16 @@ def draped_for(body=None, fabric: Fabric | None = None) -> dict[str, tuple[str, 
     return out
 
 
+def not_draped_for(contact: dict[str, np.ndarray] | None, body=None,
+                   fabric: Fabric | None = None) -> list[str]:
+    """What a saved contact state was not draped on or in, of ``body`` and ``fabric``, in
+    words ("another body than female_heavy"); empty when it does not say."""
+    if contact is None:
+        return []
+    return [what for name, (value, what) in draped_for(body, fabric).items()
+            if name in contact and str(np.asarray(contact[name])) != value]
+
+
 def saved_fabric(contact: dict[str, np.ndarray] | None, *, file=None) -> Fabric | None:
     """The fabric a saved contact state (read from ``file``) was draped in, or None when it
     does not say; one that is not a valid fabric is a
