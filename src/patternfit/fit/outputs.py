@@ -68,8 +68,10 @@ def write_fit_outputs(folder, pattern: Pattern, mesh: GarmentMesh, positions, fi
         "files": files, **extra})
     failed = failure(report)
     checks = report["checks"]
-    # a state nobody checked on a body (a saved one read back alone) says so on its maps
+    # a state nobody checked on a body (a placement, a saved one read back alone) says so
+    # on its maps
     name = pattern.name if checks.get("passed") is not None else \
+        f"{pattern.name} (placed, not draped: ϖ alone)" if state == "placed" else \
         f"{pattern.name} (NOT CHECKED on a body: ϖ alone)"
     for kind in ("glb", "obj"):
         say(f"garment.{kind}")

@@ -38,7 +38,9 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
     ``checks`` (the drape's) are merged into the report's.
 
     ``checks`` holds ``fit_finite`` (every number of the report is finite), ``passed``
-    (``fit_finite`` and the drape's ``passed`` where given) and, when a value is not finite,
+    (``fit_finite`` and the drape's ``passed``; None when no checks were given: nothing
+    was checked), ``equilibrium``, ``residual_rms`` and ``residual_p99`` (the drape's, None
+    where not known) and, when a value is not finite,
     ``non_finite``: where it was (``"fitting_ratio"``, ``"panels[0].area_3d_m2"``); the value
     itself is ``None``. A report that did not pass is a failed fit: ``reasons`` then says
     why in words (the drape's reasons, on-body first, and the values not finite), and
@@ -78,10 +80,14 @@ def fit_report(mesh: GarmentMesh, fit: FitResult, *, state: str = "placed",
     non_finite: list[str] = []
     report = _finite_or_none(report, "", non_finite)
     checks = report["checks"]
+    # every report says whether its state is at rest and how near, null where not known
+    # (a placement, a saved state read back alone)
+    for key in ("equilibrium", "residual_rms", "residual_p99"):
+        checks.setdefault(key, None)
     checks["fit_finite"] = not non_finite
-    said = checks.get("passed", True)
-    # None: nothing checked where the state rests (a saved state without its body), never
-    # turned into a pass
+    said = checks.get("passed")
+    # None: nothing checked (a placement; a saved state without its body), never turned
+    # into a pass: a placement never draped read "passed: true"
     checks["passed"] = False if said is False or non_finite else (None if said is None
                                                                   else True)
     if non_finite:
