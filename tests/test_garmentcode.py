@@ -255,6 +255,24 @@ def test_open_outline_and_mismatched_seams():
     assert len(p.seams) == 1 and "different length" in p.meta["warnings"][0]
 
 
+def test_a_gather_beyond_two_to_one_is_refused_naming_the_file(tmp_path):
+    """Read, a 2.5:1 gather is kept with a warning; draping it was refused by the mesher,
+    naming the panel and edge but not the file."""
+    from patternfit import api
+
+    tall = copy.deepcopy(_square())
+    tall["vertices"] = [[0, 0], [40, 0], [40, 100], [0, 100]]
+    doc = _doc({"front": _square(), "back": tall},
+               [[{"panel": "front", "edge": 0}, {"panel": "back", "edge": 1}]])
+    path = tmp_path / "gathered_specification.json"
+    path.write_text(json.dumps(doc))
+    for run in (lambda: api.drape_and_evaluate(path, triangles=300),
+                lambda: api.design_session(path, triangles=300)):
+        with pytest.raises(PatternError, match="2.5:1 gather") as info:
+            run()
+        assert info.value.file == str(path)
+
+
 def test_inner_loops_cannot_be_exported():
     p = _our_pattern()
     hole = Loop("dart", (Edge.line("d0", (0.1, 0.1), (0.2, 0.1)),

@@ -53,6 +53,7 @@ from .pattern.formats import load_any_pattern, save_any_pattern
 from .pattern.library import GARMENTS, build
 from .pattern.model import Pattern, Seam
 from .pattern.plausible import check_drapeable_size
+from .pattern.validate import check_pattern
 from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
@@ -672,10 +673,7 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
              optional=True)
     if progress is not None and not callable(progress):
         raise ValueError(f"progress: expected a function, got {progress!r:.60}")
-    pat = read_pattern(pattern, size=size)
-    source = None if isinstance(pattern, Pattern) or str(pattern) in GARMENTS else pattern
-    check_sewn(pat, source=source)
-    check_drapeable_size(pat, source=source)
+    pat = _drapeable(pattern, read_pattern(pattern, size=size))
     b = read_body(body, units=units)
     fab = read_fabric(fabric)
     if start is not None:
@@ -712,6 +710,33 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
                       seconds=time.perf_counter() - t0, measures=measures,
                       judgement=judge_garment(pat, fit, measures, fab, extra.get("checks"),
                                               verdict_rules))
+
+
+def _meshable(source, pattern: Pattern) -> Pattern:
+    """``pattern``, read from ``source``, once it is known to mesh (:func:`check_pattern`);
+    else the :class:`PatternError` names the file (a GarmentCode gather beyond 2:1 was
+    refused by the mesher naming only the panel)."""
+    try:
+        check_pattern(pattern)
+    except PatternError as exc:
+        if _file_of(source) is None or exc.file is not None:
+            raise
+        raise exc.located(source) from None
+    return pattern
+
+
+def _drapeable(source, pattern: Pattern) -> Pattern:
+    """``pattern``, read from ``source``, once it is known to drape: meshable
+    (:func:`_meshable`), sewn (:func:`check_sewn`) and of a garment's size
+    (:func:`check_drapeable_size`), errors naming the file."""
+    check_sewn(pattern, source=_file_of(source))
+    check_drapeable_size(pattern, source=_file_of(source))
+    return _meshable(source, pattern)
+
+
+def _file_of(source):
+    """The file a pattern ``source`` names, None for a pattern or a built-in name."""
+    return None if isinstance(source, Pattern) or str(source) in GARMENTS else source
 
 
 def _threshold(value) -> float:
@@ -882,8 +907,9 @@ def design_session(pattern: Pattern | str | Path = DEFAULTS.garment,
     width (for a garment drafted too small to be sewn on the body)."""
     threshold = _threshold(threshold)
     relax = number(relax, "relax", low=1.0, high=10.0, rule="expected a factor of 1 to 10")
-    return DesignSession(read_pattern(pattern, size=size), read_body(body, units=units),
-                         read_fabric(fabric), triangles, threshold, relax=relax)
+    return DesignSession(_meshable(pattern, read_pattern(pattern, size=size)),
+                         read_body(body, units=units), read_fabric(fabric), triangles,
+                         threshold, relax=relax)
 
 
 def drafted_too_small(garment: str = DEFAULTS.garment, size: str | None = None) -> dict:
