@@ -29,8 +29,10 @@ def test_correct_writes_pattern_and_report(tmp_path):
     assert isinstance(report["regions"], list)
     check_pattern(load_pattern(out / "pattern.json"))
     assert (out / "before" / "report.json").exists() and (out / "after" / "report.json").exists()
-    # the final drape is saved with its contact state: continued, it stops at once
+    # the final drape is saved with its contact state, and so is the first (before/ had
+    # none: continued, it took 2-12 iterations): continued, it stops at once
     assert (out / "after" / "garment" / "contact.npz").exists()
+    assert (out / "before" / "garment" / "contact.npz").exists()
     again = tmp_path / "again"
     res = runner.invoke(app, ["drape", "--body", "female_thin",
                               "--pattern", str(out / "after" / "garment" / "pattern.json"),

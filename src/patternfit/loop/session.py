@@ -88,6 +88,10 @@ class State:
         Before the state's first drape: the flat rest shapes [m] at which ``positions``
         (the start of that drape, an earlier state's drape) rest, once known; None after
         the drape. See :meth:`DesignSession.next_start`.
+    contact : dict or None
+        The contact state of the drape that made ``positions`` (``Drape.saved_contact``),
+        saved beside them in the fit outputs (a correction's ``before/`` had none, and a
+        drape continued from it took 2-12 iterations where a rest takes 0).
     key : str
         The name of the state's folder in a saved session (random, fixed for the state's
         life: pattern and mesh are never replaced, so the folder is written once).
@@ -101,6 +105,7 @@ class State:
     fitting_ratio: float | None = None
     checks: dict | None = None
     start_rest: np.ndarray | None = field(default=None, repr=False)
+    contact: dict | None = field(default=None, repr=False)
     key: str = field(default_factory=_new_key, repr=False)
     # (positions array, its file name): a re-drape replaces the array (never edits it in
     # place), so a new array object is what needs a new file
@@ -237,19 +242,17 @@ class DesignSession:
             result = drape(st.pattern, st.mesh, self.body, self.fabric, progress=progress)
         self._drape = _finished(result)
         st.positions, st.start_rest = result.positions, None
+        st.contact = result.saved_contact()
         st.fitting_ratio = FitEvaluator(st.mesh).metrics(result.positions)[1]
         st.checks = result.report_extra()["checks"]  # solver and on-body checks, reasons
         return result
 
     def saved_contact(self, state: State) -> dict | None:
         """The contact state to save beside ``state``'s positions
-        (:meth:`~patternfit.sim.drape.Drape.saved_contact`), so that a drape started from
-        them continues this one; None unless ``state`` holds the last drape's positions."""
-        d = self._drape
-        if d is None or state.positions is None \
-                or not np.array_equal(state.positions, d.positions):
-            return None
-        return d.saved_contact()
+        (:meth:`~patternfit.sim.drape.Drape.saved_contact`, kept from the drape that made
+        them), so that a drape started from them continues that one; None when not known
+        (not draped here: a state read back from a saved session)."""
+        return state.contact
 
     def _staged_redrape(self, mesh: GarmentMesh, start, progress, start_rest=None) -> Drape:
         """Warm re-drape to the rest shapes of ``mesh`` in stages
