@@ -262,7 +262,10 @@ def test_outline_split_into_runs_and_doubled_on_84_keeps_its_area(tmp_path, n, c
     the area 0.22 % smaller, beyond the 0.2 % this test once asked)."""
     rng = np.random.default_rng(seed)
     ang = np.sort(rng.uniform(0, 2 * np.pi, n))
-    if np.min(np.diff(np.r_[ang, ang[0] + 2 * np.pi])) < 0.15:
+    gaps = np.diff(np.r_[ang, ang[0] + 2 * np.pi])
+    # star-shaped about the centre only when no gap reaches half a turn: seed 126 put five
+    # points within 65 degrees, an outline crossing itself that the reader rightly refused
+    if gaps.min() < 0.15 or gaps.max() >= np.pi:
         return
     r = radius * rng.uniform(0.6, 1.0, n)
     ring = np.c_[r * np.cos(ang), r * np.sin(ang)] + 500.0
