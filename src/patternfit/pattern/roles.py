@@ -175,11 +175,12 @@ class _Shape:
         e = self.line(edge)
         return float(e[:, 1].max()) >= self.hi[1] - TOP_SHARE * self.size[1]
 
-    def outer(self, edge: str) -> float:
-        """Where ``edge`` lies across the panel: -1 at its left side, +1 at its right. For a
-        half, across the whole panel it is one half of: 0 at the centre line, and a half whose
-        centre line is its left side spans 0..1, the other -1..0."""
-        x = self.side_of(edge)
+    def outer(self, edge: str, at: float = 0.5) -> float:
+        """Where ``edge`` (its point at ``at``) lies across the panel: -1 at its left side,
+        +1 at its right. For a half, across the whole panel it is one half of: 0 at the
+        centre line, and a half whose centre line is its left side spans 0..1, the other
+        -1..0."""
+        x = self.side_of(edge, at)
         return 0.5 * (x - self.half) if self.half else x
 
     def reach(self, edge: str) -> float:
@@ -188,15 +189,17 @@ class _Shape:
         x = (self.line(edge)[:, 0] - 0.5 * (self.lo[0] + self.hi[0])) / half
         return float(np.max(np.abs(0.5 * (x - self.half) if self.half else x)))
 
-    def drawn(self, edge: str) -> float:
+    def drawn(self, edge: str, at: float = 0.5) -> float:
         """:meth:`outer` as seen from the panel's outside: a panel drawn clockwise is drawn
         as seen from inside (GarmentCode's backs, seen from the front), mirrored."""
-        return self.outer(edge) * (1.0 if self.panel.outline.signed_area() > 0 else -1.0)
+        return self.outer(edge, at) * (1.0 if self.panel.outline.signed_area() > 0 else -1.0)
 
-    def side_of(self, edge: str) -> float:
-        """Where ``edge`` lies across this panel alone: -1 at its left side, +1 at its right."""
+    def side_of(self, edge: str, at: float = 0.5) -> float:
+        """Where ``edge`` (its point at arc-length fraction ``at``) lies across this panel
+        alone: -1 at its left side, +1 at its right."""
         half = max(0.5 * self.size[0], 1e-9)
-        return float((self.mid(edge)[0] - 0.5 * (self.lo[0] + self.hi[0])) / half)
+        x = self.edges[edge].point_at([at])[0] @ self.turn.T
+        return float((x[0] - 0.5 * (self.lo[0] + self.hi[0])) / half)
 
     def across(self, edge: str) -> bool:
         """Whether ``edge`` runs more across the panel than up it (a shoulder, a waist)."""
@@ -451,7 +454,7 @@ def _sides(pattern, shapes, links, kinds, prefix) -> dict[str, str]:
         if kinds[n] == "sleeve" and any(o == n for _, o, _ in links[n]):
             sides[n] = "outer"  # a tube: centred on the top of the arm
         elif kinds[n] == "hood" and not by_name:
-            sides[n] = _hand(pattern, p, shapes, links, kinds, prefix, {})  # hood halves
+            sides[n] = "left"  # a hood's half: its hand, once the necklines' sides are known
         elif by_name:
             sides[n] = by_name
         elif t is not None and abs(t[2]) > 1e-3:
@@ -493,7 +496,32 @@ def _sides(pattern, shapes, links, kinds, prefix) -> dict[str, str]:
             bodices = [n for n in todo if kinds[n] == "bodice"]
             first = max(bodices, key=lambda n: shapes[n].top_dip()) if bodices else todo[0]
             sides[first] = "front"
+    # a hood's half is on the hand of the neckline it is sewn to, which needs that
+    # neckline's side: read before it was known, a half sewn to the back's neckline was
+    # taken for the front's and the hood went on backwards, twisted across the chest
+    for p in pattern.panels:
+        if kinds[p.name] == "hood" and not _side_from_name(p.name, prefix[p.name]):
+            sides[p.name] = _hood_hand(pattern, p.name, shapes, kinds, sides)
     return sides
+
+
+def _hood_hand(pattern, name: str, shapes, kinds, sides) -> str:
+    """``"left"`` or ``"right"``: the hand of a hood's half, from where along the necklines
+    its seams lie (a half is sewn to half of the front's neckline and half of the back's;
+    each neckline edge is centred, so the edge as a whole says nothing), each seam weighted
+    by its length."""
+    left = 0.0
+    for seam in pattern.seams:
+        for mine, other in ((seam.a, seam.b), (seam.b, seam.a)):
+            if mine.panel != name or other.panel == name \
+                    or kinds[other.panel] not in ("bodice", "skirt"):
+                continue
+            shape = shapes[other.panel]
+            front = sides.get(other.panel) != "back"
+            x = shape.drawn(other.edge, 0.5 * (other.start + other.end))
+            length = shape.edges[other.edge].length * abs(other.end - other.start)
+            left += length if (x > 0) == front else -length
+    return "left" if left >= 0 else "right"
 
 
 def _hand(pattern, panel, shapes, links, kinds, prefix, sides) -> str:
