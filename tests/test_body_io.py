@@ -84,6 +84,26 @@ def test_a_scan_with_denser_legs_is_read_the_right_way_up(body):
     assert back.height == pytest.approx(body.height, abs=1e-4)
 
 
+def test_a_body_with_another_object_is_refused_and_specks_are_left_out(body):
+    """A slab under the feet was measured as part of the body (2 cm taller), a chair beside
+    it broke the landmarks ("cannot follow the left leg"): a second piece of any size is
+    named; loose specks (a character's eyes, a scan's debris) are left out."""
+    chair = trimesh.creation.box((0.5, 0.45, 0.5))
+    chair.apply_translation((0.8, 0.225, 0.0))
+    slab = trimesh.creation.box((1.2, 0.02, 1.2))
+    slab.apply_translation((0.0, -0.011, 0.0))
+    for other in (chair, slab):
+        both = trimesh.util.concatenate([body.to_trimesh(), other])
+        with pytest.raises(BodyMeshError, match="2 separate objects, not one body"):
+            body_from_arrays(both.vertices, both.faces, units="m")
+    speck = trimesh.creation.icosphere(subdivisions=1, radius=0.01)
+    speck.apply_translation((0.0, 1.5, 0.05))
+    with_speck = trimesh.util.concatenate([body.to_trimesh(), speck])
+    back = body_from_arrays(with_speck.vertices, with_speck.faces, units="m")
+    assert back.height == pytest.approx(body.height, abs=1e-6)
+    assert len(back.faces) == len(body.faces)
+
+
 def test_small_hole_is_filled(body):
     back = body_from_arrays(body.vertices, body.faces[1:], up="y")
     assert back.to_trimesh().is_watertight

@@ -50,6 +50,9 @@ _AXES = {"x": 0, "y": 1, "z": 2}
 _HEADING_TOLERANCE = 2.0
 #: a body whose box is centred farther than this from the Y axis is moved onto it [m]
 _NEAR_AXIS = 0.5
+#: separate pieces of a body mesh with less than this share of the largest one's area are
+#: left out (a scan's specks, a character's eyes); a larger one is refused [-]
+_DEBRIS = 0.01
 #: the feet (up to this share of the height) and the shins above them (between these
 #: shares): the toes reach 18-21 cm forward of the shins' middle and the heels 5-7 cm back
 _FEET, _SHINS = 0.025, (0.06, 0.09)
@@ -124,6 +127,32 @@ def _heading(vertices, faces) -> float | None:
         return None
     forward *= np.sign(toes)
     return float(np.degrees(np.arctan2(forward[0], forward[1])))
+
+
+def _the_body_alone(vertices, faces, file) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh's largest connected piece (by area, its copies of a vertex merged), without
+    pieces of under :data:`_DEBRIS` of its area (a scan's loose specks, a character's eyes);
+    a larger second piece (a floor, a chair, a second body) is a :class:`BodyMeshError`
+    naming ``file``: it was measured as part of the body (a slab under the feet made the
+    body 2 cm taller) or broke the landmarks with a message about a leg or an arm."""
+    tm = trimesh.Trimesh(vertices, faces, process=True)
+    tm.update_faces(tm.nondegenerate_faces())
+    if len(tm.faces) == 0:
+        return vertices, faces
+    label = trimesh.graph.connected_component_labels(tm.face_adjacency, len(tm.faces))
+    area = np.bincount(label, weights=tm.area_faces)
+    if len(area) == 1:
+        return vertices, faces
+    order = np.argsort(area)[::-1]
+    if area[order[1]] >= _DEBRIS * area[order[0]]:
+        size = np.ptp(tm.vertices[np.unique(tm.faces[label == order[1]])], axis=0)
+        raise BodyMeshError(
+            f"{int((area >= _DEBRIS * area[order[0]]).sum())} separate objects, not one body: "
+            f"besides the largest, one {' x '.join(f'{x:.3g}' for x in size)} m "
+            f"({area[order[1]] / area[order[0]] * 100:.0f}% of its surface; a floor, a chair "
+            "or another body?); keep the body alone", file=file, place="faces")
+    kept = tm.faces[label == order[0]]
+    return np.asarray(tm.vertices, np.float64), np.asarray(kept, np.int64)
 
 
 def _consistent_winding(faces) -> np.ndarray:
@@ -276,6 +305,7 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
                             f" outside {HEIGHT_RANGE[0]}-{HEIGHT_RANGE[1]} m", file=file,
                             place="units")
     v = v * scale
+    v, f = _the_body_alone(v, f, file)
 
     tm = trimesh.Trimesh(v, f, process=True)  # merges the copies of split vertices (STL)
     tm.update_faces(tm.unique_faces() & tm.nondegenerate_faces())
@@ -291,7 +321,8 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
         edges = trimesh.grouping.group_rows(tm.edges_sorted, require_count=2)
         bad = len(tm.edges_sorted) - 2 * len(edges)
         raise BodyMeshError(f"not a closed surface: {bad} edges are open or shared by more "
-                            "than two triangles, beyond hole filling; close the mesh first",
+                            f"than two triangles, beyond hole filling (holes of up to "
+                            f"{_MAX_HOLE_EDGES} edges are filled); close the mesh first",
                             file=file)
     if not tm.is_winding_consistent:
         raise BodyMeshError("the surface has no consistent outside (non-orientable)",
