@@ -379,3 +379,21 @@ def test_strongly_flared_gores_drape_with_every_check_passing():
     over from L-BFGS by half the iterations (``SolverSettings.newton_after``: the creeping
     hem kept L-BFGS from ever handing over, 5,000 iterations at a residual of 1-10)."""
     drape_checked(gored_skirt(4, 0.10, 0.70, 0.9), "female_average", 1500)
+
+
+@pytest.mark.parametrize("garment", ["shirt", "skirt"])
+def test_a_stated_anchor_its_panels_deny_is_said(garment):
+    """A tank top stated as hung from the waist was worn as a skirt and passed; the stated
+    anchor is followed, with a warning naming what the panels say."""
+    body = load_body("female_average")
+    pattern = build(garment, "M")
+    mesh = mesh_pattern(pattern, triangles=400)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlacementWarning)  # the built-in: no warning
+        place_on_body(pattern, mesh, body)
+    other = "waist" if pattern.anchor == "neck" else "neck"
+    stated = replace(pattern, meta={**pattern.meta, "anchor": other})
+    with pytest.warns(PlacementWarning, match=f"hung from the {other}, as meta.anchor says, "
+                                              f"though its panels read as hung from the "
+                                              f"{pattern.anchor}"):
+        place_on_body(stated, mesh, body)

@@ -24,7 +24,7 @@ from ..arguments import array, number
 from ..geometry import rotation_between
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
-from ..pattern.roles import panel_roles
+from ..pattern.roles import garment_anchor, panel_roles
 from .panel_frames import PlacementWarning, implausible_placements, upright_frames
 from .side_rows import Fan, Row, side_rows
 
@@ -334,6 +334,15 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             f"{len(pattern.panels)} panels: {'; '.join(bad)}): every panel is placed by "
             "patternfit instead"), stacklevel=2)
     roles = panel_roles(pattern)
+    read = garment_anchor(pattern, roles)
+    if read != pattern.anchor:
+        # a tank top stated as hung from the waist was worn as a skirt and passed
+        warnings.warn(PlacementWarning(
+            f"placed hung from the {pattern.anchor}, as meta.anchor says, though its panels "
+            f"read as hung from the {read} ("
+            + ("a sleeve, collar, hood or shoulder seams" if read == "neck"
+               else "no sleeve, collar, hood or shoulder seams")
+            + "): check meta.anchor"), stacklevel=2)
     flat = upright_frames(pattern, mesh, roles)
     lm = body.landmarks
     dy = _vertical_offset(pattern, flat, mesh, roles, body)
