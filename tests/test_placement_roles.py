@@ -397,3 +397,34 @@ def test_a_stated_anchor_its_panels_deny_is_said(garment):
                                               f"though its panels read as hung from the "
                                               f"{pattern.anchor}"):
         place_on_body(stated, mesh, body)
+
+
+@pytest.mark.parametrize("name", ["skirt", "piece1"])
+def test_a_skirt_in_one_piece_goes_round_the_body(name):
+    """A one-piece skirt, 95 x 50 cm sewn up its back: unnamed it was read as a leg 0.95 m
+    long (the tube's width taken for its length) and fell off the left leg; named, it was
+    rolled over the front alone and its sewing dragged both sides 0.93 m round the back
+    (its top rose to the bust, or it fell through the floor). A tube at least
+    ``TORSO_TUBE`` round goes round the body, its sides meeting behind."""
+    from patternfit.pattern import Edge, Loop, Panel, Pattern, Seam, SeamSide
+
+    w, h = 0.95, 0.50
+    pts = [(0, 0), (w, 0), (w, h), (0, h)]
+    names = ("hem", "right", "waist", "left")
+    panel = Panel(name, Loop("outline", tuple(Edge.line(n, pts[k], pts[(k + 1) % 4])
+                                              for k, n in enumerate(names))))
+    tube = Pattern("tube", (panel,), (Seam("back", SeamSide(name, "right"),
+                                           SeamSide(name, "left"), reverse=True),))
+    role = panel_roles(tube)[name]
+    assert (role.kind, role.part, role.tube) == ("skirt", "torso", True), role
+    assert tube.anchor == "waist"
+    body = load_body("female_average")
+    mesh = mesh_pattern(tube, triangles=400)
+    x = place_on_body(tube, mesh, body)
+    centre = np.asarray(body.landmarks["torso_axis"])[:, [0, 2]].mean(axis=0)
+    angle = np.degrees(np.arctan2(x[:, 0] - centre[0], x[:, 2] - centre[1]))
+    assert angle.min() < -120 and angle.max() > 120  # round to the back both ways
+    left, right = (mesh.boundary_vertices[mesh.boundary_edge == mesh.edge_names.index(
+        (name, side))] for side in ("left", "right"))
+    gap = np.linalg.norm(x[left].mean(axis=0) - x[right].mean(axis=0))
+    assert gap < 0.35, gap  # the seam's sides start behind, the ring's rest apart

@@ -42,6 +42,10 @@ import numpy as np
 BAND_ASPECT = 4.0
 #: a tube or crotch-sewn panel at least this long [m] is a leg, else a sleeve
 LEG_LENGTH = 0.60
+#: a tube at least this far round [m] (between its sewn sides) goes round the body, a skirt
+#: in one piece sewn up its back; a limb is narrower (a heavy thigh 0.7 m; a one-piece
+#: skirt 0.95 m round was read as a leg 0.95 m long and fell off the left leg)
+TORSO_TUBE = 0.8
 #: a sleeve has less than this share of the area of the panel it is sewn into [-] (a shirt's
 #: sleeve 0.6 of its front; a skirt's front and back are alike)
 SLEEVE_AREA = 0.8
@@ -80,13 +84,16 @@ class PanelRole:
     faces (``front``, ``back``, ``outer`` for a one-piece sleeve centred on the top of the
     arm; ``left`` or ``right`` for a hood's halves) and ``why``: the evidence, in words;
     ``side_named``: the side is the one the panel's name says (FRONT, BK...), not one read
-    from its placement or inferred from its seams."""
+    from its placement or inferred from its seams; ``tube``: it is sewn to itself along two
+    long edges."""
 
     kind: str
     part: str
     side: str
     why: str
     side_named: bool = False
+    #: sewn to itself along two long edges: a sleeve, a leg, or a skirt in one piece
+    tube: bool = False
 
 
 def _words(name: str) -> list[str]:
@@ -259,8 +266,15 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
     open_ = [p.name for p in pattern.panels if kinds[p.name] is None]
     for n in open_:
         sh = shapes[n]
-        if any(other == n and min(sh.edges[e].length, sh.edges[oe].length) >= 0.5 * sh.length
-               for e, other, oe in links[n]):
+        seam = _tube_seam(n, shapes, links)
+        if seam is None:
+            continue
+        girth = float(np.linalg.norm(sh.mid(seam[0]) - sh.mid(seam[1])))
+        if girth >= TORSO_TUBE:
+            kinds[n] = "skirt"
+            why[n] = f"sewn to itself along two long edges, {girth:.2f} m apart: a tube round " \
+                     "the body"
+        else:
             kinds[n] = "leg" if sh.length >= LEG_LENGTH + 0.2 else "sleeve"
             why[n] = "sewn to itself along two long edges (a tube)"
     for n in open_:
@@ -314,6 +328,16 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
             kinds[n] = "bodice" if shoulders else "skirt"
             why[n] = "sewn at its top to another panel's top (shoulders)" if shoulders \
                 else ("sewn below a bodice" if sewn_up else "a body panel without shoulders")
+
+
+def _tube_seam(n: str, shapes, links) -> tuple[str, str] | None:
+    """The two edges along which panel ``n`` is sewn to itself into a tube (each at least
+    half the panel's length), or None."""
+    sh = shapes[n]
+    for e, other, oe in links[n]:
+        if other == n and min(sh.edges[e].length, sh.edges[oe].length) >= 0.5 * sh.length:
+            return e, oe
+    return None
 
 
 def _shoulders(n: str, shapes, links) -> bool:
@@ -438,7 +462,8 @@ def panel_roles(pattern) -> dict[str, PanelRole]:
             part = "torso"
         out[p.name] = PanelRole(kind, part, sides[p.name], why[p.name],
                                 side_named=sides[p.name] == _side_from_name(p.name,
-                                                                            prefix[p.name]))
+                                                                            prefix[p.name]),
+                                tube=_tube_seam(p.name, shapes, links) is not None)
     return out
 
 

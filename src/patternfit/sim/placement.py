@@ -204,22 +204,26 @@ def _torso_extent(body, y0: float, y1: float, centre) -> tuple[float, float, flo
 
 
 def _place_torso(side: str, uv, body, centre, dy, clearance, width_limit,
-                 arm_gap, row: Row | None = None) -> np.ndarray:
+                 arm_gap, row: Row | None = None, *, tube: bool = False) -> np.ndarray:
     """A torso panel: rolled on an ellipse clear of the body, centred on its ``side``
     (front, back, or the body's left / right for a hood's halves), or, one of a ``row``
     of panels sewn side by side, moved across by its shift on the ring the whole row's
-    reach either side needs; on a winged profile when too wide to wrap."""
+    reach either side needs; on a winged profile when too wide to wrap. A ``tube`` (sewn
+    to itself along its sides) goes all the way round, its sides meeting behind: held to
+    half the ring, a one-piece skirt was rolled over the front alone and its sewing dragged
+    both sides 0.93 m round the back (its top rose to the bust, or it fell)."""
     y0, y1 = uv[:, 1].min() + dy, uv[:, 1].max() + dy
     hw, front, back = _torso_extent(body, y0, y1, centre)
     depth = max(front, back)
     ring = Ellipse(hw + clearance, depth + clearance, centre)
+    row = None if tube else row
     width = float(np.ptp(uv[:, 0])) if row is None else 2.0 * row.reach
-    grow = width / (0.5 * ring.perimeter * 0.97)
+    grow = width / ((1.0 if tube else 0.5) * ring.perimeter * 0.97)
     if row is None:
         uv = _centred(uv)
     else:
         uv = uv + [row.shift, 0.0]
-    if grow <= width_limit:
+    if tube or grow <= width_limit:
         if grow > 1:
             ring = Ellipse(ring.a * grow, ring.b * grow, centre)
         theta = {"front": 0.0, "left": 0.5 * math.pi, "back": math.pi}.get(side, 1.5 * math.pi)
@@ -366,7 +370,7 @@ def place_on_body(pattern: Pattern, mesh: GarmentMesh, body, *, clearance: float
             x[ids] = _place_fan(rows[pi], pi, uv, role.side, body, torso, dy, clearance)
         else:
             x[ids] = _place_torso(role.side, uv, body, torso, dy, clearance, width_limit,
-                                  arm_gap, rows.get(pi))
+                                  arm_gap, rows.get(pi), tube=role.tube)
     for part, panels in legs.items():
         side = part.split("_")[1]
         top, bottom = np.asarray(lm[f"leg_axis_{side}"])
