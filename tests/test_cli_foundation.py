@@ -251,25 +251,32 @@ def test_a_saved_state_moved_since_its_drape_is_not_said_to_be_at_rest(tmp_path)
     "equilibrium: true" (a drape from there moved 20.6 mm over 981 iterations). The contact
     state holds the digest of the positions it was saved with; other positions are of a
     state whose rest is not known."""
-    from patternfit.mesh.store import load_contact, save_garment, saved_rest
+    from patternfit.mesh.store import (MESH_DIGEST, POSITIONS_DIGEST, load_contact,
+                                       mesh_digest, positions_digest, save_garment,
+                                       saved_rest)
     from patternfit.mesh.triangulate import mesh_pattern
     from patternfit.pattern.library import build
 
     skirt = build("skirt", "M")
     mesh = mesh_pattern(skirt, triangles=300)
     x = np.c_[mesh.vertices, np.ones(mesh.n_vertices)]
-    save_garment(tmp_path / "g", skirt, mesh, x, contact={"at_rest": np.asarray(True)})
+    of = {POSITIONS_DIGEST: np.asarray(positions_digest(x)),
+          MESH_DIGEST: np.asarray(mesh_digest(mesh))}
+    save_garment(tmp_path / "g", skirt, mesh, x, contact={"at_rest": np.asarray(True), **of})
     contact = load_contact(tmp_path / "g")
     assert saved_rest(contact, x, mesh=mesh) == (True, None)
     assert saved_rest(contact, x + [0.0, 0.03, 0.0]) == (
         None, "contact.npz was saved for other positions (moved since)")
+    # one that does not say what it is a state of (an older file) is not trusted either: an
+    # edited pattern's and another body's read at rest through it
+    assert saved_rest({"at_rest": np.asarray(True)}, x)[0] is None
     np.save(tmp_path / "g" / "positions.npy", x + [0.0, 0.03, 0.0])  # moved by hand
     res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
                               str(tmp_path / "a"), "--json", "--no-pictures"])
     assert json.loads(res.stdout)["checks"]["equilibrium"] is None, res.output
     # a flag that is not one true or false is refused, not read as true ("False" is truthy)
     for flag in (np.asarray("False"), np.asarray(np.nan), np.asarray([True, False])):
-        save_garment(tmp_path / "g", skirt, mesh, x, contact={"at_rest": flag})
+        save_garment(tmp_path / "g", skirt, mesh, x, contact={"at_rest": flag, **of})
         res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
                                   str(tmp_path / "b"), "--no-pictures"])
         assert res.exit_code == 2 and "contact.npz: array 'at_rest'" in res.output, res.output
@@ -282,7 +289,7 @@ def test_a_saved_state_moved_since_its_drape_is_not_said_to_be_at_rest(tmp_path)
                         ("residual_p99", np.asarray(np.nan))):
         other = {"residual_rms": np.asarray(0.001), "residual_p99": np.asarray(0.01)}
         save_garment(tmp_path / "g", skirt, mesh, x,
-                     contact={**other, "at_rest": ok, name: value})
+                     contact={**other, **of, "at_rest": ok, name: value})
         res = runner.invoke(app, ["fit", "--garment", str(tmp_path / "g"), "--out",
                                   str(tmp_path / "b"), "--no-pictures"])
         assert res.exit_code == 2 and f"contact.npz: array '{name}'" in res.output, res.output

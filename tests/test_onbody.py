@@ -2,6 +2,7 @@
 fit (report, CLI, pictures' titles, correction loop, studio), and a drape started from a
 saved one (``--start``)."""
 
+import json
 import warnings
 from dataclasses import replace
 
@@ -12,7 +13,7 @@ from typer.testing import CliRunner
 from patternfit import api
 from patternfit.body.builtin import load_body
 from patternfit.cli.main import app
-from patternfit.errors import InputError
+from patternfit.errors import GarmentFileError, InputError
 from patternfit.fit import FitEvaluator
 from patternfit.fit.report import failure, fit_report
 from patternfit.loop.correct import correct, refusal
@@ -185,13 +186,14 @@ def test_a_saved_rest_is_a_rest_only_for_its_own_mesh_body_and_fabric(skirt, tmp
 
     pattern, mesh, body, d = skirt
     folder = save_garment(tmp_path / "rest", pattern, mesh, d.positions,
-                          contact=d.saved_contact())
+                          contact=d.saved_contact(mesh))
     rest = api.evaluate_saved(folder, body=BODY)
     assert rest.checks["equilibrium"] is True and rest.passed
     assert rest.fabric == d.solver.model.fabric
     # judged in the fabric the contact state says it was draped in, not the default
     knit = save_garment(tmp_path / "knit", pattern, mesh, d.positions, contact={
-        **d.saved_contact(), **saved_provenance(body, get_fabric("jersey_knit"))})
+        **d.saved_contact(mesh),
+        **saved_provenance(d.positions, mesh, body, get_fabric("jersey_knit"))})
     assert api.evaluate_saved(knit, body=BODY).fabric.name == "jersey_knit"
     assert rest.checks["residual_rms"] == d.checks.residual_rms
     assert rest.checks["residual_p99"] == d.checks.residual_p99
@@ -212,14 +214,35 @@ def test_a_saved_rest_is_a_rest_only_for_its_own_mesh_body_and_fabric(skirt, tmp
     assert after.checks["rebuilt_residual_p99"] > REBUILT_P99
     # a state its drape saved before rest, read back and written again, stays not at rest
     save_garment(tmp_path / "early", pattern, mesh, d.positions,
-                 contact={**d.saved_contact(), "at_rest": np.asarray(False)})
+                 contact={**d.saved_contact(mesh), "at_rest": np.asarray(False)})
     once = api.evaluate_saved(tmp_path / "early", body=BODY)
     once.write(tmp_path / "fit1", pictures=False)
     assert (tmp_path / "fit1" / "garment" / CONTACT).is_file()
     assert load_contact(tmp_path / "fit1" / "garment")["body_sha256"] \
-        == d.saved_contact()["body_sha256"]
+        == d.saved_contact(mesh)["body_sha256"]
     twice = api.evaluate_saved(tmp_path / "fit1", body=BODY)
     assert not once.passed and not twice.passed and twice.checks["equilibrium"] is False
+    # a file without the digests (an older one) is no rest of this pattern, and written
+    # again it is not stamped with digests nobody checked (an edited pattern passed so)
+    old = {k: v for k, v in d.saved_contact(mesh).items() if not k.endswith("_sha256")}
+    save_garment(tmp_path / "old", edited, moved, d.positions, contact=old)
+    read = api.evaluate_saved(tmp_path / "old", body=BODY)
+    assert read.checks["equilibrium"] is not True and not read.passed
+    assert "does not say what it is a rest of" in " ".join(
+        [read.checks["equilibrium_unknown"] or ""] + read.checks["reasons"])
+    read.write(tmp_path / "fit2", pictures=False)
+    assert not any(k.endswith("_sha256") for k in load_contact(tmp_path / "fit2" / "garment"))
+    # saved "at rest" by a looser rule (rms 0.30), or so edited: not a rest
+    loose = {**d.saved_contact(mesh), "residual_rms": np.asarray(0.304)}
+    save_garment(tmp_path / "loose", pattern, mesh, d.positions, contact=loose)
+    assert api.evaluate_saved(tmp_path / "loose", body=BODY).checks["equilibrium"] is False
+    # a fabric edited by hand under its old digest is refused, not used under the old name
+    heavy = json.loads(str(d.saved_contact(mesh)["fabric_json"]))
+    heavy["density"] *= 3
+    save_garment(tmp_path / "heavy", pattern, mesh, d.positions, contact={
+        **d.saved_contact(mesh), "fabric_json": np.asarray(json.dumps(heavy))})
+    with pytest.raises(GarmentFileError, match="fabric_json"):
+        api.evaluate_saved(tmp_path / "heavy", body=BODY)
 
 
 def test_slid_a_little_still_on_the_body(skirt):
@@ -349,7 +372,7 @@ def test_a_start_draped_on_another_body_is_said(skirt, tmp_path):
     placement): it is drawn, with a warning."""
     pattern, mesh, body, d = skirt
     folder = save_garment(tmp_path / "g", pattern, mesh, d.positions,
-                          contact=d.saved_contact())
+                          contact=d.saved_contact(mesh))
     quick = SolverSettings(max_iterations=2)
     with pytest.warns(api.StartWarning, match="another body than female_average"):
         api.drape_and_evaluate(pattern, "female_average", "cotton", start=folder,

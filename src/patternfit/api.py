@@ -31,7 +31,7 @@ from .body.builtin import list_body_sets
 from .body.anny import anny_body_from_girths
 from .arguments import array, instance, number
 from .arguments import path as path_arg, source as source_arg
-from .constants import UNITS
+from .constants import UNITS, tol
 from .defaults import DEFAULTS, Defaults
 from .errors import GarmentFileError, InputError
 from .fit.measures import GIRTHS, FitMeasures, fit_measures
@@ -572,7 +572,7 @@ class FitOutcome:
                                  state=self.state, body=body, pictures=pictures, extra=extra,
                                  progress=progress, measures=self.measures,
                                  contact=self.contact if self.drape is None
-                                 else self.drape.saved_contact())
+                                 else self.drape.saved_contact(self.mesh))
 
 
 def _measures(d: Drape, mesh: GarmentMesh, body: Body, fabric: Fabric) -> FitMeasures:
@@ -840,8 +840,11 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
         else saved_fabric(contact, file=file) or read_fabric(DEFAULTS.fabric)
     at_rest, unknown = saved_rest(contact, x, mesh=m, file=file,
                                   draped_for=draped_for(b, fab if b is not None else None))
-    rest = {"at_rest": at_rest, "unknown": unknown,
-            "residual": None if at_rest is None else saved_residual(contact, file=file)}
+    residual = None if at_rest is None else saved_residual(contact, file=file)
+    if at_rest and residual is not None \
+            and (residual[0] > tol.rest_rms or residual[1] > tol.rest_p99):
+        at_rest = False  # saved "at rest" by a looser rule (rms 0.30): not a rest
+    rest = {"at_rest": at_rest, "unknown": unknown, "residual": residual}
     if b is None:
         return FitOutcome(pat, m, None, None, x, fit, state="saved",
                           extra={"checks": unchecked_state(**rest)}, contact=contact)

@@ -242,7 +242,7 @@ class DesignSession:
             result = drape(st.pattern, st.mesh, self.body, self.fabric, progress=progress)
         self._drape = _finished(result)
         st.positions, st.start_rest = result.positions, None
-        st.contact = result.saved_contact()
+        st.contact = result.saved_contact(st.mesh)
         st.fitting_ratio = FitEvaluator(st.mesh).metrics(result.positions)[1]
         st.checks = result.report_extra()["checks"]  # solver and on-body checks, reasons
         return result

@@ -52,8 +52,9 @@ def _positions_bytes(positions, mesh: GarmentMesh) -> bytes:
 def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None, *,
                  contact: dict[str, np.ndarray] | None = None) -> Path:
     """Write the pattern, its mesh and optionally a 3D state (n, 3) [m] into ``folder``, as
-    one step; ``contact`` (named arrays: a drape's contact state at ``positions``) goes with
-    that state. An older ``positions.npy`` or ``contact.npz`` that is not replaced is removed
+    one step; ``contact`` (named arrays: a drape's contact state at ``positions``, with the
+    digests of what it is a state of, ``Drape.saved_contact(mesh)``) goes with that state,
+    as it is. An older ``positions.npy`` or ``contact.npz`` that is not replaced is removed
     (it belongs to the old mesh or state).
 
     A ``mesh`` that is not a mesh of ``pattern`` (:func:`foreign_mesh`) is refused with a
@@ -71,10 +72,6 @@ def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None, *,
     if positions is not None:
         files[folder / POSITIONS] = _positions_bytes(positions, mesh)
     if positions is not None and contact is not None:
-        # a contact state read back keeps the digests of the drape that made it: a state
-        # whose pattern was edited since is not at rest again by being written anew
-        contact = {POSITIONS_DIGEST: np.array(positions_digest(positions)),
-                   MESH_DIGEST: np.array(mesh_digest(mesh)), **contact}
         buf = io.BytesIO()
         np.savez_compressed(buf, **{k: np.asarray(v) for k, v in contact.items()})
         files[folder / CONTACT] = buf.getvalue()
@@ -130,8 +127,9 @@ def saved_rest(contact: dict[str, np.ndarray] | None, positions, *, mesh=None,
     other than those it was saved with (a state moved since read "at rest" and needed 981
     iterations to get back there), another mesh (a pattern edited in place), or a digest in
     ``draped_for`` (name -> (digest, "another body"), e.g. the body and fabric:
-    :func:`patternfit.sim.provenance.draped_for`) other than the saved one. A flag that is
-    not one true or false (a string "False", NaN, several values) is a
+    :func:`patternfit.sim.provenance.draped_for`) other than the saved one; a rest whose
+    file does not hold one of those digests (an older file) is not known either, while its
+    "not at rest" stands. A flag that is not one true or false (a string "False", NaN, several values) is a
     :class:`~patternfit.errors.GarmentFileError` naming ``file`` and the array."""
     if contact is None or "at_rest" not in contact:
         return None, f"no {CONTACT} of these positions"
@@ -146,6 +144,10 @@ def saved_rest(contact: dict[str, np.ndarray] | None, positions, *, mesh=None,
     if flag.dtype.kind != "b" or flag.size != 1:
         raise GarmentFileError(f"expected one true or false, got {flag.dtype} {flag.shape}",
                                file=file, place="array 'at_rest'")
+    missing = [name for name in wanted if name not in contact]
+    if flag.item() and missing:
+        # an older file: an edited pattern's state and another body's read as its rest
+        return None, f"{CONTACT} does not say what it is a rest of ({', '.join(missing)})"
     return bool(flag.item()), None
 
 

@@ -92,12 +92,13 @@ class Drape:
         self.onbody = on_body_checks(pattern, mesh, body, self.positions)
         return self.onbody
 
-    def saved_contact(self) -> dict[str, np.ndarray] | None:
+    def saved_contact(self, mesh: GarmentMesh | None = None) -> dict[str, np.ndarray] | None:
         """The contact state at :attr:`positions` to save beside them
-        (:meth:`ContactState.saved_arrays`, ``save_garment(contact=...)``), with the body and
-        fabric it was draped on and in (:func:`provenance.saved_provenance`) and the
-        residual's rms and p99 when known, or None when the solver did not end at them
-        (another engine's drape)."""
+        (:meth:`ContactState.saved_arrays`, ``save_garment(contact=...)``), with what it is
+        a state of (:func:`provenance.saved_provenance`: the positions', the drape's
+        ``mesh``'s, the body's and the fabric's digests, the fabric) and the residual's rms
+        and p99 when known, or None when the solver did not end at them (another engine's
+        drape)."""
         held = self.solver.state.x
         if held is None or held.shape != self.positions.shape \
                 or not np.array_equal(held, self.positions):
@@ -106,7 +107,7 @@ class Drape:
         residual = {} if c.residual_rms is None else {
             "residual_rms": np.asarray(c.residual_rms), "residual_p99": np.asarray(c.residual_p99)}
         return {**self.solver.state.saved_arrays(), **residual,
-                **saved_provenance(self.body, self.solver.model.fabric)}
+                **saved_provenance(self.positions, mesh, self.body, self.solver.model.fabric)}
 
     @property
     def reasons(self) -> list[str]:

@@ -12,7 +12,7 @@ from dataclasses import asdict
 import numpy as np
 
 from ..errors import FabricError, GarmentFileError
-from ..mesh.store import digest
+from ..mesh.store import MESH_DIGEST, POSITIONS_DIGEST, digest, mesh_digest, positions_digest
 from .fabrics import Fabric
 
 #: the arrays of ``contact.npz`` that hold the body's and the fabric's digests ...
@@ -35,11 +35,17 @@ def fabric_digest(fabric: Fabric) -> str:
     return digest(np.array([float(values[k]) for k in sorted(values)]))
 
 
-def saved_provenance(body, fabric: Fabric) -> dict[str, np.ndarray]:
-    """The arrays a drape on ``body`` (None: not known) in ``fabric`` adds to its saved
-    contact state."""
-    out = {FABRIC_DIGEST: np.array(fabric_digest(fabric)),
+def saved_provenance(positions, mesh, body, fabric: Fabric) -> dict[str, np.ndarray]:
+    """The arrays a drape ending at ``positions`` (n, 3) [m] of ``mesh`` on ``body`` in
+    ``fabric`` adds to its saved contact state: their digests (``mesh`` and ``body`` None:
+    not known, left out) and the fabric. Only a drape writes them: a contact state read back
+    and written again keeps its own (stamped anew, one without them passed as a rest of an
+    edited pattern)."""
+    out = {POSITIONS_DIGEST: np.array(positions_digest(positions)),
+           FABRIC_DIGEST: np.array(fabric_digest(fabric)),
            FABRIC_JSON: np.array(json.dumps(fabric.to_dict()))}
+    if mesh is not None:
+        out[MESH_DIGEST] = np.array(mesh_digest(mesh))
     if body is not None:
         out[BODY_DIGEST] = np.array(body_digest(body))
     return out
@@ -81,12 +87,18 @@ def saved_fabric(contact: dict[str, np.ndarray] | None, *, file=None) -> Fabric 
         values = json.loads(str(a.item()))
         if not isinstance(values, dict):
             raise ValueError("not an object")
-        return Fabric(**values)
+        fabric = Fabric(**values)
     except FabricError as exc:
         raise GarmentFileError(f"not a valid fabric: {exc}", file=file, place=place) from None
     except (ValueError, TypeError) as exc:
         raise GarmentFileError(f"not a fabric in JSON: {exc}", file=file, place=place) \
             from None
+    if FABRIC_DIGEST in contact and str(np.asarray(contact[FABRIC_DIGEST])) \
+            != fabric_digest(fabric):
+        # one edited by hand (3 times heavier) was used while the report named the old one
+        raise GarmentFileError(f"not the fabric of the digest '{FABRIC_DIGEST}' beside it "
+                               "(edited since it was saved?)", file=file, place=place)
+    return fabric
 
 
 def saved_residual(contact: dict[str, np.ndarray] | None, *,

@@ -336,14 +336,16 @@ def solve(model: ClothModel, state_in: ContactState, x0, *, settings: SolverSett
     state.x = x_out.copy()
     state.friction_on = bool(friction_from is not None and it >= friction_from
                              and not interrupted)
-    state.at_rest = bool(converged and force_rule)
     seconds = time.perf_counter() - t_start
+    checks = drape_checks(model, x_out, settings=s, converged=converged,
+                          residual=residual(model, grad))
+    # the saved state's "at rest" is the checks' equilibrium: with looser settings the
+    # solver's own rule read rms 0.30 as converged, contact.npz said at rest, and fit passed
+    state.at_rest = bool(force_rule and checks.equilibrium)
     result = DrapeResult(
         x=x_out, vertex_map=model.group[model.vertex_map], welded=model.welded,
         iterations=it, seconds=seconds, converged=converged, interrupted=interrupted,
-        stop_reason=reason, energy=float(energy),
-        checks=drape_checks(model, x_out, settings=s, converged=converged,
-                            residual=residual(model, grad)),
+        stop_reason=reason, energy=float(energy), checks=checks,
         factorizations=factors.count)
     return Solved(result, model, state)
 
