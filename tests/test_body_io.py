@@ -96,12 +96,13 @@ def test_a_body_with_another_object_is_refused_and_specks_are_left_out(body):
         both = trimesh.util.concatenate([body.to_trimesh(), other])
         with pytest.raises(BodyMeshError, match="2 separate objects, not one body"):
             body_from_arrays(both.vertices, both.faces, units="m")
-    speck = trimesh.creation.icosphere(subdivisions=1, radius=0.01)
-    speck.apply_translation((0.0, 1.5, 0.05))
-    with_speck = trimesh.util.concatenate([body.to_trimesh(), speck])
-    back = body_from_arrays(with_speck.vertices, with_speck.faces, units="m")
-    assert back.height == pytest.approx(body.height, abs=1e-6)
-    assert len(back.faces) == len(body.faces)
+    for where in ((0.0, 1.5, 0.05), (0.0, 5.0, 3.0)):  # in the head, 5 m off
+        speck = trimesh.creation.icosphere(subdivisions=1, radius=0.01)
+        speck.apply_translation(where)
+        with_speck = trimesh.util.concatenate([body.to_trimesh(), speck])
+        back = body_from_arrays(with_speck.vertices, with_speck.faces)
+        assert back.height == pytest.approx(body.height, abs=1e-6), where
+        assert len(back.faces) == len(body.faces)
 
 
 def test_small_hole_is_filled(body):

@@ -51,8 +51,12 @@ _HEADING_TOLERANCE = 2.0
 #: a body whose box is centred farther than this from the Y axis is moved onto it [m]
 _NEAR_AXIS = 0.5
 #: separate pieces of a body mesh with less than this share of the largest one's area are
-#: left out (a scan's specks, a character's eyes); a larger one is refused [-]
+#: left out (a scan's specks, a character's eyes); a larger one is refused [-] ...
 _DEBRIS = 0.01
+#: ... a piece with this share or more before the unit is guessed from the height (a
+#: chair: 88 %, a floor slab: more than the body), so that it is named rather than read as
+#: part of the body's height [-]
+_OTHER_OBJECT = 0.05
 #: the feet (up to this share of the height) and the shins above them (between these
 #: shares): the toes reach 18-21 cm forward of the shins' middle and the heels 5-7 cm back
 _FEET, _SHINS = 0.025, (0.06, 0.09)
@@ -129,12 +133,16 @@ def _heading(vertices, faces) -> float | None:
     return float(np.degrees(np.arctan2(forward[0], forward[1])))
 
 
-def _the_body_alone(vertices, faces, file) -> tuple[np.ndarray, np.ndarray]:
-    """The mesh's largest connected piece (by area, its copies of a vertex merged), without
-    pieces of under :data:`_DEBRIS` of its area (a scan's loose specks, a character's eyes);
-    a larger second piece (a floor, a chair, a second body) is a :class:`BodyMeshError`
-    naming ``file``: it was measured as part of the body (a slab under the feet made the
-    body 2 cm taller) or broke the landmarks with a message about a leg or an arm."""
+def _the_body_alone(vertices, faces, file, *, refuse: float,
+                    unit: str = "file units") -> tuple[np.ndarray, np.ndarray]:
+    """The mesh's largest connected piece (by area, its copies of a vertex merged) with the
+    pieces of under ``refuse`` of its area, without those under :data:`_DEBRIS` of it (a
+    scan's specks, a character's eyes: 5 m off, one read the body as 5.6 units tall); a
+    larger second piece (a floor, a chair, a second body) is a :class:`BodyMeshError`
+    naming ``file`` and the two largest pieces' sizes (in ``unit``): it was measured as part
+    of the body (a slab under the feet made the body 2 cm taller) or broke the landmarks
+    with a message about a leg or an arm. Read twice: before the unit is guessed from the
+    height, refusing what is as large as a floor or a chair, then for loose pieces."""
     tm = trimesh.Trimesh(vertices, faces, process=True)
     tm.update_faces(tm.nondegenerate_faces())
     if len(tm.faces) == 0:
@@ -144,15 +152,17 @@ def _the_body_alone(vertices, faces, file) -> tuple[np.ndarray, np.ndarray]:
     if len(area) == 1:
         return vertices, faces
     order = np.argsort(area)[::-1]
-    if area[order[1]] >= _DEBRIS * area[order[0]]:
-        size = np.ptp(tm.vertices[np.unique(tm.faces[label == order[1]])], axis=0)
+    if area[order[1]] >= refuse * area[order[0]]:
+        sizes = [" x ".join(f"{x:.3g}" for x in np.ptp(
+            tm.vertices[np.unique(tm.faces[label == k])], axis=0)) for k in order[:2]]
         raise BodyMeshError(
             f"{int((area >= _DEBRIS * area[order[0]]).sum())} separate objects, not one body: "
-            f"besides the largest, one {' x '.join(f'{x:.3g}' for x in size)} m "
-            f"({area[order[1]] / area[order[0]] * 100:.0f}% of its surface; a floor, a chair "
-            "or another body?); keep the body alone", file=file, place="faces")
-    kept = tm.faces[label == order[0]]
-    return np.asarray(tm.vertices, np.float64), np.asarray(kept, np.int64)
+            f"{sizes[0]} and {sizes[1]} {unit} across the two largest (the second "
+            f"{area[order[1]] / area[order[0]] * 100:.0f}% of the first's surface; a floor, a "
+            "chair or another body?); keep the body alone", file=file, place="faces")
+    tm.update_faces(np.isin(label, order[area[order] >= _DEBRIS * area[order[0]]]))
+    tm.remove_unreferenced_vertices()  # a speck's vertices 5 m off set the height
+    return np.asarray(tm.vertices, np.float64), np.asarray(tm.faces, np.int64)
 
 
 def _consistent_winding(faces) -> np.ndarray:
@@ -279,6 +289,8 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
                             "vertices", file=file, place="faces")
     if units is not None and units not in UNITS:
         raise ValueError(f"units: expected one of {', '.join(UNITS)}, got {units!r}")
+    if not guessed:  # before the up axis and the unit are read from the body's extent
+        v, f = _the_body_alone(v, f, file, refuse=_OTHER_OBJECT)
     if up is None:
         guess = _guess_up(v)
         try:
@@ -305,7 +317,7 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
                             f" outside {HEIGHT_RANGE[0]}-{HEIGHT_RANGE[1]} m", file=file,
                             place="units")
     v = v * scale
-    v, f = _the_body_alone(v, f, file)
+    v, f = _the_body_alone(v, f, file, refuse=_DEBRIS, unit="m")
 
     tm = trimesh.Trimesh(v, f, process=True)  # merges the copies of split vertices (STL)
     tm.update_faces(tm.unique_faces() & tm.nondegenerate_faces())
