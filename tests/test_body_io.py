@@ -68,6 +68,22 @@ def test_a_body_facing_another_way_is_turned_to_face_z(body, turn):
         assert back.measurements[name] == pytest.approx(body.measurements[name], abs=1e-3)
 
 
+@pytest.mark.parametrize("turn", [180.0, 37.0, -90.0])
+def test_a_body_without_feet_is_turned_by_its_head(body, turn):
+    """A scan cut at the ankles has no toes to tell its front by: facing -Z it was read as
+    it was and a dress went on back to front, passing. The head is carried forward of the
+    calves (5-9 cm on the built-in bodies)."""
+    v = body.vertices.copy()
+    ankle = v[:, 1].min() + 0.045 * body.height
+    v[:, 1] = np.maximum(v[:, 1], ankle)  # the feet flattened into a stub
+    rot = trimesh.transformations.rotation_matrix(np.radians(turn), (0, 1, 0))[:3, :3]
+    back = body_from_arrays(v @ rot.T, body.faces, units="m")
+    assert back.meta["facing_known"]
+    assert abs((back.meta["turned_deg"] - turn + 180.0) % 360.0 - 180.0) < 1.0, back.meta
+    flat = body_from_arrays(v, body.faces, units="m")
+    assert flat.meta["facing_known"] and "turned_deg" not in flat.meta
+
+
 def test_a_scan_with_denser_legs_is_read_the_right_way_up(body):
     """The up axis was guessed from where most vertices lie: a scan whose legs are meshed
     finer than its torso was read upside down and refused ("cannot find the armpits"). The

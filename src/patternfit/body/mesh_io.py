@@ -61,8 +61,10 @@ _OTHER_OBJECT = 0.05
 #: shares): the toes reach 18-21 cm forward of the shins' middle and the heels 5-7 cm back
 _FEET, _SHINS = 0.025, (0.06, 0.09)
 #: the toes tell front from back only when they reach this much farther forward than the
-#: heels back [m] ...
+#: heels back [m] (without feet, the head's level cut this much forward of the calves') ...
 _TOE_REACH = 0.03
+#: ... the heights of the head's and the calves' cuts, as shares of the height
+_HEAD_CALVES = (0.90, 0.15)
 #: ... and the left-right axis is the body's widest across only when its spread is this
 #: many times the front-back one (A-posed arms: 9 to 13 on the built-in bodies) [-]
 _WIDE = 2.0
@@ -128,9 +130,32 @@ def _heading(vertices, faces) -> float | None:
         return None
     toes = 0.5 * (feet.max() + feet.min()) - shins.mean()
     if abs(toes) < _TOE_REACH:
-        return None
+        # no feet to tell by (a scan cut at the ankles): the head is carried forward of
+        # the calves (5-9 cm on the built-in bodies)
+        head, calves = (_section_centre(tm, share * height, forward) for share in _HEAD_CALVES)
+        if head is None or calves is None or abs(head - calves) < _TOE_REACH:
+            return None
+        toes = head - calves
     forward *= np.sign(toes)
     return float(np.degrees(np.arctan2(forward[0], forward[1])))
+
+
+def _section_centre(tm: trimesh.Trimesh, y: float, forward) -> float | None:
+    """Where the body's level cut at height ``y`` [m] lies along ``forward`` ((x, z) unit):
+    the area-weighted centre of its closed outlines [m], None where it cuts nothing."""
+    section = tm.section(plane_origin=(0.0, y, 0.0), plane_normal=(0.0, 1.0, 0.0))
+    if section is None:
+        return None
+    moment = total = 0.0
+    for ring in section.discrete:  # each outline's own centre (the cut's turn either way)
+        p = ring[:, [0, 2]] @ np.column_stack([forward, [-forward[1], forward[0]]])
+        nxt = np.roll(p, -1, axis=0)
+        cross = p[:, 0] * nxt[:, 1] - nxt[:, 0] * p[:, 1]
+        area = float(cross.sum()) / 2.0
+        if abs(area) > 1e-8:
+            moment += abs(area) * float(((p[:, 0] + nxt[:, 0]) * cross).sum()) / (6.0 * area)
+            total += abs(area)
+    return moment / total if total > 0.0 else None
 
 
 def _the_body_alone(vertices, faces, file, *, refuse: float,
@@ -348,6 +373,7 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
             "up_guessed": guessed}
     v = _centred(v)
     heading = _heading(v, faces_out)
+    meta["facing_known"] = heading is not None
     if heading is not None and abs(heading) > _HEADING_TOLERANCE:
         # placement puts fronts at +Z and left sides at +X: a body facing elsewhere got
         # its garments back to front (-Z), or twisted (45 degrees), and passed

@@ -163,6 +163,11 @@ def say_guessed_units(body, source) -> None:
                       f"'{body.meta['units']}' from the body's height "
                       f"({np.ptp(body.vertices[:, 1]):.2f} m); give --units if that is wrong",
                       highlight=False)
+    if body.meta.get("facing_known") is False:
+        console.print(f"[yellow]warning:[/] {escape(str(source))}: cannot tell which way the "
+                      "body faces (no feet, and its head not forward of its calves); taken "
+                      "as facing +Z as read: turn it in the file if garments go on backwards",
+                      highlight=False)
     if body.meta.get("turned_deg") is not None:
         console.print(f"[yellow]note:[/] {escape(str(source))}: the body faced "
                       f"{body.meta['turned_deg']:+.1f}° from +Z about the vertical (the way "
