@@ -2,9 +2,10 @@
 ``.npz``) and write bodies out.
 
 A loaded body is brought to patternfit's frame: metres, Y up, feet on y = 0, near the Y axis
-(moved onto it from farther than 0.5 m), facing +Z. It must be closed and a standing adult in an A-pose: small holes are filled,
-anything else is refused with a :class:`BodyMeshError` that names the file and says what is
-wrong (the missing landmark of a sphere, the unit guessed for an absurd size, ...).
+(moved onto it from farther than 0.5 m), facing +Z. It must be closed and a standing adult
+in an A-pose: small holes are filled, anything else is refused with a :class:`BodyMeshError`
+that names the file and says what is wrong (the missing landmark of a sphere, the unit
+guessed for an absurd size, ...).
 
 The unit of a mesh is guessed when not given: ``body.meta["units"]`` names the unit used
 and ``body.meta["units_guessed"]`` is True when it was guessed, so that front ends can say
@@ -113,7 +114,8 @@ def _heading(vertices, faces) -> float | None:
     """Angle [degrees] about +Y from +Z to the way a standing body (Y up, feet on y = 0)
     faces, positive towards +X; None when it cannot be told. The left-right axis is the
     widest across (the area-weighted spread of the surface seen from above: A-posed arms,
-    shoulders, hips); the front is the side the toes point to."""
+    shoulders, hips); the front is the side the toes point to, or without feet the side
+    the head is carried to."""
     tm = trimesh.Trimesh(vertices, faces, process=False)
     area = tm.area_faces
     across = tm.triangles_center[:, [0, 2]]
@@ -128,15 +130,15 @@ def _heading(vertices, faces) -> float | None:
     shins = vertices[(vertices[:, 1] > low) & (vertices[:, 1] < high)][:, [0, 2]] @ forward
     if not len(feet) or not len(shins):
         return None
-    toes = 0.5 * (feet.max() + feet.min()) - shins.mean()
-    if abs(toes) < _TOE_REACH:
+    ahead = 0.5 * (feet.max() + feet.min()) - shins.mean()  # the toes
+    if abs(ahead) < _TOE_REACH:
         # no feet to tell by (a scan cut at the ankles): the head is carried forward of
         # the calves (5-9 cm on the built-in bodies)
         head, calves = (_section_centre(tm, share * height, forward) for share in _HEAD_CALVES)
         if head is None or calves is None or abs(head - calves) < _TOE_REACH:
             return None
-        toes = head - calves
-    forward *= np.sign(toes)
+        ahead = head - calves
+    forward *= np.sign(ahead)
     return float(np.degrees(np.arctan2(forward[0], forward[1])))
 
 
@@ -279,10 +281,11 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
     file : path, optional
         Where the arrays come from, named in errors.
 
-    Returns a :class:`Body` in metres, Y up, feet on y = 0, near the Y axis, facing +Z (a body whose toes
-    point elsewhere is turned about the vertical: ``meta["turned_deg"]``, the angle from +Z
-    to where it faced, positive towards +X), with its measurements and landmarks; ``meta``
-    holds ``units`` (the unit used), ``units_guessed`` and ``scale_to_m``.
+    Returns a :class:`Body` in metres, Y up, feet on y = 0, near the Y axis, facing +Z (a
+    body facing elsewhere is turned about the vertical: ``meta["turned_deg"]``, the angle
+    from +Z to where it faced, positive towards +X; ``meta["facing_known"]`` False where
+    nothing told), with its measurements and landmarks; ``meta`` also holds ``units`` (the
+    unit used), ``units_guessed``, ``scale_to_m``, ``up`` and ``up_guessed``.
 
     Raises :class:`BodyMeshError` naming ``file`` (and the place: ``units``, ``faces``, a
     landmark) when the mesh is empty, too large, has NaN coordinates or bad face indices, a

@@ -170,8 +170,9 @@ def say_guessed_units(body, source) -> None:
                       highlight=False)
     if body.meta.get("turned_deg") is not None:
         console.print(f"[yellow]note:[/] {escape(str(source))}: the body faced "
-                      f"{body.meta['turned_deg']:+.1f}° from +Z about the vertical (the way "
-                      "its toes point); turned to face +Z, where garments are placed",
+                      f"{body.meta['turned_deg']:+.1f}° from +Z about the vertical (where "
+                      "its toes point, or its head without feet); turned to face +Z, where "
+                      "garments are placed",
                       highlight=False)
 
 

@@ -129,8 +129,9 @@ def saved_rest(contact: dict[str, np.ndarray] | None, positions, *, mesh=None,
     ``draped_for`` (name -> (digest, "another body"), e.g. the body and fabric:
     :func:`patternfit.sim.provenance.draped_for`) other than the saved one; a rest whose
     file does not hold one of those digests (an older file) is not known either, while its
-    "not at rest" stands. A flag that is not one true or false (a string "False", NaN, several values) is a
-    :class:`~patternfit.errors.GarmentFileError` naming ``file`` and the array."""
+    "not at rest" stands. A flag that is not one true or false (a string "False", NaN,
+    several values) is a :class:`~patternfit.errors.GarmentFileError` naming ``file`` and
+    the array."""
     if contact is None or "at_rest" not in contact:
         return None, f"no {CONTACT} of these positions"
     wanted = {POSITIONS_DIGEST: (positions_digest(positions), "other positions (moved since)")}

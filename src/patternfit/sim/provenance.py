@@ -1,8 +1,9 @@
-"""What a saved drape was draped on and in, and how near rest it ended: its body and fabric,
-kept in its contact state (``contact.npz``) beside the mesh's and positions' digests, so
-that a state read back on another body or in another fabric is not taken for a rest there
-(a skirt at rest on one body read "equilibrium: true" on another, 92 of its vertices inside
-it) and is judged in the fabric it was draped in; and its residual's rms and p99."""
+"""What a saved drape is a state of, and how near rest it ended: the digests of its
+positions, mesh, body and fabric and the fabric itself, kept in its contact state
+(``contact.npz``), so that a state read back moved, edited, on another body or in another
+fabric is not taken for a rest there (a skirt at rest on one body read "equilibrium: true"
+on another, 92 of its vertices inside it) and is judged in the fabric it was draped in;
+and its residual's rms and p99."""
 
 from __future__ import annotations
 
