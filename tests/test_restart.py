@@ -214,3 +214,32 @@ def test_a_redrape_without_an_edit_does_not_move(saved):
     again = redrape(outcome.drape, outcome.mesh)
     assert again.result.iterations == 0
     assert np.array_equal(again.positions, outcome.positions)
+
+
+def test_a_drape_stopped_while_sewing_is_continued_from_its_positions(tmp_path):
+    """Stopped before the seams were welded, a drape's contact arrays are the unwelded
+    model's: saved, a drape continued from them (which welds at once) refused them
+    ("expected shape (770), got (840,)"), though the CLI said to continue it so."""
+    from patternfit.body.builtin import load_body
+    from patternfit.mesh.triangulate import mesh_pattern
+    from patternfit.pattern.library import build
+    from patternfit.sim.drape import drape
+
+    calls = []
+
+    def stop(*_):
+        calls.append(1)
+        if len(calls) == 5:
+            raise KeyboardInterrupt
+
+    skirt = build("skirt", "M")
+    mesh = mesh_pattern(skirt, triangles=400)
+    body = load_body("female_average")
+    stopped = drape(skirt, mesh, body, "cotton", progress=stop, coarse=None)
+    assert stopped.result.interrupted and not stopped.solver.model.welded
+    assert stopped.saved_contact(mesh) is None
+    save_garment(tmp_path / "g", skirt, mesh, stopped.positions,
+                 contact=stopped.saved_contact(mesh))
+    again = api.drape_and_evaluate(skirt, body, "cotton", start=tmp_path / "g",
+                                   settings=SolverSettings(max_iterations=3))
+    assert again.drape.timing["start"] == "saved"

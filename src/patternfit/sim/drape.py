@@ -98,10 +98,12 @@ class Drape:
         a state of (:func:`provenance.saved_provenance`: the positions', the drape's
         ``mesh``'s, the body's and the fabric's digests, the fabric) and the residual's rms
         and p99 when known, or None when the solver did not end at them (another engine's
-        drape)."""
+        drape) or ended before the seams were welded."""
         held = self.solver.state.x
         if held is None or held.shape != self.positions.shape \
-                or not np.array_equal(held, self.positions):
+                or not np.array_equal(held, self.positions) or not self.solver.model.welded:
+            # stopped while sewing, its arrays are the unwelded model's: a drape continued
+            # from it (which welds at once) refused them ("expected shape (770), got (840,)")
             return None
         c = self.result.checks
         residual = {} if c.residual_rms is None else {
