@@ -275,3 +275,23 @@ def test_a_resume_may_name_fewer_or_more_files(tmp_path):
     assert kept == {"a.json": "1", "b.json": "2", "c.json": "3"}
     with pytest.raises(InputError, match="the file b.json is not the one .* changed since"):
         run({"b.json": "9"})
+
+
+def test_a_resume_naming_a_file_another_way_redoes_nothing(tmp_path, monkeypatch):
+    """A batch run with /abs/heavyknit.json and resumed with heavyknit.json (the same
+    file) redid its drapes and doubled their rows: a file is named as the run named it."""
+    import json
+
+    from patternfit.api import read_fabric
+    from patternfit.batch import run_batch
+
+    fabric = tmp_path / "knit.json"
+    fabric.write_text(json.dumps({**read_fabric("cotton_shirting").to_dict(), "name": "knit"}))
+    out = tmp_path / "batch"
+    first = run_batch("skirt", "M", "female_average", str(fabric), out, triangles=300,
+                      workers=0, thumbnails=False)
+    monkeypatch.chdir(tmp_path)
+    again = run_batch("skirt", "M", "female_average", "knit.json", out, triangles=300,
+                      workers=0, thumbnails=False, resume=True)
+    assert first["rows"] == 1 and again["skipped"] == 1 and again["rows"] == 1
+    assert len(ResultLog(out, resume=True).rows) == 1

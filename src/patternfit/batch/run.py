@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
 from typing import Callable
 
 from ..api import (DEFAULTS, list_garments, list_sizes, read_bodies, read_fabric,
@@ -10,7 +12,7 @@ from ..api import (DEFAULTS, list_garments, list_sizes, read_bodies, read_fabric
 from ..arguments import number
 from .cluster import run_local, run_on_ray
 from .matrix import write_matrix
-from .rows import ResultLog, plan, task_of
+from .rows import CSV_NAME, ResultLog, plan, read_rows, task_of
 from .settings import file_digests, keep_settings
 from .work import Inputs, TaskOptions
 
@@ -62,6 +64,11 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     number(time_limit, "--time-limit", low=0.0, low_open=True, unit="s")
     size_list = parse_sizes(sizes, pattern)
     fabric_list = list(dict.fromkeys(f.strip() for f in fabrics.split(",")))
+    if resume:  # a file named as the earlier run named it: its rows are its tasks
+        earlier = [task_of(r) for r in read_rows(Path(out) / CSV_NAME)]
+        pattern = _as_before(pattern, {t.pattern for t in earlier})
+        fabric_list = list(dict.fromkeys(_as_before(f, {t.fabric for t in earlier})
+                                         for f in fabric_list))
     # read here, once: the workers get objects, not files (they may be other machines)
     inputs = Inputs({}, {(pattern, s): read_pattern(pattern, size=s) for s in size_list},
                     {f: read_fabric(f) for f in fabric_list})
@@ -99,3 +106,17 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
             "failed": sum(r["status"] != "ok" for r in rows), "files": files,
             "lines": matrix["lines"] if matrix else []}
 
+
+def _as_before(name: str, before: set[str]) -> str:
+    """``name`` as an earlier run of the batch spelled the same file, else as it is: a
+    resume given ``heavyknit.json`` for ``/tmp/b/heavyknit.json`` redid its 4 drapes and
+    doubled their rows."""
+    if name in before or not os.path.isfile(name):
+        return name
+    for old in sorted(before):
+        try:
+            if os.path.isfile(old) and os.path.samefile(old, name):
+                return old
+        except OSError:  # unreadable: not the same file as far as can be told
+            continue
+    return name
