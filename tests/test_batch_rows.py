@@ -175,6 +175,26 @@ def test_ctrl_c_in_a_drape_stops_the_batch_without_a_row(tmp_path, monkeypatch):
     assert not log.path.exists() or read_rows(log.path) == []
 
 
+def test_ctrl_c_in_a_compiled_kernel_before_the_solve_stops_the_batch(tmp_path, monkeypatch):
+    """Ctrl-C landing in a numba kernel outside the solve (a body's first distance lookup)
+    surfaces as a SystemError with the KeyboardInterrupt as its cause: it was a failed row
+    ("SystemError: CPUDispatcher(...) returned a result with an exception set"), which
+    --resume never redid, and the batch went on."""
+    from patternfit.batch import work
+
+    def in_kernel(*args, **kwargs):
+        raise SystemError("CPUDispatcher(<function smooth_sdf_query>) returned a result "
+                          "with an exception set") from KeyboardInterrupt()
+
+    monkeypatch.setattr(work, "drape_and_evaluate", in_kernel)
+    tasks = [Task("skirt", s, "female_average", "cotton_shirting") for s in ("S", "M")]
+    log = ResultLog(tmp_path / "batch", resume=False)
+    with pytest.raises(KeyboardInterrupt):
+        run_local(tasks, Inputs({"female_average": "female_average"}, {}, {}), log,
+                  TaskOptions(triangles=300, time_limit=5.0))
+    assert read_rows(log.path) == []
+
+
 def test_the_command_line_loads_neither_ray_nor_the_solver_for_help():
     import subprocess
     import sys

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..api import GIRTHS, SolverSettings, drape_and_evaluate
 from ..fit.pictures import FAILED_GREY
+from ..errors import ctrl_c
 from .rows import Task, failed_row
 
 #: the thumbnails' folder inside a batch folder
@@ -138,6 +139,10 @@ def run_task(task: Task, body, options: TaskOptions, pattern=None, fabric=None) 
             row["thumbnail"] = f"{THUMBS}/{thumbnail_name(task)}"
             row[PNG] = thumbnail_png(outcome)
     except Exception as exc:  # a failed drape is a failed row, never a failed batch
+        if ctrl_c(exc):
+            # Ctrl-C in a compiled kernel outside the solve's own catch (the distance field
+            # of the first contact lookup) was a failed row for good: --resume skipped it
+            raise KeyboardInterrupt from exc
         where = traceback.extract_tb(exc.__traceback__)[-1]
         first = (str(exc).strip().splitlines() or [""])[0]
         reason = (f"{type(exc).__name__}: {first} (at {Path(where.filename).name}:"
