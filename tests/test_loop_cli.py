@@ -29,6 +29,12 @@ def test_correct_writes_pattern_and_report(tmp_path):
     assert isinstance(report["regions"], list)
     check_pattern(load_pattern(out / "pattern.json"))
     assert (out / "before" / "report.json").exists() and (out / "after" / "report.json").exists()
+    # what the corrected pattern reads draped afresh, not from the loop's first drape on (a
+    # skirt's after/ read "too loose" there and "too tight" made and put on)
+    assert report["edits_made"]
+    fresh = report["fresh_drape"]
+    assert 0.5 < fresh["fitting_ratio"] < 1.5 and fresh["verdict"] is not None
+    assert set(fresh) >= {"passed", "reasons", "equilibrium", "verdict_reason"}
     # the final drape is saved with its contact state, and so is the first (before/ had
     # none: continued, it took 2-12 iterations): continued, it stops at once
     assert (out / "after" / "garment" / "contact.npz").exists()

@@ -18,7 +18,7 @@ from ..text import printable
 from .app import (SIZE_HELP, app, console, fail, finite, output_folder, print_json,
                   triangles_option, verdict_options)
 from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
-                   print_pattern_warnings, run_correction)
+                   print_pattern_warnings, run_correction, say_fresh_drape)
 
 Out = typer.Option(..., "--out", "-o", help="Output folder (created if missing).",
                    callback=output_folder)
@@ -223,6 +223,7 @@ def demo(
                   f"moves; {time.perf_counter() - t0:.1f} s. Wrote {out}/: pattern.json "
                   "(corrected), report.json, regions_before/after.png, before/ and after/ "
                   "(colour maps, GLB)")
+    say_fresh_drape(report)
 
 
 def _demo_placed(out: Path, garment: str, size: str, triangles: int, json_out: bool) -> None:

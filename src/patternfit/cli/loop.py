@@ -12,7 +12,8 @@ import typer
 from ..defaults import DEFAULTS
 from .app import (SIZE_HELP, Group, app, console, fail, finite, output_folder, print_json,
                   triangles_option, verdict_options)
-from .show import exit_if_correction_failed, run_correction, say_guessed_units, show_iteration
+from .show import (exit_if_correction_failed, run_correction, say_fresh_drape,
+                   say_guessed_units, show_iteration)
 
 #: the correction's goals (``loop.correct.GOALS``; not imported here: the CLI loads the
 #: solver only when a command runs)
@@ -116,6 +117,7 @@ def correct_command(
                   f"{report['correction_rounds']} round(s), "
                   f"{report['edits_made']} edits, {time.perf_counter() - t0:.1f} s; "
                   f"wrote {out}/pattern.json and {out}/report.json")
+    say_fresh_drape(report)
 
 
 @reproduce.command("table2")

@@ -243,6 +243,27 @@ def run_correction(session, out: Path, *, threshold: float, max_iterations: int,
             write_progress=lambda s: bar.update(bar.task_ids[0], info=f"writing {s}"))
 
 
+def say_fresh_drape(report: dict) -> None:
+    """Print what the corrected pattern reads draped afresh (``report["fresh_drape"]``),
+    and say so when its verdict is not the loop's: the loop's drapes go on from its first,
+    and a garment made from the pattern may sit elsewhere."""
+    fresh = report.get("fresh_drape")
+    if not fresh:
+        return
+    ratio = fresh.get("fitting_ratio")
+    said = (f"the corrected pattern draped afresh (placed, sewn and draped from the start): "
+            f"ϖ {ratio * 100:.2f}%, verdict {fresh.get('verdict') or 'n/a'}"
+            if ratio is not None else "the corrected pattern draped afresh: ϖ not finite")
+    if fresh.get("passed") is False:
+        said += f" (failed: {'; '.join(fresh.get('reasons') or [])})"
+    console.print(escape(said), highlight=False)
+    if fresh.get("verdict") != report.get("verdict"):
+        console.print(f"[yellow]note:[/] that is not the loop's verdict "
+                      f"({escape(str(report.get('verdict')))}): its drapes went on from the "
+                      "first one, where the garment may sit otherwise than a garment made from "
+                      "the pattern and put on", highlight=False)
+
+
 def _side_text(side: dict) -> str:
     span = "" if (side["start"], side["end"]) == (0.0, 1.0) else \
         f" [{side['start']:g}–{side['end']:g}]"
