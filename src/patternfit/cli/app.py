@@ -4,8 +4,8 @@ Exit status of every command: 0 done; 1 the result failed its checks (a drape or
 went wrong); 2 an input file or option was refused, or a path could not be read or written
 (``error: <message>`` on standard error, naming it);
 3 an internal error (one line; ``PATTERNFIT_DEBUG=1`` shows the traceback); 130 stopped by
-Ctrl-C or SIGTERM (the last state kept, as Ctrl-C keeps it); 141 the reader of the output
-went away (``| head``).
+Ctrl-C or SIGTERM (a drape's last state and a batch's rows kept; a correction stopped
+writes nothing); 141 the reader of the output went away (``| head``).
 """
 
 from __future__ import annotations
@@ -147,8 +147,9 @@ app = typer.Typer(name="patternfit", cls=_Boundary, no_args_is_help=True, add_co
                        "edit the pattern. Lengths in metres unless an option says otherwise.",
                   epilog="Exit status: 0 done, 1 the result failed its checks, 2 an input or "
                          "option was refused, 3 an internal error (PATTERNFIT_DEBUG=1 shows "
-                         "its traceback), 130 stopped by Ctrl-C or SIGTERM (the state reached "
-                         "is kept), 141 the output's reader went away.")
+                         "its traceback), 130 stopped by Ctrl-C or SIGTERM (a drape's last "
+                         "state and a batch's rows are kept; a correction stopped writes "
+                         "nothing), 141 the output's reader went away.")
 
 # A long path is printed whole on one line (soft wrap), not broken at the width, so that it
 # can be copied; in a pipe or a CI log (no terminal, no COLUMNS) Rich assumes 80 columns and
