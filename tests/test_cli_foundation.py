@@ -286,6 +286,8 @@ def test_a_saved_state_moved_since_its_drape_is_not_said_to_be_at_rest(tmp_path)
                         ("fabric_json", np.asarray('{"name": "x", "density": -1}')),
                         ("fabric_json", np.asarray([1.0, 2.0])),
                         ("residual_rms", np.asarray("0.001")),
+                        ("drape_reasons", np.asarray("{not json")),
+                        ("drape_reasons", np.asarray("[1, 2]")),
                         ("residual_p99", np.asarray(np.nan))):
         other = {"residual_rms": np.asarray(0.001), "residual_p99": np.asarray(0.01)}
         save_garment(tmp_path / "g", skirt, mesh, x,

@@ -236,6 +236,14 @@ def test_a_saved_rest_is_a_rest_only_for_its_own_mesh_body_and_fabric(skirt, tmp
     loose = {**d.saved_contact(mesh), "residual_rms": np.asarray(0.304)}
     save_garment(tmp_path / "loose", pattern, mesh, d.positions, contact=loose)
     assert api.evaluate_saved(tmp_path / "loose", body=BODY).checks["equilibrium"] is False
+    # read without a body, a state whose drape failed on its own body says so (a skirt that
+    # fell 43.6 cm read "not checked", exit 0); one whose drape passed is not checked
+    assert api.evaluate_saved(folder).checks["passed"] is None
+    fell = save_garment(tmp_path / "fell", pattern, mesh, d.positions, contact={
+        **d.saved_contact(mesh), "drape_reasons": np.asarray(json.dumps(["it fell"]))})
+    alone = api.evaluate_saved(fell)
+    assert alone.checks["passed"] is False
+    assert alone.checks["reasons"] == ["its drape failed on the body it was draped on: it fell"]
     # a fabric edited by hand under its old digest is refused, not used under the old name
     heavy = json.loads(str(d.saved_contact(mesh)["fabric_json"]))
     heavy["density"] *= 3

@@ -58,7 +58,8 @@ from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
 from .sim.drape import CONTACT_MARGIN, Drape, drape, saved_balance
-from .sim.provenance import draped_for, not_draped_for, saved_fabric, saved_residual
+from .sim.provenance import (draped_for, not_draped_for, saved_fabric, saved_failure,
+                             saved_residual)
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
                           check_bulk, fabric_with_notes, get_fabric, published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
@@ -815,7 +816,8 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     seams; a state that fell, slid or was moved off the body fails them and its verdict
     says so), the fit measures and the verdict (contact distance the drape's default
     margin). Without a body nothing checks where the state lies: ϖ alone, its checks'
-    ``passed`` None ("not checked"). A state its drape saved before it came to rest
+    ``passed`` None ("not checked"), False when its drape said it failed on its own body
+    (``contact.npz``'s ``drape_reasons``). A state its drape saved before it came to rest
     (``contact.npz``'s ``at_rest`` false) fails either way; its ``residual_rms`` /
     ``residual_p99`` are the drape's. With a body, one whose contact state is not of these
     positions, this mesh, this body and this fabric (none saved, moved since, the pattern
@@ -846,8 +848,11 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
         at_rest = False  # saved "at rest" by a looser rule (rms 0.30): not a rest
     rest = {"at_rest": at_rest, "unknown": unknown, "residual": residual}
     if b is None:
+        # what its drape found on its own body, where the contact state is of this state
+        failed = None if at_rest is None else saved_failure(contact, file=file)
         return FitOutcome(pat, m, None, None, x, fit, state="saved",
-                          extra={"checks": unchecked_state(**rest)}, contact=contact)
+                          extra={"checks": unchecked_state(**rest, failed=failed)},
+                          contact=contact)
     checks = saved_state_checks(pat, m, b, x, balance=lambda: saved_balance(m, b, fab, x),
                                 **rest)
     measures, judgement = judge_state(pat, m, x, fit, b, fab, checks=checks,

@@ -6,6 +6,7 @@ vertex (both copies of a sewn pair end at the same point), the checks and the ti
 
 from __future__ import annotations
 
+import json
 import time
 import warnings
 from dataclasses import dataclass, field, replace
@@ -24,7 +25,7 @@ from .fabrics import Fabric, get_fabric
 from .gathers import GatherWarning, oblique_gathers
 from .onbody import OnBodyChecks, on_body_checks
 from .placement import MAX_CLEARANCE, place_on_body
-from .provenance import saved_provenance
+from .provenance import DRAPE_REASONS, saved_provenance
 from .schedule import Plan, PlanRun, run_plan
 from .result import DrapeResult
 from .settings import SolverSettings
@@ -96,8 +97,8 @@ class Drape:
         """The contact state at :attr:`positions` to save beside them
         (:meth:`ContactState.saved_arrays`, ``save_garment(contact=...)``), with what it is
         a state of (:func:`provenance.saved_provenance`: the positions', the drape's
-        ``mesh``'s, the body's and the fabric's digests, the fabric) and the residual's rms
-        and p99 when known, or None when the solver did not end at them (another engine's
+        ``mesh``'s, the body's and the fabric's digests, the fabric), the residual's rms and
+        p99 when known and why it failed its checks (:attr:`reasons`), or None when the solver did not end at them (another engine's
         drape) or ended before the seams were welded."""
         held = self.solver.state.x
         if held is None or held.shape != self.positions.shape \
@@ -109,7 +110,8 @@ class Drape:
         residual = {} if c.residual_rms is None else {
             "residual_rms": np.asarray(c.residual_rms), "residual_p99": np.asarray(c.residual_p99)}
         return {**self.solver.state.saved_arrays(), **residual,
-                **saved_provenance(self.positions, mesh, self.body, self.solver.model.fabric)}
+                **saved_provenance(self.positions, mesh, self.body, self.solver.model.fabric),
+                DRAPE_REASONS: np.array(json.dumps(self.reasons))}
 
     @property
     def reasons(self) -> list[str]:

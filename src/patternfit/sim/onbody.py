@@ -381,17 +381,22 @@ def _saved_rest(at_rest: bool | None, residual, unknown: str | None) -> dict:
             "equilibrium_unknown": unknown if at_rest is None else None}
 
 
-def unchecked_state(at_rest: bool | None, *, residual=None, unknown: str | None = None) -> dict:
+def unchecked_state(at_rest: bool | None, *, residual=None, unknown: str | None = None,
+                    failed: list[str] | None = None) -> dict:
     """The checks of a saved 3D state read back without a body: nothing says where it rests,
     so ``passed`` is None ("not checked"), False when its drape saved it before it came to
-    rest (``at_rest`` False; None: not known, ``unknown`` says why); ``residual`` (rms,
-    p99) the one its drape ended at, when known."""
+    rest (``at_rest`` False; None: not known, ``unknown`` says why) or said it failed its
+    checks on the body it was draped on (``failed``, the reasons; a skirt that fell 43.6 cm
+    read "not checked", exit 0); ``residual`` (rms, p99) the one its drape ended at, when
+    known."""
     reasons = ["not checked: without the body it was draped on nothing says whether it rests "
                "on it"]
+    if failed:
+        reasons = [f"its drape failed on the body it was draped on: {r}" for r in failed]
     if at_rest is False:
         reasons.insert(0, NOT_AT_REST)
     return {"solver_checked": False, "on_body": None, **_saved_rest(at_rest, residual, unknown),
-            "passed": False if at_rest is False else None, "reasons": reasons}
+            "passed": False if at_rest is False or failed else None, "reasons": reasons}
 
 
 def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,

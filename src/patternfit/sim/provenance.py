@@ -20,7 +20,9 @@ from .fabrics import Fabric
 BODY_DIGEST, FABRIC_DIGEST = "body_sha256", "fabric_sha256"
 #: ... and the fabric itself, as JSON in SI units
 FABRIC_JSON = "fabric_json"
-#: the longest fabric JSON read back [characters]
+#: ... and why the drape failed its checks, as a JSON list of sentences (empty: it passed)
+DRAPE_REASONS = "drape_reasons"
+#: the longest fabric JSON or list of reasons read back [characters]
 _FABRIC_CHARS = 4096
 
 
@@ -34,6 +36,27 @@ def fabric_digest(fabric: Fabric) -> str:
     values = asdict(fabric)
     del values["name"]
     return digest(np.array([float(values[k]) for k in sorted(values)]))
+
+
+def saved_failure(contact: dict[str, np.ndarray] | None, *, file=None) -> list[str] | None:
+    """Why the drape that saved ``contact`` (read from ``file``) failed its checks (on the
+    body it was draped on: fell, slid, not at rest ...), an empty list when it passed, None
+    when it does not say; one that is not a list of sentences is a
+    :class:`~patternfit.errors.GarmentFileError` naming ``file`` and the array."""
+    if contact is None or DRAPE_REASONS not in contact:
+        return None
+    a = np.asarray(contact[DRAPE_REASONS])
+    try:
+        if a.dtype.kind != "U" or a.size != 1 or len(str(a.item())) > _FABRIC_CHARS:
+            raise ValueError
+        reasons = json.loads(str(a.item()))
+        if not isinstance(reasons, list) or not all(isinstance(r, str) for r in reasons):
+            raise ValueError
+    except ValueError:
+        raise GarmentFileError(f"expected a JSON list of sentences of at most {_FABRIC_CHARS} "
+                               "characters", file=file, place=f"array '{DRAPE_REASONS}'") \
+            from None
+    return reasons
 
 
 def saved_provenance(positions, mesh, body, fabric: Fabric) -> dict[str, np.ndarray]:
