@@ -152,7 +152,7 @@ def fit(
         print_json(report)
     else:
         print_fit_summary(report, out, time.perf_counter() - t0)
-        if body is None:
+        if body is None and report["checks"].get("passed") is None:
             console.print("[yellow]not checked:[/] without --body nothing says whether the "
                           "garment rests on a body; ϖ alone is not a fit verdict")
         elif report["checks"].get("rebuilt_residual_p99") is not None \
