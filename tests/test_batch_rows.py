@@ -315,3 +315,24 @@ def test_a_resume_naming_a_file_another_way_redoes_nothing(tmp_path, monkeypatch
                       workers=0, thumbnails=False, resume=True)
     assert first["rows"] == 1 and again["skipped"] == 1 and again["rows"] == 1
     assert len(ResultLog(out, resume=True).rows) == 1
+
+
+def test_ctrl_c_is_read_through_a_chain_of_kernel_errors():
+    """A kernel dispatched from another raises a SystemError caused by a SystemError caused
+    by the KeyboardInterrupt: an outside test's batch recorded it as a failed row."""
+    from patternfit.errors import ctrl_c
+
+    def nested():
+        try:
+            try:
+                raise KeyboardInterrupt
+            except KeyboardInterrupt as stop:
+                raise SystemError("inner returned a result with an exception set") from stop
+        except SystemError as inner:
+            raise SystemError("outer returned a result with an exception set") from inner
+
+    with pytest.raises(SystemError) as info:
+        nested()
+    assert ctrl_c(info.value)
+    assert not ctrl_c(SystemError("returned a result with an exception set"))
+    assert not ctrl_c(ValueError("x"))
