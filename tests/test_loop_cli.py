@@ -173,3 +173,21 @@ def test_a_failed_verdict_prints_no_measure_and_n_a_has_no_unit(capsys):
     said = capsys.readouterr().err
     assert "ϖ 97.00%" in said and "n/a kPa" not in said
     assert "ease n/a  pressure 0.50 kPa  stretch 1.0%" in said and "n/a cm" not in said
+
+
+def test_a_corrected_pattern_that_fails_draped_afresh_is_no_fit(tmp_path):
+    """The coat demo at 1K: the loop's drapes went on from its first, but its corrected
+    pattern, placed and draped afresh, crossed itself and went through the body (rms 2e8);
+    a correction read "fit reached", exit 0, with that only in a note."""
+    import typer
+
+    from patternfit.cli.show import exit_if_correction_failed
+
+    fine = {"failed": None, "edits_made": 3, "iterations": [{"checks": {"passed": True}}],
+            "fresh_drape": {"passed": True, "reasons": []}}
+    exit_if_correction_failed(fine, tmp_path)  # returns
+    broken = {**fine, "fresh_drape": {"passed": False,
+                                      "reasons": ["166 crossed triangle pairs (limit 0)"]}}
+    with pytest.raises(typer.Exit) as info:
+        exit_if_correction_failed(broken, tmp_path)
+    assert info.value.exit_code == 1

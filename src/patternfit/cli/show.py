@@ -136,9 +136,19 @@ def exit_if_checks_failed(report: dict, out: Path) -> None:
 def exit_if_correction_failed(report: dict, out: Path) -> None:
     """Exit with status 1, saying why, when the correction loop stopped on a drape that is
     no fit (off the body or ϖ not finite: ``report["failed"]``): the first, with no
-    correction made, or a later one, whose round was undone; or when its last drape failed
-    its checks (the edits were made from drapes that failed theirs)."""
+    correction made, or a later one, whose round was undone; when its last drape failed
+    its checks (the edits were made from drapes that failed theirs); or when the corrected
+    pattern draped afresh failed its checks (``report["fresh_drape"]``)."""
     last = (report.get("iterations") or [{}])[-1].get("checks") or {}
+    fresh = report.get("fresh_drape") or {}
+    if not report.get("failed") and last.get("passed") is not False \
+            and fresh.get("passed") is False:
+        # the loop's drapes went on from its first; the pattern made and put on did not
+        # drape (a coat: 8 edges through the body, 24 crossed pairs), read "fit reached"
+        why = "; ".join(str(r) for r in fresh.get("reasons") or []) or "see report.json"
+        fail(f"the corrected pattern draped afresh failed its checks ({why}): fit not "
+             f"reached; {out}/pattern.json holds {report.get('edits_made', 0)} edits",
+             CHECKS_FAILED)
     if not report.get("failed") and last.get("passed") is False:
         why = "; ".join(str(r) for r in last.get("reasons") or []) or "see report.json"
         fail(f"the last drape failed its checks ({why}): fit not reached; "
