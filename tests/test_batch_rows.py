@@ -315,6 +315,16 @@ def test_a_resume_naming_a_file_another_way_redoes_nothing(tmp_path, monkeypatch
                       workers=0, thumbnails=False, resume=True)
     assert first["rows"] == 1 and again["skipped"] == 1 and again["rows"] == 1
     assert len(ResultLog(out, resume=True).rows) == 1
+    # run from one folder and resumed from another (the first name is no path from there;
+    # a file by that name with the same contents): the first run's name
+    out2 = tmp_path / "batch2"
+    run_batch("skirt", "M", "female_average", "knit.json", out2, triangles=300, workers=0,
+              thumbnails=False)
+    (tmp_path / "sub").mkdir()
+    monkeypatch.chdir(tmp_path / "sub")
+    third = run_batch("skirt", "M", "female_average", "../knit.json", str(out2),
+                      triangles=300, workers=0, thumbnails=False, resume=True)
+    assert third["skipped"] == 1 and len(ResultLog(out2, resume=True).rows) == 1
 
 
 def test_ctrl_c_is_read_through_a_chain_of_kernel_errors():

@@ -13,7 +13,7 @@ from ..arguments import number
 from .cluster import run_local, run_on_ray
 from .matrix import write_matrix
 from .rows import CSV_NAME, ResultLog, plan, read_rows, task_of
-from .settings import file_digests, keep_settings
+from .settings import file_digests, keep_settings, saved_files
 from .work import Inputs, TaskOptions
 
 
@@ -64,20 +64,25 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     number(time_limit, "--time-limit", low=0.0, low_open=True, unit="s")
     size_list = parse_sizes(sizes, pattern)
     fabric_list = list(dict.fromkeys(f.strip() for f in fabrics.split(",")))
+    # each input's name in the rows (the task), and the path it is read from
+    named = {pattern: pattern, **{f: f for f in fabric_list}}
     if resume:  # a file named as the earlier run named it: its rows are its tasks
         earlier = [task_of(r) for r in read_rows(Path(out) / CSV_NAME)]
-        pattern = _as_before(pattern, {t.pattern for t in earlier})
-        fabric_list = list(dict.fromkeys(_as_before(f, {t.fabric for t in earlier})
-                                         for f in fabric_list))
+        digests = saved_files(out)
+        named[pattern] = _as_before(pattern, {t.pattern for t in earlier}, digests)
+        named.update((f, _as_before(f, {t.fabric for t in earlier}, digests))
+                     for f in fabric_list)
     # read here, once: the workers get objects, not files (they may be other machines)
-    inputs = Inputs({}, {(pattern, s): read_pattern(pattern, size=s) for s in size_list},
-                    {f: read_fabric(f) for f in fabric_list})
+    inputs = Inputs({}, {(named[pattern], s): read_pattern(pattern, size=s)
+                         for s in size_list},
+                    {named[f]: read_fabric(f) for f in fabric_list})
     body_list = read_bodies(bodies)
-    tasks = plan([pattern], size_list, [b.name for b in body_list], fabric_list)
+    tasks = plan([named[pattern]], size_list, [b.name for b in body_list],
+                 list(dict.fromkeys(named[f] for f in fabric_list)))
     log = ResultLog(out, resume=resume)
+    files = file_digests([pattern, *fabric_list, *(b.meta.get("source", "") for b in body_list)])
     keep_settings(out, {"triangles": int(triangles), "time_limit": float(time_limit),
-                        "files": file_digests([pattern, *fabric_list,
-                                               *(b.meta.get("source", "") for b in body_list)])},
+                        "files": {named.get(k, k): v for k, v in files.items()}},
                   resume=resume)
     done = log.done()
     todo = [t for t in tasks if t not in done]
@@ -107,10 +112,12 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
             "lines": matrix["lines"] if matrix else []}
 
 
-def _as_before(name: str, before: set[str]) -> str:
-    """``name`` as an earlier run of the batch spelled the same file, else as it is: a
-    resume given ``heavyknit.json`` for ``/tmp/b/heavyknit.json`` redid its 4 drapes and
-    doubled their rows."""
+def _as_before(name: str, before: set[str], digests: dict[str, str]) -> str:
+    """``name`` as an earlier run of the batch spelled the same file, else as it is: the
+    same file by path, or, named from another folder, the one earlier name of the file's
+    name whose contents ``digests`` (``batch.json``'s) says were these. A resume given
+    ``heavyknit.json`` for ``/tmp/b/heavyknit.json``, or ``b/heavyknit.json`` run from
+    ``/tmp``, redid its 4 drapes and doubled their rows."""
     if name in before or not os.path.isfile(name):
         return name
     for old in sorted(before):
@@ -119,4 +126,7 @@ def _as_before(name: str, before: set[str]) -> str:
                 return old
         except OSError:  # unreadable: not the same file as far as can be told
             continue
-    return name
+    mine = file_digests([name]).get(name)
+    alike = [old for old in sorted(before) if Path(old).name == Path(name).name
+             and digests.get(old) == mine]
+    return alike[0] if len(alike) == 1 else name

@@ -30,6 +30,18 @@ def file_digests(names) -> dict[str, str]:
     return out
 
 
+def saved_files(folder) -> dict[str, str]:
+    """``{name: sha256}`` of the files a batch folder's rows were draped from, as its
+    ``batch.json`` keeps them (empty without one of ours)."""
+    path = Path(folder) / SETTINGS_NAME
+    if not path.is_file():
+        return {}
+    saved = read_json_file(path, error=InputError)
+    files = saved.get("files") if isinstance(saved, dict) \
+        and saved.get("format") == SETTINGS_FORMAT else None
+    return {str(k): str(v) for k, v in files.items()} if isinstance(files, dict) else {}
+
+
 def keep_settings(folder, settings: dict, *, resume: bool) -> None:
     """Write ``settings`` (JSON values: ``triangles``, ``time_limit`` [s], ``files``: their
     digests) to ``folder/batch.json``; with ``resume`` first check them against the file
