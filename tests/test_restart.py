@@ -237,9 +237,11 @@ def test_a_drape_stopped_while_sewing_is_continued_from_its_positions(tmp_path):
     body = load_body("female_average")
     stopped = drape(skirt, mesh, body, "cotton", progress=stop, coarse=None)
     assert stopped.result.interrupted and not stopped.solver.model.welded
-    assert stopped.saved_contact(mesh) is None
-    save_garment(tmp_path / "g", skirt, mesh, stopped.positions,
-                 contact=stopped.saved_contact(mesh))
+    kept = stopped.saved_contact(mesh)
+    assert "contact_scale" not in kept and not kept["at_rest"]  # what it says of itself
+    save_garment(tmp_path / "g", skirt, mesh, stopped.positions, contact=kept)
     again = api.drape_and_evaluate(skirt, body, "cotton", start=tmp_path / "g",
                                    settings=SolverSettings(max_iterations=3))
     assert again.drape.timing["start"] == "saved"
+    # and read back it is no rest (saving nothing, it read "not checked", exit 0)
+    assert api.evaluate_saved(tmp_path / "g").checks["passed"] is False

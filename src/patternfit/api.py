@@ -67,7 +67,7 @@ from .sim.onbody import ON_BODY, area_ratio, saved_state_checks, unchecked_state
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
 from .sim.placement import checked_clearance, place_on_body, place_on_cylinders
 from .sim.settings import SolverSettings
-from .sim.state import SavedStateError
+from .sim.state import SAVED, SavedStateError
 
 __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Defaults",
            "DesignSession", "FABRIC_RANGES", "FABRIC_TESTS", "Fabric", "FabricError", "FitOutcome",
@@ -755,7 +755,8 @@ def _start_state(start, pattern: Pattern, triangles: int):
     if isinstance(start, FitOutcome):
         if start.drape is None or start.pattern != pattern:
             raise ValueError("start: an outcome of a drape of this same pattern")
-        return np.array(start.positions), start.drape.saved_contact(), start.mesh
+        return np.array(start.positions), _solver_state(start.drape.saved_contact()), \
+            start.mesh
     if not isinstance(start, (str, Path)):
         mesh = mesh_pattern(pattern, triangles=triangles)
         x = np.asanyarray(start, dtype=np.float64)
@@ -790,7 +791,13 @@ def _start_state(start, pattern: Pattern, triangles: int):
     why = _collapsed(saved_mesh, x)
     if why:
         raise InputError(why, file=Path(start) / "positions.npy")
-    return x, load_contact(start), saved_mesh
+    return x, _solver_state(load_contact(start)), saved_mesh
+
+
+def _solver_state(contact: dict | None) -> dict | None:
+    """A saved contact state a drape can continue, or None when it holds no solver arrays
+    (a drape stopped while sewing: continued from its positions alone)."""
+    return contact if contact is not None and SAVED[0] in contact else None
 
 
 def _collapsed(mesh: GarmentMesh, x) -> str | None:

@@ -99,17 +99,20 @@ class Drape:
         a state of (:func:`provenance.saved_provenance`: the positions', the drape's
         ``mesh``'s, the body's and the fabric's digests, the fabric), the residual's rms and
         p99 when known and why it failed its checks (:attr:`reasons`), or None when the solver did not end at them (another engine's
-        drape) or ended before the seams were welded."""
+        drape); one that ended before the seams were welded keeps no solver arrays."""
         held = self.solver.state.x
         if held is None or held.shape != self.positions.shape \
-                or not np.array_equal(held, self.positions) or not self.solver.model.welded:
-            # stopped while sewing, its arrays are the unwelded model's: a drape continued
-            # from it (which welds at once) refused them ("expected shape (770), got (840,)")
+                or not np.array_equal(held, self.positions):
             return None
         c = self.result.checks
         residual = {} if c.residual_rms is None else {
             "residual_rms": np.asarray(c.residual_rms), "residual_p99": np.asarray(c.residual_p99)}
-        return {**self.solver.state.saved_arrays(), **residual,
+        # stopped while sewing, its solver arrays are the unwelded model's: a drape
+        # continued from them (which welds at once) refused them ("expected shape (770),
+        # got (840,)"); what it says of itself (not at rest, why) is kept
+        state = self.solver.state.saved_arrays() if self.solver.model.welded \
+            else {"at_rest": np.asarray(False)}
+        return {**state, **residual,
                 **saved_provenance(self.positions, mesh, self.body, self.solver.model.fabric),
                 DRAPE_REASONS: np.array(json.dumps(self.reasons))}
 
