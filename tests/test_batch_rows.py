@@ -166,13 +166,19 @@ def test_ctrl_c_in_a_drape_stops_the_batch_without_a_row(tmp_path, monkeypatch):
         return outcome
 
     monkeypatch.setattr(work, "drape_and_evaluate", interrupted)
+    log = _stopped_batch(tmp_path)
+    assert seen == [True]
+    assert not log.path.exists() or read_rows(log.path) == []
+
+
+def _stopped_batch(tmp_path) -> ResultLog:
+    """Two tasks run in this process, the first stopped by Ctrl-C: the batch's log."""
     tasks = [Task("skirt", s, "female_average", "cotton_shirting") for s in ("S", "M")]
     log = ResultLog(tmp_path / "batch", resume=False)
     with pytest.raises(KeyboardInterrupt):
         run_local(tasks, Inputs({"female_average": "female_average"}, {}, {}), log,
                   TaskOptions(triangles=300, time_limit=5.0))
-    assert seen == [True]
-    assert not log.path.exists() or read_rows(log.path) == []
+    return log
 
 
 def test_ctrl_c_in_a_compiled_kernel_before_the_solve_stops_the_batch(tmp_path, monkeypatch):
@@ -187,12 +193,7 @@ def test_ctrl_c_in_a_compiled_kernel_before_the_solve_stops_the_batch(tmp_path, 
                           "with an exception set") from KeyboardInterrupt()
 
     monkeypatch.setattr(work, "drape_and_evaluate", in_kernel)
-    tasks = [Task("skirt", s, "female_average", "cotton_shirting") for s in ("S", "M")]
-    log = ResultLog(tmp_path / "batch", resume=False)
-    with pytest.raises(KeyboardInterrupt):
-        run_local(tasks, Inputs({"female_average": "female_average"}, {}, {}), log,
-                  TaskOptions(triangles=300, time_limit=5.0))
-    assert read_rows(log.path) == []
+    assert read_rows(_stopped_batch(tmp_path).path) == []
 
 
 def test_the_command_line_loads_neither_ray_nor_the_solver_for_help():
