@@ -253,6 +253,24 @@ def test_a_saved_rest_is_a_rest_only_for_its_own_mesh_body_and_fabric(skirt, tmp
         api.evaluate_saved(tmp_path / "heavy", body=BODY)
 
 
+def test_fit_on_a_body_file_facing_away_says_it_was_turned(skirt, tmp_path):
+    """``fit --body FILE`` read the file without a word of its guessed unit or of the turn
+    that made it face +Z (``drape`` and ``correct`` said both)."""
+    import trimesh
+
+    pattern, mesh, body, d = skirt
+    folder = save_garment(tmp_path / "rest", pattern, mesh, d.positions,
+                          contact=d.saved_contact(mesh))
+    turn = trimesh.transformations.rotation_matrix(np.pi, (0, 1, 0))[:3, :3]
+    trimesh.Trimesh(body.vertices @ turn.T, body.faces, process=False).export(
+        tmp_path / "away.ply")
+    r = CliRunner().invoke(app, ["fit", "-g", str(folder), "-b", str(tmp_path / "away.ply"),
+                                 "-o", str(tmp_path / "out"), "--no-pictures"])
+    said = " ".join(r.output.split())
+    assert r.exit_code == 0, r.output
+    assert "units guessed as 'm'" in said and "turned to face +Z" in said
+
+
 def test_slid_a_little_still_on_the_body(skirt):
     pattern, mesh, body, d = skirt
     x = _at_anchor_offset(pattern, mesh, body, d.positions, -0.04)
