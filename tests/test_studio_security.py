@@ -11,6 +11,7 @@ import time
 from dataclasses import replace
 
 import pytest
+import trimesh
 from fastapi.testclient import TestClient
 
 from patternfit.constants import limits
@@ -391,6 +392,19 @@ def test_uploaded_fabric_and_body_are_kept_in_the_session(tmp_path):
                     files={"file": ("mine.obj", (tmp_path / "mine.obj").read_bytes())})
     assert r.status_code == 200, r.text
     assert client.get("/api/body").json()["name"] == "mine"
+    # what was guessed or done in reading it is said, as the CLI says it (a body facing -Z,
+    # turned to face +Z, was not mentioned)
+    assert any("units guessed as 'm'" in a for a in r.json()["assumed"])
+    body = app.state.studio.session.body
+    trimesh.Trimesh(body.vertices * [-1, 1, -1], body.faces, process=False).export(
+        tmp_path / "away.obj")
+    r = client.post("/api/upload?kind=body",
+                    files={"file": ("away.obj", (tmp_path / "away.obj").read_bytes())})
+    assert r.status_code == 200, r.text
+    assert any("turned to face +Z" in a for a in r.json()["assumed"])
+    save_body_mesh(body, tmp_path / "mine.obj")
+    r = client.post("/api/upload?kind=body",
+                    files={"file": ("mine.obj", (tmp_path / "mine.obj").read_bytes())})
     # a restarted studio continues with both, read from the session folder
     again = TestClient(create_app(app.state.studio.folder, allowed_hosts=("testserver",)))
     assert again.get("/api/state").json()["fabric"] == "my poplin"

@@ -403,6 +403,27 @@ def _centred(v: np.ndarray) -> np.ndarray:
     return v - shift
 
 
+def body_notes(body: Body) -> list[tuple[str, str]]:
+    """What was guessed or done in reading a body mesh, as (level, sentence) pairs
+    (``"note"`` or ``"warning"``) for the front ends to say: a unit guessed from the height
+    (a wrong guess changes every result), a body taken as facing +Z where nothing told,
+    or turned to face it."""
+    meta, out = body.meta, []
+    if meta.get("units_guessed"):
+        out.append(("note", f"units guessed as '{meta['units']}' from the body's height "
+                            f"({np.ptp(body.vertices[:, 1]):.2f} m); give the units if that "
+                            "is wrong"))
+    if meta.get("facing_known") is False:
+        out.append(("warning", "cannot tell which way the body faces (no feet, and its head "
+                               "not forward of its calves); taken as facing +Z as read: turn "
+                               "it in the file if garments go on backwards"))
+    if meta.get("turned_deg") is not None:
+        out.append(("note", f"the body faced {meta['turned_deg']:+.1f}° from +Z about the "
+                            "vertical (where its toes point, or its head without feet); "
+                            "turned to face +Z, where garments are placed"))
+    return out
+
+
 def load_body_mesh(path, *, units: str | None = None, up: str | None = None) -> Body:
     """Load a body mesh file (OBJ, PLY, STL, GLB/glTF, OFF) as a :class:`Body`, or a body
     saved as ``.npz`` (:func:`patternfit.body.builtin.save_body`: metres, Y up, measured).

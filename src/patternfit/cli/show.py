@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
@@ -165,24 +164,14 @@ def exit_if_correction_failed(report: dict, out: Path) -> None:
 
 
 def say_guessed_units(body, source) -> None:
-    """Print the unit a body mesh file was read in when it was guessed, not given (a wrong
-    guess, a child's body in inches read as centimetres, changes every result), and the
-    turn that made it face +Z when it faced elsewhere."""
-    if body.meta.get("units_guessed"):
-        console.print(f"[yellow]note:[/] {escape(str(source))}: units guessed as "
-                      f"'{body.meta['units']}' from the body's height "
-                      f"({np.ptp(body.vertices[:, 1]):.2f} m); give --units if that is wrong",
-                      highlight=False)
-    if body.meta.get("facing_known") is False:
-        console.print(f"[yellow]warning:[/] {escape(str(source))}: cannot tell which way the "
-                      "body faces (no feet, and its head not forward of its calves); taken "
-                      "as facing +Z as read: turn it in the file if garments go on backwards",
-                      highlight=False)
-    if body.meta.get("turned_deg") is not None:
-        console.print(f"[yellow]note:[/] {escape(str(source))}: the body faced "
-                      f"{body.meta['turned_deg']:+.1f}° from +Z about the vertical (where "
-                      "its toes point, or its head without feet); turned to face +Z, where "
-                      "garments are placed",
+    """Print what was guessed or done in reading a body mesh file
+    (:func:`patternfit.body.mesh_io.body_notes`): its unit guessed from the height (a wrong
+    guess, a child's body in inches read as centimetres, changes every result), its turn
+    to face +Z."""
+    from ..body.mesh_io import body_notes
+
+    for level, sentence in body_notes(body):
+        console.print(f"[yellow]{level}:[/] {escape(str(source))}: {escape(sentence)}",
                       highlight=False)
 
 

@@ -29,6 +29,7 @@ import numpy as np
 from .. import api
 from .. import edit as tools
 from ..body.builtin import list_bodies
+from ..body.mesh_io import body_notes
 from ..defaults import DEFAULTS
 from ..edit import CoordinateCache, update_mesh
 from ..errors import InputError, SessionError
@@ -492,7 +493,7 @@ class Studio:
             archived = self.start_from(**{kind: read}, upload=target, labels={kind: read.name},
                                        revision=revision)
             return {"name": read.name, "archived": archived,
-                    **({"assumed": assumed} if kind == "fabric" else {})}
+                    **({"assumed": assumed} if assumed else {})}
         finally:
             shutil.rmtree(part, ignore_errors=True)
 
@@ -717,7 +718,8 @@ def _drape_id(positions: np.ndarray) -> str:
 def _read_upload(kind: str, path: Path, stem: str) -> tuple[object, list[str]]:
     """The pattern, body or fabric in the uploaded file ``path``, named after ``stem`` (the
     client's file name) where the file gives no name of its own, and what was assumed for
-    values the file does not carry (an ARCSim fabric's friction and thickness)."""
+    values the file does not carry (an ARCSim fabric's friction and thickness) or guessed
+    in reading it (a body's unit, its turn to face +Z)."""
     if kind == "pattern":
         return api.read_pattern(path), []
     if kind == "fabric":
@@ -726,4 +728,5 @@ def _read_upload(kind: str, path: Path, stem: str) -> tuple[object, list[str]]:
     body = api.read_body(path)
     body.name = stem
     body.meta = {**body.meta, "source": f"uploaded {stem}{path.suffix}"}
-    return body, []
+    # what the CLI says of a body file (a unit guessed, a turn to face +Z) the page says too
+    return body, [sentence for _, sentence in body_notes(body)]
