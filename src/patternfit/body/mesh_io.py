@@ -160,24 +160,22 @@ def _section_centre(tm: trimesh.Trimesh, y: float, forward) -> float | None:
     return moment / total if total > 0.0 else None
 
 
-def _the_body_alone(vertices, faces, file, *, refuse: float,
-                    unit: str = "file units") -> tuple[np.ndarray, np.ndarray]:
-    """The mesh's largest connected piece (by area, its copies of a vertex merged) with the
-    pieces of under ``refuse`` of its area, without those under :data:`_DEBRIS` of it (a
-    scan's specks, a character's eyes: 5 m off, one read the body as 5.6 units tall); a
-    larger second piece (a floor, a chair, a second body) is a :class:`BodyMeshError`
+def _the_body_alone(tm: trimesh.Trimesh, file, *, refuse: float,
+                    unit: str = "file units") -> trimesh.Trimesh | None:
+    """``tm`` (its copies of a vertex merged) cut to its largest connected piece (by area)
+    with the pieces of under ``refuse`` of its area, without those under :data:`_DEBRIS` of
+    it, in place; None when it is one piece (nothing cut) (a scan's specks, a character's eyes: 5 m off, one read the body as 5.6 units tall);
+    a larger second piece (a floor, a chair, a second body) is a :class:`BodyMeshError`
     naming ``file`` and the two largest pieces' sizes (in ``unit``): it was measured as part
     of the body (a slab under the feet made the body 2 cm taller) or broke the landmarks
     with a message about a leg or an arm. Read twice: before the unit is guessed from the
     height, refusing what is as large as a floor or a chair, then for loose pieces."""
-    tm = trimesh.Trimesh(vertices, faces, process=True)
-    tm.update_faces(tm.nondegenerate_faces())
     if len(tm.faces) == 0:
-        return vertices, faces
+        return None
     label = trimesh.graph.connected_component_labels(tm.face_adjacency, len(tm.faces))
     area = np.bincount(label, weights=tm.area_faces)
     if len(area) == 1:
-        return vertices, faces
+        return None
     order = np.argsort(area)[::-1]
     if area[order[1]] >= refuse * area[order[0]]:
         sizes = [" x ".join(f"{x:.3g}" for x in np.ptp(
@@ -189,7 +187,7 @@ def _the_body_alone(vertices, faces, file, *, refuse: float,
             "chair or another body?); keep the body alone", file=file, place="faces")
     tm.update_faces(np.isin(label, order[area[order] >= _DEBRIS * area[order[0]]]))
     tm.remove_unreferenced_vertices()  # a speck's vertices 5 m off set the height
-    return np.asarray(tm.vertices, np.float64), np.asarray(tm.faces, np.int64)
+    return tm
 
 
 def _consistent_winding(faces) -> np.ndarray:
@@ -318,7 +316,10 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
     if units is not None and units not in UNITS:
         raise ValueError(f"units: expected one of {', '.join(UNITS)}, got {units!r}")
     if not guessed:  # before the up axis and the unit are read from the body's extent
-        v, f = _the_body_alone(v, f, file, refuse=_OTHER_OBJECT)
+        whole = trimesh.Trimesh(v, f, process=True)
+        whole.update_faces(whole.nondegenerate_faces())
+        if _the_body_alone(whole, file, refuse=_OTHER_OBJECT) is not None:
+            v, f = np.asarray(whole.vertices, np.float64), np.asarray(whole.faces, np.int64)
     if up is None:
         guess = _guess_up(v)
         try:
@@ -345,13 +346,13 @@ def body_from_arrays(vertices, faces, *, units: str | None = None, up: str | Non
                             f" outside {HEIGHT_RANGE[0]}-{HEIGHT_RANGE[1]} m", file=file,
                             place="units")
     v = v * scale
-    v, f = _the_body_alone(v, f, file, refuse=_DEBRIS, unit="m")
 
     tm = trimesh.Trimesh(v, f, process=True)  # merges the copies of split vertices (STL)
     tm.update_faces(tm.unique_faces() & tm.nondegenerate_faces())
     tm.remove_unreferenced_vertices()
     if len(tm.faces) == 0:
         raise BodyMeshError("empty mesh: every triangle is degenerate", file=file)
+    _the_body_alone(tm, file, refuse=_DEBRIS, unit="m")
     faces_out = np.asarray(tm.faces, dtype=np.int64)
     if not tm.is_winding_consistent:
         faces_out = _consistent_winding(faces_out)
