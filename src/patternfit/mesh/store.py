@@ -118,6 +118,15 @@ def mesh_digest(mesh: GarmentMesh) -> str:
                   np.asarray(mesh.grain, np.float64), np.asarray(mesh.seam_pairs, np.int64))
 
 
+def saved_for_other(contact: dict[str, np.ndarray], wanted: dict[str, tuple[str, str]]
+                    ) -> list[str]:
+    """What ``contact`` says it was saved for other than ``wanted`` (digest name ->
+    (digest, what it stands for in words)), in those words; a digest it does not hold says
+    nothing."""
+    return [what for name, (value, what) in wanted.items()
+            if name in contact and str(np.asarray(contact[name])) != value]
+
+
 def saved_rest(contact: dict[str, np.ndarray] | None, positions, *, mesh=None,
                draped_for: dict[str, tuple[str, str]] | None = None,
                file=None) -> tuple[bool | None, str | None]:
@@ -138,9 +147,9 @@ def saved_rest(contact: dict[str, np.ndarray] | None, positions, *, mesh=None,
     if mesh is not None:
         wanted[MESH_DIGEST] = (mesh_digest(mesh), "another mesh (the pattern was edited since)")
     wanted.update(draped_for or {})
-    for name, (value, what) in wanted.items():
-        if name in contact and str(np.asarray(contact[name])) != value:
-            return None, f"{CONTACT} was saved for {what}"
+    other = saved_for_other(contact, wanted)
+    if other:
+        return None, f"{CONTACT} was saved for {other[0]}"
     flag = np.asarray(contact["at_rest"])
     if flag.dtype.kind != "b" or flag.size != 1:
         raise GarmentFileError(f"expected one true or false, got {flag.dtype} {flag.shape}",

@@ -13,7 +13,8 @@ from dataclasses import asdict
 import numpy as np
 
 from ..errors import FabricError, GarmentFileError
-from ..mesh.store import MESH_DIGEST, POSITIONS_DIGEST, digest, mesh_digest, positions_digest
+from ..mesh.store import (MESH_DIGEST, POSITIONS_DIGEST, digest, mesh_digest,
+                          positions_digest, saved_for_other)
 from .fabrics import Fabric
 
 #: the arrays of ``contact.npz`` that hold the body's and the fabric's digests ...
@@ -90,10 +91,7 @@ def not_draped_for(contact: dict[str, np.ndarray] | None, body=None,
                    fabric: Fabric | None = None) -> list[str]:
     """What a saved contact state was not draped on or in, of ``body`` and ``fabric``, in
     words ("another body than female_heavy"); empty when it does not say."""
-    if contact is None:
-        return []
-    return [what for name, (value, what) in draped_for(body, fabric).items()
-            if name in contact and str(np.asarray(contact[name])) != value]
+    return [] if contact is None else saved_for_other(contact, draped_for(body, fabric))
 
 
 def saved_fabric(contact: dict[str, np.ndarray] | None, *, file=None) -> Fabric | None:
