@@ -18,7 +18,7 @@ from ..text import printable
 from .app import (SIZE_HELP, app, console, fail, finite, output_folder, print_json,
                   triangles_option, verdict_options)
 from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
-                   print_pattern_warnings, run_correction, say_fresh_drape, say_guessed_units)
+                   print_pattern_warnings, run_correction, say_fresh_drape, say_body_notes)
 
 Out = typer.Option(..., "--out", "-o", help="Output folder (created if missing).",
                    callback=output_folder)
@@ -147,7 +147,7 @@ def fit(
                               style=style)
     read = None if body is None else api.read_body(body)
     if read is not None:  # a body file's guessed unit, or its turn to face +Z, is said
-        say_guessed_units(read, body)
+        say_body_notes(read, body)
     outcome = api.evaluate_saved(garment, tight=tight, loose=loose, body=read,
                                  fabric=fabric, verdict_rules=rules)
     report = outcome.write(out, pictures=pictures)

@@ -11,7 +11,7 @@ from ..defaults import DEFAULTS
 from .app import (INTERRUPTED, SIZE_HELP, app, console, fail, finite, output_folder, positive,
                   print_json, triangles_option, verdict_options)
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
-                   print_pattern_warnings, say_guessed_units)
+                   print_pattern_warnings, say_body_notes)
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -82,7 +82,7 @@ def drape(
         if engine != "static":
             fail("--start: a saved drape is continued by the static engine only")
     b = api.read_body(body, units=units)
-    say_guessed_units(b, body)
+    say_body_notes(b, body)
     settings = SolverSettings(max_iterations=max_iterations, time_limit=time_limit)
     rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
                               style=style)

@@ -13,7 +13,7 @@ from ..defaults import DEFAULTS
 from .app import (SIZE_HELP, Group, app, console, fail, finite, output_folder, print_json,
                   triangles_option, verdict_options)
 from .show import (exit_if_correction_failed, run_correction, say_fresh_drape,
-                   say_guessed_units, show_iteration)
+                   say_body_notes, show_iteration)
 
 #: the correction's goals (``loop.correct.GOALS``; not imported here: the CLI loads the
 #: solver only when a command runs)
@@ -95,7 +95,7 @@ def correct_command(
         fail("--out: would overwrite the input pattern; choose another folder")
     t0 = time.perf_counter()
     b = api.read_body(body, units=units)
-    say_guessed_units(b, body)
+    say_body_notes(b, body)
     session = api.design_session(pattern, b, fabric, triangles=triangles, threshold=threshold,
                                  size=size, relax=relax)
     rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,

@@ -163,7 +163,7 @@ def exit_if_correction_failed(report: dict, out: Path) -> None:
     fail(f"no correction made ({out}/report.json): {report['failed']}", CHECKS_FAILED)
 
 
-def say_guessed_units(body, source) -> None:
+def say_body_notes(body, source) -> None:
     """Print what was guessed or done in reading a body mesh file
     (:func:`patternfit.body.mesh_io.body_notes`): its unit guessed from the height (a wrong
     guess, a child's body in inches read as centimetres, changes every result), its turn

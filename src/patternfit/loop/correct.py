@@ -365,12 +365,14 @@ def refusal(checks: dict | None, fitting_ratio: float) -> str | None:
     if checks.get("on_body") is False:
         reasons = checks.get("on_body_reasons") or ["not on the body"]
         return "the drape failed: " + "; ".join(str(r) for r in reasons)
-    if checks.get("equilibrium") is False or checks.get("inside_vertices"):
-        why = [f"not at rest (residual rms {checks['residual_rms']:.3g} of a vertex's weight)"
-               if checks.get("residual_rms") is not None else "not at rest"] \
-            if checks.get("equilibrium") is False else []
-        if checks.get("inside_vertices"):
-            why.append(f"{checks['inside_vertices']} vertices inside the body")
+    why = []
+    if checks.get("equilibrium") is False:
+        rms = checks.get("residual_rms")
+        why.append("not at rest" if rms is None
+                   else f"not at rest (residual rms {rms:.3g} of a vertex's weight)")
+    if checks.get("inside_vertices"):
+        why.append(f"{checks['inside_vertices']} vertices inside the body")
+    if why:
         return "the drape failed: " + "; ".join(why)
     return None
 
