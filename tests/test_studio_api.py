@@ -155,6 +155,48 @@ def test_automatic_correction_runs_in_the_background(client):
         client.get("/api/state").json()["fitting_ratio"])
 
 
+def test_correction_drapes_its_pattern_afresh(tmp_path, monkeypatch):
+    """As the CLI's ``correct``: the pattern a studio correction made is draped afresh, and
+    a fresh drape that fails its checks is no fit reached (the studio read "Fit reached"
+    where the CLI exits 1)."""
+    import dataclasses
+
+    from patternfit import api
+    app = create_app(tmp_path, allowed_hosts=("testserver",))
+    c = studio_client(app)
+    new = {"garment": "skirt", "size": "S", "body": "female_thin", "fabric": "stretch_knit",
+           "triangles": 900}
+    made = []
+    real_correct = api.correct
+    monkeypatch.setattr(api, "correct", lambda *a, **k: made.append(real_correct(*a, **k))
+                        or made[-1])
+
+    def corrected() -> dict:
+        assert c.post("/api/new", json=new).status_code == 200
+        app.state.studio.session.threshold = 0.999  # as test_loop_cli: the loop edits
+        assert c.post("/api/correct").status_code == 200
+        app.state.studio.wait(300)
+        job = c.get("/api/drape").json()
+        assert job["error"] is None, job
+        return job["result"]
+
+    result = corrected()
+    assert any(it.edits for it in made[0].iterations)
+    fresh = result["fresh_drape"]
+    assert 0.5 < fresh["fitting_ratio"] < 1.5 and fresh["passed"] is True
+    assert fresh["verdict"] is not None and result["verdict"] is not None
+    assert result["reached"] == made[0].reached
+    # a loop that reached its fit, whose pattern fails draped afresh
+    monkeypatch.setattr(api, "correct", lambda *a, **k: dataclasses.replace(made[0],
+                                                                           reached=True))
+    said = {"passed": False, "reasons": ["12 cloth edges through the body"]}
+    monkeypatch.setattr(api, "fresh_drape", lambda *a, **k: {**fresh, **said})
+    result = corrected()
+    assert result["reached"] is False and result["fresh_drape"]["passed"] is False
+    monkeypatch.setattr(api, "fresh_drape", lambda *a, **k: fresh)
+    assert corrected()["reached"] is True
+
+
 def test_safety(client, folder):
     assert client.get("/api/export/..%2F..%2Fetc%2Fpasswd").status_code == 404
     assert client.get("/api/state", headers={"host": "attacker.example"}).status_code == 403

@@ -77,7 +77,7 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "check_sewn",
            "correct", "correct_design", "design_session", "drafted_too_small",
            "describe_fabric", "drape_and_evaluate", "evaluate_drape", "evaluate_saved",
-           "fabric_catalogue",
+           "fabric_catalogue", "fresh_drape",
            "fabric_test", "list_bodies", "list_body_sets", "list_engines", "list_fabrics",
            "judge_state", "list_garments", "list_sizes", "mesh_garment", "place_and_evaluate",
            "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric",
@@ -959,7 +959,7 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
     ``after/`` fit outputs and the regions pictures (a correction refused from a failed
     drape, ``report["failed"]``, writes no ``pattern.json`` and no ``after/``). When edits
     were made, the report's ``fresh_drape`` says what the corrected pattern reads draped
-    afresh from its placement (:func:`_fresh_drape`). Returns the report.
+    afresh from its placement (:func:`fresh_drape`). Returns the report.
 
     ``progress(iteration)`` is called after each drape is evaluated, ``drape_progress`` goes
     to the solver, ``write_progress(message)`` is called per output written."""
@@ -979,29 +979,43 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
                      progress=progress)
     if not result.failed and result.pattern is not None \
             and any(it.edits for it in result.iterations):
-        extra = {**(extra or {}), "fresh_drape": _fresh_drape(
-            result.pattern, session, settings.rules, progress=drape_progress)}
+        extra = {**(extra or {}), "fresh_drape": fresh_drape(
+            result.pattern, session, verdict_rules=settings.rules, progress=drape_progress)}
     return write_correction_outputs(out, session, result, extra=extra, pictures=pictures,
                                     progress=write_progress)
 
 
-def _fresh_drape(pattern: Pattern, session: DesignSession, rules: VerdictRules, *,
-                 progress: Callable | None = None) -> dict:
-    """ϖ, verdict and checks of ``pattern`` (a correction's result) meshed anew, placed and
-    draped from the start on the session's body in its fabric, sewn as it is (not widened
-    as a session may sew a first drape drafted too small: widened 1 / 0.6 times, the demo's
-    corrected skirt fell past the hips): what the garment made from it reads. The loop's
-    own drapes go on from its first one, where a skirt 40 % too narrow stuck 9 cm above the
-    waist: its "too loose" after/ read "too tight" draped afresh."""
+def fresh_drape(pattern: Pattern, session: DesignSession, *,
+                verdict_rules: VerdictRules | None = None,
+                progress: Callable | None = None) -> dict:
+    """ϖ, verdict and checks of ``pattern`` (a correction's result, :attr:`Correction.pattern`)
+    meshed anew, placed and draped from the start on ``session``'s body in its fabric, sewn
+    as it is (not widened as a session may sew a first drape drafted too small: widened
+    1 / 0.6 times, the demo's corrected skirt fell past the hips): what the garment made
+    from it reads. The loop's own drapes go on from its first one, where a skirt 40 % too
+    narrow stuck 9 cm above the waist: its "too loose" after/ read "too tight" draped afresh.
+    Every front end that corrects says this too (the CLI's ``correct`` and ``demo``, the
+    studio).
+
+    Returns ``{"fitting_ratio", "verdict", "verdict_reason", "passed", "reasons",
+    "equilibrium"}`` (``fitting_ratio`` None where not finite); ``passed`` False (the drape failed its checks, ``reasons`` say why)
+    means the correction did not reach a fit, whatever its loop read."""
+    instance(pattern, Pattern, "pattern", "a Pattern (a correction's result.pattern)")
+    instance(session, DesignSession, "session", "a DesignSession (api.design_session)")
+    instance(verdict_rules, VerdictRules, "verdict_rules", "api.verdict_rules(...)",
+             optional=True)
     fresh = DesignSession(pattern, session.body, session.fabric, session.triangles,
                           session.threshold)
     fresh.redrape(progress=progress)
     st = fresh.state
     fit = FitEvaluator(st.mesh)(st.positions)
     _, verdict = judge_state(st.pattern, st.mesh, st.positions, fit, session.body,
-                             fresh.fabric, checks=st.checks, verdict_rules=rules)
+                             fresh.fabric, checks=st.checks,
+                             verdict_rules=verdict_rules or VerdictRules())
     said = verdict.report()
-    return {"fitting_ratio": float(fit.fitting_ratio), "verdict": said.get("verdict"),
+    ratio = float(fit.fitting_ratio)
+    return {"fitting_ratio": ratio if np.isfinite(ratio) else None,
+            "verdict": said.get("verdict"),
             "verdict_reason": said.get("verdict_reason"), "passed": st.checks.get("passed"),
             "reasons": st.checks.get("reasons") or [],
             "equilibrium": st.checks.get("equilibrium")}

@@ -681,7 +681,7 @@ class Studio:
         session is saved after each round, so the page can follow and a reload keeps it.
         Stopped, it reports no outcome (``result.stopped``), never "reached"."""
         settings = api.CorrectionSettings(threshold=session.threshold)
-        job.drapes = settings.max_iterations + 1
+        job.drapes = settings.max_iterations + 2  # its rounds, then the fresh drape
 
         def round_done(it):
             job.rounds.append({"iteration": it.index, "fitting_ratio": it.fitting_ratio,
@@ -698,12 +698,22 @@ class Studio:
         try:
             result = api.correct(session, settings=settings, progress=round_done,
                                  drape_progress=progress)
+            fresh = None
+            if not result.failed and result.pattern is not None \
+                    and any(it.edits for it in result.iterations):
+                # as the CLI: the loop's drapes go on from its first, a garment made from
+                # the pattern is put on afresh, and may sit elsewhere or fail
+                job.tracker.begin(session)
+                fresh = api.fresh_drape(result.pattern, session,
+                                        verdict_rules=settings.rules, progress=progress)
         except DrapeStopped:
             job.result = {"reached": False, "stopped": True, "fitting_ratio": None,
-                          "failed": None}
+                          "failed": None, "fresh_drape": None}
             raise
-        job.result = {"reached": result.reached, "fitting_ratio": result.fitting_ratio,
-                      "failed": result.failed, "stopped": False}
+        job.result = {"reached": result.reached and (fresh or {}).get("passed") is not False,
+                      "fitting_ratio": result.fitting_ratio, "failed": result.failed,
+                      "verdict": result.verdict,
+                      "fresh_drape": fresh, "stopped": False}
         with self.lock:
             if self.session is session:
                 self._save()

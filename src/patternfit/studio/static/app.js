@@ -445,7 +445,7 @@ async function pollDrape() {
             (j.kind === "correct" ? `, no fit outcome (${j.rounds.length} rounds finished)` : "; ϖ of this state stays unknown"), "warning", "drape");
         } else if (j.error) message(`The ${j.kind === "correct" ? "correction" : "drape"} did not finish: ${j.error}`, "error", "drape");
         else if (j.result && j.result.failed) message(`Correction stopped: ${j.result.failed}`, "error", "drape");
-        else if (j.result) message(j.result.reached ? `Fit reached: ϖ ${(100 * j.result.fitting_ratio).toFixed(2)} %` : `Fit not reached after ${j.rounds.length - 1} rounds`, "warning", "drape");
+        else if (j.result) message(correctionText(j), "warning", "drape");
         break;
       }
       await new Promise((r) => setTimeout(r, 250));
@@ -456,6 +456,21 @@ async function pollDrape() {
     polling = false; $("stop-btn").disabled = true; $("drape-btn").disabled = false;
     $("correct-btn").disabled = correctWas;
   }
+}
+
+// What a finished correction reached, and what its corrected pattern reads draped afresh
+// (placed, sewn and draped from the start, as a garment made from it is put on: the loop's
+// drapes go on from its first one, and the two may differ, or the fresh one fail).
+function correctionText(j) {
+  const r = j.result, f = r.fresh_drape;
+  if (f && f.passed === false)
+    return `Fit not reached: the corrected pattern draped afresh failed its checks (${clip((f.reasons || []).join("; "), 160)})`;
+  let text = r.reached ? `Fit reached: ϖ ${(100 * r.fitting_ratio).toFixed(2)} %` : `Fit not reached after ${j.rounds.length - 1} rounds`;
+  if (f) {
+    text += `; the corrected pattern draped afresh: ϖ ${f.fitting_ratio === null ? "not finite" : (100 * f.fitting_ratio).toFixed(2) + " %"}, verdict ${f.verdict || "n/a"}`;
+    if (f.verdict !== r.verdict) text += ` (the loop's: ${r.verdict}; its drapes went on from the first one, where the garment may sit otherwise than one made from the pattern and put on)`;
+  }
+  return text;
 }
 
 // -- session, files ---------------------------------------------------------------------
