@@ -292,3 +292,31 @@ def test_a_carried_start_keeps_its_rest_shapes_across_a_save(tmp_path):
     (folder / snapshot(folder)).write_text(json.dumps(meta))
     with pytest.raises(SessionError, match="start_rest"):
         DesignSession.load(folder)
+
+
+def test_a_drape_read_back_goes_on_from_its_own_rest(tmp_path):
+    """A session read back re-drapes a draped state from its own drape and contact state,
+    as ``drape --start`` does: at rest, it stops at once and moves nothing (it was draped
+    cold, from the placement, and landed elsewhere)."""
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=300)
+    first = s.redrape()
+    assert first.checks.equilibrium
+    folder = tmp_path / "s"
+    s.save(folder)
+    back = DesignSession.load(folder)
+    assert back.next_start() == "continued"
+    again = back.redrape()
+    assert again.timing["start"] == "saved" and again.report_extra()["timing"]["iterations"] == 0
+    assert np.abs(again.positions - first.positions).max() <= 1e-3
+    assert back.state.fitting_ratio == pytest.approx(s.state.fitting_ratio)
+    # its contact file named in the snapshot, and refused by name when damaged or not its own
+    meta = json.loads((folder / snapshot(folder)).read_text())
+    row = meta["states"][-1]
+    contact = folder / STATES / row["key"] / row["contact"]
+    contact.write_bytes(b"PK\x03\x04 not an archive")
+    with pytest.raises(SessionError, match=contact.name):
+        DesignSession.load(folder)
+    row["contact"] = "../../contact.npz"
+    (folder / snapshot(folder)).write_text(json.dumps(meta))
+    with pytest.raises(SessionError, match="contact"):
+        DesignSession.load(folder)

@@ -28,7 +28,7 @@ from ..defaults import DEFAULTS
 from ..edit import grade
 from ..errors import InputError, SessionError
 from ..files import (atomic_write_bytes, atomic_write_text, dumps_finite_json, read_json_file,
-                     read_npy)
+                     read_npy, read_npz)
 from ..fit.metrics import FitEvaluator, FitResult
 from ..mesh.garment import GarmentMesh
 from ..mesh.store import save_garment
@@ -58,6 +58,7 @@ _SNAPSHOT = re.compile(r"snapshot-(\d+)(\.json)?")
 _KEY = re.compile(r"[0-9a-f]{32}")
 _POSITIONS = re.compile(r"positions-[0-9a-f]{32}\.npy")
 _START_REST = re.compile(r"start-rest-[0-9a-f]{32}\.npy")
+_CONTACT = re.compile(r"contact-[0-9a-f]{32}\.npz")
 _BODY = re.compile(r"body-[0-9a-f]{32}\.npz")
 
 
@@ -91,7 +92,8 @@ class State:
     contact : dict or None
         The contact state of the drape that made ``positions`` (``Drape.saved_contact``),
         saved beside them in the fit outputs (a correction's ``before/`` had none, and a
-        drape continued from it took 2-12 iterations where a rest takes 0).
+        drape continued from it took 2-12 iterations where a rest takes 0) and in a saved
+        session (a session read back re-draped its draped states cold, from the placement).
     key : str
         The name of the state's folder in a saved session (random, fixed for the state's
         life: pattern and mesh are never replaced, so the folder is written once).
@@ -111,6 +113,7 @@ class State:
     # place), so a new array object is what needs a new file
     _stored_positions: tuple | None = field(default=None, repr=False)
     _stored_start_rest: tuple | None = field(default=None, repr=False)
+    _stored_contact: tuple | None = field(default=None, repr=False)
 
 
 @dataclass(eq=False)
@@ -196,6 +199,9 @@ class DesignSession:
         - ``"carried"``: from an earlier state's drape carried over to this state's mesh
           (:attr:`State.start_rest`: a panel was re-meshed by the edit, or the last drape
           is of another mesh), reaching the edited rest shapes in stages;
+        - ``"continued"``: from the state's own drape, read back from a saved session, with
+          its contact state when it was saved (:attr:`State.contact`), as ``patternfit
+          drape --start`` goes on from a saved drape: from a rest it stops at once;
         - ``"relaxed"``: the history's first state of a session with ``relax`` > 1;
         - ``"cold"``: placed, sewn and draped from the pattern.
         """
@@ -206,6 +212,8 @@ class DesignSession:
             return "warm"
         if st.positions is not None and st.start_rest is not None:
             return "carried"
+        if st.positions is not None and st.fitting_ratio is not None:
+            return "continued"
         if self.relax > 1.0 and self.position == 0:
             return "relaxed"
         return "cold"
@@ -227,6 +235,9 @@ class DesignSession:
         elif how == "carried":
             result = drape(st.pattern, st.mesh, self.body, self.fabric, start=st.positions,
                            start_rest=st.start_rest, progress=progress)
+        elif how == "continued":
+            result = drape(st.pattern, st.mesh, self.body, self.fabric, start=st.positions,
+                           start_contact=st.contact, progress=progress)
         elif how == "relaxed":
             wide_pattern, wide_mesh = _widened(st.pattern, st.mesh, self.relax)
             first = _finished(drape(wide_pattern, wide_mesh, self.body, self.fabric,
@@ -356,7 +367,8 @@ class DesignSession:
 
         Each state is written once into ``states/<key>/`` (pattern and mesh, into a hidden
         folder renamed into place when complete; each drape of it as its own positions
-        file, a carried start's flat shapes, :attr:`State.start_rest`, beside it), the body
+        file, with its contact state, :attr:`State.contact`, and a carried start's flat
+        shapes, :attr:`State.start_rest`, beside it), the body
         once as ``body-<key>.npz``; then a snapshot file lists the history,
         then ``current`` is replaced to name it (one rename), then the files no longer named
         are removed. A save killed at any point leaves the previous session loadable.
@@ -432,12 +444,18 @@ class DesignSession:
             rest_file = None if v1 else row.get("start_rest")
             start_rest = None if rest_file is None else _load_array(d / rest_file,
                                                                     (mesh.n_vertices, 2))
+            contact_file = None if v1 else row.get("contact")
+            contact = None
+            if contact_file is not None:
+                contact = read_npz(d / contact_file, limit=limits.mesh_bytes,
+                                   error=SessionError)
             st = State(row["label"], row["edit"], pattern, mesh, positions,
-                       row["fitting_ratio"], row["checks"], start_rest)
+                       row["fitting_ratio"], row["checks"], start_rest, contact)
             if not v1:  # a version-1 state is copied into the new layout by the next save
                 st.key = row["key"]
                 st._stored_positions = None if file is None else (positions, file)
                 st._stored_start_rest = None if rest_file is None else (start_rest, rest_file)
+                st._stored_contact = None if contact_file is None else (contact, contact_file)
             history.append(st)
         with _as_session_error(meta_file):
             session = cls(history[meta["position"]].pattern, body, fabric, meta["triangles"],
@@ -476,7 +494,23 @@ def _store_state(states: Path, s: State) -> dict:
             s._stored_start_rest = _store_array(d, "start-rest", s.start_rest,
                                                 s._stored_start_rest)
             row["start_rest"] = s._stored_start_rest[1]
+        if s.contact is not None:
+            s._stored_contact = _store_contact(d, s.contact, s._stored_contact)
+            row["contact"] = s._stored_contact[1]
     return row
+
+
+def _store_contact(d: Path, contact: dict, stored: tuple | None) -> tuple:
+    """Write a drape's contact state (named arrays) into ``d`` as ``contact-<key>.npz``
+    unless ``stored`` (the (dict, file name) written last) is of this very dict: a drape
+    replaces it, never edits it. Returns the new (dict, file name)."""
+    if stored is None or stored[0] is not contact:
+        stored = (contact, f"contact-{_new_key()}.npz")
+    if not (d / stored[1]).is_file():
+        buf = io.BytesIO()
+        np.savez_compressed(buf, **{k: np.asarray(v) for k, v in contact.items()})
+        atomic_write_bytes(d / stored[1], buf.getvalue())
+    return stored
 
 
 def _store_array(d: Path, prefix: str, values: np.ndarray, stored: tuple | None) -> tuple:
@@ -501,7 +535,8 @@ def _remove_unnamed(folder: Path, keep: str, meta: dict) -> None:
     for p in [*folder.glob("body-*.npz"), *folder.glob(".*.tmp")]:
         if p.name != meta["body"]:
             p.unlink(missing_ok=True)
-    named = {row["key"]: {"pattern.json", "mesh.npz", row["positions"], row.get("start_rest")}
+    named = {row["key"]: {"pattern.json", "mesh.npz", row["positions"], row.get("start_rest"),
+                          row.get("contact")}
              for row in meta["states"]}
     for d in (folder / STATES).iterdir():
         if d.name not in named:
@@ -547,6 +582,10 @@ def _bad_meta(meta, v1: bool) -> str | None:
                 row["positions"] is not None and isinstance(row["start_rest"], str)
                 and _START_REST.fullmatch(row["start_rest"])):
             return f"state {i}: field 'start_rest' wrong"
+        elif row.get("contact") is not None and not (
+                row["positions"] is not None and isinstance(row["contact"], str)
+                and _CONTACT.fullmatch(row["contact"])):
+            return f"state {i}: field 'contact' wrong"
     return None
 
 

@@ -97,7 +97,7 @@ def drape_plan(session) -> list[tuple[str, float]]:
     times triangles), following ``DesignSession.redrape`` and ``patternfit.sim.drape``."""
     n = session.state.mesh.n_triangles
     how = session.next_start()
-    if how in ("warm", "carried"):
+    if how in ("warm", "carried", "continued"):
         return [("settling", _PHASE_ITERATIONS["settling"] * n)]
     size = _COARSE if n > 3 * _COARSE else n
     plan = [(name, _PHASE_ITERATIONS[name] * size) for name in ("sewing", "relaxing", "draping")]
