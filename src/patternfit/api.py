@@ -998,8 +998,9 @@ def fresh_drape(pattern: Pattern, session: DesignSession, *,
     studio).
 
     Returns ``{"fitting_ratio", "verdict", "verdict_reason", "passed", "reasons",
-    "equilibrium"}`` (``fitting_ratio`` None where not finite); ``passed`` False (the drape failed its checks, ``reasons`` say why)
-    means the correction did not reach a fit, whatever its loop read."""
+    "equilibrium"}`` (``fitting_ratio`` None where not finite); ``passed`` False (the
+    drape failed its checks, ``reasons`` say why) means the correction did not reach a fit,
+    whatever its loop read."""
     instance(pattern, Pattern, "pattern", "a Pattern (a correction's result.pattern)")
     instance(session, DesignSession, "session", "a DesignSession (api.design_session)")
     instance(verdict_rules, VerdictRules, "verdict_rules", "api.verdict_rules(...)",

@@ -31,7 +31,7 @@ from ..files import (atomic_write_bytes, atomic_write_text, dumps_finite_json, r
                      read_npy, read_npz)
 from ..fit.metrics import FitEvaluator, FitResult
 from ..mesh.garment import GarmentMesh
-from ..mesh.store import save_garment
+from ..mesh.store import contact_bytes, save_garment
 from ..mesh.transfer import transfer
 from ..mesh.triangulate import mesh_pattern
 from ..pattern.errors import PatternError
@@ -495,34 +495,30 @@ def _store_state(states: Path, s: State) -> dict:
                                                 s._stored_start_rest)
             row["start_rest"] = s._stored_start_rest[1]
         if s.contact is not None:
-            s._stored_contact = _store_contact(d, s.contact, s._stored_contact)
+            s._stored_contact = _store_once(d, "contact-{}.npz", s.contact, s._stored_contact,
+                                            contact_bytes)
             row["contact"] = s._stored_contact[1]
     return row
 
 
-def _store_contact(d: Path, contact: dict, stored: tuple | None) -> tuple:
-    """Write a drape's contact state (named arrays) into ``d`` as ``contact-<key>.npz``
-    unless ``stored`` (the (dict, file name) written last) is of this very dict: a drape
-    replaces it, never edits it. Returns the new (dict, file name)."""
-    if stored is None or stored[0] is not contact:
-        stored = (contact, f"contact-{_new_key()}.npz")
-    if not (d / stored[1]).is_file():
-        buf = io.BytesIO()
-        np.savez_compressed(buf, **{k: np.asarray(v) for k, v in contact.items()})
-        atomic_write_bytes(d / stored[1], buf.getvalue())
-    return stored
-
-
 def _store_array(d: Path, prefix: str, values: np.ndarray, stored: tuple | None) -> tuple:
-    """Write ``values`` into ``d`` as ``<prefix>-<key>.npy`` unless ``stored`` (the
-    (array, file name) written last) is of this very array: arrays are replaced, never
-    edited in place. Returns the new (array, file name)."""
-    if stored is None or stored[0] is not values:
-        stored = (values, f"{prefix}-{_new_key()}.npy")
-    if not (d / stored[1]).is_file():
+    """Write ``values`` into ``d`` as ``<prefix>-<key>.npy`` (:func:`_store_once`)."""
+    def npy(values) -> bytes:
         buf = io.BytesIO()
         np.save(buf, np.asarray(values, dtype=np.float64), allow_pickle=False)
-        atomic_write_bytes(d / stored[1], buf.getvalue())
+        return buf.getvalue()
+    return _store_once(d, prefix + "-{}.npy", values, stored, npy)
+
+
+def _store_once(d: Path, name: str, value, stored: tuple | None, to_bytes) -> tuple:
+    """Write ``to_bytes(value)`` into ``d`` as ``name`` with a new key in its ``{}`` unless
+    ``stored`` (the (value, file name) written last) is of this very object: a drape
+    replaces its arrays and its contact state, never edits them in place. Returns the new
+    (value, file name)."""
+    if stored is None or stored[0] is not value:
+        stored = (value, name.format(_new_key()))
+    if not (d / stored[1]).is_file():
+        atomic_write_bytes(d / stored[1], to_bytes(value))
     return stored
 
 

@@ -72,9 +72,7 @@ def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None, *,
     if positions is not None:
         files[folder / POSITIONS] = _positions_bytes(positions, mesh)
     if positions is not None and contact is not None:
-        buf = io.BytesIO()
-        np.savez_compressed(buf, **{k: np.asarray(v) for k, v in contact.items()})
-        files[folder / CONTACT] = buf.getvalue()
+        files[folder / CONTACT] = contact_bytes(contact)
     # removed first: a crash then leaves the old garment without a state, never the new
     # garment with the old one's
     for name in (POSITIONS, CONTACT):
@@ -82,6 +80,14 @@ def save_garment(folder, pattern: Pattern, mesh: GarmentMesh, positions=None, *,
             (folder / name).unlink(missing_ok=True)
     atomic_write_group(files)
     return folder
+
+
+def contact_bytes(contact: dict[str, np.ndarray]) -> bytes:
+    """A drape's contact state (named arrays, ``Drape.saved_contact``) as the bytes of a
+    compressed ``.npz`` file, as :func:`load_contact` reads it back."""
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **{k: np.asarray(v) for k, v in contact.items()})
+    return buf.getvalue()
 
 
 def load_contact(folder) -> dict[str, np.ndarray] | None:
