@@ -282,15 +282,23 @@ def test_a_carried_start_keeps_its_rest_shapes_across_a_save(tmp_path):
     rest_files = [k for k in files_of(folder) if "start-rest-" in k]
     assert len(rest_files) == 1 and files_of(folder)[rest_files[0]] == written[rest_files[0]]
     # damaged: its shape, then its name in the snapshot
+    refused_when_damaged(folder, "start_rest",
+                         lambda rest: _save_npy(rest, np.zeros((st.mesh.n_vertices, 3))))
+
+
+def refused_when_damaged(folder, field: str, damage) -> None:
+    """The last state's file that ``field`` of the snapshot names, damaged by
+    ``damage(path)``, then that name pointed outside the session: each time the session
+    is refused with a SessionError naming the file, then the field."""
     meta = json.loads((folder / snapshot(folder)).read_text())
     row = meta["states"][-1]
-    rest = folder / STATES / row["key"] / row["start_rest"]
-    _save_npy(rest, np.zeros((st.mesh.n_vertices, 3)))
-    with pytest.raises(SessionError, match=rest.name):
+    path = folder / STATES / row["key"] / row[field]
+    damage(path)
+    with pytest.raises(SessionError, match=path.name):
         DesignSession.load(folder)
-    row["start_rest"] = "../../start-rest.npy"
+    row[field] = f"../../{path.name}"
     (folder / snapshot(folder)).write_text(json.dumps(meta))
-    with pytest.raises(SessionError, match="start_rest"):
+    with pytest.raises(SessionError, match=field):
         DesignSession.load(folder)
 
 
@@ -310,13 +318,4 @@ def test_a_drape_read_back_goes_on_from_its_own_rest(tmp_path):
     assert np.abs(again.positions - first.positions).max() <= 1e-3
     assert back.state.fitting_ratio == pytest.approx(s.state.fitting_ratio)
     # its contact file named in the snapshot, and refused by name when damaged or not its own
-    meta = json.loads((folder / snapshot(folder)).read_text())
-    row = meta["states"][-1]
-    contact = folder / STATES / row["key"] / row["contact"]
-    contact.write_bytes(b"PK\x03\x04 not an archive")
-    with pytest.raises(SessionError, match=contact.name):
-        DesignSession.load(folder)
-    row["contact"] = "../../contact.npz"
-    (folder / snapshot(folder)).write_text(json.dumps(meta))
-    with pytest.raises(SessionError, match="contact"):
-        DesignSession.load(folder)
+    refused_when_damaged(folder, "contact", lambda f: f.write_bytes(b"PK\x03\x04 damaged"))
