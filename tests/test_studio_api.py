@@ -122,8 +122,11 @@ def test_drape_progress_stop_and_exports(client):
                  "report.json"):
         r = client.get(f"/api/export/{name}")
         assert r.status_code == 200 and len(r.content) > 100, name
-    assert client.get("/api/export/report.json").json()["fitting_ratio"] == \
-        pytest.approx(s["fitting_ratio"])
+    exported = client.get("/api/export/report.json").json()
+    assert exported["fitting_ratio"] == pytest.approx(s["fitting_ratio"])
+    # what it is a fit of, as the CLI's report says (the studio's named neither)
+    info = client.get("/api/state").json()["info"]
+    assert (exported["body"], exported["fabric"]) == (info["body"], info["fabric"])
     # a failed drape's exports show no fit colour (they were green, the garment's header
     # without a word of it, while the page said "failed")
     state = studio.ensure().state

@@ -60,12 +60,14 @@ def report(s, fit) -> dict:
     """The fit report of session ``s``'s draped state (what ``report.json`` holds), whose
     fit evaluation is ``fit``, with its fit measures and verdict as the CLI's report has
     them (``api.judge_state``): per region and overall, "failed" for a drape that failed its
-    checks (no fit word may be read from its ϖ)."""
+    checks (no fit word may be read from its ϖ); and, as the CLI's, the body and the
+    fabric it was draped on and in (by name)."""
     st = s.state
     measures, verdict = api.judge_state(st.pattern, st.mesh, st.positions, fit, s.body,
                                         s.fabric, checks=st.checks)
     return fit_report(s.mesh, fit, state="draped",
-                      extra={"checks": st.checks, "history": s.summary(),
+                      extra={"body": s.body.name, "fabric": s.fabric.name,
+                             "checks": st.checks, "history": s.summary(),
                              **measures.report(), **verdict.report()})
 
 
