@@ -138,6 +138,36 @@ def test_fit_of_a_saved_state_checks_where_it_rests(skirt, tmp_path):
     assert not aside.passed and aside.verdict == "failed" and aside.region_verdicts == {}
 
 
+def test_a_state_read_back_on_its_body_counts_what_its_drape_counted(skirt, tmp_path):
+    """Read back with the body it was draped on, a state is checked for cloth through the
+    body and crossed triangle pairs as its drape was: a skirt hung from the neck that failed
+    with cloth edges through the body passed ``fit --body`` as a fit ("too tight", exit 0),
+    as did a skirt graded to 0.6 that crossed itself."""
+    base = build("skirt", "M")
+    neck = replace(base, meta={**base.meta, "anchor": "neck"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the stated anchor the panels deny
+        out = api.drape_and_evaluate(neck, "female_average", "cotton", triangles=800)
+    out.write(tmp_path / "neck", pictures=False)
+    back = api.evaluate_saved(tmp_path / "neck" / "garment", body="female_average")
+    counted = ("edges_in_body", "faces_in_body", "self_intersections")
+    assert {k: back.checks[k] for k in counted} == {k: out.checks[k] for k in counted}
+    assert any(out.checks[k] for k in counted), out.checks["reasons"]  # what is tested
+    assert not back.passed and back.verdict == "failed"
+    r = CliRunner().invoke(app, ["fit", "-g", str(tmp_path / "neck"), "-b", "female_average",
+                                 "-o", str(tmp_path / "fit"), "--no-pictures"])
+    assert r.exit_code == 1 and "through the body" in " ".join(r.output.split()), r.output
+    # crossed: the skirt at rest with its front tilted through its back
+    pattern, mesh, body, d = skirt
+    x = d.positions.copy()
+    front = mesh.vertex_panel == [p.name for p in pattern.panels].index("front")
+    x[front, 2] = x[~front, 2].mean() + 0.5 * (x[front, 1] - x[front, 1].mean())
+    save_garment(tmp_path / "crossed", pattern, mesh, x)
+    crossed = api.evaluate_saved(tmp_path / "crossed", body=BODY)
+    assert crossed.checks["self_intersections"] > 0 and not crossed.passed
+    assert any("crossed triangle pairs" in r for r in crossed.checks["reasons"])
+
+
 def test_fit_of_a_saved_state_without_its_contact_state_checks_its_balance(skirt, tmp_path):
     """Without a contact.npz of its positions nothing said whether a saved state was at rest,
     and a skirt lifted 1 cm off its rest (on the body by every other check) read as a fit.
@@ -358,6 +388,16 @@ def test_the_correction_refuses_a_failed_drape(skirt, tmp_path):
                    0.95) == "the drape failed: not at rest (residual rms 6.9 of a vertex's weight)"
     assert refusal({"on_body": True, "equilibrium": True, "inside_vertices": 57},
                    0.95) == "the drape failed: 57 vertices inside the body"
+    # nor cloth through the body between its vertices, nor open seams (a skirt hung from the
+    # neck, 6 cloth edges through the body, was given 4 edits)
+    assert "6 cloth edges through the body" in refusal(
+        {"on_body": True, "equilibrium": True, "edges_in_body": 6}, 0.95)
+    assert "1 cloth triangles with the body through them" in refusal(
+        {"on_body": True, "equilibrium": True, "faces_in_body": 1}, 0.95)
+    assert "seams open by up to 86.4 mm" in refusal(
+        {"on_body": True, "equilibrium": True, "seam_gap_max_mm": 86.4}, 0.95)
+    assert refusal({"on_body": True, "equilibrium": True, "self_intersections": 3,
+                    "seam_gap_max_mm": 0.2}, 0.95) is None
     assert "not finite" in refusal(None, float("nan"))
     report = write_correction_outputs(tmp_path, session, result)
     assert report["failed"] and "pattern" not in report["files"]

@@ -57,7 +57,7 @@ from .pattern.validate import check_pattern
 from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
-from .sim.drape import CONTACT_MARGIN, Drape, drape, saved_balance
+from .sim.drape import CONTACT_MARGIN, Drape, drape, saved_balance, saved_crossings
 from .sim.provenance import (draped_for, not_draped_for, saved_fabric, saved_failure,
                              saved_residual)
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
@@ -820,7 +820,8 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     ``body`` it was draped on (and its ``fabric``: None, the one its drape saved in
     ``contact.npz``, else the default), also the state's checks on that body
     (:func:`patternfit.sim.onbody.saved_state_checks`: where it rests, vertices inside,
-    seams; a state that fell, slid or was moved off the body fails them and its verdict
+    seams, cloth edges and triangles through the body, crossed triangle pairs; a state
+    that fell, slid, went through the body or was moved off it fails them and its verdict
     says so), the fit measures and the verdict (contact distance the drape's default
     margin). Without a body nothing checks where the state lies: ϖ alone, its checks'
     ``passed`` None ("not checked"), False when its drape said it failed on its own body
@@ -861,7 +862,7 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
                           extra={"checks": unchecked_state(**rest, failed=failed)},
                           contact=contact)
     checks = saved_state_checks(pat, m, b, x, balance=lambda: saved_balance(m, b, fab, x),
-                                **rest)
+                                crossings=lambda: saved_crossings(m, b, x), **rest)
     measures, judgement = judge_state(pat, m, x, fit, b, fab, checks=checks,
                                       verdict_rules=verdict_rules)
     return FitOutcome(pat, m, b, fab, x, fit, state="saved", extra={"checks": checks},

@@ -32,6 +32,7 @@ from ..mesh.garment import GarmentMesh
 from ..pattern.errors import PatternError
 from ..pattern.model import Pattern
 from ..pattern.validate import check_pattern
+from ..sim.checks import crossing_reasons, seam_gap_reason
 from .ease_limit import cap_moves
 from .lengthen import hem_edges, hem_moves
 from .regions import find_regions
@@ -354,11 +355,13 @@ def refusal(checks: dict | None, fitting_ratio: float) -> str | None:
     state's: solver and on-body checks) and ϖ, or None: the garment is not on the body where
     its pattern says (fell, lies at the feet, slid off its anchor, collapsed; the on-body
     checks, :mod:`patternfit.sim.onbody`), it did not come to rest (stopped at its
-    iteration or time limit: a shape still moving), cloth lies inside the body, or ϖ is not
-    finite. Its stretch says nothing about the pattern (a first drape stopped after 5
-    iterations, 57 vertices inside the body, was edited from: 12 edits). A drape that failed
-    only by crossed triangles (a few pairs pooled in a fold) is still corrected from; its
-    checks travel with the round."""
+    iteration or time limit: a shape still moving), cloth lies inside the body or goes
+    through it between its vertices, its seams are open, or ϖ is not finite. Its stretch
+    says nothing about the pattern (a first drape stopped after 5 iterations, 57 vertices
+    inside the body, was edited from: 12 edits; a skirt hung from the neck with 6 cloth
+    edges through the body was given 4). A drape that failed only by crossed triangles (a
+    few pairs pooled in a fold) is still corrected from; its checks travel with the
+    round."""
     if not np.isfinite(fitting_ratio):
         return "the drape's fitting ratio is not finite"
     checks = checks or {}
@@ -372,6 +375,9 @@ def refusal(checks: dict | None, fitting_ratio: float) -> str | None:
                    else f"not at rest (residual rms {rms:.3g} of a vertex's weight)")
     if checks.get("inside_vertices"):
         why.append(f"{checks['inside_vertices']} vertices inside the body")
+    why += crossing_reasons(checks.get("edges_in_body") or 0, checks.get("faces_in_body") or 0,
+                            0)
+    why += [r for r in [seam_gap_reason(checks.get("seam_gap_max_mm") or 0.0)] if r]
     if why:
         return "the drape failed: " + "; ".join(why)
     return None

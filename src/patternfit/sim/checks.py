@@ -217,6 +217,23 @@ def seam_gap_reason(gap_mm: float) -> str | None:
     return None if gap_mm < limits.seam_gap_mm else f"seams open by up to {gap_mm:.1f} mm"
 
 
+def crossing_reasons(edges_in_body: int, faces_in_body: int,
+                     self_intersections: int) -> list[str]:
+    """Cloth edges and triangles through the body and crossed triangle pairs in words, each
+    where above its limit (``limits.body_penetrations``, ``limits.self_intersections``)."""
+    out = []
+    if edges_in_body > limits.body_penetrations:
+        out.append(f"{edges_in_body} cloth edges through the body between their "
+                   f"vertices (limit {limits.body_penetrations})")
+    if faces_in_body > limits.body_penetrations:
+        out.append(f"{faces_in_body} cloth triangles with the body through them, "
+                   f"their edges clear (limit {limits.body_penetrations})")
+    if self_intersections > limits.self_intersections:
+        out.append(f"{self_intersections} crossed triangle pairs (limit "
+                   f"{limits.self_intersections})")
+    return out
+
+
 def drape_checks(model: ClothModel, x, *, settings: SolverSettings, converged: bool = False,
                  residual=None) -> DrapeChecks:
     """Checks of simulated positions ``x`` (n3, 3) [m]; see :class:`DrapeChecks`.

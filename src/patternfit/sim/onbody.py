@@ -23,7 +23,7 @@ from ..geometry import triangle_areas, unique_edges
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
 from ..pattern.roles import panel_roles
-from .checks import inside_reason, seam_gap_mm, seam_gap_reason
+from .checks import crossing_reasons, inside_reason, seam_gap_mm, seam_gap_reason
 from .panel_frames import ANCHOR_HEIGHT, upright_frames
 
 #: a body panel whose top lies this far [m] below the garment's top does not hold the
@@ -403,13 +403,16 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                        spacing: float = 0.005, at_rest: bool | None = None,
                        balance: Callable[[], tuple[float, float, float]] | None = None,
                        residual: tuple[float, float] | None = None,
-                       unknown: str | None = None) -> dict:
+                       unknown: str | None = None,
+                       crossings: Callable[[], dict[str, int]] | None = None) -> dict:
     """The checks of a 3D state read back without the solver that made it (``patternfit
     fit`` of a saved garment folder), as a report's ``checks``: the on-body checks
     (:func:`on_body_checks`), the vertices inside the body (deeper than
-    ``constants.tol.penetration``) and the seams' widest gap, with ``passed`` and
-    ``reasons`` in words. ``solver_checked`` is False: the force balance and the crossed
-    triangle pairs need the drape's solver and fabric, and are not re-run.
+    ``constants.tol.penetration``), the seams' widest gap and, when ``crossings`` is given,
+    what it counts (:func:`patternfit.sim.drape.saved_crossings`: cloth edges and triangles
+    through the body, crossed triangle pairs), with ``passed`` and ``reasons`` in words.
+    ``solver_checked`` is False: the force balance needs the drape's solver and its contact
+    state, and is not re-run.
 
     positions : (n, 3) float, the state of ``mesh`` [m]; ``body`` a
     :class:`patternfit.body.Body`; ``spacing`` the distance field's grid step [m];
@@ -431,6 +434,8 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
         deepest = float(max(0.0, -d.min()) * 1e3)
         gap = seam_gap_mm(mesh.seam_pairs, x)
     reasons += [r for r in (inside_reason(inside, deepest), seam_gap_reason(gap)) if r]
+    through = crossings() if crossings is not None and np.isfinite(x).all() else {}
+    reasons += crossing_reasons(**through) if through else []
     if at_rest is False:
         reasons.append(NOT_AT_REST)
     rms = p99 = top = None
@@ -443,7 +448,7 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                            f"{REBUILT_P99:g} and {REBUILT_MAX:g}), whatever the body pushes "
                            f"and friction holds ({unknown or 'its contact state not known'})")
     return {**onbody.to_dict(), "inside_vertices": inside, "max_depth_mm": deepest,
-            "seam_gap_max_mm": gap, "solver_checked": False,
+            "seam_gap_max_mm": gap, **through, "solver_checked": False,
             **_saved_rest(at_rest, residual, unknown), "rebuilt_residual_rms": rms,
             "rebuilt_residual_p99": p99, "rebuilt_residual_max": top, "passed": not reasons,
             "reasons": reasons}
