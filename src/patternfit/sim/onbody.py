@@ -22,7 +22,7 @@ from ..constants import tol
 from ..geometry import triangle_areas, unique_edges
 from ..mesh.garment import GarmentMesh
 from ..pattern.model import Pattern
-from ..pattern.roles import panel_roles
+from ..pattern.roles import garment_anchor, panel_roles
 from .checks import crossing_reasons, inside_reason, seam_gap_mm, seam_gap_reason
 from .panel_frames import ANCHOR_HEIGHT, upright_frames
 
@@ -348,6 +348,14 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
             f"panel{'s' if ', ' in k else ''} '{k}' hang{'' if ', ' in k else 's'} {a:.0f}° "
             "from the side its name says"
             for k, a in twisted.items()) + f" (limit {s.side_angle:g}°)")
+    if anchor == "waist" and garment_anchor(pattern) == "neck":
+        # followed as stated (placement warns), but no garment with a sleeve or shoulders
+        # hangs from the waist: a dress so stated was worn as a skirt, its bodice round the
+        # hips, and passed in every front end. The other way round (no shoulders, stated
+        # as hung from the neck) may be a halter and is judged as it drapes.
+        reasons.append("hung from the waist, as meta.anchor says, though its panels read as "
+                       "hung from the neck (a sleeve, collar, hood or shoulder seams): not "
+                       "where the garment is worn; check meta.anchor")
     mm = (lambda v: None if v is None else v * 1e3)
     return OnBodyChecks(below, lowest * 1e3, far, farthest * 1e3, anchor, mm(height),
                         landmark * 1e3, mm(offset), ratio, tuple(reasons), level,
