@@ -39,6 +39,28 @@ def test_dispatch_by_ending_and_content(tmp_path):
     assert load_any_pattern(gc).meta["source_format"] == "garmentcode"
 
 
+@pytest.mark.parametrize("name", ["p.dxf", "p_specification.json", "p.json"])
+def test_a_stated_anchor_is_kept_by_every_writer(tmp_path, name):
+    """A skirt stated as hung from the neck failed its drape as JSON and passed converted to
+    DXF or GarmentCode ("loose"): the stated anchor was dropped, and the garment read back
+    hung from where its panels say. Not stated, none is written."""
+    from dataclasses import replace
+
+    from patternfit.pattern.validate import check_pattern
+
+    p = _pattern()
+    stated = replace(p, meta={**p.meta, "anchor": "neck"})
+    save_any_pattern(stated, tmp_path / name)
+    assert load_any_pattern(tmp_path / name).meta.get("anchor") == "neck"
+    save_any_pattern(p, tmp_path / name)
+    assert "anchor" not in load_any_pattern(tmp_path / name).meta
+    # a bad one is refused, written or read back
+    bad = replace(p, meta={**p.meta, "anchor": "bust"})
+    with pytest.raises(PatternError, match="anchor"):
+        save_any_pattern(bad, tmp_path / name)
+        check_pattern(load_any_pattern(tmp_path / name))
+
+
 def test_a_converted_file_is_read_by_the_json_reader_and_keeps_its_origin(tmp_path):
     """convert coat.dxf coat.json, then coat.json read back said "(dxf-aama)"."""
     dxf, _ = save_any_pattern(_pattern(), tmp_path / "p.dxf")

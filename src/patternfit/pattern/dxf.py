@@ -71,9 +71,13 @@ def _sidecar(pattern: Pattern) -> dict:
                                     for lp in p.inner],
                           "grainline": list(p.grainline), "placement": placement,
                           "notches": notches_to_json(p)}
-    size = pattern.meta.get("size") if isinstance(pattern.meta, dict) else None
+    meta = pattern.meta if isinstance(pattern.meta, dict) else {}
+    size = meta.get("size")
+    # a stated anchor may be what the panels deny: dropped, a skirt stated as hung from the
+    # neck drapes another way read back
     return {"format": SIDE_FORMAT, "version": 1, "units": "m", "name": pattern.name,
             **({"size": str(size)} if size is not None else {}),
+            **({"anchor": meta["anchor"]} if "anchor" in meta else {}),
             "panels": panels, "seams": seams_to_json(pattern.seams)}
 
 
@@ -308,8 +312,11 @@ def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
     outline_edges = {p.name: [e.name for e in p.outline.edges] for p in panels}
     seams = seams_from_json(json_field(side, "seams", list, "side file", []), prefix="s",
                             outline_edges=outline_edges)
+    meta = dict(pattern.meta)
+    if "anchor" in side:
+        meta["anchor"] = side["anchor"]  # checked with the pattern (validate.check_anchor)
     return Pattern(json_field(side, "name", str, "side file", pattern.name), tuple(panels),
-                   seams, dict(pattern.meta))
+                   seams, meta)
 
 
 def load_dxf(path, *, sidecar=None, units: str | None = None, prefer_sew: bool = True,

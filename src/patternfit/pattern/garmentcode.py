@@ -25,7 +25,8 @@ Inside patternfit everything is metres. What has no place in the model (panel an
 parameters, properties) is kept in ``pattern.meta["garmentcode"]`` so that export writes it
 back. Export adds keys GarmentCode ignores, ``patternfit_placement`` per panel (body part,
 side, grain line, and whether the 3D placement is explicit) and ``patternfit_seam_names`` at
-the top, so that our own patterns come back unchanged.
+the top (with ``patternfit_seam_ease`` and ``patternfit_anchor``, a stated ``meta.anchor``,
+where the pattern has them), so that our own patterns come back unchanged.
 A file without it gets part ``"torso"`` and its side from the sign of the translation's z
 (front: z >= 0), with the file's explicit 3D placement. The reader judges neither: placement
 reads each panel's body part from its name, seams and shape
@@ -73,6 +74,7 @@ _RIGHT_WRONG = "right_wrong"
 _HINT = "patternfit_placement"
 _SEAM_NAMES = "patternfit_seam_names"  # likewise at the top level, one per stitch
 _SEAM_EASE = "patternfit_seam_ease"  # and each seam's stated ease, where one has any
+_ANCHOR = "patternfit_anchor"  # and meta.anchor, where the pattern states one
 _AUTO_NAME = re.compile(r"e\d+(_\d+)?$")
 
 
@@ -361,6 +363,8 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
         meta["garmentcode"]["panel_order"] = spec["panel_order"]
     if warnings:
         meta["warnings"] = warnings
+    if _ANCHOR in data:
+        meta["anchor"] = data[_ANCHOR]  # checked with the pattern (validate.check_anchor)
     pattern.meta.update(meta)
     return pattern
 
@@ -488,6 +492,10 @@ def garmentcode_to_dict(pattern: Pattern, *, units_in_meter: float = 100.0) -> d
            _SEAM_NAMES: [seam.name for seam in pattern.seams]}
     if any(seam.ease for seam in pattern.seams):
         doc[_SEAM_EASE] = [float(seam.ease) for seam in pattern.seams]
+    if "anchor" in pattern.meta:
+        # stated, it may be what the panels deny (dropped, a skirt stated as hung from the
+        # neck drapes another way read back)
+        doc[_ANCHOR] = pattern.meta["anchor"]
     return doc
 
 
