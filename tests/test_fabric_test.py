@@ -557,3 +557,47 @@ def test_the_cantilever_preconditions_newton_with_the_bending_across_edges(monke
     kit.cantilever_test("jersey_knit", meshes=(3,))
     assert seen and all(seen)
     assert SolverSettings().newton_bending_preconditioner is False
+
+
+# ------------------------------------------------------------------------ Ctrl-C
+
+
+def _ctrl_c_in_the_solve(monkeypatch):
+    """Every solve of the kit stopped by Ctrl-C at its first iteration, as the solver meets
+    it: inside the solve, which returns its last state marked "interrupted"."""
+    from patternfit.sim.solver import GarmentSolver
+
+    original = GarmentSolver.solve
+    solves = []
+
+    def stopped(self, x0, **options):
+        def progress(*args, **kwargs):
+            raise KeyboardInterrupt
+
+        solves.append(original(self, x0, **{**options, "progress": progress}))
+        assert solves[-1].interrupted
+        return solves[-1]
+
+    monkeypatch.setattr(GarmentSolver, "solve", stopped)
+    return solves
+
+
+@pytest.mark.parametrize("test, options", [
+    (kit.strip_test, {"length": 0.1}),
+    (kit.cantilever_test, {"meshes": (3, 4)}),
+    (kit.cusick_test, {"triangles": 200, "seeds": (0, 1)}),
+])
+def test_ctrl_c_in_any_solve_stops_the_whole_test(monkeypatch, test, options):
+    solves = _ctrl_c_in_the_solve(monkeypatch)
+    with pytest.raises(KeyboardInterrupt):
+        test("jersey_knit", **options)
+    assert len(solves) == 1
+
+
+def test_cli_ctrl_c_in_a_solve_exits_130_and_writes_nothing(monkeypatch, tmp_path):
+    _ctrl_c_in_the_solve(monkeypatch)
+    r = runner.invoke(app, ["fabric-test", "cantilever", "-f", "jersey_knit", "--meshes",
+                            "3,4", "--out", str(tmp_path)])
+    assert r.exit_code == 130, r.output
+    assert "interrupted: stopped before the end; nothing more was written" in r.output
+    assert "Traceback" not in r.output and list(tmp_path.iterdir()) == []

@@ -25,7 +25,7 @@ from ..fabrics import Fabric, get_fabric
 from ..settings import SolverSettings
 from ..solver import GarmentSolver
 from .common import (Progress, SolveInfo, _direction, _grain, _plain, _rect_mesh, _save, _say,
-                     _solver_settings)
+                     _solve, _solver_settings)
 
 #: tip angle of Peirce's cantilever test (ASTM D1388) [deg]
 PEIRCE_ANGLE = 41.5
@@ -329,7 +329,7 @@ def _cantilever_run(fab: Fabric, direction: str, overhang: float, mesh, settings
     solver = GarmentSolver(v, t, _grain(direction, len(t)), fab, pinned=pinned,
                            settings=settings)
     # flat and horizontal: x along the strip, the width along z, gravity along -y
-    res = solver.solve(np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]])
+    res = _solve(solver, np.c_[v[:, 0], np.zeros(len(v)), v[:, 1]])
     x = res.x
     angle = float(np.degrees(np.arctan2(-x[tip, 1].mean(), x[tip, 0].mean())))
     ratio = elastica_ratio(angle)

@@ -254,6 +254,15 @@ def _say(progress: Progress | None, text: str) -> None:
         progress(text)
 
 
+def _solve(solver, x0) -> DrapeResult:
+    """``solver.solve(x0)`` (x0 (n, 3) [m]), raising KeyboardInterrupt when Ctrl-C stopped
+    it: the solver turns the interrupt into an "interrupted" result, and a test read on it
+    went on with its other solves and wrote complete-looking results (even passed)."""
+    res = solver.solve(x0)
+    if res.interrupted:
+        raise KeyboardInterrupt
+    return res
+
 
 def _save(fig, path) -> Path:
     buf = io.BytesIO()

@@ -21,7 +21,7 @@ from ..fabrics import Fabric, get_fabric
 from ..settings import SolverSettings
 from ..solver import GarmentSolver
 from .common import (Progress, SolveInfo, _grain, _loop_segments, _plain, _quality_mesh, _ring,
-                     _save, _say, _solver_settings)
+                     _save, _say, _solve, _solver_settings)
 
 #: Cusick drape tester: specimen and support disc diameters of BS 5058 / ISO 9073-9 [m]
 CUSICK_SPECIMEN = 0.30
@@ -398,7 +398,7 @@ def _drape_start(spec: _Specimen, fab: Fabric, seed: int, perturbation: float, p
     v = spec.v
     # flat specimen at y = 0 (the disc's top), x and z in its plane
     x0 = np.c_[v[:, 0], _perturbation(v, spec.r_disc, spec.r_spec, perturbation, seed), v[:, 1]]
-    res = solver.solve(x0)
+    res = _solve(solver, x0)
     x = res.x
     if not np.isfinite(x).all():
         raise RuntimeError(f"cusick: the solver returned non-finite positions (seed {seed}, "

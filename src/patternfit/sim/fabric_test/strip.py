@@ -17,7 +17,7 @@ from ..fabrics import Fabric, get_fabric
 from ..settings import SolverSettings
 from ..solver import GarmentSolver
 from .common import (Progress, SolveInfo, _direction, _grain, _plain, _rect_mesh, _say,
-                     _solver_settings)
+                     _solve, _solver_settings)
 
 
 @dataclass(frozen=True)
@@ -127,7 +127,7 @@ def strip_test(fabric: Fabric | str = "cotton_shirting", *, direction: str = "wa
     solver = GarmentSolver(v, t, grain, fab, pinned=top,
                            settings=_solver_settings(settings, self_collision=False))
     _say(progress, f"strip: {len(t)} triangles")
-    res = solver.solve(np.c_[v, np.zeros(len(v))])
+    res = _solve(solver, np.c_[v, np.zeros(len(v))])
     x = res.x
     expected = fab.density * GRAVITY * length ** 2 / (2 * k)
     measured = float(-x[bottom, 1].mean())
