@@ -17,7 +17,9 @@ axis 1 (row 2), each at five curvatures (column 0: none); B = ``ARCSIM_BENDING_F
 zero-curvature sample. Derivations: docs/fabrics.md, "Conversions used". Rows 1-5 of
 ``stretching`` (the stiffening with strain) and columns 1-4 of ``bending`` are checked and not
 used: the model is linear. The coupling c1 of row 0 is not used either (the membrane has no
-Poisson coupling); a c1 that makes the material unstable (c1² ≥ c0 c2) is refused.
+Poisson coupling); a c1 with which the file's zero-strain table is not positive definite
+(c1² ≥ c0 c2, Wang et al.'s navy-sparkle-sweat) is read and noted (:func:`arcsim_notes`), not
+refused: ARCSim ships and runs such files, and the linear model takes nothing from c1.
 
 The files carry neither friction nor thickness (an ARCSim scene sets friction). A file may add
 ``friction`` [-] and ``thickness`` [m] (ARCSim ignores other fields), and ``name``; without
@@ -72,13 +74,6 @@ def arcsim_fields(data: dict, path) -> tuple[dict, dict]:
     density = _number(data["density"], path, "density")
     stretch = _table(data, path, "stretching")
     bend = _table(data, path, "bending")
-    c0, c1, c2 = stretch[0][:3]
-    if c0 > 0 and c2 > 0 and c1 * c1 >= c0 * c2:  # (a negative c0 or c2: out of range)
-        # the zero-strain membrane is not positive definite: the material is unstable, a
-        # file no measurement gives (the coupling itself is not used: see the module)
-        raise FabricError(f"c1 = {c1:g} couples the stretches more than c0 = {c0:g} and c2 = "
-                          f"{c2:g} allow (c1² must be below c0 c2): no stable material",
-                          file=path, place="field 'stretching[0][1]'")
     fields = {"density": density, "stretch_warp": 2.0 * stretch[0][2],
               "stretch_weft": 2.0 * stretch[0][0], "shear": stretch[0][3] / 2.0,
               "bending_warp": ARCSIM_BENDING_FACTOR * bend[0][0],
@@ -93,6 +88,20 @@ def arcsim_fields(data: dict, path) -> tuple[dict, dict]:
             fields[key] = data[key]
             origin[key] = key
     return fields, origin
+
+
+def arcsim_notes(data: dict) -> tuple[str, ...]:
+    """Sentences on what the ARCSim material ``data`` (read by :func:`arcsim_fields`, so of
+    ARCSim's shape) gives that the linear model leaves out and a reader should know: a
+    coupling c1 [N/m] (``stretching[0][1]``) past what the file's own stretches c0, c2
+    [N/m] allow (c1² ≥ c0 c2). Empty otherwise."""
+    c0, c1, c2 = (float(v) for v in data["stretching"][0][:3])
+    # with negative c0 or c2 the range checks refuse the stretches themselves
+    if not (c0 > 0 and c2 > 0 and c1 * c1 >= c0 * c2):
+        return ()
+    return (f"stretching[0][1]: c1 = {c1:g} N/m not used (the linear membrane has no Poisson "
+            f"coupling); with it the file's zero-strain stretching would not be positive "
+            f"definite (c1² = {c1 * c1:.4g} ≥ c0 c2 = {c0 * c2:.4g})",)
 
 
 def _number(value, path, place: str) -> float:

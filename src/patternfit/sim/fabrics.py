@@ -27,7 +27,7 @@ from ..constants import GRAVITY
 from ..errors import FabricError
 from ..files import read_json_file
 from ..text import control_at
-from .fabric_arcsim import ARCSIM_BENDING_FACTOR, arcsim_fields, is_arcsim
+from .fabric_arcsim import ARCSIM_BENDING_FACTOR, arcsim_fields, arcsim_notes, is_arcsim
 from .fabric_sheets import KES_BENDING, is_sheet, sheet_fields
 
 
@@ -231,7 +231,9 @@ TYPICAL_BULK_DENSITY = 420.0
 
 def read_fabric_file(path) -> tuple[Fabric, tuple[str, ...]]:
     """:func:`load_fabric`, and what was assumed for values the file does not carry (an
-    ARCSim material's friction and thickness), one sentence each; empty for the others."""
+    ARCSim material's friction and thickness) or left out of what it does (an ARCSim
+    coupling the file's own table cannot hold, :func:`~.fabric_arcsim.arcsim_notes`), one
+    sentence each; empty for the others."""
     path = Path(path)
     # comments allowed: ARCSim's own materials begin with "//" lines
     data = read_json_file(path, error=FabricError, comments=True)
@@ -241,7 +243,8 @@ def read_fabric_file(path) -> tuple[Fabric, tuple[str, ...]]:
     data.setdefault("name", path.stem)
     if is_sheet(data) or is_arcsim(data):
         fields, origin = (sheet_fields if is_sheet(data) else arcsim_fields)(data, path)
-        assumed = _assume_missing(fields, origin)
+        assumed = _assume_missing(fields, origin) + (() if is_sheet(data)
+                                                     else arcsim_notes(data))
         fabric = {**fields, "name": data["name"]}
         names = {key: key if was == key else f"{was} -> {key}" for key, was in origin.items()}
         _check_values(fabric, source=path, names=names)
