@@ -300,6 +300,32 @@ def test_a_kit_mesh_its_cap_left_too_coarse_fails_unless_checked(monkeypatch):
     assert not chosen.mesh_capped
 
 
+def test_a_mesh_given_coarser_than_the_kits_rule_is_noted_and_one_blind_to_the_disc_fails():
+    """Shirting on 54 triangles read DC 0.287 (0.669 at the kit's 4K) on an octagonal disc
+    and passed without a word. A mesh given coarser than the kit's rule is the user's choice
+    and is noted; one whose disc's edge is not resolved is no drape test and fails."""
+    quick = kit.kit_settings(max_iterations=1)
+    r = kit.cusick_test("cotton_shirting", triangles=54, seeds=(0,), settings=quick)
+    assert r.disc_outline_vertices == 8
+    assert r.edges_per_bending_length == pytest.approx(0.36, abs=0.02)
+    assert r.failures[-1].startswith("mesh too coarse for the instrument: the support disc's "
+                                     "edge has 8 vertices")
+    assert r.notes == r.to_dict()["notes"] and len(r.notes) == 1
+    assert "0.36 edges per bending length, against the kit's 2.5" in r.notes[0]
+    assert "--mesh-check" in r.notes[0]
+    # a user's coarse mesh that resolves the disc passes for all its coarseness
+    resolved = dataclasses.replace(r, disc_outline_vertices=kit.CUSICK_DISC_OUTLINE)
+    assert not any("instrument" in f for f in resolved.failures) and resolved.notes
+    checked = dataclasses.replace(resolved, mesh_change=0.01, mesh_check_at_rest=True)
+    assert "--mesh-check" not in checked.notes[0]
+    fine = dataclasses.replace(resolved, edges_per_bending_length=2.5)
+    assert fine.notes == [] and fine.to_dict()["notes"] == []
+    res = runner.invoke(app, ["fabric-test", "cusick", "-n", "54", "--seeds", "1", "--set",
+                              "max_iterations=1"])
+    assert res.exit_code == 1 and "note: coarse mesh: 0.36 edges per bending" in res.output
+    assert "the support disc's edge has 8 vertices" in res.output
+
+
 def test_cusick_top_view_picture(drapes, tmp_path):
     path = kit.write_cusick_picture(drapes["jersey_knit"], tmp_path / "top.png")
     data = path.read_bytes()
@@ -383,11 +409,13 @@ def test_a_name_with_dollars_is_drawn_as_text(tmp_path):
         == "a $\\frac{1}{$ b"
 
 
-@pytest.mark.parametrize("specimen, disc", [(0.02, 0.005), (0.1, 0.09)])
-def test_a_specimen_too_stiff_to_droop_reads_one_at_most(specimen, disc):
+@pytest.mark.parametrize("specimen, disc, triangles", [(0.02, 0.005, 3000), (0.1, 0.09, 500)])
+def test_a_specimen_too_stiff_to_droop_reads_one_at_most(specimen, disc, triangles):
     """The areas DC compares are rasterised alike: a narrow ring of denim, nearly flat,
-    used to read 1.007 against the exact flat area and fail."""
-    r = kit.cusick_test("denim", specimen=specimen, disc=disc, triangles=500, seeds=(0,))
+    used to read 1.007 against the exact flat area and fail. (The 0.5 cm disc takes 3,000
+    triangles for the 24 vertices on its edge that a drape test needs.)"""
+    r = kit.cusick_test("denim", specimen=specimen, disc=disc, triangles=triangles,
+                        seeds=(0,))
     assert 0.97 <= r.drape_coefficient <= 1.0 and r.passed
 
 

@@ -108,6 +108,8 @@ def _show_cusick(r) -> None:
         console.print(f"mesh check: start {r.runs[0].seed} on {r.mesh_check_triangles} "
                       f"triangles moved the drape coefficient by {r.mesh_change:+.3f}",
                       highlight=False)
+    for note in r.notes:
+        console.print(f"note: {escape(note)}", highlight=False)
 
 
 def _solves(result) -> list:

@@ -23,13 +23,13 @@ from .cantilever import (CANTILEVER_TRIANGLES, PEIRCE_ANGLE, CantileverMesh, Can
                          expected_reading, friction_tip_angle, peirce_length,
                          write_cantilever_picture)
 from .common import AT_REST, Progress, SolveInfo, kit_settings, residual_of, settings_from_pairs
-from .cusick import (CUSICK_DISC, CUSICK_MESH_TOLERANCE, CUSICK_SPECIMEN, CusickResult,
-                     CusickRun, count_nodes, cusick_test, cusick_triangles, shadow_area,
-                     write_cusick_picture)
+from .cusick import (CUSICK_DISC, CUSICK_DISC_OUTLINE, CUSICK_MESH_TOLERANCE, CUSICK_SPECIMEN,
+                     CusickResult, CusickRun, count_nodes, cusick_test, cusick_triangles,
+                     shadow_area, write_cusick_picture)
 from .strip import StripResult, strip_test
 
-__all__ = ["AT_REST", "CANTILEVER_TRIANGLES", "CUSICK_DISC", "CUSICK_MESH_TOLERANCE",
-           "CUSICK_SPECIMEN", "PEIRCE_ANGLE",
+__all__ = ["AT_REST", "CANTILEVER_TRIANGLES", "CUSICK_DISC", "CUSICK_DISC_OUTLINE",
+           "CUSICK_MESH_TOLERANCE", "CUSICK_SPECIMEN", "PEIRCE_ANGLE",
            "CantileverMesh", "CantileverResult", "CantileverRun", "CusickResult", "CusickRun",
            "Progress", "SolveInfo", "StripResult", "cantilever_test", "count_nodes",
            "cusick_test", "cusick_triangles", "elastica_ratio", "elastica_tip_angle",

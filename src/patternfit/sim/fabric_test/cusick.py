@@ -43,6 +43,13 @@ CUSICK_TRIANGLES = (4000, 24000)
 #: on twice the triangles may differ by this much [-], a tenth of the span of the
 #: published woven fabrics' coefficients (0.22-0.55, docs/fabrics.md, "Measured against")
 CUSICK_MESH_TOLERANCE = 0.03
+#: the fewest vertices on the support disc's edge with which a drape is read at all: an
+#: inscribed 24-gon has 98.9 % of the circle's area (an octagon, what 54 triangles gave on
+#: the 30 cm specimen, 90 %), and its corners stand 15 deg apart, closer than the folds of
+#: the most nodes measured (11, 33 deg apart), two corners a fold; with fewer the corners
+#: set the folds and the test reads the mesh, not the fabric (docs/fabrics.md, "The kit's
+#: mesh") [-]
+CUSICK_DISC_OUTLINE = 24
 
 
 def cusick_triangles(fabric: Fabric | str, specimen: float = CUSICK_SPECIMEN) -> int:
@@ -193,6 +200,12 @@ class CusickResult:
         The kit chose the mesh and its cap (``CUSICK_TRIANGLES``) left it coarser than
         ``CUSICK_EDGES_PER_BENDING_LENGTH`` edges per bending length: without a mesh check
         that passed, the test fails (the folds of a fabric that limp lock on it).
+    edges_per_bending_length : float or None
+        The mesh's edges per bending length of the fabric's softer direction [-] (the
+        equilateral edge of its triangle count, as the kit's rule counts it).
+    disc_outline_vertices : int or None
+        Vertices on the support disc's edge [-]; fewer than ``CUSICK_DISC_OUTLINE`` fail
+        the test.
     """
 
     fabric: str
@@ -217,6 +230,8 @@ class CusickResult:
     mesh_change: float | None = None
     mesh_check_at_rest: bool | None = None
     mesh_capped: bool = False
+    edges_per_bending_length: float | None = None
+    disc_outline_vertices: int | None = None
 
     @property
     def converged(self) -> bool:
@@ -249,13 +264,33 @@ class CusickResult:
                        f"moved by {self.mesh_change:+.3f} from {self.triangles} to "
                        f"{self.mesh_check_triangles} triangles (at most "
                        f"{CUSICK_MESH_TOLERANCE:g}): the mesh locks the fabric's folds")
+        if (self.disc_outline_vertices is not None
+                and self.disc_outline_vertices < CUSICK_DISC_OUTLINE):
+            out.append(f"mesh too coarse for the instrument: the support disc's edge has "
+                       f"{self.disc_outline_vertices} vertices on {self.triangles} triangles "
+                       f"(at least {CUSICK_DISC_OUTLINE}), so its corners, not the fabric, "
+                       "set the folds; give more --triangles")
         return out
+
+    @property
+    def notes(self) -> list[str]:
+        """What the result does not fail for and a reader should know, in words: a mesh
+        given coarser than the kit's rule (``CUSICK_EDGES_PER_BENDING_LENGTH``), which is
+        the user's choice (a mesh the kit chose that coarse fails, :attr:`failures`)."""
+        e = self.edges_per_bending_length
+        if e is None or e >= CUSICK_EDGES_PER_BENDING_LENGTH or self.mesh_capped:
+            return []
+        return [f"coarse mesh: {e:.2g} edges per bending length, against the kit's "
+                f"{CUSICK_EDGES_PER_BENDING_LENGTH:g} (the default of --triangles): its folds "
+                "may lock or go unresolved and the drape coefficient be far off"
+                + ("; check it with --mesh-check" if self.mesh_change is None else "")]
 
     @property
     def passed(self) -> bool:
         """Every start ended at rest without crossings, every DC lies in [0, 1], a mesh the
-        kit's cap left too coarse was checked and, with the mesh check, the first start's
-        moved by at most ``CUSICK_MESH_TOLERANCE`` on the finer mesh."""
+        kit's cap left too coarse was checked, the disc's edge has ``CUSICK_DISC_OUTLINE``
+        vertices at least and, with the mesh check, the first start's moved by at most
+        ``CUSICK_MESH_TOLERANCE`` on the finer mesh."""
         return not self.failures
 
     def to_dict(self) -> dict:
@@ -268,7 +303,7 @@ class CusickResult:
                        "residual": [r.solve.residual for r in self.runs],
                        "stop_reasons": [r.solve.stop_reason for r in self.runs],
                        "converged": self.converged, "passed": self.passed,
-                       "failures": self.failures})
+                       "failures": self.failures, "notes": self.notes})
 
 
 def _perturbation(v: np.ndarray, r_disc: float, r_spec: float, amplitude: float,
@@ -359,7 +394,11 @@ def cusick_test(fabric: Fabric | str = "cotton_shirting", *, specimen: float = C
         triangles=len(spec.t), vertices=len(spec.v), perturbation_m=perturbation,
         pixel_m=pixel, seconds=time.perf_counter() - t0, positions=positions, rest=spec.v,
         mesh_triangles=spec.t, mesh_check_triangles=finer, mesh_change=change,
-        mesh_check_at_rest=calm, mesh_capped=capped)
+        mesh_check_at_rest=calm, mesh_capped=capped,
+        edges_per_bending_length=CUSICK_EDGES_PER_BENDING_LENGTH
+        * math.sqrt(len(spec.t) / _wanted_triangles(fab, specimen)),
+        disc_outline_vertices=int(np.sum(np.abs(np.hypot(spec.v[:, 0], spec.v[:, 1])
+                                                - spec.r_disc) < 1e-9)))
 
 
 @dataclass(frozen=True)
