@@ -95,6 +95,10 @@ def test_a_sheets_two_spellings_of_a_direction_agree(tmp_path):
     ({"friction": None}, "friction", "MIU"),
     ({"Bend": 0.07}, "Bend", "unknown"),
     ({"B-1": 0.07}, "B", "both"),
+    # one direction in both of the sheet's spellings: the first was read, the other dropped
+    ({"B": None, "B-1": 0.07, "B-2": 0.06, "B1": 7, "B2": 6}, "B",
+     "given both as ['B-1', 'B-2'] and as ['B1', 'B2']"),
+    ({"B": None, "B-1": 0.07, "B-2": 0.06, "B2": 6}, "B", "as ['B-1', 'B-2'] and as ['B2']"),
     ({"B": [0.07, 0.05, 0.06]}, "B", "3 values"),
     ({"B": -0.07}, "B", "positive"),
     ({"B": [0.07, "0.05"]}, "B[1]", "positive"),

@@ -28,7 +28,8 @@ friction   against the body [-]             against the body [-]
 
 A directional value (B, C, 2HB, G, EMT, E100) is one number for both directions, a pair
 ``[warp, weft]``, or the sheet's own two fields ``B-1`` / ``B-2`` (KES-F) or ``B1`` / ``B2``
-(FAST); 1 is the warp (KES-F's and FAST's own convention). The model has one shear stiffness
+(FAST); 1 is the warp (KES-F's and FAST's own convention). One of these ways only: a
+direction given two ways is refused naming both. The model has one shear stiffness
 and one 2HB, so those take the mean of a pair. ``friction`` is required: KES-F's MIU is the
 surface's friction against a steel contactor, not against skin, and is read but not used.
 Other fields of a full sheet (``LT``, ``WT``, ``RT``, ``2HG``, ``MIU``, ``SMD``, ``F``, ...) are
@@ -141,10 +142,16 @@ def _pair(data: dict, path, field: str, unit: str, *, optional: bool = False,
           zero: bool = False):
     """``(warp, weft)`` of the directional field ``field`` (above 0; ``zero``: at least 0),
     and the name it came from; None when ``optional`` and absent."""
-    split = [k for k in (f"{field}-1", f"{field}-2", f"{field}1", f"{field}2") if k in data]
+    dashed = [k for k in (f"{field}-1", f"{field}-2") if k in data]
+    plain = [k for k in (f"{field}1", f"{field}2") if k in data]
+    split = dashed + plain
     if field in data and split:
         raise FabricError(f"given both as '{field}' and as {split}", file=path,
                           place=f"field '{field}'")
+    if dashed and plain:
+        # the first spelling found was read and the other dropped without a word
+        raise FabricError(f"given both as {dashed} and as {plain}: one direction two ways; "
+                          "keep one spelling", file=path, place=f"field '{field}'")
     if field in data:
         v = data[field]
         if isinstance(v, list):
