@@ -89,6 +89,15 @@ def test_a_sheets_two_spellings_of_a_direction_agree(tmp_path):
     assert pair.bending_warp > pair.bending_weft
 
 
+@pytest.mark.parametrize("spelling", [" kes f ", "KES FB", "Kes-FB", "siro fast", "Siro-FAST",
+                                      "fast"])
+def test_an_instrument_is_read_whatever_its_case_spaces_and_hyphens(tmp_path, spelling):
+    """"KES F" was refused though spaces were said to be ignored ("KES-F" was read)."""
+    sheet = WOOL if "k" in spelling.lower() else SUITING
+    fab = load_fabric(write(tmp_path, {**sheet, "instrument": spelling}))
+    assert fab == load_fabric(write(tmp_path, sheet, "as_written.json"))
+
+
 @pytest.mark.parametrize("change, place, words", [
     ({"instrument": "Instron"}, "instrument", "KES-F"),
     ({"instrument": 5}, "instrument", "KES-F"),

@@ -64,9 +64,10 @@ MM = 1e-3
 #: report to three digits, agree (B = W g C^3) within this share [-]
 FAST_B_C_AGREE = 0.05
 
-#: the instruments a sheet may name, by their spellings (case and spaces ignored)
-INSTRUMENTS = {"kes-f": "KES-F", "kes-fb": "KES-F", "kes": "KES-F", "fast": "FAST",
-               "sirofast": "FAST", "siro-fast": "FAST"}
+#: the instruments a sheet may name, by their spellings (case, spaces and hyphens ignored:
+#: "KES F" is as common in print as "KES-F")
+INSTRUMENTS = {"kesf": "KES-F", "kesfb": "KES-F", "kes": "KES-F", "fast": "FAST",
+               "sirofast": "FAST"}
 #: fields of a full sheet that the model does not use (tensile linearity, energy and
 #: resilience; shear hysteresis; surface friction and roughness; compression; FAST's
 #: formability, relaxation and hygral shrinkage, bias extension, thickness under 100 gf/cm^2)
@@ -112,7 +113,8 @@ def sheet_fields(data: dict, path) -> tuple[dict, dict]:
 
 
 def _instrument(value, path) -> str:
-    key = value.strip().lower().replace(" ", "") if isinstance(value, str) else None
+    key = (value.strip().lower().replace(" ", "").replace("-", "") if isinstance(value, str)
+           else None)
     if key not in INSTRUMENTS:
         raise FabricError(f"expected 'KES-F' or 'FAST', got {value!r:.40}", file=path,
                           place="field 'instrument'")
