@@ -371,6 +371,9 @@ def test_cli_cusick_writes_the_top_view(tmp_path):
     (["fabric-test", "cantilever", "--meshes", "12,6"], "coarse to fine"),
     (["fabric-test", "cantilever", "--meshes", "6,,12"], "coarse to fine"),
     (["fabric-test", "strip", "-f", ""], "--fabric: empty"),
+    # read as "." it wrote into the current folder
+    (["fabric-test", "strip", "--out", ""], "empty; a folder to write into"),
+    (["fabric-test", "strip", "-o", " "], "empty; a folder to write into"),
     (["fabric-test", "strip", "--set", "compression=abc"], "compression: expected a number"),
     (["fabric-test", "strip", "--set", "time_limit=abc"], "time_limit"),
     (["fabric-test", "strip", "--set", "stop=foo"], "stop: one of force, kinematic"),
@@ -380,7 +383,8 @@ def test_cli_cusick_writes_the_top_view(tmp_path):
     (["fabric-test", "strip", "--length", "20"], "expected 0.001 to 10, got 20"),
     (["fabric-test", "cusick", "--disc", "inf"], "expected a finite number"),
 ])
-def test_cli_refusals(args, words):
+def test_cli_refusals(args, words, monkeypatch, tmp_path):
+    monkeypatch.chdir(tmp_path)  # a refusal that fails writes here, not into the checkout
     r = runner.invoke(app, args)
     assert r.exit_code == 2, r.output
     assert words in r.output

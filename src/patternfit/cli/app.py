@@ -172,6 +172,15 @@ def fail(message: str, code: int = REFUSED) -> None:
     raise typer.Exit(code)
 
 
+def folder_text(text: str) -> Path:
+    """Option parser of an output folder (``parser=folder_text`` beside
+    ``callback=output_folder``): refuses an empty name, which a path type reads as "." and
+    the results went into the current folder unasked."""
+    if not text.strip():
+        raise typer.BadParameter("empty; a folder to write into")
+    return Path(text)
+
+
 def output_folder(out: Path | None) -> Path | None:
     """Option callback refusing an output folder before any work is done: a file of that
     name, or a place where no folder can be made, failed only when the results were

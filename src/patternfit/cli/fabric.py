@@ -11,7 +11,8 @@ from rich.markup import escape
 from rich.table import Table
 
 from ..defaults import DEFAULTS
-from .app import CHECKS_FAILED, app, between, console, fail, output_folder, print_json
+from .app import (CHECKS_FAILED, app, between, console, fail, folder_text, output_folder,
+                  print_json)
 
 # patternfit.api and the stage modules are imported inside the command, when it runs:
 # `patternfit --help` should not wait for the solver's compiled kernels
@@ -154,7 +155,8 @@ def fabric_test(
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result "
                                        "(fabric_test_<test>.json) and the pictures here "
                                        "(cusick: top view; cantilever: side view).",
-                                       callback=output_folder),
+                                       parser=folder_text, callback=output_folder,
+                                       metavar="DIR"),
     json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
     set_: Optional[list[str]] = typer.Option(None, "--set", metavar="KEY=VALUE",
                                              help="A solver setting for every solve, over "
