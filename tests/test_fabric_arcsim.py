@@ -87,6 +87,20 @@ def test_comments_are_blanked_and_strings_kept(value, note):
     assert len(without_comments(noted)) == len(noted)
 
 
+@pytest.mark.parametrize("text, place", [
+    ('{"density": 0.2} /* oops', "line 1, column 18"),
+    ('// a note\n{"density": 0.2,\n  /* cut short "stretching": []', "line 3, column 3"),
+])
+def test_a_comment_never_closed_is_refused_naming_the_file_and_the_line(tmp_path, text, place):
+    """Blanked to the end of the file, it hid whatever followed it: a file cut short read
+    as if whole."""
+    path = write(tmp_path, text, "cut.json")
+    with pytest.raises(FabricError) as err:
+        load_fabric(path)
+    assert err.value.file == str(path)
+    assert f"not valid JSON ({place}: a /* comment not closed by */)" in str(err.value)
+
+
 def test_the_zero_strain_and_zero_curvature_samples_convert_by_hand(tmp_path):
     fab = load_fabric(write(tmp_path, ROUND))
     # ARCSim's k = 2 x row 0; axis 0 is the weft; G01 = shear / 2, so k3 / 4 = c3 / 2

@@ -341,14 +341,19 @@ def _second_key_line(text: str, key: str) -> str:
     return f"line {text.count(chr(10), 0, found[1].start()) + 1}: "
 
 
+def _at(text: str, index: int) -> str:
+    """'line L, column C' (from 1) of the character ``index`` of ``text``."""
+    return (f"line {text.count(chr(10), 0, index) + 1}, column "
+            f"{index - text.rfind(chr(10), 0, index)}")
+
+
 def _line_column(text: str, token: str) -> str:
-    """'line L, column C' of the first ``token`` outside a string, or ''."""
+    """'line L, column C: ' of the first ``token`` outside a string, or ''."""
     for match in re.finditer(re.escape(token), text):
         before = text[:match.start()]
         if before.count('"') - before.count('\\"') & 1:
             continue  # inside a string
-        line = before.count("\n") + 1
-        return f"line {line}, column {match.start() - before.rfind(chr(10))}: "
+        return f"{_at(text, match.start())}: "
     return ""
 
 
@@ -385,7 +390,9 @@ _BINARY_KINDS = ((b"\x89PNG", "a PNG image"), (b"\xff\xd8\xff", "a JPEG image"),
 def without_comments(text: str) -> str:
     """``text`` with its ``//`` and ``/* */`` comments blanked out (strings kept; each
     comment's characters become spaces, its line breaks stay, so the lines and columns of
-    what is left are as they were): the JSON that ARCSim's reader, jsoncpp, takes."""
+    what is left are as they were): the JSON that ARCSim's reader, jsoncpp, takes. Raises
+    ValueError giving the line and column of a ``/*`` that is never closed: blanked to the
+    end, it hid the rest of the file, and a file cut short read as if whole."""
     out, i, n = list(text), 0, len(text)
     while i < n:
         c = text[i]
@@ -396,6 +403,8 @@ def without_comments(text: str) -> str:
         elif text.startswith(("//", "/*"), i):
             line = text[i + 1] == "/"
             end = text.find("\n" if line else "*/", i + 2)
+            if end < 0 and not line:
+                raise ValueError(f"{_at(text, i)}: a /* comment not closed by */")
             end = n if end < 0 else end + (0 if line else 2)
             for j in range(i, end):
                 if out[j] != "\n":
@@ -428,8 +437,12 @@ def read_json_file(path, *, error=None, limit: int = MAX_JSON_BYTES, comments: b
     except UnicodeDecodeError as exc:
         at = skip + exc.start
         raise error(f"not UTF-8 text (byte {at}: {data[at]:#04x})", file=path) from None
-    return parse_json_text(without_comments(text) if comments else text, file=path,
-                           error=error)
+    if comments:
+        try:
+            text = without_comments(text)
+        except ValueError as exc:
+            raise error(f"not valid JSON ({exc})", file=path) from None
+    return parse_json_text(text, file=path, error=error)
 
 
 def dumps_finite_json(data, **kwargs) -> str:
