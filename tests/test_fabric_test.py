@@ -117,6 +117,20 @@ def test_cantilever_reads_its_verdict_from_each_meshs_last_solve():
     assert short.to_dict()["failures"] == short.failures
 
 
+def test_a_cantilever_short_of_rest_gives_no_peirce_length():
+    """A strip stopped after 3 iterations had hardly drooped, and the CLI printed "Peirce's
+    formula 4811.38 mm" beside the failure."""
+    assert kit.peirce_length(0.04, 0.02) is None and kit.peirce_length(0.04, 80.0) is None
+    assert kit.peirce_length(0.04, kit.ELASTICA_ANGLES[0]) is not None
+    r = kit.cantilever_test("cotton_shirting", meshes=(3, 4),
+                            settings=kit.kit_settings(max_iterations=3))
+    assert not r.passed and r.peirce_length_m is None
+    assert r.to_dict()["peirce_length_m"] is None
+    res = runner.invoke(app, ["fabric-test", "cantilever", "--meshes", "3,4", "--set",
+                              "max_iterations=3"])
+    assert res.exit_code == 1 and "Peirce's formula" not in res.output, res.output
+
+
 def test_cli_says_why_a_fabric_test_failed():
     r = runner.invoke(app, ["fabric-test", "strip", "-f", "jersey", "--length", "0.2",
                             "--set", "max_iterations=3"])

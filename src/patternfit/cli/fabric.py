@@ -81,9 +81,11 @@ def _show_cantilever(r) -> None:
     else:
         expected = (f"{_mm(r.bending_length_expected_m)} with its bending friction "
                     f"((B/(ρg))^(1/3) = {_mm(r.bending_length_elastic_m)} without)")
+    peirce = ("" if r.peirce_length_m is None
+              else f"Peirce's formula {_mm(r.peirce_length_m)}; ")
     console.print(f"bending length measured {_mm(r.bending_length_measured_m)}, expected "
                   f"{expected}, ratio "
-                  f"{_num(r.ratio, '.4f')}; Peirce's formula {_mm(r.peirce_length_m)}; "
+                  f"{_num(r.ratio, '.4f')}; {peirce}"
                   f"change between the two finest meshes "
                   f"{_num(None if r.mesh_change is None else r.mesh_change * 100, '.2f')} %")
 

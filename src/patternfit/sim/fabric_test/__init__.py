@@ -18,10 +18,10 @@ One module per test (``strip``, ``cantilever``, ``cusick``) over the shared ``co
 this package gives their public names.
 """
 
-from .cantilever import (CANTILEVER_TRIANGLES, PEIRCE_ANGLE, CantileverMesh, CantileverResult,
-                         CantileverRun, cantilever_test, elastica_ratio, elastica_tip_angle,
-                         expected_reading, friction_tip_angle, peirce_length,
-                         write_cantilever_picture)
+from .cantilever import (CANTILEVER_TRIANGLES, ELASTICA_ANGLES, PEIRCE_ANGLE, CantileverMesh,
+                         CantileverResult, CantileverRun, cantilever_test, elastica_ratio,
+                         elastica_tip_angle, expected_reading, friction_tip_angle,
+                         peirce_length, write_cantilever_picture)
 from .common import AT_REST, Progress, SolveInfo, kit_settings, residual_of, settings_from_pairs
 from .cusick import (CUSICK_DISC, CUSICK_DISC_OUTLINE, CUSICK_MESH_TOLERANCE, CUSICK_SPECIMEN,
                      CusickResult, CusickRun, count_nodes, cusick_test, cusick_triangles,
@@ -29,7 +29,7 @@ from .cusick import (CUSICK_DISC, CUSICK_DISC_OUTLINE, CUSICK_MESH_TOLERANCE, CU
 from .strip import StripResult, strip_test
 
 __all__ = ["AT_REST", "CANTILEVER_TRIANGLES", "CUSICK_DISC", "CUSICK_DISC_OUTLINE",
-           "CUSICK_MESH_TOLERANCE", "CUSICK_SPECIMEN", "PEIRCE_ANGLE",
+           "CUSICK_MESH_TOLERANCE", "CUSICK_SPECIMEN", "ELASTICA_ANGLES", "PEIRCE_ANGLE",
            "CantileverMesh", "CantileverResult", "CantileverRun", "CusickResult", "CusickRun",
            "Progress", "SolveInfo", "StripResult", "cantilever_test", "count_nodes",
            "cusick_test", "cusick_triangles", "elastica_ratio", "elastica_tip_angle",

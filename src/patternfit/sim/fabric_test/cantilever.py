@@ -31,6 +31,8 @@ from .common import (Progress, SolveInfo, _direction, _grain, _plain, _rect_mesh
 PEIRCE_ANGLE = 41.5
 #: the most triangles a cantilever strip is meshed with (its width is narrowed beyond) [-]
 CANTILEVER_TRIANGLES = 20_000
+#: the tip angles [deg] a reading is taken from: overhangs of 0.3-4 bending lengths
+ELASTICA_ANGLES = (0.5, 77.0)
 
 
 @lru_cache(maxsize=64)
@@ -77,7 +79,7 @@ def elastica_ratio(angle_deg: float) -> float | None:
     0.3-4 bending lengths)."""
     from scipy.optimize import brentq
 
-    if not 0.5 <= angle_deg <= 77.0:
+    if not ELASTICA_ANGLES[0] <= angle_deg <= ELASTICA_ANGLES[1]:
         return None
     return float(brentq(lambda r: elastica_tip_angle(round(r, 12)) - angle_deg, 0.3, 4.0,
                         xtol=1e-9))
@@ -161,10 +163,11 @@ def expected_reading(fab: Fabric, direction: str) -> tuple[float, float]:
 def peirce_length(overhang: float, angle_deg: float) -> float | None:
     """Peirce's bending length from an overhang [m] and its tip angle [deg]:
     ``c = l (cos(theta/2) / (8 tan theta))^(1/3)`` [m] (an approximation of the elastica:
-    1.9 % long at 41.5 deg)."""
-    th = math.radians(angle_deg)
-    if not 0.0 < th < math.pi / 2:
+    1.9 % long at 41.5 deg). None outside :data:`ELASTICA_ANGLES`, where no reading is
+    taken (a strip that hardly drooped gave metres)."""
+    if not ELASTICA_ANGLES[0] <= angle_deg <= ELASTICA_ANGLES[1]:
         return None
+    th = math.radians(angle_deg)
     return overhang * (math.cos(th / 2) / (8 * math.tan(th))) ** (1 / 3)
 
 
@@ -231,7 +234,8 @@ class CantileverResult:
     ratio : float or None
         measured / expected [-].
     peirce_length_m : float or None
-        Peirce's formula on the finest mesh's final overhang and angle [m].
+        Peirce's formula on the finest mesh's final overhang and angle [m]; None when that
+        solve did not end at rest or the angle is outside the elastica's range.
     overhang_m, tip_angle_deg : float
         The finest mesh's final overhang [m] and tip angle [deg].
     mesh_change : float or None
@@ -419,7 +423,9 @@ def cantilever_test(fabric: Fabric | str = "cotton_shirting", *, direction: str 
         bending_length_expected_m=reading, bending_length_elastic_m=expected,
         bending_length_measured_m=measured,
         ratio=None if measured is None else measured / reading,
-        peirce_length_m=peirce_length(fin.overhang_m, fin.tip_angle_deg),
+        # a strip short of rest has no angle to read: its formula length said nothing
+        peirce_length_m=(peirce_length(fin.overhang_m, fin.tip_angle_deg)
+                         if fin.runs[-1].solve.at_rest else None),
         overhang_m=fin.overhang_m, tip_angle_deg=fin.tip_angle_deg, mesh_change=change,
         meshes=tuple(out), width_m=width, seconds=time.perf_counter() - t0,
         shape=shape if keep_shape else None)
