@@ -89,6 +89,19 @@ def test_absurd_triangle_counts_are_refused_by_every_command(tmp_path, command, 
     assert not (tmp_path / "o").exists()
 
 
+@pytest.mark.parametrize("command", [["mesh", "skirt"], ["drape"], ["demo"], ["fit", "-g", "x"],
+                                     ["correct", "-b", "female_thin", "-p", "skirt"],
+                                     ["batch", "--pattern", "skirt"],
+                                     ["reproduce", "variants", "--figures"],
+                                     ["reproduce", "table2", "--figures"]])
+def test_an_empty_output_folder_is_refused_by_every_command(tmp_path, command, monkeypatch):
+    """Read as ".", it wrote into the current folder unasked (found on fabric-test)."""
+    monkeypatch.chdir(tmp_path)
+    option = [] if command[-1] == "--figures" else ["--out"]
+    refused(runner.invoke(app, [*command, *option, ""]), "empty")
+    assert not os.listdir(tmp_path)
+
+
 @pytest.mark.parametrize("args, names", [
     (["--time-limit", "0"], ["--time-limit", "> 0"]),
     (["--time-limit", "-5"], ["--time-limit"]),

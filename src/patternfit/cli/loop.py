@@ -10,8 +10,8 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import (SIZE_HELP, Group, app, console, fail, finite, output_folder, print_json,
-                  triangles_option, verdict_options)
+from .app import (SIZE_HELP, Group, app, console, fail, finite, folder_text, output_folder,
+                  print_json, triangles_option, verdict_options)
 from .show import (exit_if_correction_failed, run_correction, say_fresh_drape,
                    say_body_notes, show_iteration)
 
@@ -67,7 +67,8 @@ def correct_command(
     style: str = verdict_options()["style"],
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
     out: Path = typer.Option(..., "--out", "-o", help="Output folder (new pattern, report).",
-                             callback=output_folder),
+                             parser=folder_text, callback=output_folder,
+                             metavar="DIR"),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
 ) -> None:
     """Drape, find where the garment is too tight, correct the pattern automatically.
@@ -126,7 +127,8 @@ def table2(
                                             "quick run)."),
     garments: str = typer.Option("coat,skirt,trousers", help="Comma-separated rows to run."),
     figures: Path = typer.Option(Path("reproduce"), help="Folder the colour maps go to.",
-                                 callback=output_folder),
+                                 parser=folder_text, callback=output_folder,
+                                 metavar="DIR"),
     max_iterations: int = typer.Option(DEFAULTS.table2_rounds, "--max-iterations", "-k",
                                        min=0, help="Correction rounds at most."),
     goal: str = goal_option(DEFAULTS.table2_goal),
@@ -165,7 +167,8 @@ def variants(
     fabric: str = typer.Option("stretch_knit", "--fabric", "-f",
                                help="Fabric preset or JSON file."),
     figures: Path = typer.Option(Path("reproduce"), help="Folder the 3D maps go to.",
-                                 callback=output_folder),
+                                 parser=folder_text, callback=output_folder,
+                                 metavar="DIR"),
     only: str = typer.Option("", help="Comma-separated figure numbers (e.g. 15a,17c)."),
     json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
 ) -> None:
