@@ -200,6 +200,27 @@ def test_correction_drapes_its_pattern_afresh(tmp_path, monkeypatch):
     assert corrected()["reached"] is True
 
 
+def test_a_pattern_readers_warnings_are_said(tmp_path):
+    """What the reader noticed in an uploaded file (a GarmentCode gather sewn in as ease)
+    was printed by the CLI and said nowhere in the studio: the upload's message and the
+    exported report now carry it."""
+    from patternfit import api
+    from patternfit.pattern.formats import save_any_pattern
+
+    save_any_pattern(api.read_pattern("gathered_skirt"), tmp_path / "g_specification.json")
+    app = create_app(tmp_path / "studio", max_upload=64 * 1024, allowed_hosts=("testserver",))
+    c = studio_client(app)
+    assert c.post("/api/new", json={"garment": "skirt", "triangles": 400}).status_code == 200
+    r = c.post("/api/upload", files={"file": ("g_specification.json",
+                                              (tmp_path / "g_specification.json").read_bytes())})
+    assert r.status_code == 200
+    assert any("different length" in a for a in r.json()["assumed"]), r.json()
+    assert c.post("/api/drape").status_code == 200
+    app.state.studio.wait(300)
+    report = c.get("/api/export/report.json").json()
+    assert any("different length" in w for w in report["pattern_warnings"])
+
+
 def test_safety(client, folder):
     assert client.get("/api/export/..%2F..%2Fetc%2Fpasswd").status_code == 404
     assert client.get("/api/state", headers={"host": "attacker.example"}).status_code == 403

@@ -489,7 +489,8 @@ class Studio:
                                            labels={"garment": read.name,
                                                    "source": f"uploaded {shown}"},
                                            revision=revision)
-                return {"panels": len(read.panels), "archived": archived}
+                return {"panels": len(read.panels), "archived": archived,
+                        **({"assumed": assumed} if assumed else {})}
             archived = self.start_from(**{kind: read}, upload=target, labels={kind: read.name},
                                        revision=revision)
             return {"name": read.name, "archived": archived,
@@ -729,9 +730,13 @@ def _read_upload(kind: str, path: Path, stem: str) -> tuple[object, list[str]]:
     """The pattern, body or fabric in the uploaded file ``path``, named after ``stem`` (the
     client's file name) where the file gives no name of its own, and what was assumed for
     values the file does not carry (an ARCSim fabric's friction and thickness) or guessed
-    in reading it (a body's unit, its turn to face +Z)."""
+    or noticed in reading it (a body's unit, its turn to face +Z; a pattern reader's
+    warnings, ``meta["warnings"]``)."""
     if kind == "pattern":
-        return api.read_pattern(path), []
+        # what the reader noticed (a seam of unequal sides sewn in as ease, a CAD quirk),
+        # as the CLI prints it: the page said only "Opened"
+        pattern = api.read_pattern(path)
+        return pattern, list(pattern.meta.get("warnings") or [])
     if kind == "fabric":
         fabric, assumed = api.read_fabric_with_notes(path)
         return (replace(fabric, name=stem) if fabric.name == path.stem else fabric), assumed
