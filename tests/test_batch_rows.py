@@ -5,6 +5,7 @@ answers, and a task whose drape raises becoming a failed row."""
 from __future__ import annotations
 
 import csv
+import json
 
 import pytest
 from hypothesis import given, settings
@@ -276,6 +277,26 @@ def test_a_resume_with_other_settings_or_files_is_refused(tmp_path):
         run_batch("skirt", "M", "female_average", "cotton_shirting", mine, triangles=300,
                   workers=0, thumbnails=False)
     assert (mine / "batch.json").read_text() == '{"my": "notes"}'
+
+
+def test_a_batch_says_what_its_patterns_reader_noticed(tmp_path):
+    """A GarmentCode gather sewn in as ease was printed by ``drape`` and said by no batch
+    (nor could a batch of a GarmentCode file run: it names no size, and every label the
+    batch asked for, as --sizes M, was refused as "no size 'M' in the file")."""
+    from typer.testing import CliRunner
+
+    from patternfit.api import read_pattern, write_pattern
+    from patternfit.cli.main import app
+
+    pattern = tmp_path / "g_specification.json"
+    write_pattern(read_pattern("gathered_skirt", size="M"), pattern)
+    r = CliRunner().invoke(app, ["batch", "--pattern", str(pattern), "--sizes", "M",
+                                 "--bodies", "female_average", "--fabrics", "cotton_shirting",
+                                 "--triangles", "300", "--workers", "0", "--out",
+                                 str(tmp_path / "b"), "--json"])
+    assert r.exit_code == 0, r.output
+    said = json.loads(r.stdout)["pattern_warnings"]
+    assert said and all("different length" in w for w in said)
 
 
 def test_a_resume_may_name_fewer_or_more_files(tmp_path):

@@ -58,7 +58,8 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     once the tasks are known, ``progress(row)`` after each row. On KeyboardInterrupt the rows
     written stay and the Parquet file and matrix are still written, then it propagates.
 
-    Returns ``{"tasks", "skipped", "rows", "failed", "files", "lines"}``.
+    Returns ``{"tasks", "skipped", "rows", "failed", "files", "lines", "pattern_warnings"}``
+    (what the pattern's reader noticed, ``meta["warnings"]``; the CLI prints it).
     """
     number(workers, "--workers", low=0, integer=True)
     number(time_limit, "--time-limit", low=0.0, low_open=True, unit="s")
@@ -73,8 +74,7 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
         named.update((f, _as_before(f, {t.fabric for t in earlier}, digests))
                      for f in fabric_list)
     # read here, once: the workers get objects, not files (they may be other machines)
-    inputs = Inputs({}, {(named[pattern], s): read_pattern(pattern, size=s)
-                         for s in size_list},
+    inputs = Inputs({}, {(named[pattern], s): _read_sized(pattern, s) for s in size_list},
                     {named[f]: read_fabric(f) for f in fabric_list})
     body_list = read_bodies(bodies)
     tasks = plan([named[pattern]], size_list, [b.name for b in body_list],
@@ -84,6 +84,9 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     keep_settings(out, {"triangles": int(triangles), "time_limit": float(time_limit),
                         "files": {named.get(k, k): v for k, v in files.items()}},
                   resume=resume)
+    # what the reader noticed in the pattern (its sizes read alike), said once for the batch
+    said = list(dict.fromkeys(w for p in inputs.patterns.values()
+                              for w in p.meta.get("warnings") or []))
     done = log.done()
     todo = [t for t in tasks if t not in done]
     if on_plan:
@@ -109,7 +112,20 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
         files |= {"png": matrix["png"], "html": matrix["html"]}
     return {"tasks": len(tasks), "skipped": len(tasks) - len(todo), "rows": len(rows),
             "failed": sum(r["status"] != "ok" for r in rows), "files": files,
-            "lines": matrix["lines"] if matrix else []}
+            "lines": matrix["lines"] if matrix else [], "pattern_warnings": said}
+
+
+def _read_sized(pattern: str, size: str):
+    """``pattern`` (a built-in garment or a file) in ``size``. A file that names no size of
+    its own (a GarmentCode file, a patternfit JSON without ``meta.size``, a DXF of one
+    unnamed size) is read as it is, ``size`` its label in the rows: read in the size the
+    batch asked to label it with, it was refused ("no size 'M' in the file"), and no size
+    was accepted, so no batch of it could run."""
+    if pattern not in list_garments():
+        own = read_pattern(pattern)
+        if own.meta.get("size") is None and not own.meta.get("sizes"):
+            return own
+    return read_pattern(pattern, size=size)
 
 
 def _as_before(name: str, before: set[str], digests: dict[str, str]) -> str:
