@@ -191,3 +191,19 @@ def test_a_corrected_pattern_that_fails_draped_afresh_is_no_fit(tmp_path):
     with pytest.raises(typer.Exit) as info:
         exit_if_correction_failed(broken, tmp_path)
     assert info.value.exit_code == 1
+
+
+def test_a_failed_fresh_drape_is_no_fit_reached_in_the_report(tmp_path, monkeypatch):
+    """report.json read "reached": true beside a fresh drape that failed, where the CLI
+    exits "fit not reached" and the studio says not reached."""
+    from patternfit import api
+
+    session = api.design_session("skirt", "female_thin", "stretch_knit", triangles=900,
+                                 size="S", threshold=0.999)
+    monkeypatch.setattr(api, "fresh_drape", lambda *a, **k: {
+        "fitting_ratio": 0.99, "verdict": "fits", "verdict_reason": None, "passed": False,
+        "reasons": ["12 cloth edges through the body"], "equilibrium": True})
+    report = api.correct_design(session, tmp_path, max_iterations=1, pictures=False)
+    assert report["edits_made"] and report["reached"] is False
+    assert "loop_reached" in report and report["fresh_drape"]["passed"] is False
+    assert json.loads((tmp_path / "report.json").read_text())["reached"] is False

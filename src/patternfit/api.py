@@ -960,7 +960,8 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
     ``after/`` fit outputs and the regions pictures (a correction refused from a failed
     drape, ``report["failed"]``, writes no ``pattern.json`` and no ``after/``). When edits
     were made, the report's ``fresh_drape`` says what the corrected pattern reads draped
-    afresh from its placement (:func:`fresh_drape`). Returns the report.
+    afresh from its placement (:func:`fresh_drape`); when that drape fails its checks,
+    ``reached`` is false (the loop's own is ``loop_reached``). Returns the report.
 
     ``progress(iteration)`` is called after each drape is evaluated, ``drape_progress`` goes
     to the solver, ``write_progress(message)`` is called per output written."""
@@ -980,8 +981,13 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
                      progress=progress)
     if not result.failed and result.pattern is not None \
             and any(it.edits for it in result.iterations):
-        extra = {**(extra or {}), "fresh_drape": fresh_drape(
-            result.pattern, session, verdict_rules=settings.rules, progress=drape_progress)}
+        fresh = fresh_drape(result.pattern, session, verdict_rules=settings.rules,
+                            progress=drape_progress)
+        extra = {**(extra or {}), "fresh_drape": fresh}
+        if fresh["passed"] is False:
+            # the garment made from the pattern failed: no fit reached, whatever the loop
+            # read (report.json said "reached" where the CLI exits "fit not reached")
+            extra |= {"reached": False, "loop_reached": result.reached}
     return write_correction_outputs(out, session, result, extra=extra, pictures=pictures,
                                     progress=write_progress)
 
