@@ -14,7 +14,7 @@ import pytest
 
 from patternfit.errors import SessionError
 from patternfit.loop import DesignSession
-from patternfit.loop.session import STATES, holds_session
+from patternfit.loop.session import STATES, SessionWarning, holds_session
 
 HEM = {"panel": "front", "edge": "hem", "offset": (0.0, -0.004), "partner": True}
 
@@ -317,5 +317,26 @@ def test_a_drape_read_back_goes_on_from_its_own_rest(tmp_path):
     assert again.timing["start"] == "saved" and again.report_extra()["timing"]["iterations"] == 0
     assert np.abs(again.positions - first.positions).max() <= 1e-3
     assert back.state.fitting_ratio == pytest.approx(s.state.fitting_ratio)
-    # its contact file named in the snapshot, and refused by name when damaged or not its own
-    refused_when_damaged(folder, "contact", lambda f: f.write_bytes(b"PK\x03\x04 damaged"))
+    # the contact state is a help, not the state: damaged or lost, the session loads and the
+    # drape goes on from the positions, saying so (one lost file made the session
+    # unloadable); contents that do not fit the mesh likewise (every drape of the state
+    # failed, naming no file)
+    meta = json.loads((folder / snapshot(folder)).read_text())
+    row = meta["states"][-1]
+    contact = folder / STATES / row["key"] / row["contact"]
+    kept = contact.read_bytes()
+    contact.write_bytes(b"PK\x03\x04 damaged")
+    with pytest.warns(SessionWarning, match=contact.name):
+        back = DesignSession.load(folder)
+    assert back.state.contact is None and back.next_start() == "continued"
+    assert np.abs(back.redrape().positions - first.positions).max() <= 1e-3
+    contact.write_bytes(kept)
+    back = DesignSession.load(folder)
+    back.state.contact = {**back.state.contact, "anchor_of": np.zeros(3, np.int64)}
+    with pytest.warns(SessionWarning, match="does not fit its mesh"):
+        back.redrape()
+    # a name that is not its own is refused, as every file the snapshot names
+    row["contact"] = "../../contact.npz"
+    (folder / snapshot(folder)).write_text(json.dumps(meta))
+    with pytest.raises(SessionError, match="contact"):
+        DesignSession.load(folder)

@@ -14,6 +14,7 @@ import os
 import re
 import shutil
 import time
+import warnings
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -43,6 +44,7 @@ from ..pattern.seam_suggest import check_sewn
 from ..sim.drape import Drape, drape, redrape
 from ..sim.fabrics import Fabric, get_fabric
 from ..sim.schedule import Plan
+from ..sim.state import SavedStateError
 
 #: the editing tools a session applies by name (``patternfit.edit``)
 EDIT_OPS = ("move_point", "move_edge", "edit_curve", "lengthen", "grade", "insert_dart",
@@ -60,6 +62,11 @@ _POSITIONS = re.compile(r"positions-[0-9a-f]{32}\.npy")
 _START_REST = re.compile(r"start-rest-[0-9a-f]{32}\.npy")
 _CONTACT = re.compile(r"contact-[0-9a-f]{32}\.npz")
 _BODY = re.compile(r"body-[0-9a-f]{32}\.npz")
+
+
+class SessionWarning(UserWarning):
+    """Something of a saved session that could not be used and was done without (a state's
+    contact state missing or damaged), said rather than refusing the session."""
 
 
 def _new_key() -> str:
@@ -236,8 +243,21 @@ class DesignSession:
             result = drape(st.pattern, st.mesh, self.body, self.fabric, start=st.positions,
                            start_rest=st.start_rest, progress=progress)
         elif how == "continued":
-            result = drape(st.pattern, st.mesh, self.body, self.fabric, start=st.positions,
-                           start_contact=st.contact, progress=progress)
+            try:
+                result = drape(st.pattern, st.mesh, self.body, self.fabric,
+                               start=st.positions, start_contact=st.contact,
+                               progress=progress)
+            except SavedStateError as exc:
+                # the contact state is a help, not the state: without it the drape goes on
+                # from the positions and reads the contacts back from the force balance
+                # (it failed every drape of the state, naming no file)
+                warnings.warn(SessionWarning(
+                    f"the saved contact state of '{st.label}' does not fit its mesh "
+                    f"({exc}): its drape goes on from its positions, the contact rebuilt"),
+                    stacklevel=2)
+                st.contact = None
+                result = drape(st.pattern, st.mesh, self.body, self.fabric,
+                               start=st.positions, progress=progress)
         elif how == "relaxed":
             wide_pattern, wide_mesh = _widened(st.pattern, st.mesh, self.relax)
             first = _finished(drape(wide_pattern, wide_mesh, self.body, self.fabric,
@@ -445,10 +465,9 @@ class DesignSession:
             start_rest = None if rest_file is None else _load_array(d / rest_file,
                                                                     (mesh.n_vertices, 2))
             contact_file = None if v1 else row.get("contact")
-            contact = None
-            if contact_file is not None:
-                contact = read_npz(d / contact_file, limit=limits.mesh_bytes,
-                                   error=SessionError)
+            contact = None if contact_file is None else _saved_contact(d / contact_file,
+                                                                       row["label"])
+            contact_file = None if contact is None else contact_file
             st = State(row["label"], row["edit"], pattern, mesh, positions,
                        row["fitting_ratio"], row["checks"], start_rest, contact)
             if not v1:  # a version-1 state is copied into the new layout by the next save
@@ -499,6 +518,19 @@ def _store_state(states: Path, s: State) -> dict:
                                             contact_bytes)
             row["contact"] = s._stored_contact[1]
     return row
+
+
+def _saved_contact(file: Path, label: str) -> dict | None:
+    """A state's saved contact state (``contact-<key>.npz``), or None with a
+    :class:`SessionWarning` when it is missing or damaged: it only lets a drape go on from
+    the state's own rest at once, and one lost file made the whole session unloadable (the
+    studio would not start on its folder)."""
+    try:
+        return read_npz(file, limit=limits.mesh_bytes, error=SessionError)
+    except SessionError as exc:
+        warnings.warn(SessionWarning(f"{exc}: the drape of '{label}' will go on from its "
+                                     "positions, its contact rebuilt"), stacklevel=3)
+        return None
 
 
 def _store_array(d: Path, prefix: str, values: np.ndarray, stored: tuple | None) -> tuple:
