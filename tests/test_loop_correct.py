@@ -188,3 +188,18 @@ def test_a_first_drape_that_did_not_come_to_rest_is_not_corrected_from(monkeypat
     assert result.failed.startswith("the drape failed: not at rest")
     assert [len(it.edits) for it in result.iterations] == [0] and not result.reached
     assert s.pattern == start and len(s.history) == 1
+
+
+def test_a_session_read_back_is_corrected_from_its_drape_judged_now(tmp_path):
+    """Its saved checks are those of the version that saved it: a dress stated as hung from
+    the waist, saved as passed before that failed, was edited from (16 edits, then undone
+    as if they had failed it). The state is draped on from its own rest first."""
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=300)
+    s.redrape()
+    s.state.checks = {"passed": True, "reasons": [], "saved_by": "an older version"}
+    s.save(tmp_path / "s")
+    back = DesignSession.load(tmp_path / "s")
+    result = correct(back, settings=CorrectionSettings(max_iterations=0))
+    checks = result.iterations[0].checks
+    assert "saved_by" not in checks and checks["equilibrium"] is not None
+    assert back.state.checks is checks or back.state.checks == checks

@@ -410,7 +410,11 @@ def correct(session, *, settings: CorrectionSettings = CorrectionSettings(),
     t_all = time.perf_counter()
     for index in range(settings.max_iterations + 1):
         t0 = time.perf_counter()
-        if index > 0 or session.state.positions is None or session.state.fitting_ratio is None:
+        # a state read back from a saved session is draped on from its own rest first (at
+        # rest it stops at once): its saved checks are those of the version that saved it,
+        # and a dress stated as hung from the waist passed in them and was edited from
+        if index > 0 or session.state.positions is None or session.state.fitting_ratio is None \
+                or session.next_start() == "continued":
             session.redrape(progress=drape_progress)
         fit, measures, verdict = measure_state(session, settings.rules)
         stepped: list[str] = []
