@@ -93,11 +93,13 @@ def test_absurd_triangle_counts_are_refused_by_every_command(tmp_path, command, 
                                      ["correct", "-b", "female_thin", "-p", "skirt"],
                                      ["batch", "--pattern", "skirt"],
                                      ["reproduce", "variants", "--figures"],
-                                     ["reproduce", "table2", "--figures"]])
+                                     ["reproduce", "table2", "--figures"],
+                                     ["studio", "--no-browser", "--session"]])
 def test_an_empty_output_folder_is_refused_by_every_command(tmp_path, command, monkeypatch):
-    """Read as ".", it wrote into the current folder unasked (found on fabric-test)."""
+    """Read as ".", it wrote into the current folder unasked (found on fabric-test; the
+    studio's session went there too)."""
     monkeypatch.chdir(tmp_path)
-    option = [] if command[-1] == "--figures" else ["--out"]
+    option = [] if command[-1] in ("--figures", "--session") else ["--out"]
     refused(runner.invoke(app, [*command, *option, ""]), "empty")
     assert not os.listdir(tmp_path)
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from .app import app, console, fail
+from .app import app, console, fail, folder_text
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -18,7 +18,8 @@ def studio(
                              help="TCP port on 127.0.0.1 (default, or 0: a free one)."),
     no_browser: bool = typer.Option(False, "--no-browser", help="Do not open a browser."),
     session: Path = typer.Option(Path("patternfit-session"), "--session",
-                                 help="Session folder: created, or continued if it holds one."),
+                                 help="Session folder: created, or continued if it holds one.",
+                                 parser=folder_text, metavar="DIR"),
 ):
     """Start the studio web app on 127.0.0.1 over a design session folder and print its
     address; stop it with Ctrl+C (the session is saved after every change)."""
