@@ -54,11 +54,19 @@ def test_a_stated_anchor_is_kept_by_every_writer(tmp_path, name):
     assert load_any_pattern(tmp_path / name).meta.get("anchor") == "neck"
     save_any_pattern(p, tmp_path / name)
     assert "anchor" not in load_any_pattern(tmp_path / name).meta
-    # a bad one is refused, written or read back
+    # a bad one is refused, written or read back (read, naming the file and its key: a
+    # GarmentCode file's was taken, and meshing failed naming neither)
     bad = replace(p, meta={**p.meta, "anchor": "bust"})
     with pytest.raises(PatternError, match="anchor"):
         save_any_pattern(bad, tmp_path / name)
         check_pattern(load_any_pattern(tmp_path / name))
+    save_any_pattern(stated, tmp_path / name)
+    written = next(f for f in (tmp_path / "p.seams.json", tmp_path / name)
+                   if f.exists() and f.suffix == ".json" and "anchor" in f.read_text())
+    written.write_text(written.read_text().replace('"neck"', '"hips"'))
+    with pytest.raises(PatternError, match="'hips'") as info:
+        load_any_pattern(tmp_path / name)
+    assert written.name in str(info.value) or name in str(info.value)
 
 
 def test_a_converted_file_is_read_by_the_json_reader_and_keeps_its_origin(tmp_path):

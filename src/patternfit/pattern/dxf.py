@@ -43,7 +43,7 @@ from .io import (check_notches, json_field, json_placement, json_point, notches_
                  notches_to_json, seams_from_json, seams_to_json, shown)
 from .model import Loop, Pattern
 from .plausible import PLAUSIBLE, size_warnings
-from .validate import check_pattern
+from .validate import anchor_value, check_pattern
 
 __all__ = ["LAYERS", "PLAUSIBLE", "load_dxf", "notch_marks", "save_dxf", "sidecar_path"]
 
@@ -314,7 +314,7 @@ def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
                             outline_edges=outline_edges)
     meta = dict(pattern.meta)
     if "anchor" in side:
-        meta["anchor"] = side["anchor"]  # checked with the pattern (validate.check_anchor)
+        meta["anchor"] = anchor_value(side["anchor"], "side file 'anchor'")
     return Pattern(json_field(side, "name", str, "side file", pattern.name), tuple(panels),
                    seams, meta)
 

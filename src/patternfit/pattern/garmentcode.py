@@ -62,7 +62,7 @@ from .orientation import twisted_cycles
 from .plausible import size_warnings
 from .formats import check_imported
 from .io import json_field, json_number, shown
-from .validate import check_size, measured_ease, seam_slack
+from .validate import anchor_value, check_size, measured_ease, seam_slack
 
 __all__ = ["euler_xyz_matrix", "garmentcode_from_dict", "garmentcode_to_dict", "is_garmentcode",
            "load_garmentcode", "panel_points_3d", "save_garmentcode"]
@@ -364,7 +364,7 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
     if warnings:
         meta["warnings"] = warnings
     if _ANCHOR in data:
-        meta["anchor"] = data[_ANCHOR]  # checked with the pattern (validate.check_anchor)
+        meta["anchor"] = anchor_value(data[_ANCHOR], f"'{_ANCHOR}'")
     pattern.meta.update(meta)
     return pattern
 

@@ -477,12 +477,21 @@ def check_anchor(pattern: Pattern) -> None:
     :data:`~patternfit.pattern.model.ANCHORS`: a strapless top given ``"bust"`` was read as
     hung from the waist without a word, draped round the belly and passed."""
     meta = pattern.meta if isinstance(pattern.meta, dict) else {}
-    if "anchor" in meta and meta["anchor"] not in ANCHORS:
-        raise PatternError(f"meta 'anchor' {meta['anchor']!r:.40}: expected "
+    if "anchor" in meta:
+        anchor_value(meta["anchor"], "meta 'anchor'")
+
+
+def anchor_value(value, where: str) -> str:
+    """``value`` when it is one of :data:`~patternfit.pattern.model.ANCHORS`, else a
+    :class:`PatternError` naming ``where`` it was given (``meta 'anchor'``, a DXF side file's
+    or a GarmentCode file's key): a file's stated anchor is checked where it is read."""
+    if value not in ANCHORS:
+        raise PatternError(f"{where} {value!r:.40}: expected "
                            f"{' or '.join(repr(a) for a in ANCHORS)} (where the garment hangs "
                            "from; a garment held up elsewhere, such as a strapless top held "
                            "at the bust, is not supported), or leave it out to have it read "
                            "from the panels")
+    return value
 
 
 def check_pattern(pattern: Pattern) -> None:
