@@ -118,8 +118,8 @@ def test_drape_progress_stop_and_exports(client):
     for name in ("area_change", "warp", "weft"):
         assert len(g3["maps"][name]["values"]) == m and len(g3["maps"][name]["colors"]) == 3 * m
     assert client.get("/api/geometry").json()["colors"] is not None
-    for name in ("pattern.json", "pattern.dxf", "pattern.svg", "garment.glb", "garment.obj",
-                 "report.json"):
+    for name in ("pattern.json", "pattern.dxf", "pattern.seams.json", "pattern.svg",
+                 "garment.glb", "garment.obj", "report.json"):
         r = client.get(f"/api/export/{name}")
         assert r.status_code == 200 and len(r.content) > 100, name
     exported = client.get("/api/export/report.json").json()
@@ -144,6 +144,20 @@ def test_drape_progress_stop_and_exports(client):
                                                                               "#99cc8c"))
     finally:
         state.checks = kept
+
+
+def test_the_dxf_export_comes_with_its_side_file(client, tmp_path):
+    """A DXF alone holds no seams and no stated anchor: the studio's, opened again, was
+    unsewn and hung where its panels say."""
+    from patternfit.pattern.dxf import load_dxf
+
+    (tmp_path / "p.dxf").write_bytes(client.get("/api/export/pattern.dxf").content)
+    (tmp_path / "p.seams.json").write_bytes(
+        client.get("/api/export/pattern.seams.json").content)
+    back = load_dxf(tmp_path / "p.dxf")
+    pattern = client.app.state.studio.ensure().pattern
+    assert back.seams == pattern.seams and pattern.seams
+    assert back.meta.get("anchor") == pattern.meta.get("anchor") is not None
 
 
 def test_automatic_correction_runs_in_the_background(client):

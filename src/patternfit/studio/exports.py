@@ -18,10 +18,14 @@ from .state import Studio
 
 #: the files the page offers, and what each holds
 EXPORTS = {
-    "pattern.json": "pattern", "pattern.dxf": "pattern", "pattern.svg": "pattern",
-    "pattern.pdf": "pattern", "garment.glb": "garment", "garment.obj": "garment",
-    "report.json": "report",
+    "pattern.json": "pattern", "pattern.dxf": "pattern", "pattern.seams.json": "pattern",
+    "pattern.svg": "pattern", "pattern.pdf": "pattern", "garment.glb": "garment",
+    "garment.obj": "garment", "report.json": "report",
 }
+#: the DXF's side file (seams, edge names, notches, a stated anchor), which a CAD tool's
+#: DXF has no place for: without it a DXF read back is unsewn, and hangs where its panels
+#: say (a skirt stated as hung from the neck, exported and opened again, hung from the waist)
+SIDE_FILE = "pattern.seams.json"
 
 
 def export(studio: Studio, name: str) -> bytes:
@@ -41,7 +45,9 @@ def export(studio: Studio, name: str) -> bytes:
                 # a failed drape's colours would read as a fit (as the page's maps decide)
                 fit_colours(FitScale(), fit.area_change, failure(s.state.checks)),
                 s.mesh.triangle_panel)
-            save_any_pattern(s.pattern, path, fit=colours)
+            written = save_any_pattern(s.pattern, path.with_name("pattern.dxf")
+                                       if name == SIDE_FILE else path, fit=colours)
+            path = next(p for p in written if p.name == name)
         elif s.positions is None:
             raise Refused("there is no drape to export yet: drape the garment first")
         elif stale_maps(s.state):
