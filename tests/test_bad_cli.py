@@ -102,6 +102,14 @@ def test_an_empty_output_folder_is_refused_by_every_command(tmp_path, command, m
     option = [] if command[-1] in ("--figures", "--session") else ["--out"]
     refused(runner.invoke(app, [*command, *option, ""]), "empty")
     assert not os.listdir(tmp_path)
+    # and a default folder taken as it is (the demo's, the figures' and the studio's are
+    # paths: the parser read one as text, an internal error); refused on another option
+    default = {"studio": (["studio", "--port", "-1"], 2),
+               "demo": (["demo", "--no-drape", "--triangles", "300"], 0),
+               "reproduce": ([*command[:-1], "--triangles", "-1"], 2)}.get(command[0])
+    if default:
+        r = runner.invoke(app, default[0])
+        assert r.exit_code == default[1] and "internal error" not in r.output, r.output
 
 
 @pytest.mark.parametrize("args, names", [

@@ -172,10 +172,13 @@ def fail(message: str, code: int = REFUSED) -> None:
     raise typer.Exit(code)
 
 
-def folder_text(text: str) -> Path:
+def folder_text(text: str | Path) -> Path:
     """Option parser of an output folder (``parser=folder_text`` beside
     ``callback=output_folder``): refuses an empty name, which a path type reads as "." and
-    the results went into the current folder unasked."""
+    the results went into the current folder unasked. The option's default arrives as the
+    ``Path`` it is."""
+    if isinstance(text, Path):
+        return text
     if not text.strip():
         raise typer.BadParameter("empty; a folder to write into")
     return Path(text)
