@@ -21,7 +21,7 @@ from patternfit.mesh.store import save_garment
 from patternfit.pattern import save_pattern
 from patternfit.pattern.library import build
 from patternfit.sim.onbody import (ON_BODY, REBUILT_MAX, REBUILT_P99, anchor_line,
-                                   on_body_checks)
+                                   on_body_checks, round_the_body_from)
 from patternfit.sim.placement import place_on_body
 from patternfit.sim.settings import SolverSettings
 
@@ -166,6 +166,41 @@ def test_a_state_read_back_on_its_body_counts_what_its_drape_counted(skirt, tmp_
     crossed = api.evaluate_saved(tmp_path / "crossed", body=BODY)
     assert crossed.checks["self_intersections"] > 0 and not crossed.passed
     assert any("crossed triangle pairs" in r for r in crossed.checks["reasons"])
+
+
+#: an outside tester's GarmentCode skirt, 112 cm round at its top, 80 cm long, a 30 x 25 cm
+#: bib on its front (cm, laid out flat as GarmentCode does)
+BIB_SKIRT = {"pattern": {"panels": {
+    "skirt_front": {"vertices": [[-34, 0], [34, 0], [28, 80], [15, 80], [15, 105], [-15, 105],
+                                 [-15, 80], [-28, 80]],
+                    "edges": [{"endpoints": [i, (i + 1) % 8]} for i in range(8)],
+                    "translation": [0, 40, 15], "rotation": [0, 0, 0]},
+    "skirt_back": {"vertices": [[-34, 0], [34, 0], [28, 80], [-28, 80]],
+                   "edges": [{"endpoints": [i, (i + 1) % 4]} for i in range(4)],
+                   "translation": [0, 40, -15], "rotation": [0, 180, 0]}},
+    "stitches": [[{"panel": "skirt_front", "edge": 1}, {"panel": "skirt_back", "edge": 3}],
+                 [{"panel": "skirt_front", "edge": 7}, {"panel": "skirt_back", "edge": 1}]]},
+    "parameters": {}, "properties": {"curvature_coords": "relative", "units_in_meter": 100}}
+
+
+def test_a_skirt_that_slid_under_its_bib_fails(skirt, tmp_path):
+    """Its top line is the panels' tops: the bib stood at the waist while the skirt slid to
+    the seat, and it read "fits" (exit 0) in the CLI, the batch and the studio. A garment
+    hung from the waist must go round the body there; a skirt at rest does, within a few
+    centimetres of its top line."""
+    path = tmp_path / "bib_specification.json"
+    path.write_text(json.dumps(BIB_SKIRT))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # its flat layout is replaced by placement
+        out = api.drape_and_evaluate(path, "male_average", "cotton", triangles=600)
+    c = out.checks
+    assert not out.passed and out.verdict == "failed"
+    assert any("does not go round the body at the waist" in r for r in c["reasons"]), c
+    assert abs(c["anchor_offset_mm"]) < 100 < -c["round_offset_mm"]  # what it fooled
+    pattern, mesh, body, d = skirt
+    at = round_the_body_from(mesh, body, d.positions)
+    line = d.positions[anchor_line(pattern, mesh), 1].mean()
+    assert 0 <= line - at < 0.03 and d.onbody.round_offset_mm is not None
 
 
 def test_fit_of_a_saved_state_without_its_contact_state_checks_its_balance(skirt, tmp_path):

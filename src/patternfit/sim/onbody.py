@@ -69,6 +69,16 @@ class OnBodySettings:
         share of the garment's height from its lowest point, or it is upside down [-]
         (the built-in garments on their bodies at 1,000 triangles: 0.91 (gathered skirt) to
         0.99; a skirt, dress or coat drawn with its grain lines pointing down: 0.01–0.03).
+    round_gap : float
+        A garment hung from the waist goes round the body at a height where its cloth's
+        cross-section leaves no gap wider than this round the body's torso axis [degrees]
+        (:func:`round_the_body_from`); the highest such height must lie within
+        ``anchor_tolerance`` of the waist, unless the anchor line hangs less than ``flap``
+        above it (then the anchor line's own check judges: a skirt resting at the limit
+        goes round the body a few mm below its top line).
+    flap : float
+        Cloth standing more than this above the height where a waist garment goes round
+        the body is a flap (a bib), not its waist [m].
     """
 
     below_feet: float = 0.02
@@ -78,6 +88,8 @@ class OnBodySettings:
     min_area_ratio: float = 0.5
     side_angle: float = 75.0
     named_anchor_level: float = 0.5
+    round_gap: float = 60.0
+    flap: float = 0.05
 
 
 #: the thresholds every drape is checked with
@@ -117,6 +129,10 @@ class OnBodyChecks:
     #: the anchor line ended below the body's crotch: nothing of the torso holds the
     #: garment there, it fell (a skirt round the shins, its hem on the floor)
     top_below_crotch: bool = False
+    #: a garment hung from the waist: the highest height at which its cloth goes round the
+    #: body (:func:`round_the_body_from`) minus the waist's [mm]; None when it goes round
+    #: nowhere, or hangs from the neck
+    round_offset_mm: float | None = None
 
     @property
     def passed(self) -> bool:
@@ -132,6 +148,7 @@ class OnBodyChecks:
                 "named_anchor_level": self.named_anchor_level,
                 "side_angle_max_deg": self.side_angle_max_deg,
                 "top_below_crotch": self.top_below_crotch,
+                "round_offset_mm": self.round_offset_mm,
                 "on_body": self.passed, "on_body_reasons": list(self.reasons)}
 
 
@@ -348,6 +365,21 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
             f"panel{'s' if ', ' in k else ''} '{k}' hang{'' if ', ' in k else 's'} {a:.0f}° "
             "from the side its name says"
             for k, a in twisted.items()) + f" (limit {s.side_angle:g}°)")
+    round_offset = None
+    if anchor == "waist":
+        # the anchor line is the panels' tops: a bib or flap above a skirt's waist held it
+        # at the waist while the skirt had slid to the seat ("fits", every front end)
+        at = round_the_body_from(mesh, body, x, gap=s.round_gap)
+        round_offset = None if at is None else at - landmark
+        flap = height is not None and at is not None and height - at > s.flap
+        if not off_body and (round_offset is None
+                             or (round_offset < -s.anchor_tolerance and flap)):
+            reasons.append(
+                "does not go round the body at the waist it hangs from: its cloth "
+                + ("goes round the body nowhere" if round_offset is None else
+                   f"goes round it only from {_length(-round_offset)} below the waist")
+                + f" (limit {_length(s.anchor_tolerance)}; what stands above is a flap, "
+                "not a waist)")
     if anchor == "waist" and garment_anchor(pattern) == "neck":
         # followed as stated (placement warns), but no garment with a sleeve or shoulders
         # hangs from the waist: a dress so stated was worn as a skirt, its bodice round the
@@ -359,7 +391,32 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     mm = (lambda v: None if v is None else v * 1e3)
     return OnBodyChecks(below, lowest * 1e3, far, farthest * 1e3, anchor, mm(height),
                         landmark * 1e3, mm(offset), ratio, tuple(reasons), level,
-                        max(angles.values()) if angles else None, fell)
+                        max(angles.values()) if angles else None, fell, mm(round_offset))
+
+
+def round_the_body_from(mesh: GarmentMesh, body, positions, *, gap: float = 60.0,
+                        step: float = 0.01) -> float | None:
+    """The highest height [m] at which the 3D state ``positions`` (n, 3) [m] of ``mesh``
+    goes round ``body``: where the points at which its cloth edges cross that level leave
+    no gap wider than ``gap`` [degrees] round the body's torso axis at that height (the
+    line from the hip centre to the neck base). Looked at every ``step`` [m] down from the
+    garment's top to its lowest point; None when it goes round nowhere."""
+    x = np.asarray(positions, dtype=np.float64)
+    e = unique_edges(mesh.triangles)
+    hip, neck = (np.asarray(p, dtype=np.float64) for p in body.landmarks["torso_axis"])
+    y0, y1 = x[e[:, 0], 1], x[e[:, 1], 1]
+    for h in np.arange(x[:, 1].max() - step / 2, x[:, 1].min(), -step):
+        cut = (y0 - h) * (y1 - h) < 0
+        if cut.sum() < 3:
+            continue
+        t = ((h - y0[cut]) / (y1[cut] - y0[cut]))[:, None]
+        p = x[e[cut, 0]] * (1 - t) + x[e[cut, 1]] * t
+        centre = hip + (neck - hip) * (h - hip[1]) / (neck[1] - hip[1])
+        a = np.sort(np.degrees(np.arctan2(p[:, 2] - centre[2], p[:, 0] - centre[0])))
+        widest = max(float(np.diff(a).max(initial=0.0)), 360.0 - float(a[-1] - a[0]))
+        if widest <= gap:
+            return float(h)
+    return None
 
 
 #: why a saved state known not to be at rest is no fit
