@@ -299,6 +299,27 @@ def test_a_batch_says_what_its_patterns_reader_noticed(tmp_path):
     assert said and all("different length" in w for w in said)
 
 
+def test_a_pattern_that_cannot_drape_is_refused_before_the_tasks(tmp_path):
+    """As ``drape`` refuses it (exit 2, naming the file): an unsewn pattern was a failed row
+    for every task, exit 0, its reasons naming code lines and a command with 'PATTERN'."""
+    from dataclasses import replace
+
+    from typer.testing import CliRunner
+
+    from patternfit.api import read_pattern, write_pattern
+    from patternfit.cli.main import app
+
+    pattern = tmp_path / "unsewn.json"
+    write_pattern(replace(read_pattern("skirt", size="M"), seams=()), pattern)
+    r = CliRunner().invoke(app, ["batch", "--pattern", str(pattern), "--sizes", "M",
+                                 "--bodies", "female_average", "--fabrics", "cotton_shirting",
+                                 "--triangles", "300", "--workers", "0", "--out",
+                                 str(tmp_path / "b")])
+    said = " ".join(r.output.split())
+    assert r.exit_code == 2 and "unsewn.json" in said and "no seams between them" in said, said
+    assert not (tmp_path / "b" / CSV_NAME).exists()
+
+
 def test_a_resume_may_name_fewer_or_more_files(tmp_path):
     """Only a file given both times with other contents is refused (one fabric left out
     was refused as "not the one the batch was draped with")."""

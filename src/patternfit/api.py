@@ -74,7 +74,7 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "GIRTHS", "InputError", "PatternError", "SeamSuggestion", "SolverSettings",
            "StartWarning", "Verdict",
            "VerdictRules", "accept_seams", "add_seam", "body_from_measurements", "check_bulk",
-           "check_sewn",
+           "check_drapeable", "check_sewn",
            "correct", "correct_design", "design_session", "drafted_too_small",
            "describe_fabric", "drape_and_evaluate", "evaluate_drape", "evaluate_saved",
            "fabric_catalogue", "fresh_drape",
@@ -724,6 +724,16 @@ def _meshable(source, pattern: Pattern) -> Pattern:
             raise
         raise exc.located(source) from None
     return pattern
+
+
+def check_drapeable(pattern: Pattern, *, source=None) -> Pattern:
+    """``pattern`` (read from ``source``: a file, a built-in name, or None), once it is
+    known to drape: meshable (:func:`check_pattern`), sewn (:func:`check_sewn`) and of a
+    garment's size (:func:`~patternfit.pattern.plausible.check_drapeable_size`); else the
+    :class:`PatternError` names the file. What ``drape`` refuses before any work (exit 2),
+    the batch refuses before its tasks (it drew a failed row for each, exit 0)."""
+    instance(pattern, Pattern, "pattern", "a Pattern (api.read_pattern)")
+    return _drapeable(pattern if source is None else source, pattern)
 
 
 def _drapeable(source, pattern: Pattern) -> Pattern:

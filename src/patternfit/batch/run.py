@@ -7,8 +7,8 @@ import os
 from pathlib import Path
 from typing import Callable
 
-from ..api import (DEFAULTS, list_garments, list_sizes, read_bodies, read_fabric,
-                   read_pattern)
+from ..api import (DEFAULTS, check_drapeable, list_garments, list_sizes, read_bodies,
+                   read_fabric, read_pattern)
 from ..arguments import number
 from .cluster import run_local, run_on_ray
 from .matrix import write_matrix
@@ -120,12 +120,15 @@ def _read_sized(pattern: str, size: str):
     its own (a GarmentCode file, a patternfit JSON without ``meta.size``, a DXF of one
     unnamed size) is read as it is, ``size`` its label in the rows: read in the size the
     batch asked to label it with, it was refused ("no size 'M' in the file"), and no size
-    was accepted, so no batch of it could run."""
+    was accepted, so no batch of it could run. A pattern that cannot drape (unsewn, not
+    meshable, of no garment's size) is refused naming the file, as ``drape`` refuses it
+    (:func:`~patternfit.api.check_drapeable`): it was a failed row for every task, exit 0,
+    its reasons naming code lines."""
     if pattern not in list_garments():
         own = read_pattern(pattern)
         if own.meta.get("size") is None and not own.meta.get("sizes"):
-            return own
-    return read_pattern(pattern, size=size)
+            return check_drapeable(own, source=pattern)
+    return check_drapeable(read_pattern(pattern, size=size), source=pattern)
 
 
 def _as_before(name: str, before: set[str], digests: dict[str, str]) -> str:
