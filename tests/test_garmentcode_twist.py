@@ -109,3 +109,20 @@ def test_the_readers_warning_travels_into_the_report(tmp_path):
     assert report["pattern_warnings"] == p.meta["warnings"]
     assert "pattern_warnings" not in api.place_and_evaluate(
         _band(tmp_path, [None] * 3), triangles=300).write(tmp_path / "ok", pictures=False)
+
+
+@pytest.mark.parametrize("name", ["skirt.dxf", "skirt.json"])
+def test_a_dxf_side_file_or_our_json_sewn_twisted_is_said_too(tmp_path, name):
+    """Only the GarmentCode reader said so: the built-in skirt with one side seam turned in
+    its DXF side file (or its JSON) read without a word and draped with 457 crossed pairs."""
+    from dataclasses import replace
+
+    from patternfit.pattern.formats import save_any_pattern
+
+    skirt = build("skirt", "M")
+    assert not _warned(load_any_pattern(save_any_pattern(skirt, tmp_path / name)[0]))
+    turned = replace(skirt, seams=(replace(skirt.seams[0], reverse=not skirt.seams[0].reverse),
+                                   *skirt.seams[1:]))
+    assert twisted_seams(turned)
+    w = _warned(load_any_pattern(save_any_pattern(turned, tmp_path / name)[0]))
+    assert len(w) == 1 and "'reverse'" in w[0] and skirt.seams[0].name in w[0]

@@ -16,6 +16,7 @@ from ..files import read_json_file
 from .errors import PatternError
 from .io import FORMAT, load_pattern, save_pattern
 from .model import Pattern
+from .orientation import twisted_warning
 from .validate import check_pattern, check_seams
 
 # .garmentcode, .dxf and .plot are imported inside the functions: a real import cycle (they
@@ -85,7 +86,8 @@ def load_any_pattern(path, *, size: str | None = None, units: str | None = None)
     if kind == "dxf":
         from .dxf import load_dxf
 
-        return load_dxf(path, size=size, units=units)
+        return _said_if_twisted(load_dxf(path, size=size, units=units),
+                                "check the side file's seams' 'reverse'")
     if units is not None:
         raise PatternError(f"units: set for a DXF only; this {kind} file states its own "
                            "units", file=path)
@@ -100,6 +102,7 @@ def load_any_pattern(path, *, size: str | None = None, units: str | None = None)
         if before not in (None, "patternfit"):
             pattern.meta.setdefault("converted_from", before)
         pattern.meta["source_format"] = "patternfit"
+        _said_if_twisted(pattern, "check the seams' 'reverse'")
     has = pattern.meta.get("size")
     if size is not None and str(size).strip().upper() != str(has).strip().upper():
         graded = pattern.meta.get("sizes")
@@ -110,6 +113,16 @@ def load_any_pattern(path, *, size: str | None = None, units: str | None = None)
         raise PatternError(f"no size '{size}' in the file: it holds one size"
                            f"{f' ({has})' if has is not None else ''}{hint}; a size is picked "
                            "from a built-in garment's sizes or a graded DXF's", file=path)
+    return pattern
+
+
+def _said_if_twisted(pattern: Pattern, fix: str) -> Pattern:
+    """``pattern`` with the warning of seams that sew it twisted in ``meta["warnings"]``
+    (:func:`~.orientation.twisted_warning`), as the GarmentCode reader gives it: a DXF's
+    side file or a patternfit JSON so sewn draped with 457 crossed pairs and no word why."""
+    said = twisted_warning(pattern, fix=fix)
+    if said and said not in pattern.meta.get("warnings", []):
+        pattern.meta["warnings"] = [*pattern.meta.get("warnings", []), said]
     return pattern
 
 

@@ -58,7 +58,7 @@ from ..text import CONTROL
 from .edges import Edge
 from .errors import PatternError
 from .model import Loop, Panel, Pattern, Placement, Seam, SeamSide
-from .orientation import twisted_cycles
+from .orientation import twisted_warning
 from .plausible import size_warnings
 from .formats import check_imported
 from .io import json_field, json_number, shown
@@ -343,15 +343,9 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
     warnings = notes + check_imported(pattern) + size_warnings(
         panels, scale, said, hint=lambda unit: (
             f"set \"units_in_meter\": {1.0 / UNITS[unit]:g} in the file's 'properties'"))
-    twisted = twisted_cycles(pattern)
+    twisted = twisted_warning(pattern, fix="check the stitches' 'right_wrong' tags")
     if twisted:
-        warnings.append(
-            "the stitches sew the garment twisted (a cycle of seams turns the cloth over an "
-            "odd number of times; check the 'right_wrong' tags), closed by "
-            + ", ".join(sorted(twisted)) + "; round each cycle ("
-            + "; ".join(", ".join(twisted[k]) for k in sorted(twisted))
-            + ") one link is sewn the wrong way round; which one the file does not say "
-            "(re-sewing each gives a different garment), so it is read as written")
+        warnings.append(twisted)
     keep = {k: data[k] for k in ("parameters", "parameter_order") if k in data}
     meta: dict[str, Any] = {"source_format": "garmentcode", "garmentcode": {
         **keep, "properties": props,

@@ -73,3 +73,18 @@ def _path(came: dict, a: str, b: str) -> list[str]:
     to_meet = [s for p, s in from_a[:[q for q, _ in from_a].index(meet)]]
     from_meet = [s for p, s in from_b[:above_b.index(meet)]]
     return to_meet + from_meet[::-1]
+
+
+def twisted_warning(pattern: Pattern, *, fix: str) -> str | None:
+    """The reader's warning for a pattern whose seams sew it twisted
+    (:func:`twisted_cycles`), ``fix`` saying where in the file the seams' directions are
+    written; None when it is not. Read as written: which link is wrong the file does not
+    say."""
+    twisted = twisted_cycles(pattern)
+    if not twisted:
+        return None
+    return ("the seams sew the garment twisted (a cycle of seams turns the cloth over an odd "
+            f"number of times; {fix}), closed by " + ", ".join(sorted(twisted))
+            + "; round each cycle (" + "; ".join(", ".join(twisted[k]) for k in sorted(twisted))
+            + ") one link is sewn the wrong way round; which one the file does not say "
+            "(re-sewing each gives a different garment), so it is read as written")
