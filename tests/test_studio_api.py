@@ -235,6 +235,27 @@ def test_a_pattern_readers_warnings_are_said(tmp_path):
     assert any("different length" in w for w in report["pattern_warnings"])
 
 
+def test_an_upload_that_cannot_be_meshed_names_the_file(tmp_path):
+    """A GarmentCode gather beyond 2:1 was refused at upload naming only the panel."""
+    import json
+
+    square = [[0, 0], [20, 0], [20, 20], [0, 20]]
+    wide = [[0, 0], [50, 0], [50, 20], [0, 20]]
+    spec = {"pattern": {"panels": {
+        name: {"vertices": v, "edges": [{"endpoints": [k, (k + 1) % 4]} for k in range(4)],
+               "translation": [0, 100, z], "rotation": [0, 0, 0]}
+        for name, v, z in (("a", square, 10), ("b", wide, -10))},
+        "stitches": [[{"panel": "a", "edge": 1}, {"panel": "b", "edge": 2}]]},
+        "properties": {"units_in_meter": 100}}
+    app = create_app(tmp_path / "studio", allowed_hosts=("testserver",))
+    c = studio_client(app)
+    assert c.post("/api/new", json={"garment": "skirt", "triangles": 400}).status_code == 200
+    r = c.post("/api/upload", files={"file": ("gather_specification.json",
+                                              json.dumps(spec).encode())})
+    assert r.status_code == 400 and "2.5:1 gather" in r.json()["error"]
+    assert r.json()["error"].startswith("gather_specification.json: "), r.json()
+
+
 def test_safety(client, folder):
     assert client.get("/api/export/..%2F..%2Fetc%2Fpasswd").status_code == 404
     assert client.get("/api/state", headers={"host": "attacker.example"}).status_code == 403

@@ -36,6 +36,7 @@ from ..errors import InputError, SessionError
 from ..files import atomic_write_text, dumps_finite_json, read_json_file
 from ..fit.report import failure
 from ..loop.session import holds_session
+from ..pattern.errors import PatternError
 from ..pattern.library import GARMENTS
 from ..pattern.sizes import SIZE_NAMES
 from ..sim.fabrics import FABRICS
@@ -485,10 +486,15 @@ class Studio:
                 # file, not the server's folder
                 raise InputError(designer_message(exc).replace(str(target), shown)) from None
             if kind == "pattern":
-                archived = self.start_from(pattern=read, upload=target,
-                                           labels={"garment": read.name,
-                                                   "source": f"uploaded {shown}"},
-                                           revision=revision)
+                try:
+                    archived = self.start_from(pattern=read, upload=target,
+                                               labels={"garment": read.name,
+                                                       "source": f"uploaded {shown}"},
+                                               revision=revision)
+                except PatternError as exc:  # meshing it: a gather beyond 2:1
+                    if exc.file is not None:
+                        raise
+                    raise exc.located(shown) from None
                 return {"panels": len(read.panels), "archived": archived,
                         **({"assumed": assumed} if assumed else {})}
             archived = self.start_from(**{kind: read}, upload=target, labels={kind: read.name},
