@@ -41,6 +41,14 @@ def test_sizes_all_and_lists(tmp_path):
         parse_sizes("M,XXXL", "skirt")
     with pytest.raises(ValueError, match="one size"):
         parse_sizes("all", str(tmp_path / "my.json"))
+    # a graded DXF holds its sizes (they were refused: "drafted in one size")
+    from test_dxf_aama import accumark, graded
+
+    dxf = str(graded(accumark, tmp_path / "g.dxf"))
+    assert parse_sizes("all", dxf) == ["34", "36", "38"]
+    assert parse_sizes("34,38", dxf) == ["34", "38"]
+    with pytest.raises(ValueError, match="40 not one of the file's sizes, 34, 36, 38"):
+        parse_sizes("36,40", dxf)
 
 
 def test_rows_survive_a_resume_and_a_killed_write(tmp_path):

@@ -18,14 +18,21 @@ from .work import Inputs, TaskOptions
 
 
 def parse_sizes(sizes: str, pattern: str) -> list[str]:
-    """``"S,M,L"`` or ``"all"`` (every size of a built-in garment) as a list. A pattern
-    file is drafted in one size: its list is that one label. Raises ``ValueError`` naming
-    ``--sizes``."""
+    """``"S,M,L"`` or ``"all"`` (every size of a built-in garment, or of a graded DXF) as
+    a list. Any other pattern file is drafted in one size: its list is that one label.
+    Raises ``ValueError`` naming ``--sizes``."""
     built_in = pattern in list_garments()
+    # a graded DXF holds its sizes (the batch said "drafted in one size" of one); a file
+    # that is not there is named by its reading, later
+    graded = [] if built_in or not Path(pattern).is_file() else [
+        str(g).strip().upper() for g in read_pattern(pattern).meta.get("sizes") or []]
     if sizes.strip().lower() == "all":
+        if graded:
+            return list(dict.fromkeys(graded))
         if not built_in:
-            raise ValueError("--sizes: 'all' needs a built-in garment; a pattern file is "
-                             "drafted in one size: give its label, such as --sizes M")
+            raise ValueError("--sizes: 'all' needs a built-in garment or a graded DXF; a "
+                             "pattern file is drafted in one size: give its label, such as "
+                             "--sizes M")
         return list_sizes()
     out = [s.strip().upper() for s in sizes.split(",")]
     if not all(out):
@@ -35,6 +42,11 @@ def parse_sizes(sizes: str, pattern: str) -> list[str]:
         if wrong:
             raise ValueError(f"--sizes: {', '.join(wrong)} not one of "
                              f"{', '.join(list_sizes())} (or 'all')")
+    elif graded:
+        wrong = [s for s in out if s not in graded]
+        if wrong:
+            raise ValueError(f"--sizes: {', '.join(wrong)} not one of the file's sizes, "
+                             f"{', '.join(graded)} (or 'all')")
     elif len(out) > 1:
         raise ValueError("--sizes: a pattern file is drafted in one size; give one label")
     return list(dict.fromkeys(out))
