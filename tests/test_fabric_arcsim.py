@@ -234,3 +234,24 @@ def test_the_kit_tests_a_material_and_reports_what_it_assumed(tmp_path):
     preset = CliRunner().invoke(app, ["fabric-test", "strip", "--fabric", "jersey", "--length",
                                       "0.3", "--json"])
     assert json.loads(preset.stdout)["fabric_assumed"] == []
+
+
+def test_drape_correct_and_batch_say_what_was_assumed(tmp_path):
+    """The studio and fabric-test said an ARCSim file's friction and thickness were
+    assumed; drape, correct and the batch did not, nor did the drape's report."""
+    from typer.testing import CliRunner
+
+    from patternfit.cli.main import app
+
+    path = tmp_path / "round.json"
+    path.write_text(json.dumps(ROUND))
+    r = CliRunner().invoke(app, ["drape", "-p", "skirt", "-b", "female_thin", "-f", str(path),
+                                 "-n", "300", "--no-pictures", "-o", str(tmp_path / "d")])
+    said = " ".join(r.output.split())
+    assert "note: fabric" in said and "friction" in said, said
+    report = json.loads((tmp_path / "d" / "report.json").read_text())
+    assert any("friction" in a for a in report["fabric_assumed"])
+    r = CliRunner().invoke(app, ["batch", "-p", "skirt", "-s", "M", "-b", "female_thin",
+                                 "-f", str(path), "-n", "300", "-w", "0", "--no-thumbnails",
+                                 "-o", str(tmp_path / "b"), "--json"])
+    assert any("friction" in a for a in json.loads(r.stdout)["fabric_assumed"][str(path)])

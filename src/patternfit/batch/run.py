@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Callable
 
 from ..api import (DEFAULTS, check_drapeable, list_garments, list_sizes, read_bodies,
-                   read_fabric, read_pattern)
+                   read_fabric_with_notes, read_pattern)
 from ..arguments import number
 from .cluster import run_local, run_on_ray
 from .matrix import write_matrix
@@ -70,8 +70,9 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     once the tasks are known, ``progress(row)`` after each row. On KeyboardInterrupt the rows
     written stay and the Parquet file and matrix are still written, then it propagates.
 
-    Returns ``{"tasks", "skipped", "rows", "failed", "files", "lines", "pattern_warnings"}``
-    (what the pattern's reader noticed, ``meta["warnings"]``; the CLI prints it).
+    Returns ``{"tasks", "skipped", "rows", "failed", "files", "lines", "pattern_warnings",
+    "fabric_assumed"}`` (what the pattern's reader noticed, ``meta["warnings"]``, and, by
+    fabric, what was assumed for values its file does not carry; the CLI prints both).
     """
     number(workers, "--workers", low=0, integer=True)
     number(time_limit, "--time-limit", low=0.0, low_open=True, unit="s")
@@ -86,8 +87,11 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
         named.update((f, _as_before(f, {t.fabric for t in earlier}, digests))
                      for f in fabric_list)
     # read here, once: the workers get objects, not files (they may be other machines)
+    read = {f: read_fabric_with_notes(f) for f in fabric_list}
     inputs = Inputs({}, {(named[pattern], s): _read_sized(pattern, s) for s in size_list},
-                    {named[f]: read_fabric(f) for f in fabric_list})
+                    {named[f]: read[f][0] for f in fabric_list})
+    # what was assumed for a fabric file's missing values, said once for the batch
+    notes = {f: read[f][1] for f in fabric_list if read[f][1]}
     body_list = read_bodies(bodies)
     tasks = plan([named[pattern]], size_list, [b.name for b in body_list],
                  list(dict.fromkeys(named[f] for f in fabric_list)))
@@ -124,7 +128,8 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
         files |= {"png": matrix["png"], "html": matrix["html"]}
     return {"tasks": len(tasks), "skipped": len(tasks) - len(todo), "rows": len(rows),
             "failed": sum(r["status"] != "ok" for r in rows), "files": files,
-            "lines": matrix["lines"] if matrix else [], "pattern_warnings": said}
+            "lines": matrix["lines"] if matrix else [], "pattern_warnings": said,
+            "fabric_assumed": notes}
 
 
 def _read_sized(pattern: str, size: str):

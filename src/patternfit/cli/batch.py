@@ -11,7 +11,7 @@ from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
 from ..defaults import DEFAULTS
 from .app import (INTERRUPTED, app, console, fail, folder_text, output_folder, positive,
                   print_json, triangles_option)
-from .show import print_pattern_warnings
+from .show import print_pattern_warnings, say_fabric_notes
 
 # the batch (and through it patternfit.api and Ray) is imported inside the command, when it
 # runs: `patternfit --help` should not wait for them (see commands.py)
@@ -90,6 +90,8 @@ def batch(
         print_json(result)
         return
     print_pattern_warnings(result["pattern_warnings"])
+    for source, assumed in result["fabric_assumed"].items():
+        say_fabric_notes(assumed, source)
     for line in result["lines"]:
         console.print(line, highlight=False)
     console.print(f"{result['rows']} rows ({result['failed']} failed) of {result['tasks']} "

@@ -11,7 +11,7 @@ from ..defaults import DEFAULTS
 from .app import (INTERRUPTED, SIZE_HELP, app, console, fail, finite, folder_text,
                   output_folder, positive, print_json, triangles_option, verdict_options)
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
-                   print_pattern_warnings, say_body_notes)
+                   print_pattern_warnings, say_body_notes, say_fabric_notes)
 
 # patternfit.api and the stage modules are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -84,19 +84,23 @@ def drape(
             fail("--start: a saved drape is continued by the static engine only")
     b = api.read_body(body, units=units)
     say_body_notes(b, body)
+    fab, assumed = api.read_fabric_with_notes(fabric)
+    say_fabric_notes(assumed, fabric)
     settings = SolverSettings(max_iterations=max_iterations, time_limit=time_limit)
     rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
                               style=style)
     bar, callback = drape_progress(total=max_iterations, rest=settings.residual_rms)
     with bar:
         try:
-            outcome = api.drape_and_evaluate(pattern, b, fabric, triangles=triangles, size=size,
+            outcome = api.drape_and_evaluate(pattern, b, fab, triangles=triangles, size=size,
                                              engine=engine, settings=settings, device=device,
                                              from_static=from_static, clearance=clearance,
                                              start=start, progress=callback,
                                              verdict_rules=rules)
         except NewtonMissingError as exc:
             fail(str(exc))
+    if assumed:
+        outcome.extra["fabric_assumed"] = list(assumed)
     report = outcome.write(out, pictures=pictures)
     if json_out:
         print_json(report)

@@ -12,8 +12,8 @@ import typer
 from ..defaults import DEFAULTS
 from .app import (SIZE_HELP, Group, app, console, fail, finite, folder_text, output_folder,
                   print_json, triangles_option, verdict_options)
-from .show import (exit_if_correction_failed, run_correction, say_fresh_drape,
-                   say_body_notes, show_iteration)
+from .show import (exit_if_correction_failed, run_correction, say_fabric_notes,
+                   say_fresh_drape, say_body_notes, show_iteration)
 
 #: the correction's goals (``loop.correct.GOALS``; not imported here: the CLI loads the
 #: solver only when a command runs)
@@ -97,7 +97,9 @@ def correct_command(
     t0 = time.perf_counter()
     b = api.read_body(body, units=units)
     say_body_notes(b, body)
-    session = api.design_session(pattern, b, fabric, triangles=triangles, threshold=threshold,
+    fab, assumed = api.read_fabric_with_notes(fabric)
+    say_fabric_notes(assumed, fabric)
+    session = api.design_session(pattern, b, fab, triangles=triangles, threshold=threshold,
                                  size=size, relax=relax)
     rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
                               style=style)

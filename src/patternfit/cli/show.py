@@ -28,6 +28,15 @@ def print_pattern_warnings(warnings) -> None:
         say_warning(str(w))
 
 
+def say_fabric_notes(assumed, source) -> None:
+    """What was assumed for values a fabric file does not carry (an ARCSim material's
+    friction and thickness: ``api.read_fabric_with_notes``), one line each, as the studio
+    and ``fabric-test`` say it: ``drape``, ``correct`` and ``batch`` said nothing."""
+    for note in assumed or ():
+        console.print(f"[yellow]note:[/] fabric {escape(str(source))}: {escape(str(note))}",
+                      highlight=False)
+
+
 def print_fit_summary(report: dict, out: Path, seconds: float) -> None:
     """The per-panel table, ϖ, fit classes and mesh of a fit ``report`` written to ``out``."""
     failed = (report.get("checks") or {}).get("passed") is False
