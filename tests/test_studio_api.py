@@ -127,6 +127,7 @@ def test_drape_progress_stop_and_exports(client):
     # what it is a fit of, as the CLI's report says (the studio's named neither)
     info = client.get("/api/state").json()["info"]
     assert (exported["body"], exported["fabric"]) == (info["body"], info["fabric"])
+    assert exported["garment"] == client.app.state.studio.ensure().pattern.name
     # a failed drape's exports show no fit colour (they were green, the garment's header
     # without a word of it, while the page said "failed")
     state = studio.ensure().state

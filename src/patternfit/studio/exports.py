@@ -66,15 +66,16 @@ def report(s, fit) -> dict:
     """The fit report of session ``s``'s draped state (what ``report.json`` holds), whose
     fit evaluation is ``fit``, with its fit measures and verdict as the CLI's report has
     them (``api.judge_state``): per region and overall, "failed" for a drape that failed its
-    checks (no fit word may be read from its ϖ); and, as the CLI's, the body and the
-    fabric it was draped on and in (by name) and what the pattern's reader warned of
+    checks (no fit word may be read from its ϖ); and, as the CLI's, the garment, the body
+    and the fabric it was draped on and in (by name) and what the pattern's reader warned of
     (``pattern_warnings``)."""
     st = s.state
     measures, verdict = api.judge_state(st.pattern, st.mesh, st.positions, fit, s.body,
                                         s.fabric, checks=st.checks)
     said = list(st.pattern.meta.get("warnings") or [])
     return fit_report(s.mesh, fit, state="draped",
-                      extra={"body": s.body.name, "fabric": s.fabric.name,
+                      extra={"garment": st.pattern.name, "body": s.body.name,
+                             "fabric": s.fabric.name,
                              "checks": st.checks, "history": s.summary(),
                              **({"pattern_warnings": said} if said else {}),
                              **measures.report(), **verdict.report()})
