@@ -210,3 +210,24 @@ def test_notches_point_into_the_fabric():
         tip = at + 0.5 * (inner - at)
         assert MplPath(panel.outline.polygon(64)).contains_point(tip)
         assert not MplPath(dart.polygon(8)).contains_point(tip)
+
+
+def test_a_side_files_unit_is_read_or_refused(tmp_path):
+    """A side file saying "units": "cm" had its placements read as metres, without a word;
+    an unknown unit is refused naming the side file and the field."""
+    p = _pattern()
+    path = save_dxf(p, tmp_path / "u.dxf")
+    side = tmp_path / "u.seams.json"
+    data = json.loads(side.read_text())
+    data["units"] = "cm"
+    moved = data["panels"]["front"]["placement"]
+    moved["translation"] = [100 * v for v in moved["translation"]]
+    side.write_text(json.dumps(data))
+    back = load_dxf(path)
+    assert back.panel("front").placement.translation == pytest.approx(
+        p.panel("front").placement.translation)
+    data["units"] = "furlong"
+    side.write_text(json.dumps(data))
+    with pytest.raises(PatternError, match="side file 'units' 'furlong'") as info:
+        load_dxf(path)
+    assert "u.seams.json" in str(info.value)

@@ -284,6 +284,12 @@ def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
         raise PatternError(f"not a patternfit DXF side file (format "
                            f"{shown(side.get('format'))})")
     info = json_field(side, "panels", dict, "side file", {})
+    # its explicit placements' length unit (we write "m"; another was ignored without a
+    # word, a translation in cm read as metres)
+    unit = json_field(side, "units", str, "side file", "m")
+    if unit not in UNITS:
+        raise PatternError(f"side file 'units' {shown(unit)}: expected one of "
+                           f"{', '.join(UNITS)}")
     panels = []
     for p in pattern.panels:
         where = {"panel": p.name}
@@ -297,8 +303,8 @@ def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
             loops.append(_renamed(loop, json_field(lp, "name", str, what, loop.name, **where),
                                   json_field(lp, "edges", list, what, None, **where), where))
         pl = json_field(d, "placement", dict, "side file panel", {}, **where)
-        placement = json_placement(pl, 1.0, part=p.placement.part, side=p.placement.side,
-                                   **where)
+        placement = json_placement(pl, UNITS[unit], part=p.placement.part,
+                                   side=p.placement.side, **where)
         grain = json_point(d.get("grainline", p.grainline), 1.0, "grainline", **where)
         renames = {e.name: f.name for lp, new in zip(p.loops, loops)
                    for e, f in zip(lp.edges, new.edges)}
