@@ -281,3 +281,16 @@ def fd_gradient(f, x, h=1e-7):
             xm[i, c] -= h
             g[i, c] = (f(xp) - f(xm)) / (2 * h)
     return g
+
+
+def gathered_past_the_limit() -> dict:
+    """A GarmentCode specification (cm) of two panels whose one stitch sews a 20 cm edge to
+    a 50 cm one: a 2.5:1 gather, past the 2:1 a seam may gather."""
+    square = [[0, 0], [20, 0], [20, 20], [0, 20]]
+    wide = [[0, 0], [50, 0], [50, 20], [0, 20]]
+    return {"pattern": {"panels": {
+        name: {"vertices": v, "edges": [{"endpoints": [k, (k + 1) % 4]} for k in range(4)],
+               "translation": [0, 100, z], "rotation": [0, 0, 0]}
+        for name, v, z in (("a", square, 10), ("b", wide, -10))},
+        "stitches": [[{"panel": "a", "edge": 1}, {"panel": "b", "edge": 2}]]},
+        "properties": {"units_in_meter": 100}}

@@ -12,6 +12,7 @@ from patternfit.pattern import check_pattern
 from patternfit.pattern.garmentcode import (euler_xyz_matrix, garmentcode_from_dict,
                                             garmentcode_to_dict, load_garmentcode,
                                             panel_points_3d, save_garmentcode)
+from scenes import gathered_past_the_limit
 
 
 def _square(curv=None, label=None):
@@ -309,3 +310,11 @@ def test_a_file_in_millimetres_without_its_unit_is_said(tmp_path):
     assert "panel 'front' is 6 m across, read in centimetres" in said
     assert "\"units_in_meter\": 1000" in said
     assert not garmentcode_from_dict(_doc({"front": _square()})).meta.get("warnings")
+
+
+def test_a_gather_past_the_limit_is_warned_of_once_as_such():
+    """It was said twice: "sewn in as ease 1" (capped, as if sewn) and then "beyond the
+    limit of 2:1", which meshing refuses."""
+    spec = gathered_past_the_limit()
+    said = [w for w in garmentcode_from_dict(spec).meta["warnings"] if "stitch0" in w]
+    assert len(said) == 1 and "2.5:1 gather, beyond the limit of 2:1" in said[0], said

@@ -10,6 +10,7 @@ from fastapi.testclient import TestClient
 
 from patternfit.sim.settings import SolverSettings
 from patternfit.studio import create_app
+from scenes import gathered_past_the_limit
 
 EDIT = {"op": "move_point", "args": {"panel": "front", "corner": "waist", "offset": [0.01, 0.0],
                                      "partner": True}}
@@ -240,14 +241,7 @@ def test_an_upload_that_cannot_be_meshed_names_the_file(tmp_path):
     """A GarmentCode gather beyond 2:1 was refused at upload naming only the panel."""
     import json
 
-    square = [[0, 0], [20, 0], [20, 20], [0, 20]]
-    wide = [[0, 0], [50, 0], [50, 20], [0, 20]]
-    spec = {"pattern": {"panels": {
-        name: {"vertices": v, "edges": [{"endpoints": [k, (k + 1) % 4]} for k in range(4)],
-               "translation": [0, 100, z], "rotation": [0, 0, 0]}
-        for name, v, z in (("a", square, 10), ("b", wide, -10))},
-        "stitches": [[{"panel": "a", "edge": 1}, {"panel": "b", "edge": 2}]]},
-        "properties": {"units_in_meter": 100}}
+    spec = gathered_past_the_limit()
     app = create_app(tmp_path / "studio", allowed_hosts=("testserver",))
     c = studio_client(app)
     assert c.post("/api/new", json={"garment": "skirt", "triangles": 400}).status_code == 200
