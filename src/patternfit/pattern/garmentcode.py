@@ -265,7 +265,8 @@ def _with_ease(pattern: Pattern, given) -> tuple[Pattern, list[str]]:
         ease = float(given[i]) if given is not None else measured_ease(la, lb)
         # a gather past the limit is capped there and said by check_imported as beyond it
         # (meshing refuses it): "sewn in as ease 1" beside that read as if it had been
-        capped = ease and max(la, lb) / min(la, lb) - 1.0 > limits.seam_ease
+        capped = bool(ease) and min(la, lb) > 0 \
+            and max(la, lb) / min(la, lb) - 1.0 > limits.seam_ease
         if ease and abs(la - lb) > seam_slack(la, lb) and not capped:
             notes.append(f"seam '{seam.name}' joins sides of different length: "
                          f"{la * 100:.2f} cm ({seam.a.panel}/{seam.a.edge}) vs "
