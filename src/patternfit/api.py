@@ -674,7 +674,7 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
              optional=True)
     if progress is not None and not callable(progress):
         raise ValueError(f"progress: expected a function, got {progress!r:.60}")
-    pat = _drapeable(pattern, read_pattern(pattern, size=size))
+    pat = check_drapeable(read_pattern(pattern, size=size), source=pattern)
     b = read_body(body, units=units)
     fab = read_fabric(fabric)
     if start is not None:
@@ -733,13 +733,6 @@ def check_drapeable(pattern: Pattern, *, source=None) -> Pattern:
     :class:`PatternError` names the file. What ``drape`` refuses before any work (exit 2),
     the batch refuses before its tasks (it drew a failed row for each, exit 0)."""
     instance(pattern, Pattern, "pattern", "a Pattern (api.read_pattern)")
-    return _drapeable(pattern if source is None else source, pattern)
-
-
-def _drapeable(source, pattern: Pattern) -> Pattern:
-    """``pattern``, read from ``source``, once it is known to drape: meshable
-    (:func:`_meshable`), sewn (:func:`check_sewn`) and of a garment's size
-    (:func:`check_drapeable_size`), errors naming the file."""
     check_sewn(pattern, source=_file_of(source))
     check_drapeable_size(pattern, source=_file_of(source))
     return _meshable(source, pattern)
