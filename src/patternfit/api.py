@@ -982,8 +982,7 @@ def correct_design(session: DesignSession, out, *, threshold: float | None = Non
                                   rules=verdict_rules or VerdictRules())
     result = correct(session, settings=settings, drape_progress=drape_progress,
                      progress=progress)
-    if not result.failed and result.pattern is not None \
-            and any(it.edits for it in result.iterations):
+    if result.edited:
         fresh = fresh_drape(result.pattern, session, verdict_rules=settings.rules,
                             progress=drape_progress)
         extra = {**(extra or {}), "fresh_drape": fresh}

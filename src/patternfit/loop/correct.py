@@ -151,6 +151,14 @@ class Correction:
         return self.iterations[-1].fitting_ratio
 
     @property
+    def edited(self) -> bool:
+        """Whether the loop ran to its end (not refused, :attr:`failed`) with edits made:
+        its :attr:`pattern` is a new one to make, and drape afresh
+        (``api.fresh_drape``)."""
+        return not self.failed and self.pattern is not None \
+            and any(it.edits for it in self.iterations)
+
+    @property
     def verdict(self) -> str | None:
         """The final drape's overall verdict."""
         v = self.iterations[-1].verdict if self.iterations else None

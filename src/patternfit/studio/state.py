@@ -706,8 +706,7 @@ class Studio:
             result = api.correct(session, settings=settings, progress=round_done,
                                  drape_progress=progress)
             fresh = None
-            if not result.failed and result.pattern is not None \
-                    and any(it.edits for it in result.iterations):
+            if result.edited:
                 # as the CLI: the loop's drapes go on from its first, a garment made from
                 # the pattern is put on afresh, and may sit elsewhere or fail
                 job.tracker.begin(session)
