@@ -173,10 +173,9 @@ def fail(message: str, code: int = REFUSED) -> None:
 
 
 def folder_text(text: str | Path) -> Path:
-    """Option parser of an output folder (``parser=folder_text`` beside
-    ``callback=output_folder``): refuses an empty name, which a path type reads as "." and
-    the results went into the current folder unasked. The option's default arrives as the
-    ``Path`` it is."""
+    """Option parser of an output folder (:func:`folder_option`): refuses an empty name,
+    which a path type reads as "." (the results went into the current folder unasked).
+    The option's default arrives as the ``Path`` it is."""
     if isinstance(text, Path):
         return text
     if not text.strip():
@@ -234,6 +233,14 @@ def positive(value):
 #: help of every command's --size (a built-in garment's size, or a graded DXF's)
 SIZE_HELP = ("Size: of a built-in garment (S–XL, default M) or of a graded DXF file (default "
              "its sample size).")
+
+
+def folder_option(default, *names: str, help: str):
+    """An option naming a folder the command writes into (``names`` its flags; none: from
+    the parameter's name): refused before any work when empty (:func:`folder_text`), a
+    file, or where no folder can be made (:func:`output_folder`)."""
+    return typer.Option(default, *names, help=help, parser=folder_text,
+                        callback=output_folder, metavar="DIR")
 
 
 def triangles_option(default, help: str = "Target triangle count."):

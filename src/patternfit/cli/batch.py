@@ -9,8 +9,8 @@ from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
                            TimeElapsedColumn, TimeRemainingColumn)
 
 from ..defaults import DEFAULTS
-from .app import (INTERRUPTED, app, console, fail, folder_text, output_folder, positive,
-                  print_json, triangles_option)
+from .app import (INTERRUPTED, app, console, fail, folder_option, positive, print_json,
+                  triangles_option)
 from .show import print_pattern_warnings, say_fabric_notes
 
 # the batch (and through it patternfit.api and Ray) is imported inside the command, when it
@@ -41,10 +41,8 @@ def batch(
                                      "cancelled.",
                                      callback=positive),
     thumbnails: bool = typer.Option(True, help="Draw a thumbnail per drape for the matrix."),
-    out: Path = typer.Option(..., "--out", "-o", help="Batch folder: results.csv, "
-                             "results.parquet, thumbs/, matrix.png, matrix.html.",
-                             parser=folder_text, callback=output_folder,
-                             metavar="DIR"),
+    out: Path = folder_option(..., "--out", "-o", help="Batch folder: results.csv, "
+                              "results.parquet, thumbs/, matrix.png, matrix.html."),
     resume: bool = typer.Option(False, "--resume", help="Finish a batch in --out: redo "
                                 "nothing that has a row."),
     json_out: bool = typer.Option(False, "--json", help="Print the summary as JSON."),

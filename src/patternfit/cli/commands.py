@@ -15,14 +15,12 @@ from rich.table import Table
 
 from ..defaults import DEFAULTS
 from ..text import printable
-from .app import (SIZE_HELP, app, console, fail, finite, folder_text, output_folder,
-                  print_json, triangles_option, verdict_options)
+from .app import (SIZE_HELP, app, console, fail, finite, folder_option, print_json,
+                  triangles_option, verdict_options)
 from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
                    print_pattern_warnings, run_correction, say_fresh_drape, say_body_notes)
 
-Out = typer.Option(..., "--out", "-o", help="Output folder (created if missing).",
-                   parser=folder_text, callback=output_folder,
-                   metavar="DIR")
+Out = folder_option(..., "--out", "-o", help="Output folder (created if missing).")
 Json = typer.Option(False, "--json", help="Print machine-readable results on stdout.")
 
 
@@ -174,9 +172,7 @@ def fit(
 
 @app.command()
 def demo(
-    out: Path = typer.Option(Path("patternfit-demo"), "--out", "-o", help="Output folder.",
-                              parser=folder_text, callback=output_folder,
-                              metavar="DIR"),
+    out: Path = folder_option(Path("patternfit-demo"), "--out", "-o", help="Output folder."),
     garment: Optional[str] = typer.Option(None, help="Built-in garment (default: skirt; coat "
                                                       "with --no-drape)."),
     size: Optional[str] = typer.Option(None, "--size", "-s",

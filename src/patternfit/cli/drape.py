@@ -8,8 +8,8 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import (INTERRUPTED, SIZE_HELP, app, console, fail, finite, folder_text,
-                  output_folder, positive, print_json, triangles_option, verdict_options)
+from .app import (INTERRUPTED, SIZE_HELP, app, console, fail, finite, folder_option, positive,
+                  print_json, triangles_option, verdict_options)
 from .show import (drape_progress, exit_if_checks_failed, print_drape_checks, print_fit_summary,
                    print_pattern_warnings, say_body_notes, say_fabric_notes)
 
@@ -59,9 +59,7 @@ def drape(
     pressure_max: float = verdict_options()["pressure_max"],
     stretch_limit: float = verdict_options()["stretch_limit"],
     style: str = verdict_options()["style"],
-    out: Path = typer.Option(..., "--out", "-o", help="Output folder.",
-                             parser=folder_text, callback=output_folder,
-                             metavar="DIR"),
+    out: Path = folder_option(..., "--out", "-o", help="Output folder."),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
 ) -> None:
     """Drape a garment on a body to static equilibrium and evaluate its fit.

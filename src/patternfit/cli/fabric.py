@@ -11,8 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from ..defaults import DEFAULTS
-from .app import (CHECKS_FAILED, app, between, console, fail, folder_text, output_folder,
-                  print_json)
+from .app import (CHECKS_FAILED, app, between, console, fail, folder_option, print_json)
 
 # patternfit.api and the stage modules are imported inside the command, when it runs:
 # `patternfit --help` should not wait for the solver's compiled kernels
@@ -154,11 +153,9 @@ def fabric_test(
     disc: Optional[float] = typer.Option(None, callback=between(0.005, 2.0),
                                          help="cusick: support disc diameter \\[m], "
                                               "0.005 to 2 (default 0.18)."),
-    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result "
-                                       "(fabric_test_<test>.json) and the pictures here "
-                                       "(cusick: top view; cantilever: side view).",
-                                       parser=folder_text, callback=output_folder,
-                                       metavar="DIR"),
+    out: Optional[Path] = folder_option(None, "--out", "-o", help="Write the result "
+                                        "(fabric_test_<test>.json) and the pictures here "
+                                        "(cusick: top view; cantilever: side view)."),
     json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
     set_: Optional[list[str]] = typer.Option(None, "--set", metavar="KEY=VALUE",
                                              help="A solver setting for every solve, over "

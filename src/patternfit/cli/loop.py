@@ -10,8 +10,8 @@ from typing import Optional
 import typer
 
 from ..defaults import DEFAULTS
-from .app import (SIZE_HELP, Group, app, console, fail, finite, folder_text, output_folder,
-                  print_json, triangles_option, verdict_options)
+from .app import (SIZE_HELP, Group, app, console, fail, finite, folder_option, print_json,
+                  triangles_option, verdict_options)
 from .show import (exit_if_correction_failed, run_correction, say_fabric_notes,
                    say_fresh_drape, say_body_notes, show_iteration)
 
@@ -66,9 +66,7 @@ def correct_command(
     stretch_limit: float = verdict_options()["stretch_limit"],
     style: str = verdict_options()["style"],
     pictures: bool = typer.Option(True, help="Write the PNG/SVG pictures."),
-    out: Path = typer.Option(..., "--out", "-o", help="Output folder (new pattern, report).",
-                             parser=folder_text, callback=output_folder,
-                             metavar="DIR"),
+    out: Path = folder_option(..., "--out", "-o", help="Output folder (new pattern, report)."),
     json_out: bool = typer.Option(False, "--json", help="Print the report as JSON."),
 ) -> None:
     """Drape, find where the garment is too tight, correct the pattern automatically.
@@ -128,9 +126,7 @@ def table2(
     triangles: int = triangles_option(None, "Override the paper's triangle counts (for a "
                                             "quick run)."),
     garments: str = typer.Option("coat,skirt,trousers", help="Comma-separated rows to run."),
-    figures: Path = typer.Option(Path("reproduce"), help="Folder the colour maps go to.",
-                                 parser=folder_text, callback=output_folder,
-                                 metavar="DIR"),
+    figures: Path = folder_option(Path("reproduce"), help="Folder the colour maps go to."),
     max_iterations: int = typer.Option(DEFAULTS.table2_rounds, "--max-iterations", "-k",
                                        min=0, help="Correction rounds at most."),
     goal: str = goal_option(DEFAULTS.table2_goal),
@@ -168,9 +164,7 @@ def variants(
     triangles: int = triangles_option(DEFAULTS.triangles),
     fabric: str = typer.Option("stretch_knit", "--fabric", "-f",
                                help="Fabric preset or JSON file."),
-    figures: Path = typer.Option(Path("reproduce"), help="Folder the 3D maps go to.",
-                                 parser=folder_text, callback=output_folder,
-                                 metavar="DIR"),
+    figures: Path = folder_option(Path("reproduce"), help="Folder the 3D maps go to."),
     only: str = typer.Option("", help="Comma-separated figure numbers (e.g. 15a,17c)."),
     json_out: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
 ) -> None:
