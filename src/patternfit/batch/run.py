@@ -17,15 +17,18 @@ from .settings import file_digests, keep_settings, saved_files
 from .work import Inputs, TaskOptions
 
 
-def parse_sizes(sizes: str, pattern: str) -> list[str]:
+def parse_sizes(sizes: str, pattern: str, *, read=None) -> list[str]:
     """``"S,M,L"`` or ``"all"`` (every size of a built-in garment, or of a graded DXF) as
     a list. Any other pattern file is drafted in one size: its list is that one label.
-    Raises ``ValueError`` naming ``--sizes``."""
+    ``read``: the file ``pattern`` as read without a size, when the caller has it (else
+    it is read here, when it is there). Raises ``ValueError`` naming ``--sizes``."""
     built_in = pattern in list_garments()
+    if read is None and not built_in and Path(pattern).is_file():
+        read = read_pattern(pattern)
     # a graded DXF holds its sizes (the batch said "drafted in one size" of one); a file
     # that is not there is named by its reading, later
-    graded = [] if built_in or not Path(pattern).is_file() else [
-        str(g).strip().upper() for g in read_pattern(pattern).meta.get("sizes") or []]
+    graded = [] if read is None else [str(g).strip().upper()
+                                      for g in read.meta.get("sizes") or []]
     if sizes.strip().lower() == "all":
         if graded:
             return list(dict.fromkeys(graded))
@@ -76,7 +79,9 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     """
     number(workers, "--workers", low=0, integer=True)
     number(time_limit, "--time-limit", low=0.0, low_open=True, unit="s")
-    size_list = parse_sizes(sizes, pattern)
+    # a pattern file read once without a size: its sizes, and itself where it names none
+    own = None if pattern in list_garments() else read_pattern(pattern)
+    size_list = parse_sizes(sizes, pattern, read=own)
     fabric_list = list(dict.fromkeys(f.strip() for f in fabrics.split(",")))
     # each input's name in the rows (the task), and the path it is read from
     named = {pattern: pattern, **{f: f for f in fabric_list}}
@@ -88,7 +93,8 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
                      for f in fabric_list)
     # read here, once: the workers get objects, not files (they may be other machines)
     read = {f: read_fabric_with_notes(f) for f in fabric_list}
-    inputs = Inputs({}, {(named[pattern], s): _read_sized(pattern, s) for s in size_list},
+    inputs = Inputs({}, {(named[pattern], s): _read_sized(pattern, s, own)
+                         for s in size_list},
                     {named[f]: read[f][0] for f in fabric_list})
     # what was assumed for a fabric file's missing values, said once for the batch
     notes = {f: read[f][1] for f in fabric_list if read[f][1]}
@@ -132,19 +138,17 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
             "fabric_assumed": notes}
 
 
-def _read_sized(pattern: str, size: str):
-    """``pattern`` (a built-in garment or a file) in ``size``. A file that names no size of
-    its own (a GarmentCode file, a patternfit JSON without ``meta.size``, a DXF of one
+def _read_sized(pattern: str, size: str, own):
+    """``pattern`` (a built-in garment or a file; ``own``: the file read without a size,
+    None for a built-in) in ``size``. A file that names no size of its own (a GarmentCode file, a patternfit JSON without ``meta.size``, a DXF of one
     unnamed size) is read as it is, ``size`` its label in the rows: read in the size the
     batch asked to label it with, it was refused ("no size 'M' in the file"), and no size
     was accepted, so no batch of it could run. A pattern that cannot drape (unsewn, not
     meshable, of no garment's size) is refused naming the file, as ``drape`` refuses it
     (:func:`~patternfit.api.check_drapeable`): it was a failed row for every task, exit 0,
     its reasons naming code lines."""
-    if pattern not in list_garments():
-        own = read_pattern(pattern)
-        if own.meta.get("size") is None and not own.meta.get("sizes"):
-            return check_drapeable(own, source=pattern)
+    if own is not None and own.meta.get("size") is None and not own.meta.get("sizes"):
+        return check_drapeable(own, source=pattern)
     return check_drapeable(read_pattern(pattern, size=size), source=pattern)
 
 
