@@ -126,3 +126,8 @@ def test_a_dxf_side_file_or_our_json_sewn_twisted_is_said_too(tmp_path, name):
     assert twisted_seams(turned)
     w = _warned(load_any_pattern(save_any_pattern(turned, tmp_path / name)[0]))
     assert len(w) == 1 and "'reverse'" in w[0] and skirt.seams[0].name in w[0]
+    # a GarmentCode file so sewn, kept as our JSON, keeps its warning and gets no second
+    gc = load_any_pattern(save_any_pattern(turned, tmp_path / "t_specification.json")[0])
+    assert len(_warned(gc)) == 1
+    again = _warned(load_any_pattern(save_any_pattern(gc, tmp_path / "t.json")[0]))
+    assert again == _warned(gc)

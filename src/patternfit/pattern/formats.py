@@ -16,7 +16,7 @@ from ..files import read_json_file
 from .errors import PatternError
 from .io import FORMAT, load_pattern, save_pattern
 from .model import Pattern
-from .orientation import twisted_warning
+from .orientation import TWISTED, twisted_warning
 from .validate import check_pattern, check_seams
 
 # .garmentcode, .dxf and .plot are imported inside the functions: a real import cycle (they
@@ -119,9 +119,10 @@ def load_any_pattern(path, *, size: str | None = None, units: str | None = None)
 def _said_if_twisted(pattern: Pattern, fix: str) -> Pattern:
     """``pattern`` with the warning of seams that sew it twisted in ``meta["warnings"]``
     (:func:`~.orientation.twisted_warning`), as the GarmentCode reader gives it: a DXF's
-    side file or a patternfit JSON so sewn draped with 457 crossed pairs and no word why."""
+    side file or a patternfit JSON so sewn draped with 457 crossed pairs and no word why.
+    Once: a JSON written from another reader's pattern keeps that reader's warnings."""
     said = twisted_warning(pattern, fix=fix)
-    if said and said not in pattern.meta.get("warnings", []):
+    if said and not any(str(w).startswith(TWISTED) for w in pattern.meta.get("warnings", [])):
         pattern.meta["warnings"] = [*pattern.meta.get("warnings", []), said]
     return pattern
 

@@ -75,6 +75,10 @@ def _path(came: dict, a: str, b: str) -> list[str]:
     return to_meet + from_meet[::-1]
 
 
+#: how :func:`twisted_warning` begins, whatever file it names the fix in
+TWISTED = "the seams sew the garment twisted"
+
+
 def twisted_warning(pattern: Pattern, *, fix: str) -> str | None:
     """The reader's warning for a pattern whose seams sew it twisted
     (:func:`twisted_cycles`), ``fix`` saying where in the file the seams' directions are
@@ -83,7 +87,7 @@ def twisted_warning(pattern: Pattern, *, fix: str) -> str | None:
     twisted = twisted_cycles(pattern)
     if not twisted:
         return None
-    return ("the seams sew the garment twisted (a cycle of seams turns the cloth over an odd "
+    return (f"{TWISTED} (a cycle of seams turns the cloth over an odd "
             f"number of times; {fix}), closed by " + ", ".join(sorted(twisted))
             + "; round each cycle (" + "; ".join(", ".join(twisted[k]) for k in sorted(twisted))
             + ") one link is sewn the wrong way round; which one the file does not say "
