@@ -304,3 +304,13 @@ def test_a_set_in_sleeve_cap_is_sewn_to_both_armholes_with_its_ease(names):
     assert openings(sewn) == 4
     mesh = mesh_pattern(sewn, triangles=800)
     assert len(mesh.seam_names) == 10 and len(mesh.seam_pairs) > 0
+
+
+def test_the_api_suggests_seams_for_a_file_in_its_own_size(tmp_path):
+    # api.suggest_seams read every file in size M: "no size 'M' in the file (sizes: L)"
+    from patternfit import api
+    from patternfit.pattern import save_pattern
+    truth = build("skirt", "L")
+    save_pattern(replace(truth, seams=()), tmp_path / "skirt.json")
+    found = api.suggest_seams(tmp_path / "skirt.json")
+    assert {key(s.seam) for s in found} == {key(s) for s in truth.seams}

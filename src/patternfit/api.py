@@ -284,10 +284,11 @@ def _size(size) -> None:
         raise ValueError(f"size: expected a size name such as 'M', got {size!r:.40}")
 
 
-def suggest_seams(pattern: Pattern | str | Path, *, size: str = DEFAULTS.size,
+def suggest_seams(pattern: Pattern | str | Path, *, size: str | None = None,
                   min_score: float = DEFAULTS.seam_score) -> list[SeamSuggestion]:
     """Seams suggested for the unsewn outline edges of ``pattern`` (a pattern, built-in
-    name or file), best first: each a :class:`SeamSuggestion` (``seam``, ``score`` in [0, 1],
+    name or file; ``size`` as :func:`read_pattern`'s: a file's own size when None), best
+    first: each a :class:`SeamSuggestion` (``seam``, ``score`` in [0, 1],
     ``reasons`` in words) from lengths (with ease), piece and edge names, notches, grain and
     the outlines' directions (:mod:`patternfit.pattern.seam_suggest`)."""
     min_score = number(min_score, "min_score", low=0.0, high=1.0)  # NaN suggested nothing
