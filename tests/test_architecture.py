@@ -4,6 +4,8 @@ takes another's private names, and the front ends run the pipeline through the A
 from __future__ import annotations
 
 import ast
+import importlib
+import re
 from collections import defaultdict
 from pathlib import Path
 
@@ -126,3 +128,58 @@ def test_the_package_re_exports_every_api_name():
     assert sorted(patternfit.__all__) == sorted(["__version__", *patternfit.api.__all__])
     assert all(getattr(patternfit, n) is getattr(patternfit.api, n)
                for n in patternfit.api.__all__)
+
+
+def _named_in_docs() -> list[tuple[str, int, str, str]]:
+    """(file, line, kind, name) of what README.md and docs/*.md point at: links to local
+    files ("link") and dotted names of patternfit's code in backticks ("name"), these of
+    three parts at least or starting with ``patternfit.`` (two-part ones are mostly an
+    object's attribute, ``body.distance_field``)."""
+    root = SRC.parents[1]
+    packages = {p.stem for p in SRC.iterdir() if not p.name.startswith("_")}
+    out = []
+    for f in [root / "README.md", *sorted((root / "docs").glob("*.md"))]:
+        text = f.read_text(encoding="utf-8")
+        line = lambda m: text.count("\n", 0, m.start()) + 1  # noqa: E731
+        for m in re.finditer(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", text):
+            if not m.group(1).startswith(("http:", "https:", "mailto:")):
+                out.append((f, line(m), "link", m.group(1)))
+        for m in re.finditer(r"`([A-Za-z_][\w.]*)(?:\([^`]*\))?`", text):
+            parts = m.group(1).split(".")
+            if parts[0] == "patternfit" or (len(parts) >= 3 and parts[0] in packages
+                                            and not parts[-1].isdigit()):
+                out.append((f, line(m), "name", m.group(1)))
+    return out
+
+
+def _resolves(name: str) -> bool:
+    parts = name.split(".")
+    parts = parts if parts[0] == "patternfit" else ["patternfit", *parts]
+    for k in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:k]))
+        except ImportError:
+            continue
+        for attr in parts[k:]:
+            if not hasattr(obj, attr):
+                return False
+            obj = getattr(obj, attr)
+        return True
+    return False
+
+
+def test_the_docs_name_what_exists():
+    """Every local link of the README and docs resolves, and every dotted name of the code
+    they give exists: docs/simulation.md named ``mesh.store.saved_at_rest`` long after its
+    rename, and the README linked METHOD.md outside the repository."""
+    root = SRC.parents[1].resolve()
+    missing = [f"{f.name}:{n}: {kind} {name}" for f, n, kind, name in _named_in_docs()
+               if (kind == "link" and not ((f.parent / name).exists()
+                                           and (f.parent / name).resolve().is_relative_to(root)))
+               or (kind == "name" and not name.endswith(FILE_ENDINGS) and not _resolves(name))]
+    assert not missing, "\n".join(missing)
+
+
+#: the endings of file names, which the docs write in backticks as code names are
+FILE_ENDINGS = (".py", ".json", ".npz", ".npy", ".md", ".png", ".csv", ".dxf", ".txt", ".glb",
+                ".obj", ".ply", ".svg", ".pdf", ".html", ".toml", ".cpp")
