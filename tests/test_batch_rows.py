@@ -378,6 +378,20 @@ def test_a_resume_naming_a_file_another_way_redoes_nothing(tmp_path, monkeypatch
     assert third["skipped"] == 1 and len(ResultLog(out2, resume=True).rows) == 1
 
 
+def test_a_preset_is_one_fabric_however_it_is_spelled(tmp_path):
+    """A batch run with "cotton" and resumed with "cotton_shirting" (the preset's name, as
+    a drape's report gives it) draped its tasks again: the rows name the preset."""
+    from patternfit.batch import run_batch
+
+    out = tmp_path / "batch"
+    first = run_batch("skirt", "M", "female_average", "cotton,shirting", out, triangles=300,
+                      workers=0, thumbnails=False)
+    again = run_batch("skirt", "M", "female_average", "cotton_shirting", out, triangles=300,
+                      workers=0, thumbnails=False, resume=True)
+    assert first["tasks"] == 1 and again["skipped"] == 1
+    assert [r["fabric"] for r in ResultLog(out, resume=True).rows] == ["cotton_shirting"]
+
+
 def test_ctrl_c_is_read_through_a_chain_of_kernel_errors():
     """A kernel dispatched from another raises a SystemError caused by a SystemError caused
     by the KeyboardInterrupt: an outside test's batch recorded it as a failed row."""

@@ -83,16 +83,19 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
     own = None if pattern in list_garments() else read_pattern(pattern)
     size_list = parse_sizes(sizes, pattern, read=own)
     fabric_list = list(dict.fromkeys(f.strip() for f in fabrics.split(",")))
-    # each input's name in the rows (the task), and the path it is read from
-    named = {pattern: pattern, **{f: f for f in fabric_list}}
+    # read here, once: the workers get objects, not files (they may be other machines)
+    read = {f: read_fabric_with_notes(f) for f in fabric_list}
+    # each input's name in the rows (the task), and the path it is read from; a preset by
+    # its own name, as a drape's report names it ("cotton" and "cotton_shirting" were two
+    # fabrics, and a resume given the other spelling draped every task again)
+    named = {pattern: pattern, **{f: f if os.path.isfile(f) else read[f][0].name
+                                  for f in fabric_list}}
     if resume:  # a file named as the earlier run named it: its rows are its tasks
         earlier = [task_of(r) for r in read_rows(Path(out) / CSV_NAME)]
         digests = saved_files(out)
         named[pattern] = _as_before(pattern, {t.pattern for t in earlier}, digests)
-        named.update((f, _as_before(f, {t.fabric for t in earlier}, digests))
+        named.update((f, _as_before(named[f], {t.fabric for t in earlier}, digests))
                      for f in fabric_list)
-    # read here, once: the workers get objects, not files (they may be other machines)
-    read = {f: read_fabric_with_notes(f) for f in fabric_list}
     inputs = Inputs({}, {(named[pattern], s): _read_sized(pattern, s, own)
                          for s in size_list},
                     {named[f]: read[f][0] for f in fabric_list})
