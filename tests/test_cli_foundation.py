@@ -37,6 +37,20 @@ def test_the_command_list_shows_one_line_per_command(group):
         command = command.commands[name]
     assert [line.strip("│ ").split()[0] for line in panel] == list(command.commands), panel
 
+@pytest.mark.parametrize("args, shown", [
+    (["patterns"], "skirt"), (["bodies"], "female_average"), (["fabrics"], "denim"),
+    (["fabrics", "denim"], "denim"), (["seams", "skirt"], "side_l")])
+def test_a_listing_goes_to_standard_output(args, shown):
+    """A listing is piped and kept (``patternfit fabrics | grep denim``; ``patternfit
+    patterns > list.txt`` wrote an empty file: every table went to standard error); an
+    error stays on standard error."""
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert shown in result.stdout and shown not in result.stderr
+    refused = runner.invoke(app, [args[0], "no-such-thing.json"])
+    assert refused.exit_code == 2 and "error" in refused.stderr and not refused.stdout
+
+
 def test_patterns_json_and_write(tmp_path):
     r = runner.invoke(app, ["patterns", "--json"])
     rows = json.loads(r.stdout)

@@ -8,7 +8,7 @@ from typing import Optional
 import typer
 from rich.table import Table
 
-from .app import app, console, fail, finite, print_json
+from .app import app, console, fail, finite, listing, print_json
 
 # the body stage and anny (an optional extra) are imported inside the commands, when they run:
 # `patternfit --help` should not wait for them (see commands.py)
@@ -61,9 +61,9 @@ def bodies(
         for k, v in loaded.items():
             for b in v:
                 table.add_row(k, b.name, *(f"{b.measurements[m]:.3f}" for m in _MAIN))
-        console.print(table)
-        console.print("aliases: " + ", ".join(f"'{a}' = {n}" for a, n in ALIASES.items()))
-        console.print("body sets (--set NAME, or `patternfit batch --bodies NAME`): "
+        listing.print(table)
+        listing.print("aliases: " + ", ".join(f"'{a}' = {n}" for a, n in ALIASES.items()))
+        listing.print("body sets (--set NAME, or `patternfit batch --bodies NAME`): "
                       + ", ".join(f"{k} ({len(v)})" for k, v in sets.items()))
         return
     body = load_body(name)
@@ -74,7 +74,7 @@ def bodies(
                                                       for k, v in body.landmarks.items()}})
     elif out is None:
         for k, v in sorted(body.measurements.items()):
-            console.print(f"{k:18s} {v:.3f} m")
+            listing.print(f"{k:18s} {v:.3f} m")
 
 
 @app.command()

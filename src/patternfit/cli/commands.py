@@ -15,7 +15,7 @@ from rich.table import Table
 
 from ..defaults import DEFAULTS
 from ..text import printable
-from .app import (SIZE_HELP, app, console, fail, finite, folder_option, print_json,
+from .app import (SIZE_HELP, app, console, fail, listing, finite, folder_option, print_json,
                   triangles_option, verdict_options)
 from .show import (exit_if_checks_failed, exit_if_correction_failed, print_fit_summary,
                    print_pattern_warnings, run_correction, say_fresh_drape, say_body_notes)
@@ -56,7 +56,7 @@ def patterns(
         for r in rows:
             table.add_row(r["name"], str(r["panels"]), str(r["seams"]), f"{r['area_m2']:.3f}",
                           r["description"])
-        console.print(table)
+        listing.print(table)
         return
     if name not in GARMENTS:
         fail(f"unknown garment '{name}' (built-in: {', '.join(GARMENTS)})")

@@ -11,7 +11,8 @@ from rich.markup import escape
 from rich.table import Table
 
 from ..defaults import DEFAULTS
-from .app import (CHECKS_FAILED, app, between, console, fail, folder_option, print_json)
+from .app import (CHECKS_FAILED, app, between, console, fail, folder_option, listing,
+                  print_json)
 
 # patternfit.api and the stage modules are imported inside the command, when it runs:
 # `patternfit --help` should not wait for the solver's compiled kernels
@@ -61,7 +62,7 @@ def _show_strip(r) -> None:
     table.add_row("elongation expected ρgL²/(2k)", _mm(r.elongation_expected_m, 4))
     table.add_row("ratio", _num(r.ratio, ".4f"))
     table.add_row("strain at the clamp ρgL/k", f"{r.strain_top * 100:.3f} %")
-    console.print(table)
+    listing.print(table)
 
 
 def _show_cantilever(r) -> None:
@@ -74,7 +75,7 @@ def _show_cantilever(r) -> None:
         table.add_row(_mm(m.edge_m), str(m.triangles), _mm(m.overhang_m, 1),
                       f"{m.tip_angle_deg:.2f}°", _mm(m.bending_length_m),
                       _mm(m.astm_length_m))
-    console.print(table)
+    listing.print(table)
     if r.bending_length_expected_m == r.bending_length_elastic_m:
         expected = f"(B/(ρg))^(1/3) = {_mm(r.bending_length_expected_m)}"
     else:
@@ -82,7 +83,7 @@ def _show_cantilever(r) -> None:
                     f"((B/(ρg))^(1/3) = {_mm(r.bending_length_elastic_m)} without)")
     peirce = ("" if r.peirce_length_m is None
               else f"Peirce's formula {_mm(r.peirce_length_m)}; ")
-    console.print(f"bending length measured {_mm(r.bending_length_measured_m)}, expected "
+    listing.print(f"bending length measured {_mm(r.bending_length_measured_m)}, expected "
                   f"{expected}, ratio "
                   f"{_num(r.ratio, '.4f')}; {peirce}"
                   f"change between the two finest meshes "
@@ -99,19 +100,19 @@ def _show_cusick(r) -> None:
         table.add_row(str(run.seed), f"{run.drape_coefficient:.3f}", str(run.nodes),
                       _mm(run.hem_drop_m, 1), f"{run.compressed_share * 100:.1f} %",
                       str(run.solve.iterations), f"{run.solve.seconds:.1f}")
-    console.print(table)
-    console.print(f"drape coefficient {r.drape_coefficient:.3f} (spread "
+    listing.print(table)
+    listing.print(f"drape coefficient {r.drape_coefficient:.3f} (spread "
                   f"{r.drape_coefficient_spread:.3f}, sd {r.drape_coefficient_std:.3f}); "
                   f"nodes {r.nodes:.1f} ({r.nodes_min}–{r.nodes_max})")
     if r.mesh_change is None:
-        console.print("mesh not checked: the spread is over the starts only (--mesh-check "
+        listing.print("mesh not checked: the spread is over the starts only (--mesh-check "
                       "drapes the first again on twice the triangles)", highlight=False)
     else:
-        console.print(f"mesh check: start {r.runs[0].seed} on {r.mesh_check_triangles} "
+        listing.print(f"mesh check: start {r.runs[0].seed} on {r.mesh_check_triangles} "
                       f"triangles moved the drape coefficient by {r.mesh_change:+.3f}",
                       highlight=False)
     for note in r.notes:
-        console.print(f"note: {escape(note)}", highlight=False)
+        listing.print(f"note: {escape(note)}", highlight=False)
 
 
 def _solves(result) -> list:
@@ -238,7 +239,7 @@ def fabric_test(
         solves = _solves(result)
         last = solves[-1]
         at_rest = sum(s.at_rest for s in solves)
-        console.print(f"{at_rest}/{len(solves)} solves at rest; last: {last.stop_reason}, "
+        listing.print(f"{at_rest}/{len(solves)} solves at rest; last: {last.stop_reason}, "
                       f"{last.iterations} iterations, residual {_residual(last.residual)}; "
                       f"{result.seconds:.1f} s")
         if files:
@@ -296,11 +297,11 @@ def fabrics(
             "n/a" if dc is None else f"{dc:.3f} ({kit['drape_coefficient_min']:.3f}–"
                                      f"{kit['drape_coefficient_max']:.3f})",
             _num(kit.get("nodes"), ".1f"), _num(r.get("drape_coefficient_measured"), ".3f"))
-    console.print(table)
+    listing.print(table)
     for r in rows:
         what = r["source"] if r["kind"] == "preset" else f"{r['description']}; {r['source']}"
-        console.print(f"[bold]{escape(r['name'])}[/]: {escape(what)}", highlight=False)
-    console.print("sources in full: docs/fabrics.md, or --json")
+        listing.print(f"[bold]{escape(r['name'])}[/]: {escape(what)}", highlight=False)
+    listing.print("sources in full: docs/fabrics.md, or --json")
 
 
 def _print_constants(rows: list[dict]) -> None:
@@ -317,10 +318,10 @@ def _print_constants(rows: list[dict]) -> None:
             f"{c['warp'] * 1e3:.1f} / {c['weft'] * 1e3:.1f}",
             f"{k['bending_hysteresis'] * 1e3:.3g}", f"{k['thickness'] * 1e3:.3g}",
             f"{k['friction']:.2g}")
-    console.print(table)
+    listing.print(table)
     for r in rows:
         if r["kind"] == "file":
-            console.print(f"[bold]{escape(r['name'])}[/]: {escape(r['source'])}",
+            listing.print(f"[bold]{escape(r['name'])}[/]: {escape(r['source'])}",
                           highlight=False)
             for note in r["assumed"]:
-                console.print(f"  {escape(note)}", highlight=False)
+                listing.print(f"  {escape(note)}", highlight=False)

@@ -9,7 +9,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from .app import CHECKS_FAILED, console, fail, say_warning
+from .app import CHECKS_FAILED, console, fail, listing, say_warning
 
 
 def num(value, spec: str, scale: float = 1.0, unit: str = "") -> str:
@@ -282,7 +282,7 @@ def print_seams(name: str, rows: list[dict], pieces: int) -> None:
     """The seams of pattern ``name`` as ``api.seam_table`` gives them: sides, their lengths
     [cm], the difference [mm], the measured ratio and the stated ease."""
     if not rows:
-        console.print(f"'{escape(name)}' ({pieces} pieces) has no seams"
+        listing.print(f"'{escape(name)}' ({pieces} pieces) has no seams"
                       + (": see --suggest" if pieces > 1 else ""))
         return
     table = Table(title=f"seams of '{escape(name)}' ({pieces} pieces)")
@@ -293,14 +293,14 @@ def print_seams(name: str, rows: list[dict], pieces: int) -> None:
                       f"{r['a']['length_cm']:.2f}", escape(_side_text(r["b"])),
                       f"{r['b']['length_cm']:.2f}", f"{r['difference_mm']:+.1f}",
                       f"{r['ratio']:.3f}", f"{r['ease']:g}")
-    console.print(table)
+    listing.print(table)
 
 
 def print_seam_suggestions(items: list, *, accepted: bool) -> None:
     """Suggested seams: (seam row, score, reasons) each, best first; ``accepted`` says they
     were sewn."""
     if not items:
-        console.print("no seams to suggest")
+        listing.print("no seams to suggest")
         return
     table = Table(title="suggested seams" + (" (accepted)" if accepted else ""))
     for col in ("score", "side a", "cm", "side b", "cm", "ease", "why"):
@@ -310,6 +310,6 @@ def print_seam_suggestions(items: list, *, accepted: bool) -> None:
                       f"{row['a']['length_cm']:.2f}", escape(_side_text(row["b"])),
                       f"{row['b']['length_cm']:.2f}", f"{row['ease']:g}",
                       escape("; ".join(reasons)))
-    console.print(table)
+    listing.print(table)
     if not accepted:
-        console.print("sew them with --accept (and --out FILE), or one by one with --set")
+        listing.print("sew them with --accept (and --out FILE), or one by one with --set")
