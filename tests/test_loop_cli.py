@@ -59,6 +59,22 @@ def test_correct_refuses_to_overwrite_its_input(tmp_path):
     assert res.exit_code != 0 and "overwrite" in res.output
 
 
+def test_correct_refuses_an_unsewn_file_naming_it(tmp_path):
+    """As drape does: correct named the pattern, not the file, and told the user to sew
+    "PATTERN"."""
+    import json
+    src = tmp_path / "pieces.json"
+    res = runner.invoke(app, ["patterns", "skirt", "--out", str(src)])
+    assert res.exit_code == 0, res.output
+    data = json.loads(src.read_text())
+    src.write_text(json.dumps({**data, "seams": []}))
+    res = runner.invoke(app, ["correct", "--body", "female_thin", "--pattern", str(src),
+                              "--out", str(tmp_path / "out")])
+    assert res.exit_code == 2
+    assert f"{src}:" in res.stderr and f"seams {src} --suggest" in res.stderr
+    assert not (tmp_path / "out").exists()
+
+
 def test_bad_threshold_is_refused(tmp_path):
     res = runner.invoke(app, ["correct", "--body", "female_thin", "--pattern", "skirt",
                               "--threshold", "90", "--out", str(tmp_path)])

@@ -97,8 +97,10 @@ def correct_command(
     say_body_notes(b, body)
     fab, assumed = api.read_fabric_with_notes(fabric)
     say_fabric_notes(assumed, fabric)
-    session = api.design_session(pattern, b, fab, triangles=triangles, threshold=threshold,
-                                 size=size, relax=relax)
+    # refused before any work, naming the file, as drape refuses it (unsewn: no file named)
+    read = api.check_drapeable(api.read_pattern(pattern, size=size), source=pattern)
+    session = api.design_session(read, b, fab, triangles=triangles, threshold=threshold,
+                                 relax=relax)
     rules = api.verdict_rules(pressure_max=pressure_max, stretch_limit=stretch_limit,
                               style=style)
     report = run_correction(session, out, threshold=threshold, max_iterations=max_iterations,
