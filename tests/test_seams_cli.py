@@ -128,3 +128,15 @@ def test_a_one_piece_wrap_and_a_session_of_an_unsewn_pattern(tmp_path):
                       b={"panel": s.b.panel, "edge": s.b.edge}, name=s.name)
     check_sewn(session.pattern)
     assert len(session.mesh.seam_names) == 4
+
+
+def test_a_seam_edit_the_file_cannot_take_names_the_file_and_the_edges(tmp_path):
+    """``seams FILE --set`` of an edge the panel lacks named neither the file nor the
+    edges it has."""
+    src = tmp_path / "skirt.json"
+    assert runner.invoke(app, ["patterns", "skirt", "--out", str(src)]).exit_code == 0
+    res = runner.invoke(app, ["seams", str(src), "--set", "side=front.e1:back.e4"])
+    assert res.exit_code == 2
+    assert f"{src}:" in res.stderr and "edges: hem, side_l" in res.stderr
+    res = runner.invoke(app, ["seams", str(src), "--remove", "nosuch"])
+    assert res.exit_code == 2 and f"{src}: no seam 'nosuch'" in res.stderr

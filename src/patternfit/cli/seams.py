@@ -9,6 +9,7 @@ from typing import List, Optional
 
 import typer
 
+from ..errors import InputError
 from .app import app, console, fail, print_json
 from .show import print_pattern_warnings, print_seam_suggestions, print_seams
 
@@ -75,13 +76,18 @@ def seams(
 
     p = api.read_pattern(pattern)
     changed = False
-    for name in remove or ():
-        p, changed = api.remove_seam(p, name), True
-    for spec in set_ or ():
-        name, a, b, ease = _parse_set(spec)
-        if any(s.name == name for s in p.seams):
-            p = api.remove_seam(p, name)
-        p, changed = api.add_seam(p, a, b, name=name, ease=ease), True
+    try:
+        for name in remove or ():
+            p, changed = api.remove_seam(p, name), True
+        for spec in set_ or ():
+            name, a, b, ease = _parse_set(spec)
+            if any(s.name == name for s in p.seams):
+                p = api.remove_seam(p, name)
+            p, changed = api.add_seam(p, a, b, name=name, ease=ease), True
+    except InputError as err:  # a seam or edge the file does not have: say which file
+        if err.file is None and Path(pattern).suffix:
+            raise err.located(pattern) from None
+        raise
     suggestions = api.suggest_seams(p) if (suggest or accept) else []
     if accept and suggestions:
         p, changed = api.accept_seams(p, suggestions), True

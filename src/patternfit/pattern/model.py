@@ -198,7 +198,8 @@ class Panel:
         try:
             return self.edges()[name]
         except KeyError:
-            raise KeyError(f"panel '{self.name}' has no edge '{name}'") from None
+            raise KeyError(f"panel '{self.name}' has no edge '{name}' (edges: "
+                           f"{', '.join(self.edges())})") from None
 
     def locate(self, edge: str) -> tuple[int, int]:
         """(loop number, position in that loop) of the edge called ``edge`` (loop 0 is the
