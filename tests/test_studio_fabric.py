@@ -67,6 +67,21 @@ def test_implausible_numbers_are_refused(client, changes, field):
     assert not client.get("/api/fabric/test").json()["running"]
 
 
+def test_a_preset_is_tested_by_its_name_and_a_wrong_one_said_in_words(client):
+    """``{"fabric": "denim"}`` was refused "Input should be a dictionary or an instance of
+    Fabric"; a name is a preset's, never a file's."""
+    r = client.post("/api/fabric/test", json={"test": "strip", "fabric": "denim"})
+    assert r.status_code == 200, r.text
+    client.app.state.fabric_lab.wait(120)
+    job = client.get("/api/fabric/test").json()
+    assert job["fabric"] == "denim" and job["result"]["passed"]
+    for wrong in ("/etc/passwd", "velvet", 3):
+        r = client.post("/api/fabric/test", json={"test": "strip", "fabric": wrong})
+        error = r.json()["error"]
+        assert r.status_code == 400 and error.startswith("fabric:"), r.text
+        assert "Fabric" not in error and "dictionary" not in error and "passwd" not in error
+
+
 def test_the_edited_fabric_goes_into_the_session(client):
     rev = client.get("/api/state").json()["revision"]
     fabric = edited(client, friction=0.7)

@@ -131,6 +131,8 @@ def test_uploads_over_the_limit_are_refused_before_reading(app, client):
     big = b" " * (LIMIT + 1)
     r = client.post("/api/upload", files={"file": ("p.json", big)})
     assert r.status_code == 413
+    # the limit the user knows, not the one with room for the multipart wrapping
+    assert r.json()["error"] == f"upload: larger than {LIMIT // 1024} KiB", r.text
     huge = client.post("/api/upload", content=b"", headers={
         "Content-Type": "multipart/form-data; boundary=x", "Content-Length": str(10 ** 9)})
     assert huge.status_code == 413

@@ -79,20 +79,24 @@ class Guard:
         return None
 
 
-async def read_capped(request: Request, limit: int, what: str) -> bytes:
+async def read_capped(request: Request, limit: int, what: str, *,
+                      stated: int | None = None) -> bytes:
     """The request body, refused with 413 once it is found larger than ``limit`` bytes: from
-    ``Content-Length`` before reading, else while it arrives (nothing beyond is read)."""
+    ``Content-Length`` before reading, else while it arrives (nothing beyond is read). The
+    refusal states ``stated`` bytes (default ``limit``): the limit the user knows, where
+    ``limit`` has room for a wrapping (a multipart upload's headers)."""
+    said = f"{what}: larger than {(limit if stated is None else stated) // 1024} KiB"
     declared = request.headers.get("content-length")
     if declared is not None:
         if not declared.isdigit():
             raise HTTPException(400, "Content-Length: not a number")
         if int(declared) > limit:
-            raise HTTPException(413, f"{what}: larger than {limit // 1024} KiB")
+            raise HTTPException(413, said)
     body = bytearray()
     async for chunk in request.stream():
         body += chunk
         if len(body) > limit:
-            raise HTTPException(413, f"{what}: larger than {limit // 1024} KiB")
+            raise HTTPException(413, said)
     return bytes(body)
 
 

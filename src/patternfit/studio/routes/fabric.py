@@ -9,7 +9,7 @@ from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, Request
 from fastapi.responses import Response
-from pydantic import AfterValidator, BaseModel, ConfigDict
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict
 
 from ... import api
 from ..requests import Revisioned, body, in_worker, studio_of
@@ -29,9 +29,26 @@ def _named(fabric):
     return api.check_bulk(replace(fabric, name=name))
 
 
-#: a fabric's constants in a request, SI units as ``Fabric`` (kg/m^2, N/m, N m, -, m): the
-#: dataclass itself checks them (a value out of its plausible range names the field)
-FabricValues = Annotated[api.Fabric, AfterValidator(_named)]
+def _preset_or_values(value):
+    """A preset's name stands for its values (``{"fabric": "denim"}`` was refused as "Input
+    should be a dictionary or an instance of Fabric"); a name is never read as a file."""
+    if isinstance(value, str):
+        if value.strip().lower() not in api.list_fabrics():
+            # the same answer whatever was sent (a path is not echoed)
+            raise ValueError(f"not a preset's name (presets: {', '.join(api.list_fabrics())}); "
+                             "or give the fabric's values")
+        return api.read_fabric(value.strip().lower()).to_dict()
+    if not isinstance(value, (dict, api.Fabric)):
+        raise ValueError("expected a preset's name or the fabric's values (an object, as "
+                         "GET /api/fabric gives them)")
+    return value
+
+
+#: a fabric in a request: a preset's name, or its constants, SI units as ``Fabric`` (kg/m^2,
+#: N/m, N m, -, m), which the dataclass itself checks (a value out of its plausible range
+#: names the field)
+FabricValues = Annotated[api.Fabric, BeforeValidator(_preset_or_values),
+                         AfterValidator(_named)]
 
 
 class FabricTest(BaseModel):

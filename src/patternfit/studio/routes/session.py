@@ -71,7 +71,7 @@ async def upload(request: Request, kind: str = "pattern", revision: str | None =
         raise ValueError("revision: expected a whole number")
     seen = None if revision is None else int(revision)
     cap = request.app.state.max_upload
-    raw = await read_capped(request, cap + MULTIPART_SLACK, "upload")
+    raw = await read_capped(request, cap + MULTIPART_SLACK, "upload", stated=cap)
     file = await multipart_file(request.headers, raw)
     data = await file.read(cap + 1)
     if len(data) > cap:
