@@ -136,6 +136,7 @@ def test_uploads_over_the_limit_are_refused_before_reading(app, client):
     huge = client.post("/api/upload", content=b"", headers={
         "Content-Type": "multipart/form-data; boundary=x", "Content-Length": str(10 ** 9)})
     assert huge.status_code == 413
+    assert huge.json()["error"] == f"upload: larger than {LIMIT // 1024} KiB", huge.text
 
     def chunks():  # no Content-Length: counted as it arrives
         for _ in range(100):
