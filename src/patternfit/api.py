@@ -468,8 +468,12 @@ def read_fabric_with_notes(source: Fabric | str | Path) -> tuple[Fabric, list[st
 
 def mesh_garment(pattern: Pattern | str, *, triangles: int = DEFAULTS.triangles,
                  size: str | None = None, **options) -> GarmentMesh:
-    """The garment mesh of ``pattern`` (a pattern, built-in name or file): every panel
-    triangulated to about ``triangles`` triangles in all, seams matched."""
+    """The garment mesh of ``pattern`` (a pattern, built-in name or file; ``size`` as
+    :func:`read_pattern`'s): every panel triangulated to about ``triangles`` triangles in
+    all, seams matched. ``options``: ``min_angle`` [degrees] and ``edge_length`` [m] of
+    :func:`patternfit.mesh.mesh_pattern`. Returns a :class:`GarmentMesh`: flat ``vertices``
+    (n, 2) [m] in each panel's frame, ``triangles`` (m, 3) int, ``triangle_panel`` (m,),
+    ``seam_pairs`` (k, 2) of vertices sewn together."""
     return mesh_pattern(read_pattern(pattern, size=size), triangles=triangles,
                         **_options(options, mesh_pattern, "mesh_garment", ("triangles",)))
 
@@ -895,8 +899,11 @@ def judge_state(pattern: Pattern, mesh: GarmentMesh, positions, fit: FitResult, 
 def place_and_evaluate(pattern: Pattern | str | Path = "coat", *, triangles: int = 22000,
                        size: str | None = None, tight: float = DEFAULTS.tight,
                        loose: float = DEFAULTS.loose) -> FitOutcome:
-    """Mesh ``pattern`` and place it isometrically (every panel rolled onto a cylinder), with
-    its fit: ϖ is 100% and the map one neutral colour (the paper's Fig. 8(b))."""
+    """Mesh ``pattern`` (a pattern, built-in name or file, in ``size``) with about
+    ``triangles`` triangles and place it isometrically (every panel rolled onto a cylinder),
+    with its fit (``tight`` and ``loose``: the map's bands, relative area change [-]): ϖ is
+    100% and the map one neutral colour (the paper's Fig. 8(b)). The :class:`FitOutcome`'s
+    ``positions`` are (n, 3) [m]; it has no body, fabric or drape."""
     t0 = time.perf_counter()
     fit_bands(tight, loose)
     pat = read_pattern(pattern, size=size)
@@ -922,9 +929,12 @@ def design_session(pattern: Pattern | str | Path = DEFAULTS.garment,
                    relax: float = 1.0) -> DesignSession:
     """A :class:`DesignSession` (edits with the mesh following, undo/redo, drapes, save)
     of ``pattern`` on ``body`` in ``fabric``; see :func:`read_pattern`, :func:`read_body`,
-    :func:`read_fabric` for what each may be. ``threshold`` is the ϖ at which the design
-    fits [-]; ``relax`` (>= 1) sews the first drape that much wider, then restores the true
-    width (for a garment drafted too small to be sewn on the body)."""
+    :func:`read_fabric` for what each may be (``size`` a pattern's, ``units`` a body mesh
+    file's). Meshed with about ``triangles`` triangles; nothing is draped until the session's
+    ``redrape()``. ``threshold`` is the ϖ at which the design fits [-]; ``relax`` (>= 1) sews
+    the first drape that much wider, then restores the true width (for a garment drafted
+    too small to be sewn on the body). A pattern without seams is taken (sew it in the
+    session); :func:`check_drapeable` says whether one drapes."""
     threshold = _threshold(threshold)
     relax = number(relax, "relax", low=1.0, high=10.0, rule="expected a factor of 1 to 10")
     return DesignSession(_meshable(pattern, read_pattern(pattern, size=size)),
