@@ -59,6 +59,26 @@ def test_a_drape_started_from_its_folder_continues_it(saved):
         outcome.drape.checks.residual_rms, rel=1e-9)
 
 
+def test_a_rest_in_another_fabric_is_not_taken_for_one_in_this(saved, tmp_path):
+    """Only the friction differing (the one constant the contact state holds), the start
+    was continued frozen: 0 iterations, "equilibrium: true", where the frictionless coat is
+    off balance. The drape now updates friction first and goes on to its own rest."""
+    from dataclasses import replace
+
+    from patternfit.sim.drape import saved_balance
+
+    outcome, folder = saved
+    slippery = replace(api.read_fabric("cotton"), name="slippery", friction=0.0)
+    again = api.drape_and_evaluate(GARMENT, BODY, slippery, triangles=TRIANGLES, start=folder)
+    assert again.drape.result.iterations > 0
+    rms = saved_balance(outcome.mesh, outcome.body, slippery, outcome.positions)[0]
+    assert rms > 0.01  # the cotton rest is no rest without friction ...
+    assert again.drape.checks.equilibrium  # ... and the drape found one
+    # the same fabric still continues its rest at once
+    same = api.drape_and_evaluate(GARMENT, BODY, "cotton", triangles=TRIANGLES, start=folder)
+    assert same.drape.result.iterations == 0
+
+
 def test_a_restart_at_rest_with_no_iteration_to_spare_is_at_rest(saved):
     # the iteration limit was checked before the rest: rms 0.004 read "no equilibrium"
     outcome, folder = saved

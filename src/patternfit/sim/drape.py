@@ -25,7 +25,7 @@ from .fabrics import Fabric, get_fabric
 from .gathers import GatherWarning, oblique_gathers
 from .onbody import OnBodyChecks, on_body_checks
 from .placement import MAX_CLEARANCE, place_on_body
-from .provenance import DRAPE_REASONS, saved_provenance
+from .provenance import DRAPE_REASONS, not_draped_for, saved_provenance
 from .schedule import Plan, PlanRun, run_plan
 from .result import DrapeResult
 from .settings import SolverSettings
@@ -224,7 +224,9 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
         The contact state saved with ``start`` (``contact.npz``:
         :meth:`~patternfit.sim.state.ContactState.saved_arrays` of the drape that ended
         there): the solve continues that drape, so from its rest it stops at once and
-        moves nothing. :class:`~patternfit.sim.state.SavedStateError` when it does not
+        moves nothing; one saved on another body or in another fabric (its digests,
+        :func:`~patternfit.sim.provenance.not_draped_for`) is not taken for a rest here: its
+        lagged terms (friction limits and anchors, self pairs) are updated first. :class:`~patternfit.sim.state.SavedStateError` when it does not
         fit ``mesh``.
     start_rest : (n, 2) float, optional
         The flat rest shapes [m] at which ``start`` rests when they are not ``mesh``'s own:
@@ -273,6 +275,12 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
     field_ = body.contact_field(spacing)
     t_sdf = time.perf_counter() - t
     faults = 0
+    if start_contact is not None and start_contact.get("at_rest") is not None \
+            and not_draped_for(start_contact, body, fabric):
+        # a rest on another body or in another fabric is no rest here: its friction limits
+        # and anchors are updated before the first step (kept frozen as a continuation, a
+        # skirt held by cotton's friction "rested" in a frictionless fabric, rms 3.9 there)
+        start_contact = {**start_contact, "at_rest": np.asarray(False)}
     if start is not None:
         d = _drape_from(mesh, fabric, field_, np.asanyarray(start, dtype=np.float64),
                         replace(settings or SolverSettings(), contact_margin=contact_margin),
