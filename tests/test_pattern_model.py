@@ -3,6 +3,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from patternfit.pattern import Edge, Loop, Panel, Pattern, PatternError, Seam, SeamSide, \
     load_pattern, pattern_to_dict, save_pattern
@@ -206,3 +208,24 @@ def test_builtin_garments_sewable_in_all_sizes(name):
 
 def test_builtin_panel_counts():
     assert [len(build(n).panels) for n in ("coat", "skirt", "trousers", "dress")] == [2, 2, 4, 2]
+
+
+@settings(max_examples=30, deadline=None)
+@given(garment=st.sampled_from(sorted(GARMENTS)), units=st.sampled_from(["m", "cm", "mm", "in"]),
+       shift=st.floats(1e-4, 0.05))
+def test_a_pattern_read_back_is_the_same_cut_and_an_edited_one_is_not(tmp_path_factory,
+                                                                      garment, units, shift):
+    from dataclasses import replace
+
+    from patternfit.pattern.formats import save_any_pattern
+    from patternfit.api import read_pattern
+
+    p = build(garment, "M")
+    path = tmp_path_factory.mktemp("cut") / "p.json"
+    save_any_pattern(p, path, units=units)
+    assert read_pattern(path).same_cut(p)
+    first = p.panels[0]
+    moved = first.outline.edges[0].transformed(np.eye(2), np.array([shift, 0.0]))
+    edited = replace(p, panels=(replace(first, outline=replace(
+        first.outline, edges=(moved, *first.outline.edges[1:]))), *p.panels[1:]))
+    assert not edited.same_cut(p) and not p.same_cut(replace(p, name="other"))

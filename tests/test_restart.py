@@ -79,6 +79,21 @@ def test_a_rest_in_another_fabric_is_not_taken_for_one_in_this(saved, tmp_path):
     assert same.drape.result.iterations == 0
 
 
+def test_the_pattern_written_to_a_file_continues_its_built_ins_drape(saved, tmp_path):
+    """``patternfit patterns coat --out coat.json`` (cm) then ``drape --pattern coat.json
+    --start`` from the built-in's drape was refused as "another version of 'coat'": the
+    coordinates read back differ in their last bit."""
+    from patternfit.pattern.formats import save_any_pattern
+
+    outcome, folder = saved
+    save_any_pattern(outcome.pattern, tmp_path / "coat.json", units="cm")
+    read = api.read_pattern(tmp_path / "coat.json")
+    assert read != outcome.pattern and read.same_cut(outcome.pattern)
+    again = api.drape_and_evaluate(tmp_path / "coat.json", BODY, "cotton",
+                                   triangles=TRIANGLES, start=folder)
+    assert again.drape.result.iterations == 0
+
+
 def test_a_restart_at_rest_with_no_iteration_to_spare_is_at_rest(saved):
     # the iteration limit was checked before the rest: rms 0.004 read "no equilibrium"
     outcome, folder = saved

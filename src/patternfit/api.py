@@ -761,7 +761,7 @@ def _start_state(start, pattern: Pattern, triangles: int):
     their own mesh (an edited one included: the correction loop's meshes follow its edits),
     or positions of the pattern meshed with ``triangles``."""
     if isinstance(start, FitOutcome):
-        if start.drape is None or start.pattern != pattern:
+        if start.drape is None or not start.pattern.same_cut(pattern):
             raise ValueError("start: an outcome of a drape of this same pattern")
         return np.array(start.positions), _solver_state(start.drape.saved_contact()), \
             start.mesh
@@ -780,7 +780,7 @@ def _start_state(start, pattern: Pattern, triangles: int):
     if x is None:
         raise InputError("holds no 3D state (positions.npy): drape the garment first",
                          file=start)
-    if saved != pattern:
+    if not saved.same_cut(pattern):
         def named(p: Pattern) -> str:
             size = p.meta.get("size")
             return f"'{p.name}'" + (f" size {size}" if size else "")

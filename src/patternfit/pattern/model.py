@@ -9,12 +9,12 @@ oriented counter-clockwise by the mesher.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, is_dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from ..constants import limits
+from ..constants import limits, tol
 from ..geometry import euler_xyz_matrix, polygon_area
 from .edges import Edge
 from .errors import PatternError
@@ -292,6 +292,14 @@ class Pattern:
         from .roles import garment_anchor  # roles reads patterns: imported when first asked
         return garment_anchor(self)
 
+    def same_cut(self, other: "Pattern", *, atol: float = tol.merge) -> bool:
+        """Whether ``other`` is this garment up to the rounding of its numbers (``atol``
+        [m] on lengths, the same on fractions and angles): the same name, panels and seams;
+        ``meta`` is not compared. A pattern written in cm and read back differs in the last
+        bit of its coordinates, and a drape of it was refused as of "another version"."""
+        return isinstance(other, Pattern) and self.name == other.name \
+            and _close(self.panels, other.panels, atol) and _close(self.seams, other.seams, atol)
+
     def panel(self, name: str) -> Panel:
         """The panel called ``name``; ``KeyError`` listing the panels when there is none."""
         for p in self.panels:
@@ -316,3 +324,22 @@ class Pattern:
     def area(self) -> float:
         """Total fabric area [m^2]."""
         return float(sum(p.area() for p in self.panels))
+
+
+def _close(a, b, atol: float) -> bool:
+    """``a == b`` but numbers within ``atol`` of each other (dataclasses field by compared
+    field, sequences item by item, arrays elementwise)."""
+    if is_dataclass(a) and not isinstance(a, type):
+        return type(a) is type(b) and all(_close(getattr(a, f.name), getattr(b, f.name), atol)
+                                          for f in fields(a) if f.compare)
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        a, b = np.asarray(a), np.asarray(b)
+        if a.dtype.kind in "fi" and b.dtype.kind in "fi":
+            return a.shape == b.shape and bool(np.all(np.abs(a - b) <= atol))
+        return a.shape == b.shape and bool(np.all(a == b))
+    if isinstance(a, (tuple, list)):
+        return isinstance(b, (tuple, list)) and len(a) == len(b) \
+            and all(_close(x, y, atol) for x, y in zip(a, b))
+    if isinstance(a, float) and isinstance(b, (int, float)) and not isinstance(b, bool):
+        return abs(a - b) <= atol
+    return a == b
