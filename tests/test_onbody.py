@@ -304,10 +304,11 @@ def test_a_saved_rest_is_a_rest_only_for_its_own_mesh_body_and_fabric(skirt, tmp
     # read without a body, a state whose drape failed on its own body says so (a skirt that
     # fell 43.6 cm read "not checked", exit 0); one whose drape passed is not checked
     assert api.evaluate_saved(folder).checks["passed"] is None
+    assert api.evaluate_saved(folder).passed is None  # not checked (it read False)
     fell = save_garment(tmp_path / "fell", pattern, mesh, d.positions, contact={
         **d.saved_contact(mesh), "drape_reasons": np.asarray(json.dumps(["it fell"]))})
     alone = api.evaluate_saved(fell)
-    assert alone.checks["passed"] is False
+    assert alone.checks["passed"] is False and alone.passed is False
     assert alone.checks["reasons"] == ["its drape failed on the body it was draped on: it fell"]
     # a fabric edited by hand under its old digest is refused, not used under the old name
     heavy = json.loads(str(d.saved_contact(mesh)["fabric_json"]))
@@ -655,3 +656,10 @@ def test_trousers_longer_than_the_legs_rest_on_the_floor():
     checks = on_body_checks(outcome.pattern, outcome.mesh, outcome.body, turned)
     assert not checks.passed and checks.side_angle_max_deg > 150
     assert checks.reasons[0].startswith("turned round the body: panel 'front_r'")
+
+
+def test_a_placement_never_draped_is_not_checked():
+    """``place_and_evaluate(...).passed`` read True for a skirt that falls 52 cm once
+    draped; its report's ``checks.passed`` is null."""
+    placed = api.place_and_evaluate("skirt", triangles=300)
+    assert placed.passed is None and not placed.passed

@@ -553,10 +553,15 @@ class FitOutcome:
         return bool(self.drape is not None and self.drape.result.interrupted)
 
     @property
-    def passed(self) -> bool:
-        """Whether the result is a fit at all: the drape's checks passed and ϖ is finite."""
-        ok = bool(self.checks.get("passed", True))
-        return ok and bool(np.isfinite(self.fit.fitting_ratio))
+    def passed(self) -> bool | None:
+        """Whether the result is a fit at all: the drape's checks passed and ϖ is finite;
+        None where nothing checked it (a placement never draped, a saved state read back
+        without its body: its report's ``checks.passed`` is null), as falsy as a failure. A
+        placement of a skirt that falls 52 cm once draped read True."""
+        checked = self.checks.get("passed")
+        if checked is None:
+            return None
+        return bool(checked) and bool(np.isfinite(self.fit.fitting_ratio))
 
     def write(self, folder, *, pictures: bool = True, progress: Callable | None = None) -> dict:
         """Write every output into ``folder`` (report.json, fit_2d.png/.svg, fit_3d.png,
