@@ -84,6 +84,24 @@ def test_a_hem_edit_is_redraped_from_the_last_drape_moved_with_it():
     assert 0.005 < hem - s.positions[:, 1].min() < 0.015
 
 
+def test_a_state_undone_or_redone_to_continues_its_own_rest():
+    """Re-draped warm from the last drape, the undone state moved 4 mm off its own reported
+    rest over 218 iterations, the redone one 8 mm over 151."""
+    s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=900)
+    first = s.redrape()
+    s.apply("move_edge", panel="front", edge="hem", offset=(0.0, -0.03), partner=True)
+    edited = s.redrape()
+    assert first.passed and edited.passed
+    for step, rest in ((s.undo, first.positions), (s.redo, edited.positions)):
+        step()
+        assert s.next_start() == "continued"
+        again = s.redrape()
+        assert again.result.iterations == 0, again.result.stop_reason
+        assert np.array_equal(s.positions, rest) and again.passed
+    # the last drape's own state goes on warm, as before
+    assert s.next_start() == "warm" and s.redrape().result.iterations == 0
+
+
 def test_a_remeshed_edit_is_redraped_from_the_drape_before_it():
     from patternfit import edit as tools
     s = DesignSession.new(garment="skirt", size="M", body="female_thin", triangles=900)

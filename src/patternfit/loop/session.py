@@ -206,13 +206,22 @@ class DesignSession:
         - ``"carried"``: from an earlier state's drape carried over to this state's mesh
           (:attr:`State.start_rest`: a panel was re-meshed by the edit, or the last drape
           is of another mesh), reaching the edited rest shapes in stages;
-        - ``"continued"``: from the state's own drape, read back from a saved session, with
-          its contact state when it was saved (:attr:`State.contact`), as ``patternfit
-          drape --start`` goes on from a saved drape: from a rest it stops at once;
+        - ``"continued"``: from the state's own drape (one made before an undo or redo, or
+          read back from a saved session), with its contact state when it was kept
+          (:attr:`State.contact`), as ``patternfit drape --start`` goes on from a saved
+          drape: from a rest it stops at once;
         - ``"relaxed"``: the history's first state of a session with ``relax`` > 1;
         - ``"cold"``: placed, sewn and draped from the pattern.
         """
         st = self.state
+        own = st.positions is not None and st.fitting_ratio is not None \
+            and st.start_rest is None
+        if own and (self._drape is None
+                    or not np.array_equal(self._drape.positions, st.positions)):
+            # a state undone or redone to holds its own drape: re-draped warm from the last
+            # (another state's rest shapes and contacts), its rest moved 4-8 mm over 150-220
+            # iterations
+            return "continued"
         if (self._drape is not None
                 and np.array_equal(self._drape.solver.model.triangles, st.mesh.triangles)
                 and _sewing(self._drape.pattern) == _sewing(st.pattern)):
