@@ -111,11 +111,15 @@ def test_any_text_round_trips(tmp_path_factory, items):
 def test_verdicts_and_one_line_per_size():
     t = plan(["skirt"], ["S", "M"], ["a", "b", "c", "d"], ["cotton"])
     rows = [_row(t[0], ratio=0.80, verdict="fits", pressure_p99_kpa=1.9),
-            _row(t[1], ratio=0.80, verdict="tight", ease_hip_cm=-2.0, ease_waist_cm=3.0),
+            _row(t[1], ratio=0.80, verdict="tight", ease_hip_cm=-2.0, ease_waist_cm=3.0,
+                 verdict_regions="hip"),
             _row(t[2], status="failed", failed_checks="on_body"),
+            # too tight at the waist by its pressure, though the hip has less ease: the
+            # summary named the hip, where the drape's verdict said it fits
             _row(t[3], ratio=1.1, verdict="too tight", pressure_p99_kpa=8.2, ease_hip_cm=0.7,
-                 ease_waist_cm=2.0),
-            _row(t[4], verdict="too tight", ease_waist_cm=-1.0, pressure_p99_kpa=0.5),
+                 ease_waist_cm=2.0, verdict_regions="waist"),
+            _row(t[4], verdict="too tight", ease_waist_cm=-1.0, pressure_p99_kpa=0.5,
+                 verdict_regions="waist thigh_left"),
             _row(t[5], verdict="fits", pressure_p99_kpa=3.0), _row(t[6], verdict="fits"),
             _row(t[7], status="failed", failed_checks="seams crossings", verdict="fits")]
     # the drape's own verdict, whatever ϖ or the pressure say (the verdict weighed them);
@@ -129,9 +133,9 @@ def test_verdicts_and_one_line_per_size():
                            verdict="too loose")) == "failed"
     assert summary_lines(rows) == [
         "skirt in cotton, S: fits 1 of 4 bodies; tight on 1 at the hip; too tight on 1 at "
-        "the hip; failed on 1 (on_body 1)",
-        "skirt in cotton, M: fits 2 of 4 bodies; too tight on 1 at the waist; failed on 1 "
-        "(seams 1, crossings 1)"]
+        "the waist; failed on 1 (on_body 1)",
+        "skirt in cotton, M: fits 2 of 4 bodies; too tight on 1 at the waist 1, thigh left 1; "
+        "failed on 1 (seams 1, crossings 1)"]
 
 
 def test_the_matrix_has_a_cell_per_task(tmp_path):

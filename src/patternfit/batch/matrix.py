@@ -12,7 +12,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..api import GIRTHS
 from ..figures import literal_text
 from ..files import atomic_write_bytes, atomic_write_text
 
@@ -33,14 +32,6 @@ def verdict_of(row: dict) -> str:
     return row.get("verdict") or "no verdict"
 
 
-def tightest_girth(row: dict) -> str | None:
-    """The covered girth with the least ease (``hip``, ``thigh left``...); None when none
-    was measured."""
-    ease = {g: row.get(f"ease_{g}_cm") for g in GIRTHS}
-    ease = {g: e for g, e in ease.items() if e is not None}
-    return min(ease, key=ease.get).replace("_", " ") if ease else None
-
-
 def _axes(rows, tasks=None):
     """Panels (pattern, fabric), sizes and bodies in the order of ``tasks`` (the batch's
     plan, rows or no rows), else in the order they first appear in ``rows``."""
@@ -54,8 +45,8 @@ def _axes(rows, tasks=None):
 
 def summary_lines(rows: list[dict]) -> list[str]:
     """One answer per (pattern, fabric, size): ``"skirt in denim, M: fits 34 of 50 bodies;
-    tight on 9 at the hip 7, waist 2; failed on 2 (on_body 2)"``: the tightest girth of
-    each tight drape, the failed checks of each failed one."""
+    tight on 9 at the hip 7, waist 2; failed on 2 (on_body 2)"``: the regions each tight
+    drape's verdict names (``verdict_regions``), the failed checks of each failed one."""
     panels, sizes, _ = _axes(rows)
     out = []
     for pattern, fabric in panels:
@@ -72,8 +63,9 @@ def summary_lines(rows: list[dict]) -> list[str]:
             for word, members in sorted(groups.items(), key=lambda kv: -len(kv[1])):
                 where: dict[str, int] = {}
                 for r in members:
-                    g = tightest_girth(r) if "tight" in word else None
-                    if g:
+                    for g in (r.get("verdict_regions") or "").split() if "tight" in word \
+                            else ():
+                        g = g.replace("_", " ")
                         where[g] = where.get(g, 0) + 1
                 at = ", ".join(f"{k} {n}" if len(where) > 1 else k for k, n in
                                sorted(where.items(), key=lambda kv: -kv[1]))

@@ -109,12 +109,21 @@ def outcome_row(task: Task, outcome, *, seconds: float, worker: str) -> dict:
     return {**task._asdict(), "status": "ok" if passed else "failed",
             "fitting_ratio": ratio if np.isfinite(ratio) else None,
             "fitting_ratio_symmetric": float(outcome.fit.fitting_ratio_symmetric),
-            "verdict": outcome.verdict,
+            "verdict": outcome.verdict, "verdict_regions": _verdict_regions(outcome),
             **{f"ease_{g}_cm": ease.get(g) for g in GIRTHS},
             "pressure_p95_kpa": pressure.get("p95"), "pressure_p99_kpa": pressure.get("p99"),
             "checks_passed": passed, "failed_checks": " ".join(failed),
             "reasons": "; ".join(reasons), "residual_rms": checks.get("residual_rms"),
             "residual_p99": checks.get("residual_p99"), "seconds": seconds, "worker": worker}
+
+
+def _verdict_regions(outcome) -> str:
+    """The regions whose own verdict is the drape's (``"waist hip"``): where it is what it
+    is said to be."""
+    if outcome.judgement is None:
+        return ""
+    regions = outcome.judgement.report().get("region_verdicts") or {}
+    return " ".join(k for k, v in regions.items() if v.get("verdict") == outcome.verdict)
 
 
 def run_task(task: Task, body, options: TaskOptions, pattern=None, fabric=None) -> dict:
