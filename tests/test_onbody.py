@@ -224,6 +224,12 @@ def test_fit_of_a_saved_state_without_its_contact_state_checks_its_balance(skirt
     assert lifted.checks["equilibrium"] is False
     assert lifted.checks["rebuilt_residual_p99"] > 10 * REBUILT_P99
     assert any(r.startswith("not at rest:") for r in lifted.checks["reasons"])
+    assert not any("default fabric" in r for r in lifted.checks["reasons"])
+    # judged in the default fabric where none was given or saved, the reason says so (a
+    # knit's rest judged in the shirting read "not at rest" without a word of the fabric)
+    assumed = api.evaluate_saved(tmp_path / "lifted", body=BODY)
+    assert any("judged in cotton_shirting, the default fabric" in r
+               for r in assumed.checks["reasons"])
     # one vertex pulled 5 cm off the rest: at 3K under 1 % of them, the p99 the rest's, and
     # it was left out besides, paired with its own cloth an edge away; its own is counted
     spike = d.positions.copy()

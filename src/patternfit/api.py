@@ -859,8 +859,8 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     file = garment / CONTACT
     contact = load_contact(garment)
     b = None if body is None else read_body(body, units=units)
-    fab = read_fabric(fabric) if fabric is not None \
-        else saved_fabric(contact, file=file) or read_fabric(DEFAULTS.fabric)
+    own = saved_fabric(contact, file=file)
+    fab = read_fabric(fabric) if fabric is not None else own or read_fabric(DEFAULTS.fabric)
     at_rest, unknown = saved_rest(contact, x, mesh=m, file=file,
                                   draped_for=draped_for(b, fab if b is not None else None))
     residual = None if at_rest is None else saved_residual(contact, file=file)
@@ -875,7 +875,9 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
                           extra={"checks": unchecked_state(**rest, failed=failed)},
                           contact=contact)
     checks = saved_state_checks(pat, m, b, x, balance=lambda: saved_balance(m, b, fab, x),
-                                crossings=lambda: saved_crossings(m, b, x), **rest)
+                                crossings=lambda: saved_crossings(m, b, x), **rest,
+                                assumed_fabric=fab.name if fabric is None and own is None
+                                else None)
     measures, judgement = judge_state(pat, m, x, fit, b, fab, checks=checks,
                                       verdict_rules=verdict_rules)
     return FitOutcome(pat, m, b, fab, x, fit, state="saved", extra={"checks": checks},

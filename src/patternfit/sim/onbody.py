@@ -469,7 +469,8 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                        balance: Callable[[], tuple[float, float, float]] | None = None,
                        residual: tuple[float, float] | None = None,
                        unknown: str | None = None,
-                       crossings: Callable[[], dict[str, int]] | None = None) -> dict:
+                       crossings: Callable[[], dict[str, int]] | None = None,
+                       assumed_fabric: str | None = None) -> dict:
     """The checks of a 3D state read back without the solver that made it (``patternfit
     fit`` of a saved garment folder), as a report's ``checks``: the on-body checks
     (:func:`on_body_checks`), the vertices inside the body (deeper than
@@ -488,7 +489,9 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     state, (rms, p99, largest) (:func:`patternfit.sim.drape.saved_balance`; reported as
     ``rebuilt_residual_rms`` / ``_p99`` / ``_max``): a p99 above :data:`REBUILT_P99` or a
     largest above :data:`REBUILT_MAX` is no rest (``equilibrium`` False), else it is still
-    not known."""
+    not known; ``assumed_fabric``: the name of the fabric the balance was rebuilt in when
+    it is a default, not the drape's (said in that reason: a knit's true rest judged in
+    the default shirting read "not at rest" without a word of the fabric)."""
     onbody = on_body_checks(pattern, mesh, body, positions, spacing=spacing)
     x = np.asarray(positions, dtype=np.float64)
     reasons = list(onbody.reasons)
@@ -511,7 +514,9 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
             reasons.append(f"not at rest: 1% of its vertices carry more than {p99:.3g} times "
                            f"their weight unbalanced, one {top:.3g} times (limits "
                            f"{REBUILT_P99:g} and {REBUILT_MAX:g}), whatever the body pushes "
-                           f"and friction holds ({unknown or 'its contact state not known'})")
+                           f"and friction holds ({unknown or 'its contact state not known'}"
+                           + (f"; judged in {assumed_fabric}, the default fabric: give the "
+                              "drape's own" if assumed_fabric else "") + ")")
     return {**onbody.to_dict(), "inside_vertices": inside, "max_depth_mm": deepest,
             "seam_gap_max_mm": gap, **through, "solver_checked": False,
             **_saved_rest(at_rest, residual, unknown), "rebuilt_residual_rms": rms,
