@@ -63,6 +63,28 @@ HALF_SEAM = 0.4
 #: a collar's piece has less than this share of the area of the bodice it is sewn to [-]
 COLLAR_AREA = 0.25
 
+#: the beginnings of the words in an outline edge's name (any case, split at ``_``, spaces,
+#: digits and camelCase; GarmentCode's edge labels become edge names) that put the edge at a
+#: neck or shoulders: ``neck``/``neckline``, ``collar``, ``shoulder``/``shldr``,
+#: ``armhole``/``armscye``/``scye`` (a boxy top's shoulders run out to its side and a
+#: poncho's are longer than :data:`HALF_SEAM`: both, unnamed, read as skirts and were worn
+#: round the waist; outside audit 15)
+NECK_WORDS = ("neck", "collar", "shoulder", "shldr", "armhole", "armscye", "scye")
+#: a neck hole dips at least this far [m] below the inner ends of the seams either side of it
+NECK_DIP = 0.01
+#: a neck hole's lowest point lies within this share [-] of its panel's height from its top
+#: (a deep V neck 25 cm on a 65 cm panel)
+NECK_DEPTH = 0.5
+#: a panel hanging straight from its shoulders (a poncho) fills at least this share [-] of its
+#: upright bounding box; a circle skirt's sector, whose waist is a notch between two seams
+#: across its top as well, at most pi / 4
+BOX_FILL = 0.88
+#: an imported 3D placement that puts a neck hole at least this high [m] (and below
+#: :data:`NECK_PLACED_MAX`) says the garment is worn at the neck (a waist lies near 1 m; a
+#: GarmentCode body's neck base at 1.35-1.5 m)
+NECK_PLACED = 1.2
+NECK_PLACED_MAX = 2.1
+
 #: what a panel is, by kind: the body part it goes on is "torso" unless the kind is
 #: sleeve/cuff (an arm) or leg
 KINDS = ("bodice", "skirt", "sleeve", "leg", "collar", "hood", "waistband", "cuff")
@@ -324,10 +346,16 @@ def _structural_kinds(pattern, shapes, links, kinds, why) -> None:
     for n in open_:
         if kinds[n] is None:
             sewn_up = any(o != n and kinds[o] in ("bodice",) for _, o, _ in links[n])
-            shoulders = _shoulders(n, shapes, links)
-            kinds[n] = "bodice" if shoulders else "skirt"
-            why[n] = "sewn at its top to another panel's top (shoulders)" if shoulders \
-                else ("sewn below a bodice" if sewn_up else "a body panel without shoulders")
+            named = _named_neck(shapes[n])
+            hole = None if named else _neck_hole(n, shapes, links)
+            if _set_shoulder(n, shapes, links):
+                kinds[n], why[n] = "bodice", "sewn at its top to another panel's top (shoulders)"
+            elif named or hole:
+                kinds[n] = "bodice"
+                why[n] = f"an edge at its top named {named!r}" if named else hole
+            else:
+                kinds[n] = "skirt"
+                why[n] = "sewn below a bodice" if sewn_up else "a body panel without shoulders"
 
 
 def _tube_seam(n: str, shapes, links) -> tuple[str, str] | None:
@@ -341,6 +369,14 @@ def _tube_seam(n: str, shapes, links) -> tuple[str, str] | None:
 
 
 def _shoulders(n: str, shapes, links) -> bool:
+    """Whether panel ``n`` hangs from shoulders: :func:`_set_shoulder`, an edge named for
+    the neck or shoulders (:func:`_named_neck`) or a neck hole between two seams across its
+    top (:func:`_neck_hole`)."""
+    return _set_shoulder(n, shapes, links) or _named_neck(shapes[n]) is not None \
+        or _neck_hole(n, shapes, links) is not None
+
+
+def _set_shoulder(n: str, shapes, links) -> bool:
     """Whether panel ``n`` has a shoulder: an edge at its top, off its centre line, running
     across it, shorter than :data:`HALF_SEAM` of its height and not out to its widest point
     (an armhole lies beyond; a flared skirt's or tier's side seams run out to it), sewn to the
@@ -350,6 +386,103 @@ def _shoulders(n: str, shapes, links) -> bool:
                and sh.across(e) and sh.edges[e].length <= HALF_SEAM * sh.size[1]
                and sh.reach(e) < 0.95 and shapes[o].aspect < BAND_ASPECT
                for e, o, oe in links[n])
+
+
+def _named_neck(sh: _Shape) -> str | None:
+    """The first outline edge reaching the panel's top whose name has a word beginning with
+    one of :data:`NECK_WORDS` (``neck``, ``Shoulder_R``, ``armhole_l``, ``NeckLine``,
+    ``arm hole``), or None. A skirt's edges are a waist, hip, side, hem or dart."""
+    for edge in sh.panel.outline.edges:
+        words = _words(edge.name)
+        joined = "".join(words)
+        if (any(w.startswith(NECK_WORDS) for w in words) or "armhole" in joined
+                or "neckline" in joined) and sh.reaches_top(edge.name):
+            return edge.name
+    return None
+
+
+def _between(order: list[str], a: str, b: str) -> tuple[list[str], list[str]]:
+    """The outline edges strictly between ``a`` and ``b`` going forwards from ``a``, and
+    going backwards from it."""
+    i, j = order.index(a), order.index(b)
+    k = len(order)
+    fwd = [order[(i + s) % k] for s in range(1, (j - i) % k)]
+    bwd = [order[(i - s) % k] for s in range(1, (i - j) % k)]
+    return fwd, bwd
+
+
+def _neck_hole(n: str, shapes, links) -> str | None:
+    """Why panel ``n`` hangs from a neck hole, or None: two edges at its top, running across
+    it on either side of its middle, sewn to the top of one other panel (not a band), with
+    between them an unsewn stretch of the outline dipping at least :data:`NECK_DIP` below
+    their inner ends and no deeper than :data:`NECK_DEPTH` of the panel (the neck hole);
+    and, since a circle skirt's sector has that shape too (its waist between its side
+    seams), one of: (a) on each side another seam to that panel lower down with an unsewn
+    stretch between (an armhole, a kimono sleeve's cuff: a boxy top, a kimono tee); (b) the
+    panel fills :data:`BOX_FILL` of its upright bounding box (hanging straight from the
+    shoulders: a poncho); (c) the file's own 3D placement puts the hole at least
+    :data:`NECK_PLACED` high (a GarmentCode top placed at the neck)."""
+    sh = shapes[n]
+    order = [e.name for e in sh.panel.outline.edges]
+    sewn = {e for e, _, _ in links[n]}
+    for o in sorted({o for _, o, _ in links[n] if o != n}):
+        if shapes[o].aspect >= BAND_ASPECT:
+            continue
+        tops = [e for e, oo, oe in links[n] if oo == o and e in order and sh.at_top(e)
+                and shapes[o].at_top(oe) and sh.across(e)]
+        for a in [e for e in tops if sh.side_of(e) < -0.2]:
+            for b in [e for e in tops if sh.side_of(e) > 0.2]:
+                gap = next((g for g in _between(order, a, b)
+                            if g and not any(e in sewn for e in g)
+                            and all(sh.reaches_top(e) for e in g)), None)
+                if gap is None:
+                    continue
+                ends = np.array([pt for e in gap for pt in (sh.edges[e].start, sh.edges[e].end)])
+                inner = []  # the heights of a's and b's ends at the gap
+                for side in (a, b):
+                    pts = np.array([sh.edges[side].start, sh.edges[side].end])
+                    at = pts[int(np.argmin(np.linalg.norm(pts[:, None] - ends[None],
+                                                          axis=2).min(axis=1)))]
+                    inner.append(float((at @ sh.turn.T)[1]))
+                pts = np.vstack([sh.line(e) for e in gap])
+                low = float(pts[:, 1].min())
+                if low > min(inner) - NECK_DIP or low < sh.hi[1] - NECK_DEPTH * sh.size[1]:
+                    continue
+                why = _neck_support(n, o, a, b, gap, shapes, links, order)
+                if why:
+                    return why
+    return None
+
+
+def _neck_support(n, o, a, b, gap, shapes, links, order) -> str | None:
+    """(a), (b) or (c) of :func:`_neck_hole`, in words, or None."""
+    sh = shapes[n]
+    sewn = {e for e, _, _ in links[n]}
+    to_o = [e for e, oo, _ in links[n] if oo == o and e in order]
+    openings = 0
+    for top in (a, b):
+        sign = np.sign(sh.side_of(top))
+        top_low = float(sh.line(top)[:, 1].min())
+        for c in to_o:
+            if c in (a, b) or np.sign(sh.side_of(c)) != sign \
+                    or float(sh.line(c)[:, 1].max()) > top_low + 1e-6:
+                continue
+            path = next(g for g in _between(order, top, c) if not set(g) & set(gap))
+            if any(e not in sewn for e in path):
+                openings += 1
+                break
+    if openings == 2:
+        return "a neck hole between seams across its top, openings for the arms below them"
+    if sh.panel.area() >= BOX_FILL * float(sh.size[0] * sh.size[1]):
+        return "a neck hole between seams across its top, hanging straight from them"
+    place = sh.panel.placement
+    if place.explicit:
+        pts = np.vstack([sh.edges[e].polyline(16) for e in gap])
+        height = float(place.transform(pts)[:, 1].mean())
+        if NECK_PLACED <= height <= NECK_PLACED_MAX:
+            return f"a neck hole between seams across its top, placed {height:.2f} m high " \
+                   "by the file"
+    return None
 
 
 def _mirror_twins(a: _Shape, b: _Shape) -> bool:
