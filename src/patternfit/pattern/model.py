@@ -280,8 +280,9 @@ class Pattern:
         ``meta["anchor"]`` when it is one of :data:`ANCHORS` (every built-in garment sets
         it); otherwise read from the panels' roles
         (:func:`patternfit.pattern.roles.garment_anchor`): ``"neck"`` when a panel is a
-        sleeve, collar or hood, or two body panels are sewn at their tops across (shoulders),
-        else ``"waist"`` (skirts, trousers). It does not depend on the panels' names being
+        sleeve, collar or hood, or two body panels are sewn at their tops across (shoulders,
+        or either side of a neck hole; or an edge is named for the neck or shoulders), else
+        ``"waist"`` (skirts, trousers). It does not depend on the panels' names being
         kept, so a DXF or GarmentCode round trip keeps it. Placement puts the top of the
         garment at the body's ``neck_base_height`` / ``waist_height``, and a drape whose top
         ends far from that height fails (:mod:`patternfit.sim.onbody`).

@@ -15,7 +15,12 @@ this order of trust:
    is a sleeve; two long panels sewn along a curved edge at their top (a crotch) are legs;
    two alike panels sewn to each other along a curve and otherwise only by their lower edges
    into the top of body panels (the necklines) are a hood's halves; a small panel sewn at a
-   bodice's top near its centre line is a collar's piece.
+   bodice's top near its centre line is a collar's piece. A body panel is a bodice (hung
+   from the neck) when it has shoulders (:func:`_set_shoulder`), an edge at its top named
+   for the neck, collar, shoulder or armhole (:func:`_named_neck`), or a neck hole between
+   two seams across its top with arm openings below, a box-filling shape or a file
+   placement at neck height (:func:`_neck_hole`: a boxy top, a poncho, a kimono tee); else
+   a skirt.
    A panel sewn along a straight side edge (its centre line) to its mirror image is one half
    of a panel cut at the centre (GarmentCode's bodices, cut at centre front and back): its
    edges are then placed across the whole panel (:meth:`_Shape.outer`). A panel sewn to itself
