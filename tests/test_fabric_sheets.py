@@ -280,9 +280,10 @@ def test_a_missing_fabric_file_is_named_as_a_file_not_a_preset(tmp_path):
 
 def test_a_fabric_name_is_printed_as_written(tmp_path, monkeypatch):
     """Rich markup in a fabric's name ("[bold]...") was read as markup in the tables."""
-    from patternfit.cli.app import console
+    from patternfit.cli.app import console, listing
 
-    monkeypatch.setattr(console, "width", 200)  # the name's cell unwrapped
+    for c in (console, listing):  # the name's cell unwrapped (the table is a listing's)
+        monkeypatch.setattr(c, "width", 200)
     path = write(tmp_path, {**WOOL, "name": "[bold]wool[/bold] [red]x"})
     r = CliRunner().invoke(app, ["fabrics", str(path)])
     assert r.exit_code == 0 and r.output.count("[bold]wool[/bold] [red]x") == 2, r.output
