@@ -57,7 +57,8 @@ from .pattern.validate import check_pattern
 from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
-from .sim.drape import CONTACT_MARGIN, Drape, drape, saved_balance, saved_crossings
+from .sim.drape import (CONTACT_MARGIN, Drape, drape, saved_balance, saved_crossings,
+                        without_floor)
 from .sim.provenance import (draped_for, not_draped_for, saved_fabric, saved_failure,
                              saved_residual)
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
@@ -711,7 +712,7 @@ def drape_and_evaluate(pattern: Pattern | str | Path = DEFAULTS.garment,
         d = drape_with(engine, pat, m, b, fab, settings=settings, device=device,
                        from_static=from_static, clearance=clearance, progress=progress)
     if d.onbody is None:  # an engine that does not run them itself
-        d.check_on_body(pat, m, b)
+        d.check_on_body(pat, m, b, fab)
     evaluator = FitEvaluator(m, tight=tight, loose=loose)
     extra = d.report_extra()
     extra["fitting_ratio_placed"] = evaluator.metrics(d.placed)[1]
@@ -875,8 +876,9 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
                           extra={"checks": unchecked_state(**rest, failed=failed)},
                           contact=contact)
     checks = saved_state_checks(pat, m, b, x, balance=lambda: saved_balance(m, b, fab, x),
-                                crossings=lambda: saved_crossings(m, b, x), **rest,
-                                assumed_fabric=fab.name if fabric is None and own is None
+                                crossings=lambda: saved_crossings(m, b, x),
+                                floor=lambda onbody: without_floor(pat, m, b, fab, x, onbody),
+                                **rest, assumed_fabric=fab.name if fabric is None and own is None
                                 else None)
     measures, judgement = judge_state(pat, m, x, fit, b, fab, checks=checks,
                                       verdict_rules=verdict_rules)

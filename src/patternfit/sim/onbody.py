@@ -12,7 +12,7 @@ result (:attr:`patternfit.sim.drape.Drape.onbody`) and the report's ``checks`` h
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -79,6 +79,14 @@ class OnBodySettings:
     flap : float
         Cloth standing more than this above the height where a waist garment goes round
         the body is a flap (a bib), not its waist [m].
+    floor_touch : float
+        A garment whose lowest point is this near the floor rests on it [m]: its drape is
+        continued without the floor (:func:`patternfit.sim.drape.without_floor`) and its
+        anchor line checked where that ends (:func:`floor_checked`).
+    floor_iterations : int
+        The most iterations of that solve without the floor, run ``floor_chunk`` at a time;
+        it ends sooner at rest, when the anchor line leaves ``anchor_tolerance`` or when a
+        chunk moved it less than ``floor_held`` [m] (held by the body).
     """
 
     below_feet: float = 0.02
@@ -90,6 +98,10 @@ class OnBodySettings:
     named_anchor_level: float = 0.5
     round_gap: float = 60.0
     flap: float = 0.05
+    floor_touch: float = 0.01
+    floor_iterations: int = 500
+    floor_chunk: int = 50
+    floor_held: float = 0.001
 
 
 #: the thresholds every drape is checked with
@@ -133,6 +145,14 @@ class OnBodyChecks:
     #: body (:func:`round_the_body_from`) minus the waist's [mm]; None when it goes round
     #: nowhere, or hangs from the neck
     round_offset_mm: float | None = None
+    #: a garment resting on the floor (its lowest point within ``floor_touch`` of it),
+    #: continued without the floor (:func:`patternfit.sim.drape.without_floor`): its anchor
+    #: line's height minus the landmark's where that ended, how far it dropped, in how many
+    #: iterations, and whether it came to rest or was held [mm]; None when not run
+    without_floor_offset_mm: float | None = None
+    without_floor_drop_mm: float | None = None
+    without_floor_iterations: int | None = None
+    without_floor_held: bool | None = None
 
     @property
     def passed(self) -> bool:
@@ -149,6 +169,10 @@ class OnBodyChecks:
                 "side_angle_max_deg": self.side_angle_max_deg,
                 "top_below_crotch": self.top_below_crotch,
                 "round_offset_mm": self.round_offset_mm,
+                "without_floor_offset_mm": self.without_floor_offset_mm,
+                "without_floor_drop_mm": self.without_floor_drop_mm,
+                "without_floor_iterations": self.without_floor_iterations,
+                "without_floor_held": self.without_floor_held,
                 "on_body": self.passed, "on_body_reasons": list(self.reasons)}
 
 
@@ -394,6 +418,36 @@ def on_body_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                         max(angles.values()) if angles else None, fell, mm(round_offset))
 
 
+def on_the_floor(onbody: OnBodyChecks, settings: OnBodySettings = ON_BODY) -> bool:
+    """Whether a state that passed its on-body checks rests on the floor (its lowest point
+    within ``floor_touch`` of y = 0), so that :func:`floor_checked` is to look at what
+    carries it."""
+    return bool(onbody.passed and onbody.lowest_mm is not None
+                and onbody.lowest_mm < settings.floor_touch * 1e3)
+
+
+def floor_checked(onbody: OnBodyChecks, offset: float, drop: float, iterations: int,
+                  held: bool, settings: OnBodySettings = ON_BODY) -> OnBodyChecks:
+    """``onbody`` with what its garment did once the floor it rests on was taken away
+    (:func:`patternfit.sim.drape.without_floor`): its anchor line ``offset`` [m] from the
+    anchor landmark where that solve ended, having dropped by ``drop`` [m] in
+    ``iterations``, ``held`` when it came to rest or stopped moving. A garment hung from the
+    waist or neck must stay there without the floor: one whose anchor line then ends more
+    than ``anchor_tolerance`` from the landmark stood on the floor and fails."""
+    reasons = list(onbody.reasons)
+    if abs(offset) > settings.anchor_tolerance:
+        what = "waist" if onbody.anchor == "waist" else "neck base"
+        where = "below" if offset < 0 else "above"
+        reasons.append(
+            f"stands on the floor: without it the garment slides to {_length(abs(offset))} "
+            f"{where} the {what} it hangs from (limit {_length(settings.anchor_tolerance)}; "
+            f"{_length(drop)} down in {iterations} iterations"
+            + ("" if held else ", still sliding") + ")")
+    return replace(onbody, reasons=tuple(reasons), without_floor_offset_mm=offset * 1e3,
+                   without_floor_drop_mm=drop * 1e3, without_floor_iterations=int(iterations),
+                   without_floor_held=bool(held))
+
+
 def round_the_body_from(mesh: GarmentMesh, body, positions, *, gap: float = 60.0,
                         step: float = 0.01) -> float | None:
     """The highest height [m] at which the 3D state ``positions`` (n, 3) [m] of ``mesh``
@@ -470,7 +524,8 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
                        residual: tuple[float, float] | None = None,
                        unknown: str | None = None,
                        crossings: Callable[[], dict[str, int]] | None = None,
-                       assumed_fabric: str | None = None) -> dict:
+                       assumed_fabric: str | None = None,
+                       floor: Callable[[OnBodyChecks], OnBodyChecks] | None = None) -> dict:
     """The checks of a 3D state read back without the solver that made it (``patternfit
     fit`` of a saved garment folder), as a report's ``checks``: the on-body checks
     (:func:`on_body_checks`), the vertices inside the body (deeper than
@@ -491,8 +546,13 @@ def saved_state_checks(pattern: Pattern, mesh: GarmentMesh, body, positions, *,
     largest above :data:`REBUILT_MAX` is no rest (``equilibrium`` False), else it is still
     not known; ``assumed_fabric``: the name of the fabric the balance was rebuilt in when
     it is a default, not the drape's (said in that reason: a knit's true rest judged in
-    the default shirting read "not at rest" without a word of the fabric)."""
+    the default shirting read "not at rest" without a word of the fabric). ``floor``, when
+    given, is called with the on-body checks of a state that passed them resting on the
+    floor (:func:`on_the_floor`) for those checks with what the garment does without the
+    floor (:func:`patternfit.sim.drape.without_floor`)."""
     onbody = on_body_checks(pattern, mesh, body, positions, spacing=spacing)
+    if floor is not None and on_the_floor(onbody):
+        onbody = floor(onbody)
     x = np.asarray(positions, dtype=np.float64)
     reasons = list(onbody.reasons)
     inside, deepest, gap = 0, 0.0, 0.0
