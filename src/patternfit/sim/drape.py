@@ -466,8 +466,8 @@ def without_floor(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | st
     landmark, or when a chunk moved it by less than ``floor_held`` [m]. Where the body
     carries it, its hem drops a few mm and it comes to rest (the built-in trousers on the
     women: at most 1.6 cm, within 150 iterations); where the floor carried it, it slides
-    down (trousers 1.5 times too wide on female_average: 12.5 cm below the waist after 300
-    iterations, still sliding). Contact stiffness is read back from the force balance, as
+    down (trousers 1.5 times too wide on female_average: past 10 cm below the waist in 150
+    iterations, still sliding; 12.7 cm once at rest). Contact stiffness is read back from the force balance, as
     for a saved rest. The positions are not changed."""
     s = settings
     x = np.asanyarray(positions, dtype=np.float64)
