@@ -489,3 +489,25 @@ def test_mutated_side_file_gives_a_pattern_or_a_pattern_error(dxf_files, tmp_pat
         load_dxf(folder / "good.dxf")
     except PatternError as exc:
         assert exc.file in (str(side), str(folder / "good.dxf"))
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data(), key=st.sampled_from(["reversed", "grain_line", "rotaton", "Name",
+                                            "radius2", "comment", "ranges"]))
+def test_a_key_the_format_does_not_have_is_refused_naming_it(tmp_path_factory, data, key):
+    """A misspelt key was skipped for its default without a word: a seam's "reversed":
+    false was read as reverse true, a panel's "grain_line" left the grain at [0, 1]."""
+    from patternfit.pattern import load_pattern, pattern_to_dict
+    from patternfit.pattern.library import build
+
+    doc = pattern_to_dict(build("skirt", "M"), units="cm")
+    panel = doc["panels"][0]
+    objects = [doc, panel, panel["placement"], panel["outline"], panel["outline"]["edges"][0],
+               doc["seams"][0], doc["seams"][0]["a"]]
+    target = data.draw(st.sampled_from(objects))
+    target[key] = False
+    path = tmp_path_factory.mktemp("keys") / "p.json"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(InputError, match=f"unknown key '{key}'") as info:
+        load_pattern(path)
+    assert str(path) in str(info.value)

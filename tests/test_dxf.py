@@ -231,3 +231,23 @@ def test_a_side_files_unit_is_read_or_refused(tmp_path):
     with pytest.raises(PatternError, match="side file 'units' 'furlong'") as info:
         load_dxf(path)
     assert "u.seams.json" in str(info.value)
+
+
+@pytest.mark.parametrize("change, words", [
+    (lambda d: d.update(version=9), "unsupported version 9"),
+    (lambda d: d["panels"].update(ghost={}), "describes 'ghost', which the DXF does not hold"),
+    (lambda d: d.update(seam=[]), "unknown key 'seam'.*did you mean 'seams'"),
+    (lambda d: d["panels"]["front"].update(grain_line=[1, 0]),
+     "unknown key 'grain_line'.*did you mean 'grainline'"),
+    (lambda d: d["seams"][0].update(reversed=False), "unknown key 'reversed'")])
+def test_a_side_file_the_reader_would_misread_is_refused(tmp_path, change, words):
+    """A side file of another version, describing a piece the DXF lacks or with a misspelt
+    key was read as if it said nothing (a seam's "reversed": false read as reverse true)."""
+    path = save_dxf(_pattern(), tmp_path / "v.dxf")
+    side = tmp_path / "v.seams.json"
+    data = json.loads(side.read_text())
+    change(data)
+    side.write_text(json.dumps(data))
+    with pytest.raises(PatternError, match=words) as info:
+        load_dxf(path)
+    assert "v.seams.json" in str(info.value)

@@ -39,8 +39,8 @@ from .dxf_rules import RuleTable, graded_by_rules, read_rules, rule_points, rule
 from .dxf_write import dxf_text
 from .errors import PatternError
 from .formats import check_imported
-from .io import (check_notches, json_field, json_placement, json_point, notches_from_json,
-                 notches_to_json, seams_from_json, seams_to_json, shown)
+from .io import (check_notches, json_field, json_placement, json_point, known_keys,
+                 notches_from_json, notches_to_json, seams_from_json, seams_to_json, shown)
 from .model import Loop, Pattern
 from .plausible import PLAUSIBLE, size_warnings
 from .validate import anchor_value, check_pattern
@@ -48,6 +48,11 @@ from .validate import anchor_value, check_pattern
 __all__ = ["LAYERS", "PLAUSIBLE", "load_dxf", "notch_marks", "save_dxf", "sidecar_path"]
 
 SIDE_FORMAT = "patternfit-dxf-sidecar"
+SIDE_VERSION = 1
+#: the keys of the side file and of each of its panels (an unknown one is refused: a
+#: misspelt key was skipped for its default without a word)
+SIDE_KEYS = ("format", "version", "units", "name", "size", "anchor", "panels", "seams")
+SIDE_PANEL_KEYS = ("edges", "inner", "grainline", "placement", "notches")
 
 
 def sidecar_path(path) -> Path:
@@ -75,7 +80,7 @@ def _sidecar(pattern: Pattern) -> dict:
     size = meta.get("size")
     # a stated anchor may be what the panels deny: dropped, a skirt stated as hung from the
     # neck drapes another way read back
-    return {"format": SIDE_FORMAT, "version": 1, "units": "m", "name": pattern.name,
+    return {"format": SIDE_FORMAT, "version": SIDE_VERSION, "units": "m", "name": pattern.name,
             **({"size": str(size)} if size is not None else {}),
             **({"anchor": meta["anchor"]} if "anchor" in meta else {}),
             "panels": panels, "seams": seams_to_json(pattern.seams)}
@@ -283,7 +288,17 @@ def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
     if side.get("format") != SIDE_FORMAT:
         raise PatternError(f"not a patternfit DXF side file (format "
                            f"{shown(side.get('format'))})")
+    known_keys(side, SIDE_KEYS, "side file")
+    version = side.get("version", SIDE_VERSION)
+    if isinstance(version, bool) or version != SIDE_VERSION:
+        raise PatternError(f"side file: unsupported version {shown(version)} (this build reads "
+                           f"version {SIDE_VERSION})")
     info = json_field(side, "panels", dict, "side file", {})
+    # a panel the side file describes that the DXF does not hold (a piece lost or renamed)
+    missing = [name for name in info if name not in {p.name for p in pattern.panels}]
+    if missing:
+        raise PatternError(f"side file describes {shown(missing[0], 40)}, which the DXF does not "
+                           f"hold (its pieces: {', '.join(p.name for p in pattern.panels)})")
     # its explicit placements' length unit (we write "m"; another was ignored without a
     # word, a translation in cm read as metres)
     unit = json_field(side, "units", str, "side file", "m")
@@ -294,6 +309,7 @@ def _with_sidecar(pattern: Pattern, side: Any) -> Pattern:
     for p in pattern.panels:
         where = {"panel": p.name}
         d = json_field(info, p.name, dict, "side file 'panels'", {}, **where)
+        known_keys(d, SIDE_PANEL_KEYS, "side file panel", **where)
         inner = json_field(d, "inner", list, "side file panel", [], **where)
         loops = [_renamed(p.outline, p.outline.name,
                           json_field(d, "edges", list, "side file panel", None, **where), where)]

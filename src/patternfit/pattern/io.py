@@ -7,6 +7,7 @@ is written beside the target and renamed over it, so a crash never leaves half a
 
 from __future__ import annotations
 
+import difflib
 import json
 import math
 import reprlib
@@ -72,6 +73,7 @@ def json_placement(pl, scale: float, *, part: str = "torso", side: str = "front"
     """The placement object ``pl`` of a panel (``part``, ``side``: its defaults; an explicit
     ``translation`` in file units times ``scale``, a ``rotation`` in degrees), refused with
     a :class:`PatternError` at ``where`` when a value is unknown or absurd."""
+    known_keys(pl, PLACEMENT_KEYS, "placement", **where)
     part = json_field(pl, "part", str, "placement", part, **where)
     side = json_field(pl, "side", str, "placement", side, **where)
     translation = json_vec3(pl.get("translation"), scale, "placement translation", **where)
@@ -80,6 +82,33 @@ def json_placement(pl, scale: float, *, part: str = "torso", side: str = "front"
         return Placement(part, side, translation, rotation)
     except ValueError as e:
         raise PatternError(str(e), **where) from None
+
+
+def known_keys(obj, keys, what: str, **where) -> None:
+    """Refuse a key of the JSON object ``obj`` that is not one of ``keys``, naming it and
+    the nearest known one: a misspelt key was skipped for its default without a word
+    (``"reversed": false`` read as reverse true, ``"grain_line"`` left the grain at [0, 1])."""
+    if not isinstance(obj, dict):
+        return
+    for key in obj:
+        if key not in keys:
+            near = difflib.get_close_matches(str(key), list(keys), n=1)
+            hint = f"; did you mean '{near[0]}'?" if near else ""
+            raise PatternError(f"{what}: unknown key {shown(key, 40)} (known: "
+                               f"{', '.join(keys)}){hint}", **where)
+
+
+#: the keys of each object of the format (docs/pattern-format.md)
+PATTERN_KEYS = ("format", "version", "units", "name", "meta", "panels", "seams")
+PANEL_KEYS = ("name", "outline", "inner", "grainline", "placement", "lines", "drill_holes",
+              "cut_line", "notches")
+LOOP_KEYS = ("name", "edges")
+EDGE_KEYS = ("name", "type", "points", "radius", "large_arc", "sweep")
+PLACEMENT_KEYS = ("part", "side", "translation", "rotation")
+LINE_KEYS = ("name", "points")
+NOTCH_KEYS = ("edge", "t", "kind")
+SEAM_KEYS = ("name", "a", "b", "reverse", "ease")
+SIDE_KEYS = ("panel", "edge", "range")
 
 
 def json_field(obj, key: str, kind, what: str, default=_MISSING, **where):
@@ -107,6 +136,7 @@ def _edge_from_dict(d: Any, scale: float, panel: str, index: int) -> Edge:
     if not isinstance(name, str) or not name:
         raise PatternError(f"edge #{index} has no valid name", **where)
     where["edge"] = name
+    known_keys(d, EDGE_KEYS, f"edge #{index}", **where)
     kind = json_field(d, "type", str, f"edge #{index}", **where)
     if kind not in KINDS:
         raise PatternError(f"unknown edge type '{kind}' (expected one of {sorted(KINDS)})",
@@ -130,6 +160,7 @@ def _loop_from_dict(d: Any, scale: float, panel: str, default_name: str) -> Loop
     if not isinstance(d, dict):
         raise PatternError(f"loop '{default_name}' must be an object", panel=panel)
     name = json_field(d, "name", str, f"loop '{default_name}'", default_name, panel=panel)
+    known_keys(d, LOOP_KEYS, f"loop '{name}'", panel=panel)
     edges = json_field(d, "edges", list, f"loop '{name}'", panel=panel)
     return Loop(name, tuple(_edge_from_dict(e, scale, panel, i) for i, e in enumerate(edges)))
 
@@ -138,6 +169,7 @@ def _panel_from_dict(d: Any, scale: float, index: int) -> Panel:
     if not isinstance(d, dict):
         raise PatternError(f"panel #{index} must be an object")
     name = json_field(d, "name", str, f"panel #{index}")
+    known_keys(d, PANEL_KEYS, "panel", panel=name)
     outline = _loop_from_dict(json_field(d, "outline", dict, "panel", panel=name), scale, name,
                               "outline")
     inner = tuple(_loop_from_dict(lp, scale, name, f"inner{i}")
@@ -148,6 +180,7 @@ def _panel_from_dict(d: Any, scale: float, index: int) -> Panel:
     lines = []
     for i, ln in enumerate(json_field(d, "lines", list, "panel", [], panel=name)):
         what = f"line #{i}"
+        known_keys(ln, LINE_KEYS, what, panel=name)
         pts = json_field(ln, "points", list, what, panel=name)
         if len(pts) < 2:
             raise PatternError(f"{what} needs at least 2 points, got {len(pts)}", panel=name)
@@ -174,6 +207,7 @@ def notches_from_json(raw: list, panel: Panel) -> tuple[Notch, ...]:
     out = []
     for i, n in enumerate(raw):
         what = f"notch #{i}"
+        known_keys(n, NOTCH_KEYS, what, panel=panel.name)
         edge = json_field(n, "edge", str, what, panel=panel.name)
         if edge not in names:
             raise PatternError(f"{what} is on edge '{edge}', which the panel does not have",
@@ -204,6 +238,7 @@ def _side_from_dict(d: Any, seam: str, outline_edges) -> SeamSide:
     if not isinstance(d, dict):
         raise PatternError(f"seam '{seam}': each side must be an object")
     panel = json_field(d, "panel", str, f"seam '{seam}' side")
+    known_keys(d, SIDE_KEYS, f"seam '{seam}' side", panel=panel)
     edge = d.get("edge")
     if outline_edges is not None and isinstance(edge, int) and not isinstance(edge, bool):
         if panel not in outline_edges:
@@ -235,6 +270,7 @@ def seams_from_json(raw: list, *, prefix: str = "seam", outline_edges=None) -> t
         if not isinstance(s, dict):
             raise PatternError(f"seam #{i} must be an object")
         name = json_field(s, "name", str, f"seam #{i}", f"{prefix}{i}")
+        known_keys(s, SEAM_KEYS, f"seam '{name}'")
         side_a = _side_from_dict(s.get("a"), name, outline_edges)
         where = {"panel": side_a.panel, "edge": side_a.edge}
         ease = json_number(json_field(s, "ease", (int, float), f"seam '{name}'", 0.0,
@@ -273,6 +309,7 @@ def pattern_from_dict(data: Any) -> Pattern:
     if isinstance(version, bool) or version != VERSION:
         raise PatternError(f"unsupported format version {shown(version)} (this build reads "
                            f"version {VERSION})")
+    known_keys(data, PATTERN_KEYS, "pattern")
     units = json_field(data, "units", str, "pattern", "m")
     if units not in UNITS:
         raise PatternError(f"unknown units {shown(units)} (expected one of {sorted(UNITS)})")
