@@ -511,3 +511,19 @@ def test_a_key_the_format_does_not_have_is_refused_naming_it(tmp_path_factory, d
     with pytest.raises(InputError, match=f"unknown key '{key}'") as info:
         load_pattern(path)
     assert str(path) in str(info.value)
+
+
+@pytest.mark.parametrize("mark", ["lines", "drill_holes", "cut_line"])
+def test_a_mark_beyond_the_extent_is_refused(tmp_path, mark):
+    """A drill hole 1e7 m out was read, and written to a DXF that the DXF reader refused."""
+    from patternfit.pattern import load_pattern, pattern_to_dict
+    from patternfit.pattern.library import build
+
+    doc = pattern_to_dict(build("skirt", "M"))
+    far = [[0.0, 0.1], [1e7, 0.2], [0.1, 0.3]]
+    doc["panels"][0][mark] = [{"name": "l", "points": far}] if mark == "lines" else far
+    path = tmp_path / "far.json"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(InputError, match="beyond the limit of 20 m") as info:
+        load_pattern(path)
+    assert str(path) in str(info.value) and "panel 'front'" in str(info.value)

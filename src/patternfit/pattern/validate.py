@@ -292,13 +292,32 @@ def _check_loop(panel: Panel, loop: Loop) -> None:
                                panel=panel.name, edge=e.name)
 
 
+def _check_marks(panel: Panel) -> None:
+    """The marks drawn on the panel (internal lines, drill holes, cut line) finite and within
+    ``limits.extent``, as its loops: a drill hole 1e7 m out was read and written to a DXF
+    that the DXF reader then refused."""
+    marks = [(f"line '{ln.name}'", ln.points) for ln in panel.lines]
+    marks += [("drill hole", panel.drill_holes), ("cut line", panel.cut_line)]
+    for what, points in marks:
+        pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        if not len(pts):
+            continue
+        if not np.isfinite(pts).all():
+            raise PatternError(f"{what}: a coordinate is NaN or infinite", panel=panel.name)
+        far = float(np.abs(pts).max())
+        if far > limits.extent:
+            raise PatternError(f"{what}: point {far:.3g} m from the origin, beyond the limit "
+                               f"of {limits.extent:g} m", panel=panel.name)
+
+
 def check_panel(panel: Panel) -> None:
     """Raise :class:`PatternError` if ``panel`` cannot be meshed.
 
     Checked, in this order: unique edge names; a finite non-zero grainline; a finite
     placement; at most ``limits.segments_per_panel`` polyline
     segments; per loop, coordinates finite and within ``limits.extent``, no degenerate edge,
-    closed; then the loops' polylines (:func:`check_polygons`: no crossing, touching, overlap
+    closed; the marks' points (lines, drill holes, cut line) finite and within
+    ``limits.extent``; then the loops' polylines (:func:`check_polygons`: no crossing, touching, overlap
     or spike, within a loop or between loops); an enclosed area; inner loops inside the
     outline and none inside another.
     """
@@ -318,6 +337,7 @@ def check_panel(panel: Panel) -> None:
                            f"the limit of {limits.segments_per_panel}", panel=panel.name)
     for loop in panel.loops:
         _check_loop(panel, loop)
+    _check_marks(panel)
     polys = [_loop_polyline(lp) for lp in panel.loops]
     check_polygons([p for p, _ in polys], [n for _, n in polys],
                    [lp.name for lp in panel.loops], panel=panel.name)
