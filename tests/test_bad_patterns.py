@@ -527,3 +527,22 @@ def test_a_mark_beyond_the_extent_is_refused(tmp_path, mark):
     with pytest.raises(InputError, match="beyond the limit of 20 m") as info:
         load_pattern(path)
     assert str(path) in str(info.value) and "panel 'front'" in str(info.value)
+
+
+@pytest.mark.parametrize("garment, unit, words", [
+    ("skirt", "mm", "read in millimetres (its 'units': 'mm')"),
+    ("coat", "in", "read in inches (its 'units': 'in')")])
+def test_a_json_pattern_of_implausible_size_is_warned_of_as_other_formats_are(
+        tmp_path, garment, unit, words):
+    """A skirt in cm stated as "mm" (6.4 cm wide) read without a word as patternfit JSON,
+    where the DXF and GarmentCode readers warn; at its true units, nothing is said."""
+    from patternfit.pattern.formats import load_any_pattern, save_any_pattern
+    from patternfit.pattern.library import build
+
+    path = tmp_path / "p.json"
+    save_any_pattern(build(garment, "M"), path, units="cm")
+    assert not load_any_pattern(path).meta.get("warnings")
+    doc = json.loads(path.read_text())
+    path.write_text(json.dumps({**doc, "units": unit}))
+    said = load_any_pattern(path).meta["warnings"]
+    assert said and all(words in w and 'set "units": "cm" in the file' in w for w in said)

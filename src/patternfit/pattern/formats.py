@@ -12,9 +12,10 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+from ..constants import UNITS
 from ..files import read_json_file
 from .errors import PatternError
-from .io import FORMAT, load_pattern, save_pattern
+from .io import FORMAT, pattern_from_document, save_pattern
 from .model import Pattern
 from .orientation import TWISTED, twisted_warning
 from .validate import check_pattern, check_seams
@@ -96,7 +97,9 @@ def load_any_pattern(path, *, size: str | None = None, units: str | None = None)
 
         pattern = load_garmentcode(path)
     else:
-        pattern = load_pattern(path)
+        document = read_json_file(Path(path), error=PatternError)
+        pattern = pattern_from_document(document, path)
+        _said_if_implausible(pattern, document)
         # a file converted from a DXF keeps what it came from, apart from the reader used now
         before = pattern.meta.get("source_format")
         if before not in (None, "patternfit"):
@@ -114,6 +117,23 @@ def load_any_pattern(path, *, size: str | None = None, units: str | None = None)
                            f"{f' ({has})' if has is not None else ''}{hint}; a size is picked "
                            "from a built-in garment's sizes or a graded DXF's", file=path)
     return pattern
+
+
+def _said_if_implausible(pattern: Pattern, document: dict) -> None:
+    """The size warnings the DXF and GarmentCode readers give (a piece implausibly large
+    or small in the units read, :func:`~.plausible.size_warnings`), for a patternfit JSON
+    read from ``document``, added to ``meta["warnings"]`` once: a skirt in cm stated as
+    "mm", 6.4 cm wide, was read without a word and fell in its drape."""
+    from .plausible import size_warnings
+
+    unit = document.get("units", "m")
+    said = size_warnings(pattern.panels, UNITS[unit],
+                         f"its 'units': '{unit}'" if "units" in document
+                         else "no 'units', so metres",
+                         hint=lambda u: f'set "units": "{u}" in the file')
+    known = [str(w) for w in pattern.meta.get("warnings", [])]
+    if any(w not in known for w in said):
+        pattern.meta["warnings"] = [*known, *(w for w in said if w not in known)]
 
 
 def _said_if_twisted(pattern: Pattern, fix: str) -> Pattern:
