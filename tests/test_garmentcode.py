@@ -318,3 +318,21 @@ def test_a_gather_past_the_limit_is_warned_of_once_as_such():
     spec = gathered_past_the_limit()
     said = [w for w in garmentcode_from_dict(spec).meta["warnings"] if "stitch0" in w]
     assert len(said) == 1 and "2.5:1 gather, beyond the limit of 2:1" in said[0], said
+
+
+def test_a_misspelt_tag_is_said_and_our_own_keys_damaged_are_refused():
+    """A stitch tagged 'wrong_right' was read as no tag without a word (sewn right side to
+    right side), and a damaged 'patternfit_seam_ease' or 'patternfit_seam_names' (our
+    export's) was dropped, every ease measured afresh."""
+    doc = _doc({"front": _square(), "back": {**_square(), "translation": [0, 100, -20]}},
+               [[{"panel": "front", "edge": 1}, {"panel": "back", "edge": 3}],
+                [{"panel": "front", "edge": 3}, {"panel": "back", "edge": 1}, "wrong_right"]])
+    said = garmentcode_from_dict(doc).meta["warnings"]
+    assert any("'wrong_right' (stitch #1)" in w and "right_wrong" in w for w in said)
+    for key, value in (("patternfit_seam_ease", [-3, 0]), ("patternfit_seam_names", "x"),
+                       ("patternfit_seam_names", ["a", "a"])):
+        with pytest.raises(PatternError, match=f"'{key}': expected one"):
+            garmentcode_from_dict({**doc, key: value})
+    good = garmentcode_from_dict({**doc, "patternfit_seam_ease": [0.1, 0.0],
+                                  "patternfit_seam_names": ["side", "back"]})
+    assert [(s.name, s.ease) for s in good.seams] == [("side", 0.1), ("back", 0.0)]

@@ -255,10 +255,15 @@ def _with_ease(pattern: Pattern, given) -> tuple[Pattern, list[str]]:
     """``pattern`` with every seam's ``ease``: the one our export wrote (``given``, one per
     stitch) or else the one its sides' lengths need (GarmentCode gathers and eases seams by
     sewing edges of different length), and a note for each seam so gathered."""
-    if not (isinstance(given, list) and len(given) == len(pattern.seams)
+    if given is not None and not (
+            isinstance(given, list) and len(given) == len(pattern.seams)
             and all(isinstance(x, (int, float)) and not isinstance(x, bool)
                     and 0 <= x <= limits.seam_ease for x in given)):
-        given = None
+        # ours, written by the export: a damaged one was dropped without a word and every
+        # ease measured afresh
+        raise PatternError(f"'{_SEAM_EASE}': expected one number in [0, "
+                           f"{limits.seam_ease:g}] per stitch ({len(pattern.seams)}), got "
+                           f"{shown(given)}")
     seams, notes = [], []
     for i, seam in enumerate(pattern.seams):
         la, lb = pattern.seam_side_length(seam.a), pattern.seam_side_length(seam.b)
@@ -324,10 +329,14 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
         raise PatternError("'stitches' must be a list")
     seams, tags = [], {}
     seam_names = data.get(_SEAM_NAMES)
-    if not (isinstance(seam_names, list) and len(seam_names) == len(stitches)
-            and all(isinstance(n, str) and n for n in seam_names)
-            and len(set(seam_names)) == len(seam_names)):
+    if seam_names is None:
         seam_names = [f"stitch{i}" for i in range(len(stitches))]
+    elif not (isinstance(seam_names, list) and len(seam_names) == len(stitches)
+              and all(isinstance(n, str) and n for n in seam_names)
+              and len(set(seam_names)) == len(seam_names)):
+        raise PatternError(f"'{_SEAM_NAMES}': expected one distinct non-empty name per stitch "
+                           f"({len(stitches)}), got {shown(seam_names)}")
+    unknown_tags = []
     for i, s in enumerate(stitches):
         if not isinstance(s, (list, tuple)) or len(s) < 2:
             raise PatternError(f"stitch #{i} must be a list of two sides")
@@ -337,11 +346,18 @@ def garmentcode_from_dict(data: Any, *, name: str = "pattern") -> Pattern:
             raise PatternError(f"stitch #{i}: entries after the two sides must be strings "
                                f"(tags such as '{_RIGHT_WRONG}'), got {shown(extra)}")
         seam_name = seam_names[i]
+        unknown_tags += [f"'{t}' (stitch #{i})" for t in extra if t != _RIGHT_WRONG]
         seams.append(Seam(seam_name, a, b, reverse=_RIGHT_WRONG not in extra))
         if extra:
             tags[seam_name] = extra
     pattern, notes = _with_ease(Pattern(name, tuple(panels), tuple(seams)),
                                 data.get(_SEAM_EASE))
+    if unknown_tags:
+        # a misspelt 'right_wrong' sews the seam right side to right side
+        notes.append(f"stitch tags not known, read as no tag: {', '.join(unknown_tags[:5])}"
+                     + (f" and {len(unknown_tags) - 5} more" if len(unknown_tags) > 5 else "")
+                     + f" (the one read is '{_RIGHT_WRONG}'; its stitch is sewn right side "
+                     "to right side without it)")
     said = (f"'units_in_meter': {units:g}" if "units_in_meter" in props
             else "no 'units_in_meter', so centimetres")
     warnings = notes + check_imported(pattern) + size_warnings(
