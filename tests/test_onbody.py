@@ -243,6 +243,24 @@ def test_fit_of_a_saved_state_without_its_contact_state_checks_its_balance(skirt
     assert rest.checks["rebuilt_residual_max"] < REBUILT_MAX / 10
 
 
+@pytest.mark.parametrize("array, value", [("contact_scale", np.nan),
+                                          ("friction_limit", -1.0)])
+def test_a_rest_said_by_a_damaged_contact_file_is_not_taken(skirt, tmp_path, array, value):
+    """``fit`` read "equilibrium: true" from a contact.npz whose solver arrays held NaN,
+    which ``drape --start`` refuses naming the array: its rest is now not known, said why,
+    and the balance rebuilt."""
+    pattern, mesh, body, d = skirt
+    contact = d.saved_contact(mesh)
+    assert api.evaluate_saved(save_garment(tmp_path / "ok", pattern, mesh, d.positions,
+                                           contact=contact), body=BODY).checks["equilibrium"]
+    spoilt = {**contact, array: np.full_like(contact[array], value)}
+    assert len(contact[array])
+    folder = save_garment(tmp_path / "bad", pattern, mesh, d.positions, contact=spoilt)
+    checks = api.evaluate_saved(folder, body=BODY).checks
+    assert checks["equilibrium"] is None
+    assert f"contact.npz is damaged (array '{array}'" in checks["equilibrium_unknown"]
+
+
 def test_a_saved_rest_is_a_rest_only_for_its_own_mesh_body_and_fabric(skirt, tmp_path):
     """contact.npz said "at rest" for the positions it was saved with, whatever else
     changed: a pattern edited in place with its mesh read ϖ 118 % "loose", exit 0, and a

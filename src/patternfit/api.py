@@ -57,8 +57,8 @@ from .pattern.validate import check_pattern
 from .pattern.seam_suggest import SeamSuggestion, check_sewn
 from .pattern.seam_suggest import suggest_seams as _suggest
 from .pattern.sizes import SIZE_NAMES
-from .sim.drape import (CONTACT_MARGIN, Drape, drape, saved_balance, saved_crossings,
-                        without_floor)
+from .sim.drape import (CONTACT_MARGIN, Drape, drape, saved_balance, saved_contact_fault,
+                        saved_crossings, without_floor)
 from .sim.provenance import (draped_for, not_draped_for, saved_fabric, saved_failure,
                              saved_residual)
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
@@ -864,6 +864,12 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     fab = read_fabric(fabric) if fabric is not None else own or read_fabric(DEFAULTS.fabric)
     at_rest, unknown = saved_rest(contact, x, mesh=m, file=file,
                                   draped_for=draped_for(b, fab if b is not None else None))
+    if at_rest is not None and b is not None:
+        # a rest said by a file whose solver arrays are damaged (NaN) is not taken on its
+        # word, as drape --start would not take it
+        fault = saved_contact_fault(m, b, x, contact)
+        if fault:
+            at_rest, unknown = None, f"its {CONTACT} is damaged ({fault})"
     residual = None if at_rest is None else saved_residual(contact, file=file)
     if at_rest and residual is not None \
             and (residual[0] > tol.rest_rms or residual[1] > tol.rest_p99):

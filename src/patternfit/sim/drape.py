@@ -31,7 +31,7 @@ from .schedule import Plan, PlanRun, run_plan
 from .result import DrapeResult
 from .settings import SolverSettings
 from .solver import GarmentSolver
-from .state import ContactState
+from .state import ContactState, SavedStateError
 from .stop_rule import cone_residual
 
 #: least distance kept from the body by default [m] (see ``drape``'s ``contact_margin``)
@@ -496,6 +496,23 @@ def without_floor(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | st
             held = True
             break
     return floor_checked(onbody, top - landmark, start - top, iterations, held, s)
+
+
+def saved_contact_fault(mesh: GarmentMesh, body, positions, contact, *,
+                        spacing: float = 0.005) -> str | None:
+    """Why the saved contact state ``contact`` (named arrays, ``contact.npz``) of the 3D state
+    ``positions`` (n, 3) [m] of ``mesh`` on ``body`` cannot be the one a drape continues (an
+    array missing, of another shape or kind, out of range, NaN: what ``drape --start``
+    refuses), in words naming the array; None when it can. ``fit`` took a file so damaged
+    for the rest it said it was."""
+    x, solver = _saved_solver(mesh, body, get_fabric(DEFAULTS.fabric), positions,
+                              spacing=spacing)
+    try:
+        ContactState.from_saved(contact, n=solver.model.n,
+                                n_triangles=len(solver.model.terms.tris), x=x)
+    except SavedStateError as exc:
+        return f"array '{exc.array}': {exc.reason}"
+    return None
 
 
 def saved_crossings(mesh: GarmentMesh, body, positions, *, spacing: float = 0.005
