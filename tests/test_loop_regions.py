@@ -70,6 +70,11 @@ def test_a_known_tight_band_is_found_as_the_band(skirt):
     # a region whose span rounds to one place says so ("22–22 cm along it" before)
     point = dataclasses.replace(band, span_cm=(22.2, 21.8))
     assert "at 22 cm along it" in point.describe() and "22–22" not in point.describe()
+    # a band is a part of its panel; a region over nearly all of it says so ("near side_l,
+    # 6 cm in" was said of a whole panel, the demo's first drape)
+    assert 0.1 < band.panel_share < 0.5 and "of the panel" not in text
+    whole = dataclasses.replace(band, panel_share=0.97)
+    assert whole.describe().startswith(f"front, 97% of the panel, its nearest seam {band.seam}:")
 
 
 def test_untouched_garment_has_no_region(skirt):

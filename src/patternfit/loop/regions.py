@@ -20,6 +20,11 @@ from ..geometry import face_adjacency
 from ..mesh.garment import GarmentMesh
 
 
+#: a region covering at least this share of its panel's flat area is said to cover the
+#: panel, not to lie near an edge [-]
+WHOLE_PANEL = 0.8
+
+
 @dataclass(frozen=True)
 class Region:
     """One connected tight or loose region of a panel.
@@ -45,6 +50,8 @@ class Region:
         Area-weighted mean stretch ratio along the grainline and across it [-].
     triangles : (k,) int
         The region's triangles.
+    panel_share : float
+        The region's share of its panel's flat area [-].
     """
 
     panel: str
@@ -58,17 +65,25 @@ class Region:
     warp: float
     weft: float
     triangles: np.ndarray
+    panel_share: float = 0.0
 
     def describe(self) -> str:
         """The region in words, e.g. "front, near side_l (seam side_l), 4–21 cm along it:
-        18% too small (stretched 1.15 across the grain, 1.02 along it), 310 cm²"."""
+        18% too small (stretched 1.15 across the grain, 1.02 along it), 310 cm²"; one that
+        covers :data:`WHOLE_PANEL` of its panel is said to ("front, 97% of the panel, its
+        nearest seam side_r: ..."): "near side_r, 6 cm in" was said of a whole panel."""
         where = f"{self.edge} (seam {self.seam})" if self.seam else self.edge
         amount = abs(self.area_change) * 100
         what = "too small" if self.kind == "tight" else "too large"
         a, b = (f"{s:.0f}" for s in self.span_cm)
         span = f"{a}–{b} cm" if a != b else f"at {a} cm"  # not "22–22 cm": one place
-        return (f"{self.panel}, near {where}, {span} "
-                f"along it, {self.distance_cm:.0f} cm in: {amount:.0f}% {what} (stretch "
+        if self.panel_share >= WHOLE_PANEL:
+            place = (f"{self.panel}, {self.panel_share * 100:.0f}% of the panel, its nearest "
+                     f"{'seam ' + self.seam if self.seam else 'edge ' + self.edge}")
+        else:
+            place = (f"{self.panel}, near {where}, {span} along it, "
+                     f"{self.distance_cm:.0f} cm in")
+        return (f"{place}: {amount:.0f}% {what} (stretch "
                 f"{self.weft:.2f} across the grain, {self.warp:.2f} along it), "
                 f"{self.area_cm2:.0f} cm²")
 
@@ -166,4 +181,5 @@ def _describe_region(mesh, fit, tris, centroid, area, seam_of) -> Region:
         edge=ename, seam=seam_of.get((pname, ename)),
         span_cm=(float(s.min()), float(s.max())), distance_cm=float(dist @ w * 100),
         area_cm2=float(area.sum() * 1e4), area_change=float(fit.area_change[tris] @ w),
-        warp=float(fit.warp[tris] @ w), weft=float(fit.weft[tris] @ w), triangles=tris)
+        warp=float(fit.warp[tris] @ w), weft=float(fit.weft[tris] @ w), triangles=tris,
+        panel_share=float(area.sum() / fit.area_2d[mesh.triangle_panel == panel].sum()))
