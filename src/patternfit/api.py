@@ -864,9 +864,9 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
     fab = read_fabric(fabric) if fabric is not None else own or read_fabric(DEFAULTS.fabric)
     at_rest, unknown = saved_rest(contact, x, mesh=m, file=file,
                                   draped_for=draped_for(b, fab if b is not None else None))
-    if at_rest is not None and b is not None:
+    if at_rest and b is not None:
         # a rest said by a file whose solver arrays are damaged (NaN) is not taken on its
-        # word, as drape --start would not take it
+        # word, as drape --start would not take it (its "not at rest" stands)
         fault = saved_contact_fault(m, b, x, contact)
         if fault:
             at_rest, unknown = None, f"its {CONTACT} is damaged ({fault})"
