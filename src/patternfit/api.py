@@ -881,11 +881,11 @@ def evaluate_saved(folder, *, tight: float = DEFAULTS.tight,
         return FitOutcome(pat, m, None, None, x, fit, state="saved",
                           extra={"checks": unchecked_state(**rest, failed=failed)},
                           contact=contact)
+    assumed = fab.name if fabric is None and own is None else None
     checks = saved_state_checks(pat, m, b, x, balance=lambda: saved_balance(m, b, fab, x),
                                 crossings=lambda: saved_crossings(m, b, x),
                                 floor=lambda onbody: without_floor(pat, m, b, fab, x, onbody),
-                                **rest, assumed_fabric=fab.name if fabric is None and own is None
-                                else None)
+                                assumed_fabric=assumed, **rest)
     measures, judgement = judge_state(pat, m, x, fit, b, fab, checks=checks,
                                       verdict_rules=verdict_rules)
     return FitOutcome(pat, m, b, fab, x, fit, state="saved", extra={"checks": checks},

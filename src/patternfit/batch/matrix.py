@@ -63,10 +63,9 @@ def summary_lines(rows: list[dict]) -> list[str]:
             for word, members in sorted(groups.items(), key=lambda kv: -len(kv[1])):
                 where: dict[str, int] = {}
                 for r in members:
-                    for g in (r.get("verdict_regions") or "").split() if "tight" in word \
-                            else ():
-                        g = g.replace("_", " ")
-                        where[g] = where.get(g, 0) + 1
+                    named = (r.get("verdict_regions") or "").split() if "tight" in word else []
+                    for g in named:
+                        where[g.replace("_", " ")] = where.get(g.replace("_", " "), 0) + 1
                 at = ", ".join(f"{k} {n}" if len(where) > 1 else k for k, n in
                                sorted(where.items(), key=lambda kv: -kv[1]))
                 parts.append(f"{word} on {len(members)}" + (f" at the {at}" if at else ""))

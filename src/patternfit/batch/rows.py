@@ -33,9 +33,10 @@ class Task(NamedTuple):
 
 
 #: the columns of a row, in order: the task, the result (ϖ [-], symmetric ratio [-],
-#: verdict and the regions it names, space-separated), ease at each girth [cm], contact pressure p95 / p99 [kPa], the checks (passed,
-#: the failed checks' names, the reasons in words), the residual force rms / p99 [-],
-#: wall time [s], the worker, and the thumbnail's file name
+#: verdict and the regions it names, space-separated), ease at each girth [cm], contact
+#: pressure p95 / p99 [kPa], the checks (passed, the failed checks' names, the reasons in
+#: words), the residual force rms / p99 [-], wall time [s], the worker, and the
+#: thumbnail's file name
 COLUMNS = (*Task._fields, "status", "fitting_ratio", "fitting_ratio_symmetric", "verdict",
            "verdict_regions",
            *(f"ease_{g}_cm" for g in GIRTHS), "pressure_p95_kpa", "pressure_p99_kpa",
