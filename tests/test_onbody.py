@@ -759,3 +759,23 @@ def test_the_floor_check_runs_only_on_the_floor():
     assert not on_the_floor(outcome.drape.onbody)
     assert outcome.checks["without_floor_offset_mm"] is None
     assert "without_floor_seconds" not in outcome.drape.timing
+
+
+def test_ctrl_c_in_the_floor_check_stops_it(monkeypatch):
+    """Ctrl-C in the solve without the floor ended that solve; what it had reached was taken
+    for the garment held by the body, and the drape passed."""
+    import dataclasses
+
+    import patternfit.sim.drape as sim_drape
+
+    outcome = api.drape_and_evaluate("trousers", "female_average", triangles=600)
+    real = sim_drape.run_plan
+
+    class Stopped:
+        def __init__(self, run):
+            self.result = dataclasses.replace(run.result, interrupted=True)
+
+    monkeypatch.setattr(sim_drape, "run_plan", lambda *a, **k: Stopped(real(*a, **k)))
+    with pytest.raises(KeyboardInterrupt):
+        sim_drape.without_floor(outcome.pattern, outcome.mesh, outcome.body, "cotton",
+                                outcome.positions, outcome.drape.onbody)

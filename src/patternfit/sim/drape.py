@@ -237,8 +237,8 @@ def drape(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | str = DEFA
         there): the solve continues that drape, so from its rest it stops at once and
         moves nothing; one saved on another body or in another fabric (its digests,
         :func:`~patternfit.sim.provenance.not_draped_for`) is not taken for a rest here: its
-        lagged terms (friction limits and anchors, self pairs) are updated first. :class:`~patternfit.sim.state.SavedStateError` when it does not
-        fit ``mesh``.
+        lagged terms (friction limits and anchors, self pairs) are updated first.
+        :class:`~patternfit.sim.state.SavedStateError` when it does not fit ``mesh``.
     start_rest : (n, 2) float, optional
         The flat rest shapes [m] at which ``start`` rests when they are not ``mesh``'s own:
         a drape of the pattern before an edit carried over to the re-meshed edited one
@@ -467,8 +467,9 @@ def without_floor(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | st
     carries it, its hem drops a few mm and it comes to rest (the built-in trousers on the
     women: at most 1.6 cm, within 150 iterations); where the floor carried it, it slides
     down (trousers 1.5 times too wide on female_average: past 10 cm below the waist in 150
-    iterations, still sliding; 12.7 cm once at rest). Contact stiffness is read back from the force balance, as
-    for a saved rest. The positions are not changed."""
+    iterations, still sliding; 12.7 cm once at rest). Contact stiffness is read back from
+    the force balance, as for a saved rest. The positions are not changed. Ctrl-C in it
+    raises KeyboardInterrupt: a check stopped half-way is no check."""
     s = settings
     x = np.asanyarray(positions, dtype=np.float64)
     line = anchor_line(pattern, mesh, band=s.top_band)
@@ -487,10 +488,11 @@ def without_floor(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | st
         result = run_plan(solver, Plan.settle(saved=iterations == 0), state).result
         iterations += result.iterations
         state = result.x
+        if result.interrupted:  # stopped half-way, it had passed as held
+            raise KeyboardInterrupt
         now = float(state[solver.model.vertex_map[line], 1].mean())
         moved, top = top - now, now
-        if result.interrupted or result.stop_reason == "fell" \
-                or abs(top - landmark) > s.anchor_tolerance:
+        if result.stop_reason == "fell" or abs(top - landmark) > s.anchor_tolerance:
             break
         if result.converged or abs(moved) < s.floor_held:
             held = True
