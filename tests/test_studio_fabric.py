@@ -75,7 +75,13 @@ def test_a_preset_is_tested_by_its_name_and_a_wrong_one_said_in_words(client):
     client.app.state.fabric_lab.wait(120)
     job = client.get("/api/fabric/test").json()
     assert job["fabric"] == "denim" and job["result"]["passed"]
-    for wrong in ("/etc/passwd", "velvet", 3):
+    # a preset's short name and a published fabric's id, as the CLI and the API read them
+    for name, read in (("cotton", "cotton_shirting"), ("petrak_m1", "petrak_m1")):
+        r = client.post("/api/fabric/test", json={"test": "strip", "fabric": name})
+        assert r.status_code == 200, r.text
+        client.app.state.fabric_lab.wait(120)
+        assert client.get("/api/fabric/test").json()["fabric"] == read
+    for wrong in ("/etc/passwd", "velvet", "cotton.json", 3):
         r = client.post("/api/fabric/test", json={"test": "strip", "fabric": wrong})
         error = r.json()["error"]
         assert r.status_code == 400 and error.startswith("fabric:"), r.text

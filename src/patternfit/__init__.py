@@ -22,7 +22,7 @@ __all__ = ["__version__", "BodyMeshError", "Correction", "CorrectionSettings", "
            "correct",
            "correct_design", "describe_fabric", "design_session", "drafted_too_small",
            "drape_and_evaluate", "evaluate_drape", "evaluate_saved", "fabric_catalogue",
-           "fresh_drape",
+           "fabric_names", "fresh_drape",
            "fabric_test", "judge_state", "list_bodies", "list_body_sets", "list_engines",
            "list_fabrics", "list_garments", "list_sizes", "mesh_garment", "place_and_evaluate",
            "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric",

@@ -62,7 +62,8 @@ from .sim.drape import (CONTACT_MARGIN, Drape, drape, saved_balance, saved_conta
 from .sim.provenance import (draped_for, not_draped_for, saved_fabric, saved_failure,
                              saved_residual)
 from .sim.fabrics import (FABRICS, KIT_READINGS, PRESET_SOURCES, Fabric, FabricError,
-                          check_bulk, fabric_with_notes, get_fabric, published_drapes)
+                          check_bulk, fabric_names, fabric_with_notes, get_fabric,
+                          published_drapes)
 from .sim.fabrics import RANGES as FABRIC_RANGES
 from .sim.onbody import ON_BODY, area_ratio, saved_state_checks, unchecked_state
 from .sim.newton_engine import ENGINES, MISSING as NEWTON_MISSING, drape_with
@@ -78,7 +79,7 @@ __all__ = ["BodyMeshError", "Correction", "CorrectionSettings", "DEFAULTS", "Def
            "check_drapeable", "check_sewn",
            "correct", "correct_design", "design_session", "drafted_too_small",
            "describe_fabric", "drape_and_evaluate", "evaluate_drape", "evaluate_saved",
-           "fabric_catalogue", "fresh_drape",
+           "fabric_catalogue", "fabric_names", "fresh_drape",
            "fabric_test", "list_bodies", "list_body_sets", "list_engines", "list_fabrics",
            "judge_state", "list_garments", "list_sizes", "mesh_garment", "place_and_evaluate",
            "placed_fitting_ratio", "read_bodies", "read_body", "read_fabric",

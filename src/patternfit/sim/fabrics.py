@@ -205,6 +205,12 @@ PRESET_SOURCES = {
                     "thickness assumed",
 }
 
+def fabric_names() -> list[str]:
+    """Every name a fabric is read by without a file: the presets, their short names
+    (``cotton``, ``wool`` ...) and the published test fabrics' ids, lower case."""
+    return [*FABRICS, *_ALIASES, *published_drapes()]
+
+
 _ALIASES = {"cotton": "cotton_shirting", "shirting": "cotton_shirting", "wool": "wool_coating",
             "jersey": "jersey_knit", "elastane": "stretch_knit", "stretch": "stretch_knit"}
 

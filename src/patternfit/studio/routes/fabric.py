@@ -33,11 +33,13 @@ def _preset_or_values(value):
     """A preset's name stands for its values (``{"fabric": "denim"}`` was refused as "Input
     should be a dictionary or an instance of Fabric"); a name is never read as a file."""
     if isinstance(value, str):
-        if value.strip().lower() not in api.list_fabrics():
+        name = value.strip().lower().replace("-", "_").replace(" ", "_")
+        if name not in api.fabric_names():  # never a file: a name is read as no path
             # the same answer whatever was sent (a path is not echoed)
-            raise ValueError(f"not a preset's name (presets: {', '.join(api.list_fabrics())}); "
-                             "or give the fabric's values")
-        return api.read_fabric(value.strip().lower()).to_dict()
+            raise ValueError(f"not a fabric's name (presets: {', '.join(api.list_fabrics())}, "
+                             "their short names and the published ids of `patternfit "
+                             "fabrics`); or give the fabric's values")
+        return api.read_fabric(name).to_dict()
     if not isinstance(value, (dict, api.Fabric)):
         raise ValueError("expected a preset's name or the fabric's values (an object, as "
                          "GET /api/fabric gives them)")
