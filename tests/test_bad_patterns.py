@@ -544,5 +544,12 @@ def test_a_json_pattern_of_implausible_size_is_warned_of_as_other_formats_are(
     assert not load_any_pattern(path).meta.get("warnings")
     doc = json.loads(path.read_text())
     path.write_text(json.dumps({**doc, "units": unit}))
-    said = load_any_pattern(path).meta["warnings"]
+    read = load_any_pattern(path)
+    said = read.meta["warnings"]
     assert said and all(words in w and 'set "units": "cm" in the file' in w for w in said)
+    # written again in metres, it is read in metres: the warning is of this reading, not
+    # the earlier one (kept, it said "set units cm", which would make it 100 times larger)
+    save_any_pattern(read, path, units="m")
+    again = load_any_pattern(path).meta.get("warnings") or []
+    assert not any(words in w for w in again)
+    assert all("read in metres" in w for w in again)

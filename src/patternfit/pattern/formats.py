@@ -122,18 +122,22 @@ def load_any_pattern(path, *, size: str | None = None, units: str | None = None)
 def _said_if_implausible(pattern: Pattern, document: dict) -> None:
     """The size warnings the DXF and GarmentCode readers give (a piece implausibly large
     or small in the units read, :func:`~.plausible.size_warnings`), for a patternfit JSON
-    read from ``document``, added to ``meta["warnings"]`` once: a skirt in cm stated as
-    "mm", 6.4 cm wide, was read without a word and fell in its drape."""
-    from .plausible import size_warnings
+    read from ``document``, in ``meta["warnings"]`` in place of any the file kept from an
+    earlier reading in other units: a skirt in cm stated as "mm", 6.4 cm wide, was read
+    without a word and fell in its drape; written again in metres, it kept "read in
+    millimetres ... set units cm", which would have made it 100 times too large."""
+    from .plausible import is_size_warning, size_warnings
 
     unit = document.get("units", "m")
     said = size_warnings(pattern.panels, UNITS[unit],
                          f"its 'units': '{unit}'" if "units" in document
                          else "no 'units', so metres",
                          hint=lambda u: f'set "units": "{u}" in the file')
-    known = [str(w) for w in pattern.meta.get("warnings", [])]
-    if any(w not in known for w in said):
-        pattern.meta["warnings"] = [*known, *(w for w in said if w not in known)]
+    before = list(pattern.meta.get("warnings", []))
+    kept = [w for w in before if not is_size_warning(w)]
+    now = kept + [w for w in said if w not in kept]
+    if now != before:
+        pattern.meta["warnings"] = now
 
 
 def _said_if_twisted(pattern: Pattern, fix: str) -> Pattern:

@@ -64,6 +64,14 @@ def size_warnings(panels, scale: float, unit_says: str, *,
     return out
 
 
+def is_size_warning(text) -> bool:
+    """Whether ``text`` is one of :func:`size_warnings`' (which depend on the units a file
+    was read in: a pattern written again in other units keeps them, stale)."""
+    return isinstance(text, str) and ", read in " in text and (
+        (text.startswith("panel '") and "implausible for a garment piece" in text)
+        or (text.startswith("the largest piece is ") and "small for a garment" in text))
+
+
 def check_drapeable_size(pattern, *, source=None) -> None:
     """Refuse (:class:`~patternfit.pattern.errors.PatternError` naming ``source`` and the
     panel) a pattern with a piece larger across than :data:`ABSURD`: its units were
