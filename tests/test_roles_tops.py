@@ -133,6 +133,18 @@ def test_boxy_tops_of_any_size_hang_from_the_neck(W, H, arm, N, front, back, lab
 
 
 @SETTINGS
+@given(W=st.floats(22, 36), H=st.floats(40, 78), arm=st.floats(0.2, 0.45),
+       N=st.floats(7, 12), front=st.floats(0, 1.2), back=st.floats(0, 1.2),
+       placed=st.booleans())
+def test_a_boxy_top_with_a_straight_or_shallow_neck_hangs_from_the_neck(W, H, arm, N, front,
+                                                                        back, placed):
+    """A slash (bateau) neck dips less than NECK_DIP: an outside tester's top, edges unnamed,
+    read as a skirt and was worn round the waist; its arm openings say it is a top."""
+    _hung_from_neck(boxtop(W, H, H * (1 - arm), N, front, back, labels=False,
+                           placed=placed, names=("p0", "p1")))
+
+
+@SETTINGS
 @given(W=st.floats(35, 70), H=st.floats(45, 85), N=st.floats(8, 13),
        front=st.floats(4, 14), back=st.floats(1.2, 3), labels=st.booleans(),
        placed=st.booleans())

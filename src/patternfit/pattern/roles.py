@@ -451,16 +451,21 @@ def _neck_hole(n: str, shapes, links) -> str | None:
                     inner.append(float((at @ sh.turn.T)[1]))
                 pts = np.vstack([sh.line(e) for e in gap])
                 low = float(pts[:, 1].min())
-                if low > min(inner) - NECK_DIP or low < sh.hi[1] - NECK_DEPTH * sh.size[1]:
+                if low < sh.hi[1] - NECK_DEPTH * sh.size[1]:
                     continue
-                why = _neck_support(n, o, a, b, gap, shapes, links, order)
+                # a straight (slash, bateau) neck does not dip: its arm openings alone say
+                # it is a top (read as a skirt, it was worn round the waist)
+                why = _neck_support(n, o, a, b, gap, shapes, links, order,
+                                    arms_only=low > min(inner) - NECK_DIP)
                 if why:
                     return why
     return None
 
 
-def _neck_support(n, o, a, b, gap, shapes, links, order) -> str | None:
-    """(a), (b) or (c) of :func:`_neck_hole`, in words, or None."""
+def _neck_support(n, o, a, b, gap, shapes, links, order, *, arms_only: bool = False
+                  ) -> str | None:
+    """(a), (b) or (c) of :func:`_neck_hole`, in words, or None; (a) alone with
+    ``arms_only`` (a neck that does not dip :data:`NECK_DIP`)."""
     sh = shapes[n]
     sewn = {e for e, _, _ in links[n]}
     to_o = [e for e, oo, _ in links[n] if oo == o and e in order]
@@ -478,6 +483,8 @@ def _neck_support(n, o, a, b, gap, shapes, links, order) -> str | None:
                 break
     if openings == 2:
         return "a neck hole between seams across its top, openings for the arms below them"
+    if arms_only:
+        return None
     if sh.panel.area() >= BOX_FILL * float(sh.size[0] * sh.size[1]):
         return "a neck hole between seams across its top, hanging straight from them"
     place = sh.panel.placement
