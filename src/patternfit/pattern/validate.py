@@ -273,12 +273,9 @@ def _check_loop(panel: Panel, loop: Loop) -> None:
     if not loop.edges:
         raise PatternError(f"loop '{loop.name}' has no edges", panel=panel.name)
     for e in loop.edges:
-        if not e.is_finite():
+        if not e.is_finite():  # its radius too
             raise PatternError("coordinate is NaN or infinite", panel=panel.name, edge=e.name)
-        far = float(np.max(np.abs(e.points)))
-        if far > limits.extent:
-            raise PatternError(f"point {far:.3g} m from the origin, beyond the limit of "
-                               f"{limits.extent:g} m", panel=panel.name, edge=e.name)
+        _within_extent(e.points, panel.name, edge=e.name)
     for e in loop.edges:
         if e.length < tol.edge_length:
             raise PatternError(f"edge is degenerate (length {e.length:.2e} m)",
@@ -292,6 +289,18 @@ def _check_loop(panel: Panel, loop: Loop) -> None:
                                panel=panel.name, edge=e.name)
 
 
+def _within_extent(points, panel: str, *, what: str = "", edge: str | None = None) -> None:
+    """``points`` (k, 2) [m] finite and within ``limits.extent`` of the origin, else a
+    :class:`PatternError` naming the panel and the edge, or the mark ``what``."""
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    if not np.isfinite(pts).all():
+        raise PatternError(f"{what}coordinate is NaN or infinite", panel=panel, edge=edge)
+    far = float(np.abs(pts).max(initial=0.0))
+    if far > limits.extent:
+        raise PatternError(f"{what}point {far:.3g} m from the origin, beyond the limit of "
+                           f"{limits.extent:g} m", panel=panel, edge=edge)
+
+
 def _check_marks(panel: Panel) -> None:
     """The marks drawn on the panel (internal lines, drill holes, cut line) finite and within
     ``limits.extent``, as its loops: a drill hole 1e7 m out was read and written to a DXF
@@ -299,15 +308,7 @@ def _check_marks(panel: Panel) -> None:
     marks = [(f"line '{ln.name}'", ln.points) for ln in panel.lines]
     marks += [("drill hole", panel.drill_holes), ("cut line", panel.cut_line)]
     for what, points in marks:
-        pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-        if not len(pts):
-            continue
-        if not np.isfinite(pts).all():
-            raise PatternError(f"{what}: a coordinate is NaN or infinite", panel=panel.name)
-        far = float(np.abs(pts).max())
-        if far > limits.extent:
-            raise PatternError(f"{what}: point {far:.3g} m from the origin, beyond the limit "
-                               f"of {limits.extent:g} m", panel=panel.name)
+        _within_extent(points, panel.name, what=f"{what}: ")
 
 
 def check_panel(panel: Panel) -> None:
@@ -317,9 +318,9 @@ def check_panel(panel: Panel) -> None:
     placement; at most ``limits.segments_per_panel`` polyline
     segments; per loop, coordinates finite and within ``limits.extent``, no degenerate edge,
     closed; the marks' points (lines, drill holes, cut line) finite and within
-    ``limits.extent``; then the loops' polylines (:func:`check_polygons`: no crossing, touching, overlap
-    or spike, within a loop or between loops); an enclosed area; inner loops inside the
-    outline and none inside another.
+    ``limits.extent``; then the loops' polylines (:func:`check_polygons`: no crossing,
+    touching, overlap or spike, within a loop or between loops); an enclosed area; inner
+    loops inside the outline and none inside another.
     """
     count = Counter(e.name for lp in panel.loops for e in lp.edges)
     dup = sorted(n for n, c in count.items() if c > 1)
