@@ -434,17 +434,21 @@ def _drape_from(mesh: GarmentMesh, fabric: Fabric, field_, x: np.ndarray, settin
 
 
 def _saved_solver(mesh: GarmentMesh, body, fabric: Fabric, positions, *, spacing: float,
-                  contact_margin: float = CONTACT_MARGIN) -> tuple[np.ndarray, GarmentSolver]:
+                  contact_margin: float = CONTACT_MARGIN, floor: bool = True,
+                  max_iterations: int = 0) -> tuple[np.ndarray, GarmentSolver]:
     """The finite positions (n, 3) [m] of a saved 3D state of ``mesh`` and a solver of it
-    on ``body`` in ``fabric``, its seams welded as its drape's were, not run."""
+    on ``body`` (and the floor under it, unless ``floor`` is False) in ``fabric``, its seams
+    welded as its drape's were, not run; each of its solves runs ``max_iterations`` at
+    most."""
     x = np.asanyarray(positions, dtype=np.float64)
     if x.shape != (mesh.n_vertices, 3) or not np.isfinite(x).all():
         raise ValueError(f"positions: expected finite ({mesh.n_vertices}, 3) positions, "
                          f"got {x.shape}")
-    settings = SolverSettings(max_iterations=0, contact_margin=contact_margin,
+    settings = SolverSettings(max_iterations=max_iterations, contact_margin=contact_margin,
                               friction_delay=0)
-    solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh), fabric,
-                           seam_pairs=mesh.seam_pairs, body=body.contact_field(spacing),
+    field_ = body.contact_field(spacing) if floor else body.distance_field(spacing)
+    solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh),
+                           get_fabric(fabric), seam_pairs=mesh.seam_pairs, body=field_,
                            settings=settings)
     solver.weld()
     return x, solver
@@ -471,17 +475,13 @@ def without_floor(pattern: Pattern, mesh: GarmentMesh, body, fabric: Fabric | st
     the force balance, as for a saved rest. The positions are not changed. Ctrl-C in it
     raises KeyboardInterrupt: a check stopped half-way is no check."""
     s = settings
-    x = np.asanyarray(positions, dtype=np.float64)
     line = anchor_line(pattern, mesh, band=s.top_band)
     if not len(line) or onbody.anchor_height_mm is None:
         return onbody
     landmark = onbody.landmark_height_mm * 1e-3
-    chunk = replace(SolverSettings(), max_iterations=s.floor_chunk,
-                    contact_margin=contact_margin, friction_delay=0)
-    solver = GarmentSolver(mesh.vertices, mesh.triangles, _grain_per_triangle(mesh),
-                           get_fabric(fabric), seam_pairs=mesh.seam_pairs,
-                           body=body.distance_field(spacing), settings=chunk)
-    solver.weld()
+    x, solver = _saved_solver(mesh, body, fabric, positions, spacing=spacing,
+                              contact_margin=contact_margin, floor=False,
+                              max_iterations=s.floor_chunk)
     start = float(x[line, 1].mean())
     top, iterations, held, state = start, 0, False, x
     while iterations < s.floor_iterations:
