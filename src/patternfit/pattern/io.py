@@ -108,7 +108,7 @@ PLACEMENT_KEYS = ("part", "side", "translation", "rotation")
 LINE_KEYS = ("name", "points")
 NOTCH_KEYS = ("edge", "t", "kind")
 SEAM_KEYS = ("name", "a", "b", "reverse", "ease")
-SIDE_KEYS = ("panel", "edge", "range")
+SEAM_SIDE_KEYS = ("panel", "edge", "range")
 
 
 def json_field(obj, key: str, kind, what: str, default=_MISSING, **where):
@@ -238,7 +238,7 @@ def _side_from_dict(d: Any, seam: str, outline_edges) -> SeamSide:
     if not isinstance(d, dict):
         raise PatternError(f"seam '{seam}': each side must be an object")
     panel = json_field(d, "panel", str, f"seam '{seam}' side")
-    known_keys(d, SIDE_KEYS, f"seam '{seam}' side", panel=panel)
+    known_keys(d, SEAM_SIDE_KEYS, f"seam '{seam}' side", panel=panel)
     edge = d.get("edge")
     if outline_edges is not None and isinstance(edge, int) and not isinstance(edge, bool):
         if panel not in outline_edges:
