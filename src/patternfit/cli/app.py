@@ -156,13 +156,16 @@ app = typer.Typer(name="patternfit", cls=_Boundary, no_args_is_help=True, add_co
 # would squeeze the tables until names are cut ("female…"), so there the width is one that
 # every table the commands print fits in
 # emoji=False: a file named "coat:fire:v2.dxf" is printed as named, not with an emoji in it
-console = Console(stderr=True, soft_wrap=True, emoji=False,
-                  width=None if sys.stderr.isatty() or os.environ.get("COLUMNS") else 200)
+def _console(stream, **options) -> Console:
+    return Console(soft_wrap=True, emoji=False, **options,
+                   width=None if stream.isatty() or os.environ.get("COLUMNS") else 200)
+
+
+console = _console(sys.stderr, stderr=True)
 # what a listing command answers (the garments, bodies, fabrics, seams, a fabric test's
 # table) goes to standard output, so that it can be piped and kept (`patternfit fabrics |
 # grep denim`, `> list.txt` wrote nothing); messages, progress and errors stay on stderr
-listing = Console(soft_wrap=True, emoji=False,
-                  width=None if sys.stdout.isatty() or os.environ.get("COLUMNS") else 200)
+listing = _console(sys.stdout)
 
 
 def print_json(data) -> None:
