@@ -143,8 +143,9 @@ def run_batch(pattern: str, sizes: str, bodies: str, fabrics: str, out, *,
 
 def _read_sized(pattern: str, size: str, own):
     """``pattern`` (a built-in garment or a file; ``own``: the file read without a size,
-    None for a built-in) in ``size``. A file that names no size of its own (a GarmentCode file, a patternfit JSON without ``meta.size``, a DXF of one
-    unnamed size) is read as it is, ``size`` its label in the rows: read in the size the
+    None for a built-in) in ``size``. A file that names no size of its own (a GarmentCode
+    file, a patternfit JSON without ``meta.size``, a DXF of one unnamed size) is read as it
+    is, ``size`` its label in the rows: read in the size the
     batch asked to label it with, it was refused ("no size 'M' in the file"), and no size
     was accepted, so no batch of it could run. A pattern that cannot drape (unsewn, not
     meshable, of no garment's size) is refused naming the file, as ``drape`` refuses it

@@ -282,8 +282,8 @@ def fabrics(
         return
     table = Table(title="fabrics: c = bending length (B/(ρg))^(1/3) warp / weft, and as the "
                         "virtual cantilever read it (warp); DC = Cusick drape coefficient, "
-                        "30 cm on 18 cm, simulated (min–max over starts 0–2; fabric-test cusick "
-                        "runs 5 by default) and measured")
+                        "30 cm on 18 cm, simulated (min–max over starts 0–2; fabric-test "
+                        "cusick runs 5 by default) and measured")
     for col in ("name", "g/m²", "c \\[mm]", "c kit", "DC sim", "nodes", "DC meas"):
         table.add_column(col, overflow="fold")
     for r in rows:
